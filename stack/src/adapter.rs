@@ -1,0 +1,244 @@
+//! The [`Adapter`]: the few entry points a runtime calls with bytes and the current time.
+
+use core::net::{Ipv4Addr, SocketAddrV4};
+
+use crate::cip::{Ctx, ObjectState};
+use crate::config::MAX_SESSIONS;
+use crate::device::Device;
+use crate::encap::list_identity::DelayedReplies;
+use crate::encap::session::{Need, Sessions};
+use crate::net::NetworkConfig;
+use crate::rng::Rng;
+use crate::time::{Duration, Instant};
+use crate::wire::encap::{status, Repr, HEADER_LEN};
+
+/// Index of one of the runtime's [`MAX_SESSIONS`] TCP sockets on port 44818.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SocketId(pub u8);
+
+/// What [`Adapter::tcp_receive`] did with received bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct TcpOutcome {
+    /// Bytes of the input consumed; call again with the rest.
+    pub consumed: usize,
+    /// Bytes of reply written at the start of the reply buffer (0: nothing to send).
+    pub reply_len: usize,
+    /// Close the TCP connection once the reply is sent.
+    pub close: bool,
+}
+
+/// An EtherNet/IP adapter for device `D`.
+pub struct Adapter<D: Device> {
+    pub(crate) device: D,
+    pub(crate) objects: ObjectState,
+    pub(crate) net: NetworkConfig,
+    pub(crate) sessions: Sessions,
+    pub(crate) delayed: DelayedReplies,
+    pub(crate) rng: Rng,
+}
+
+impl<D: Device> Adapter<D> {
+    /// An adapter for `device` on the interface `net`; `seed` feeds handles and reply delays.
+    pub fn new(device: D, net: NetworkConfig, seed: u64) -> Self {
+        let mut rng = Rng::new(seed);
+        let handle_seed = rng.next_u64() as u32;
+        Adapter {
+            device,
+            objects: ObjectState::new(),
+            net,
+            sessions: Sessions::new(handle_seed),
+            delayed: DelayedReplies::new(),
+            rng,
+        }
+    }
+
+    /// The device profile.
+    pub fn device(&self) -> &D {
+        &self.device
+    }
+    /// The device profile, mutably.
+    pub fn device_mut(&mut self) -> &mut D {
+        &mut self.device
+    }
+    /// The stack's object state (TCP/IP settings, counters).
+    pub fn objects(&self) -> &ObjectState {
+        &self.objects
+    }
+    /// The interface configuration.
+    pub fn network(&self) -> &NetworkConfig {
+        &self.net
+    }
+    /// Reports a new interface configuration (DHCP lease, link change).
+    pub fn set_network(&mut self, net: NetworkConfig) {
+        self.net = net;
+    }
+    /// The Reset the Identity object accepted, if any; the runtime performs it after the
+    /// reply has gone out.
+    pub fn take_reset(&mut self) -> Option<u8> {
+        self.objects.pending_reset.take()
+    }
+
+    /// A TCP connection from `peer` was accepted on `socket`.
+    pub fn tcp_accept(&mut self, socket: SocketId, peer: SocketAddrV4, now: Instant) {
+        debug!("tcp accept on socket {}", socket.0);
+        self.sessions.reset(usize::from(socket.0), Some(peer), now);
+    }
+
+    /// The TCP connection on `socket` closed (by either side): its session ends.
+    pub fn tcp_close(&mut self, socket: SocketId, now: Instant) {
+        debug!("tcp close on socket {}", socket.0);
+        self.sessions.reset(usize::from(socket.0), None, now);
+    }
+
+    /// When the connection on `socket` has been idle for the encapsulation inactivity timeout
+    /// (TCP/IP attribute 13) and must be closed; `None` if the timeout is off.
+    pub fn tcp_deadline(&self, socket: SocketId) -> Option<Instant> {
+        let secs = self.objects.tcpip.inactivity_timeout_s;
+        let slot = self.sessions.get(usize::from(socket.0))?;
+        match (secs, slot.peer) {
+            (0, _) | (_, None) => None,
+            _ => Some(slot.last_activity.add(Duration::from_secs(u64::from(secs)))),
+        }
+    }
+
+    /// Feeds bytes received on `socket`. At most one frame is handled per call: the reply (if
+    /// any) is in `reply[..reply_len]`; call again with `data[consumed..]` until all is used.
+    /// `reply` should hold [`crate::config::MAX_ENCAP_FRAME`] bytes.
+    pub fn tcp_receive(
+        &mut self,
+        socket: SocketId,
+        data: &[u8],
+        now: Instant,
+        reply: &mut [u8],
+    ) -> TcpOutcome {
+        let index = usize::from(socket.0);
+        let Some(slot) = self.sessions.get_mut(index) else {
+            return TcpOutcome {
+                consumed: data.len(),
+                reply_len: 0,
+                close: true,
+            };
+        };
+        slot.last_activity = now;
+        // Fast path: a whole frame at the front of `data` with nothing buffered is not copied.
+        if slot.rx.is_empty() {
+            if let Need::Complete = crate::encap::session::frame_need(data) {
+                let len = frame_len(data);
+                let frame = data.get(..len).unwrap_or(&[]);
+                let (reply_len, close) = self.tcp_frame(index, frame, now, reply);
+                return TcpOutcome {
+                    consumed: len,
+                    reply_len,
+                    close,
+                };
+            }
+        }
+        let mut consumed = 0;
+        loop {
+            let Some(slot) = self.sessions.get_mut(index) else {
+                return TcpOutcome {
+                    consumed: data.len(),
+                    reply_len: 0,
+                    close: true,
+                };
+            };
+            match slot.need() {
+                Need::Bytes(n) => {
+                    let rest = data.get(consumed..).unwrap_or(&[]);
+                    if rest.is_empty() {
+                        return TcpOutcome {
+                            consumed,
+                            reply_len: 0,
+                            close: false,
+                        };
+                    }
+                    let take = n.min(rest.len());
+                    // Cannot fail: `need` never asks beyond the frame capacity.
+                    let _ = slot.rx.extend_from_slice(rest.get(..take).unwrap_or(&[]));
+                    consumed += take;
+                }
+                Need::TooLong => {
+                    warn!(
+                        "encapsulation length over capacity; closing socket {}",
+                        index
+                    );
+                    let header = Repr::parse_header(&slot.rx).ok();
+                    slot.rx.clear();
+                    self.objects.link.count_discard();
+                    let reply_len = header
+                        .and_then(|h| h.reply(status::INVALID_LENGTH, 0).emit(reply).ok())
+                        .map_or(0, |_| HEADER_LEN);
+                    return TcpOutcome {
+                        consumed: data.len(),
+                        reply_len,
+                        close: true,
+                    };
+                }
+                Need::Complete => {
+                    let frame = core::mem::take(&mut slot.rx);
+                    let (reply_len, close) = self.tcp_frame(index, &frame, now, reply);
+                    return TcpOutcome {
+                        consumed,
+                        reply_len,
+                        close,
+                    };
+                }
+            }
+        }
+    }
+
+    /// Feeds a datagram received on UDP port 44818 from `from`, sent to `to` (used to tell a
+    /// broadcast). Returns the length of an immediate reply written to `reply` (0: none).
+    pub fn udp_receive(
+        &mut self,
+        from: SocketAddrV4,
+        to: Ipv4Addr,
+        data: &[u8],
+        now: Instant,
+        reply: &mut [u8],
+    ) -> usize {
+        let broadcast = self.net.is_broadcast(to) || to.is_multicast();
+        self.udp_frame(from, broadcast, data, now, reply)
+    }
+
+    /// Writes a delayed ListIdentity reply that is due at `now` into `out`; returns its
+    /// destination and length. Call until it returns `None`.
+    pub fn poll_udp(&mut self, now: Instant, out: &mut [u8]) -> Option<(SocketAddrV4, usize)> {
+        let p = self.delayed.take_due(now)?;
+        let len = self.list_identity_reply(p.session_handle, p.sender_context, out);
+        Some((p.to, len))
+    }
+
+    /// The next instant the adapter needs [`Self::poll_udp`] (or a later poll) to be called.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.delayed.next_due()
+    }
+
+    /// Number of TCP sockets the runtime must provide.
+    pub const fn socket_count() -> usize {
+        MAX_SESSIONS
+    }
+
+    /// The service context for a request handled at `now`.
+    pub(crate) fn ctx(&mut self, now: Instant) -> Ctx<'_, D> {
+        Ctx {
+            device: &mut self.device,
+            state: &mut self.objects,
+            net: &self.net,
+            owned_outputs: &[],
+            connection_status: NO_IO_CONNECTIONS,
+            now,
+        }
+    }
+}
+
+/// Identity extended device status (bits 4-7) value 3: no I/O connections established.
+const NO_IO_CONNECTIONS: u16 = 3 << 4;
+
+/// Total length of the complete frame at the start of `data`.
+fn frame_len(data: &[u8]) -> usize {
+    HEADER_LEN
+        + Repr::parse_header(data)
+            .map(|h| usize::from(h.length))
+            .unwrap_or(0)
+}

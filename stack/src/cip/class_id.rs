@@ -1,0 +1,14 @@
+//! Class codes of the objects the stack implements.
+
+/// Identity object.
+pub const IDENTITY: u16 = 0x01;
+/// Message Router object.
+pub const MESSAGE_ROUTER: u16 = 0x02;
+/// Assembly object.
+pub const ASSEMBLY: u16 = 0x04;
+/// Connection Manager object.
+pub const CONNECTION_MANAGER: u16 = 0x06;
+/// TCP/IP Interface object.
+pub const TCP_IP_INTERFACE: u16 = 0xF5;
+/// Ethernet Link object.
+pub const ETHERNET_LINK: u16 = 0xF6;

@@ -1,0 +1,193 @@
+//! Ethernet Link object (class 0xF6): speed, flags, MAC address, counters, admin state.
+
+use super::attributes::{read_only, take, unsupported, Attributes};
+use super::class_info::ClassInfo;
+use super::encoding::short_string;
+use super::router::{attribute_services, instance, no_instance};
+use super::status::{CipResult, General};
+use super::{service, Ctx, Request};
+use crate::device::Device;
+use crate::wire::Writer;
+
+/// Interface counters (attribute 4), as seen by the stack: encapsulation and I/O traffic.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct InterfaceCounters {
+    /// Octets received.
+    pub in_octets: u32,
+    /// Unicast packets received.
+    pub in_ucast: u32,
+    /// Broadcast and multicast packets received.
+    pub in_nucast: u32,
+    /// Inbound packets discarded (malformed or unwanted).
+    pub in_discards: u32,
+    /// Octets sent.
+    pub out_octets: u32,
+    /// Unicast packets sent.
+    pub out_ucast: u32,
+}
+
+/// Ethernet Link state kept by the stack.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LinkState {
+    /// Counters since the last Get_and_Clear.
+    pub counters: InterfaceCounters,
+    /// Attribute 9: 1 enabled, 2 disabled.
+    pub admin_state: u8,
+}
+
+impl LinkState {
+    /// Power-up state.
+    pub const fn new() -> Self {
+        LinkState {
+            counters: InterfaceCounters {
+                in_octets: 0,
+                in_ucast: 0,
+                in_nucast: 0,
+                in_discards: 0,
+                out_octets: 0,
+                out_ucast: 0,
+            },
+            admin_state: 1,
+        }
+    }
+    /// Counts a received packet of `len` bytes.
+    pub fn count_in(&mut self, len: usize, unicast: bool) {
+        let c = &mut self.counters;
+        c.in_octets = c.in_octets.wrapping_add(len as u32);
+        if unicast {
+            c.in_ucast = c.in_ucast.wrapping_add(1);
+        } else {
+            c.in_nucast = c.in_nucast.wrapping_add(1);
+        }
+    }
+    /// Counts a discarded packet.
+    pub fn count_discard(&mut self) {
+        self.counters.in_discards = self.counters.in_discards.wrapping_add(1);
+    }
+    /// Counts a sent packet of `len` bytes.
+    pub fn count_out(&mut self, len: usize) {
+        let c = &mut self.counters;
+        c.out_octets = c.out_octets.wrapping_add(len as u32);
+        c.out_ucast = c.out_ucast.wrapping_add(1);
+    }
+}
+
+impl Default for LinkState {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Interface flags: link up (bit 0), full duplex (bit 1), auto-negotiation succeeded (3 << 2).
+fn flags(link_up: bool) -> u32 {
+    if link_up {
+        0x01 | 0x02 | (3 << 2)
+    } else {
+        0
+    }
+}
+
+struct Instance<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+
+impl<D: Device> Attributes for Instance<'_, '_, D> {
+    fn get(&mut self, id: u16, w: &mut Writer<'_>) -> CipResult {
+        let net = self.0.net;
+        let link = &self.0.state.link;
+        match id {
+            1 => w.u32(net.link_speed_mbps)?,
+            2 => w.u32(flags(net.link_up))?,
+            3 => w.bytes(&net.mac)?,
+            4 => {
+                let c = link.counters;
+                for v in [c.in_octets, c.in_ucast, c.in_nucast, c.in_discards, 0, 0] {
+                    w.u32(v)?;
+                }
+                for v in [c.out_octets, c.out_ucast, 0, 0, 0] {
+                    w.u32(v)?;
+                }
+            }
+            5 => w.zeros(12 * 4)?,
+            6 => {
+                w.u16(0x0001)?; // auto-negotiate
+                w.u16(0)?;
+            }
+            7 => w.u8(2)?, // twisted pair
+            8 => w.u8(if net.link_up { 1 } else { 2 })?,
+            9 => w.u8(link.admin_state)?,
+            10 => short_string(w, b"Port 1")?,
+            11 => {
+                w.u32(0x0000_0004)?; // auto-negotiate capable
+                w.u8(2)?;
+                w.u16(10)?;
+                w.u8(1)?;
+                w.u16(100)?;
+                w.u8(1)?;
+            }
+            _ => return Err(unsupported()),
+        }
+        Ok(())
+    }
+
+    fn set(&mut self, id: u16, data: &[u8], exact: bool) -> CipResult<usize> {
+        match id {
+            9 => match take(data, 1, exact)? {
+                [v @ (1 | 2)] => {
+                    self.0.state.link.admin_state = *v;
+                    Ok(1)
+                }
+                _ => Err(General::InvalidAttributeValue.into()),
+            },
+            1..=8 | 10 | 11 => Err(read_only()),
+            _ => Err(unsupported()),
+        }
+    }
+
+    fn all(&self) -> &'static [u16] {
+        &[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11]
+    }
+}
+
+/// Handles a request to the Ethernet Link class or its instance 1.
+pub(crate) fn handle<D: Device>(
+    ctx: &mut Ctx<'_, D>,
+    req: &Request<'_>,
+    w: &mut Writer<'_>,
+) -> CipResult {
+    match instance(req)? {
+        0 => attribute_services(
+            &mut ClassInfo {
+                revision: 4,
+                max_instance: 1,
+                instances: 1,
+                optional_attributes: &[4, 5, 6, 7, 8, 9, 10, 11],
+                max_instance_attribute: 11,
+            },
+            req,
+            w,
+        ),
+        1 if req.service == service::GET_AND_CLEAR => {
+            let attr = req.path.attribute;
+            if !matches!(attr, Some(4 | 5)) {
+                return Err(if attr.is_some() {
+                    unsupported()
+                } else {
+                    General::PathDestinationUnknown.into()
+                });
+            }
+            attribute_services(
+                &mut Instance(ctx),
+                &Request {
+                    service: service::GET_ATTRIBUTE_SINGLE,
+                    ..*req
+                },
+                w,
+            )?;
+            if attr == Some(4) {
+                ctx.state.link.counters = InterfaceCounters::default();
+            }
+            Ok(())
+        }
+        1 => attribute_services(&mut Instance(ctx), req, w),
+        _ => Err(no_instance()),
+    }
+}

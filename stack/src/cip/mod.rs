@@ -1,0 +1,71 @@
+//! The CIP object model: status codes, requests, the Message Router and the standard objects.
+
+pub(crate) mod assembly;
+pub(crate) mod attributes;
+pub mod class_id;
+pub(crate) mod class_info;
+pub(crate) mod connection_manager;
+pub(crate) mod encoding;
+pub mod ethernet_link;
+pub(crate) mod identity;
+pub(crate) mod message_router;
+pub mod request;
+pub(crate) mod router;
+pub mod service;
+pub mod status;
+pub mod tcpip;
+
+use crate::device::Device;
+use crate::net::NetworkConfig;
+use crate::time::Instant;
+
+pub use request::{Path, Request};
+pub use status::{CipError, CipResult, General};
+
+/// State the stack's own objects keep between requests.
+#[derive(Debug, Clone)]
+pub struct ObjectState {
+    /// TCP/IP Interface object settings.
+    pub tcpip: tcpip::TcpIpState,
+    /// Ethernet Link object counters and settings.
+    pub link: ethernet_link::LinkState,
+    /// A Reset service was accepted: its type, for the runtime to act on once replied.
+    pub pending_reset: Option<u8>,
+}
+
+impl ObjectState {
+    /// Defaults at power-up.
+    pub fn new() -> Self {
+        ObjectState {
+            tcpip: tcpip::TcpIpState::new(),
+            link: ethernet_link::LinkState::new(),
+            pending_reset: None,
+        }
+    }
+}
+
+impl Default for ObjectState {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Everything a service handler may look at or change.
+pub(crate) struct Ctx<'a, D: Device> {
+    pub device: &'a mut D,
+    pub state: &'a mut ObjectState,
+    pub net: &'a NetworkConfig,
+    /// Assembly instances an open connection currently writes (O->T), which explicit Set refuses.
+    pub owned_outputs: &'a [u16],
+    /// Identity status bits the connection table contributes (owned, extended device status).
+    pub connection_status: u16,
+    #[allow(dead_code)]
+    pub now: Instant,
+}
+
+impl<D: Device> Ctx<'_, D> {
+    /// Identity attribute 5: the device's bits plus what the connections contribute.
+    pub(crate) fn identity_status(&self) -> u16 {
+        self.device.status_bits() | self.connection_status
+    }
+}

@@ -1,0 +1,128 @@
+//! A Message Router request as objects see it: service, decoded request path, data.
+
+use super::status::{CipError, CipResult, General};
+use crate::wire::epath::{LogicalType, Segment, Segments};
+use crate::wire::message_router::{RequestPacket, RequestRepr};
+
+/// The addressing parts of a request path.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Path<'a> {
+    /// Class ID.
+    pub class: Option<u32>,
+    /// Instance ID.
+    pub instance: Option<u32>,
+    /// Attribute ID.
+    pub attribute: Option<u32>,
+    /// Member ID.
+    pub member: Option<u32>,
+    /// Connection point (treated as an instance by the Assembly object).
+    pub connection_point: Option<u32>,
+    /// ANSI extended symbolic name (vendor tag services).
+    pub symbol: Option<&'a [u8]>,
+}
+
+impl<'a> Path<'a> {
+    /// Decodes a padded request path; anything but logical and symbolic segments, a repeated
+    /// segment, or a path with neither class nor symbol is a path segment error (0x04).
+    pub fn parse(raw: &'a [u8]) -> CipResult<Path<'a>> {
+        let mut p = Path::default();
+        for seg in Segments::new(raw) {
+            match seg.map_err(|_| CipError::new(General::PathSegmentError))? {
+                Segment::Logical(kind, v) => {
+                    let slot = match kind {
+                        LogicalType::Class => &mut p.class,
+                        LogicalType::Instance => &mut p.instance,
+                        LogicalType::Attribute => &mut p.attribute,
+                        LogicalType::Member => &mut p.member,
+                        LogicalType::ConnectionPoint => &mut p.connection_point,
+                        LogicalType::ServiceId => {
+                            return Err(CipError::new(General::PathSegmentError))
+                        }
+                    };
+                    set_once(slot, v)?;
+                }
+                Segment::Symbolic(s) if p.symbol.is_none() && p.class.is_none() => {
+                    p.symbol = Some(s);
+                }
+                _ => return Err(CipError::new(General::PathSegmentError)),
+            }
+        }
+        if p.class.is_none() && p.symbol.is_none() {
+            return Err(CipError::new(General::PathSegmentError));
+        }
+        Ok(p)
+    }
+
+    /// The instance, or the connection point when only that was given.
+    pub fn instance_or_point(&self) -> Option<u32> {
+        self.instance.or(self.connection_point)
+    }
+}
+
+fn set_once(slot: &mut Option<u32>, v: u32) -> CipResult {
+    if slot.is_some() {
+        return Err(CipError::new(General::PathSegmentError));
+    }
+    *slot = Some(v);
+    Ok(())
+}
+
+/// A decoded Message Router request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Request<'a> {
+    /// Service code.
+    pub service: u8,
+    /// Decoded request path.
+    pub path: Path<'a>,
+    /// The raw request path bytes.
+    pub raw_path: &'a [u8],
+    /// Request data.
+    pub data: &'a [u8],
+}
+
+impl<'a> Request<'a> {
+    /// Frames a request: Err carries the service code (if any) and the status to answer with.
+    pub fn parse(buf: &'a [u8]) -> Result<Request<'a>, (u8, CipError)> {
+        let service = buf.first().copied().unwrap_or(0);
+        let packet = RequestPacket::new_checked(buf)
+            .map_err(|_| (service, CipError::new(General::PathSegmentError)))?;
+        let repr = RequestRepr::parse(&packet);
+        let path = Path::parse(repr.path).map_err(|e| (service, e))?;
+        Ok(Request {
+            service: repr.service,
+            path,
+            raw_path: repr.path,
+            data: repr.data,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decodes_class_instance_attribute() {
+        let r = Request::parse(&[0x0E, 3, 0x20, 0x01, 0x24, 0x01, 0x30, 0x07]).unwrap();
+        assert_eq!(r.path.class, Some(1));
+        assert_eq!(r.path.instance, Some(1));
+        assert_eq!(r.path.attribute, Some(7));
+    }
+
+    #[test]
+    fn symbolic_path() {
+        let r = Request::parse(&[0x4C, 4, 0x91, 5, b'P', b'4', b'0', b'1', b'2', 0, 1, 0]).unwrap();
+        assert_eq!(r.path.symbol, Some(&b"P4012"[..]));
+        assert_eq!(r.data, &[1, 0]);
+    }
+
+    #[test]
+    fn path_errors() {
+        let e = |b: &[u8]| Request::parse(b).unwrap_err().1.general;
+        assert_eq!(e(&[0x0E, 2, 0x20, 1, 0x20, 2]), 0x04); // class twice
+        assert_eq!(e(&[0x0E, 1, 0x24, 1]), 0x04); // no class
+        assert_eq!(e(&[0x0E, 2, 0x20, 1, 0x01, 0]), 0x04); // port segment
+        assert_eq!(e(&[0x0E, 5, 0x20, 1]), 0x04); // path longer than message
+        assert_eq!(e(&[0x0E]), 0x04);
+    }
+}

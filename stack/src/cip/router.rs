@@ -1,0 +1,94 @@
+//! The Message Router: frames a request, sends it to the object its path names, and writes
+//! the response with the right general and additional status.
+
+use super::attributes::{self, Attributes};
+use super::request::Request;
+use super::status::{CipError, CipResult, General};
+use super::{assembly, class_id, connection_manager, ethernet_link, identity};
+use super::{message_router, tcpip, Ctx};
+use crate::device::Device;
+use crate::wire::message_router::{emit_response_header, REPLY_BIT};
+use crate::wire::{self, Writer};
+
+/// How deep requests may nest (Multiple_Service_Packet, Unconnected_Send).
+pub(crate) const MAX_DEPTH: u8 = 2;
+
+/// Executes the Message Router request `request` and writes its whole response into `w`.
+/// Fails only if not even an error response fits.
+pub(crate) fn respond<D: Device>(
+    ctx: &mut Ctx<'_, D>,
+    request: &[u8],
+    w: &mut Writer<'_>,
+    depth: u8,
+) -> wire::Result<()> {
+    let start = w.len();
+    let (service, result) = match Request::parse(request) {
+        Err((service, e)) => (service, Err(e)),
+        Ok(req) if connection_manager::is_unconnected_send(&req) => {
+            match connection_manager::embedded_request(&req, depth) {
+                Ok(inner) => return respond(ctx, inner, w, depth + 1),
+                Err(e) => (req.service, Err(e)),
+            }
+        }
+        Ok(req) => {
+            w.zeros(4)?;
+            (req.service, dispatch(ctx, &req, w, depth))
+        }
+    };
+    let general = match result {
+        Ok(()) => 0,
+        Err(e) if e.keeps_data() && w.len() > start => e.general,
+        Err(e) => {
+            debug!("cip error {:x} on service {:x}", e.general, service);
+            w.truncate(start);
+            return emit_response_header(w, service, e.general, e.additional());
+        }
+    };
+    w.patch_u16(start, u16::from(service | REPLY_BIT));
+    w.patch_u16(start + 2, u16::from(general));
+    Ok(())
+}
+
+/// Sends a decoded request to its object.
+pub(crate) fn dispatch<D: Device>(
+    ctx: &mut Ctx<'_, D>,
+    req: &Request<'_>,
+    w: &mut Writer<'_>,
+    depth: u8,
+) -> CipResult {
+    let class = req.path.class.and_then(|c| u16::try_from(c).ok());
+    match class {
+        Some(class_id::IDENTITY) => identity::handle(ctx, req, w),
+        Some(class_id::MESSAGE_ROUTER) => message_router::handle(ctx, req, w, depth),
+        Some(class_id::ASSEMBLY) => assembly::handle(ctx, req, w),
+        Some(class_id::CONNECTION_MANAGER) => connection_manager::handle(ctx, req, w, depth),
+        Some(class_id::TCP_IP_INTERFACE) => tcpip::handle(ctx, req, w),
+        Some(class_id::ETHERNET_LINK) => ethernet_link::handle(ctx, req, w),
+        _ => ctx
+            .device
+            .handle_request(req, w)
+            .unwrap_or(Err(CipError::new(General::PathDestinationUnknown))),
+    }
+}
+
+/// The instance a request addresses (0 is the class); a path without one is unknown (0x05).
+pub(crate) fn instance(req: &Request<'_>) -> CipResult<u32> {
+    req.path
+        .instance_or_point()
+        .ok_or(CipError::new(General::PathDestinationUnknown))
+}
+
+/// Runs the shared attribute services on `obj`; anything else is not supported (0x08).
+pub(crate) fn attribute_services(
+    obj: &mut impl Attributes,
+    req: &Request<'_>,
+    w: &mut Writer<'_>,
+) -> CipResult {
+    attributes::handle(obj, req.service, req.path.attribute, req.data, w)
+        .unwrap_or(Err(CipError::new(General::ServiceNotSupported)))
+}
+
+/// An instance number the object does not have.
+pub(crate) const fn no_instance() -> CipError {
+    CipError::new(General::ObjectDoesNotExist)
+}

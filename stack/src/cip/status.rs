@@ -1,0 +1,150 @@
+//! CIP general status codes and the error type every service returns.
+
+/// CIP general status codes (Vol 1, appendix B).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(u8)]
+pub enum General {
+    /// Success.
+    Success = 0x00,
+    /// Connection failure (extended status says why).
+    ConnectionFailure = 0x01,
+    /// Resource unavailable.
+    ResourceUnavailable = 0x02,
+    /// Invalid parameter value.
+    InvalidParameterValue = 0x03,
+    /// Path segment error.
+    PathSegmentError = 0x04,
+    /// Path destination unknown (class or instance).
+    PathDestinationUnknown = 0x05,
+    /// Partial transfer.
+    PartialTransfer = 0x06,
+    /// Connection lost.
+    ConnectionLost = 0x07,
+    /// Service not supported.
+    ServiceNotSupported = 0x08,
+    /// Invalid attribute value.
+    InvalidAttributeValue = 0x09,
+    /// Attribute list error.
+    AttributeListError = 0x0A,
+    /// Already in requested mode/state.
+    AlreadyInRequestedMode = 0x0B,
+    /// Object state conflict.
+    ObjectStateConflict = 0x0C,
+    /// Attribute not settable.
+    AttributeNotSettable = 0x0E,
+    /// Privilege violation.
+    PrivilegeViolation = 0x0F,
+    /// Device state conflict.
+    DeviceStateConflict = 0x10,
+    /// Reply data too large.
+    ReplyDataTooLarge = 0x11,
+    /// Not enough data.
+    NotEnoughData = 0x13,
+    /// Attribute not supported.
+    AttributeNotSupported = 0x14,
+    /// Too much data.
+    TooMuchData = 0x15,
+    /// Object does not exist.
+    ObjectDoesNotExist = 0x16,
+    /// Vendor specific error.
+    VendorSpecific = 0x1F,
+    /// Invalid parameter.
+    InvalidParameter = 0x20,
+    /// Embedded service error (Multiple_Service_Packet).
+    EmbeddedServiceError = 0x1E,
+    /// Routing failure, request packet too large.
+    RequestTooLarge = 0x25,
+    /// Unexpected attribute in list.
+    UnexpectedAttributeInList = 0x26,
+    /// Path size invalid.
+    PathSizeInvalid = 0x1C,
+}
+
+/// A failed service: general status plus up to two additional status words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CipError {
+    /// General status code.
+    pub general: u8,
+    additional: [u16; 2],
+    additional_len: u8,
+    keep_data: bool,
+}
+
+impl CipError {
+    /// An error with a general status only.
+    pub const fn new(general: General) -> Self {
+        CipError {
+            general: general as u8,
+            additional: [0; 2],
+            additional_len: 0,
+            keep_data: false,
+        }
+    }
+    /// An error with a raw general status code (vendor profiles).
+    pub const fn raw(general: u8) -> Self {
+        CipError {
+            general,
+            additional: [0; 2],
+            additional_len: 0,
+            keep_data: false,
+        }
+    }
+    /// Adds an extended status word.
+    pub const fn with_extended(mut self, ext: u16) -> Self {
+        self.additional[0] = ext;
+        self.additional_len = 1;
+        self
+    }
+    /// Adds an extended status word and a second additional word (e.g. the allowed size).
+    pub const fn with_additional(mut self, ext: u16, second: u16) -> Self {
+        self.additional = [ext, second];
+        self.additional_len = 2;
+        self
+    }
+    /// Marks the error as one whose reply still carries the data written so far
+    /// (attribute lists, Multiple_Service_Packet, vendor services).
+    pub const fn keeping_data(mut self) -> Self {
+        self.keep_data = true;
+        self
+    }
+    /// True if the reply keeps the data written before the error.
+    pub const fn keeps_data(&self) -> bool {
+        self.keep_data
+    }
+    /// Connection failure (0x01) with extended status `ext`.
+    pub const fn connection(ext: u16) -> Self {
+        Self::new(General::ConnectionFailure).with_extended(ext)
+    }
+    /// The additional status words.
+    pub fn additional(&self) -> &[u16] {
+        self.additional
+            .get(..usize::from(self.additional_len))
+            .unwrap_or(&[])
+    }
+    /// The extended (first additional) status, if any.
+    pub fn extended(&self) -> Option<u16> {
+        self.additional().first().copied()
+    }
+}
+
+impl From<General> for CipError {
+    fn from(g: General) -> Self {
+        CipError::new(g)
+    }
+}
+
+impl From<crate::wire::Error> for CipError {
+    /// Output exhaustion means the reply is too large; anything else is missing request data.
+    fn from(e: crate::wire::Error) -> Self {
+        match e {
+            crate::wire::Error::Exhausted => CipError::new(General::ReplyDataTooLarge),
+            crate::wire::Error::Truncated => CipError::new(General::NotEnoughData),
+            crate::wire::Error::Malformed => CipError::new(General::InvalidParameter),
+        }
+    }
+}
+
+/// Result of a CIP service.
+pub type CipResult<T = ()> = core::result::Result<T, CipError>;

@@ -1,0 +1,273 @@
+//! TCP/IP Interface object (class 0xF5): addresses, host name, multicast configuration,
+//! TTL and the encapsulation inactivity timeout.
+
+use core::net::Ipv4Addr;
+
+use super::attributes::{read_only, take, unsupported, Attributes};
+use super::class_info::ClassInfo;
+use super::encoding::{ip, padded_string};
+use super::router::{attribute_services, instance, no_instance};
+use super::status::{CipResult, General};
+use super::{Ctx, Request};
+use crate::config::MAX_HOST_NAME;
+use crate::device::Device;
+use crate::net::NetworkConfig;
+use crate::wire::bytes::{get_u16, get_u32};
+use crate::wire::Writer;
+
+/// Configuration capability: DHCP client (bit 2).
+const CAPABILITY_DHCP: u32 = 1 << 2;
+/// Configuration capability: interface configuration changes need a reset (bit 6).
+const CAPABILITY_CHANGE_NEEDS_RESET: u32 = 1 << 6;
+/// Configuration control value: static address.
+const CONTROL_STATIC: u32 = 0;
+/// Configuration control value: DHCP.
+const CONTROL_DHCP: u32 = 2;
+/// Default encapsulation inactivity timeout in seconds.
+pub const DEFAULT_INACTIVITY_TIMEOUT_S: u16 = 120;
+/// First address of the CIP multicast range the default algorithm allocates from.
+const CIP_MCAST_BASE: u32 = 0xEFC0_0100; // 239.192.1.0
+
+/// Multicast configuration (attribute 9).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MulticastConfig {
+    /// 0: default allocation algorithm; 1: the configured range below.
+    pub alloc_control: u8,
+    /// Number of multicast addresses (alloc control 1).
+    pub num_mcast: u16,
+    /// First multicast address (alloc control 1).
+    pub start: Ipv4Addr,
+}
+
+/// Settable TCP/IP object state.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TcpIpState {
+    /// Attribute 3, as last set (applies at the next reset).
+    pub config_control: u32,
+    /// Attribute 6.
+    pub host_name: heapless::Vec<u8, MAX_HOST_NAME>,
+    /// Attribute 8: multicast TTL.
+    pub ttl: u8,
+    /// Attribute 9.
+    pub mcast: MulticastConfig,
+    /// Attribute 13: encapsulation inactivity timeout in seconds (0 disables it).
+    pub inactivity_timeout_s: u16,
+}
+
+impl TcpIpState {
+    /// Factory defaults.
+    pub fn new() -> Self {
+        TcpIpState {
+            config_control: CONTROL_STATIC,
+            host_name: heapless::Vec::new(),
+            ttl: 1,
+            mcast: MulticastConfig {
+                alloc_control: 0,
+                num_mcast: 0,
+                start: Ipv4Addr::UNSPECIFIED,
+            },
+            inactivity_timeout_s: DEFAULT_INACTIVITY_TIMEOUT_S,
+        }
+    }
+
+    /// The first multicast address in use: configured, or from the CIP default algorithm.
+    pub fn multicast_start(&self, net: &NetworkConfig) -> Ipv4Addr {
+        if self.mcast.alloc_control == 1 {
+            return self.mcast.start;
+        }
+        let host = u32::from(net.ip) & !u32::from(net.netmask);
+        let host_id = host.wrapping_sub(1) & 0x3FF;
+        Ipv4Addr::from(CIP_MCAST_BASE + (host_id << 5))
+    }
+
+    /// Number of multicast addresses in use.
+    pub fn multicast_count(&self) -> u16 {
+        if self.mcast.alloc_control == 1 {
+            self.mcast.num_mcast
+        } else {
+            1
+        }
+    }
+}
+
+impl Default for TcpIpState {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+struct Instance<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+
+impl<D: Device> Attributes for Instance<'_, '_, D> {
+    fn get(&mut self, id: u16, w: &mut Writer<'_>) -> CipResult {
+        let net = self.0.net;
+        let st = &self.0.state.tcpip;
+        match id {
+            1 => w.u32(1)?,
+            2 => w.u32(CAPABILITY_DHCP | CAPABILITY_CHANGE_NEEDS_RESET)?,
+            3 => w.u32(st.config_control)?,
+            4 => w.bytes(&[2, 0, 0x20, 0xF6, 0x24, 0x01])?,
+            5 => {
+                ip(w, net.ip)?;
+                ip(w, net.netmask)?;
+                ip(w, net.gateway)?;
+                ip(w, net.dns[0])?;
+                ip(w, net.dns[1])?;
+                padded_string(w, b"")?;
+            }
+            6 => padded_string(w, &st.host_name)?,
+            7 => w.zeros(6)?,
+            8 => w.u8(st.ttl)?,
+            9 => {
+                w.u8(st.mcast.alloc_control)?;
+                w.u8(0)?;
+                w.u16(st.multicast_count())?;
+                ip(w, st.multicast_start(net))?;
+            }
+            10 | 12 => w.u8(0)?,
+            11 => w.zeros(35)?,
+            13 => w.u16(st.inactivity_timeout_s)?,
+            _ => return Err(unsupported()),
+        }
+        Ok(())
+    }
+
+    fn set(&mut self, id: u16, data: &[u8], exact: bool) -> CipResult<usize> {
+        let st = &mut self.0.state.tcpip;
+        match id {
+            3 => {
+                let v = get_u32(take(data, 4, exact)?, 0);
+                if v & 0x0F != CONTROL_STATIC && v & 0x0F != CONTROL_DHCP || v & !0x1F != 0 {
+                    return Err(General::InvalidAttributeValue.into());
+                }
+                st.config_control = v;
+                Ok(4)
+            }
+            6 => {
+                let len = usize::from(get_u16(take(data, 2, false)?, 0));
+                let total = 2 + len + len % 2;
+                let raw = take(data, total, exact)?;
+                let name = raw.get(2..2 + len).unwrap_or(&[]);
+                if !name
+                    .iter()
+                    .all(|c| c.is_ascii_alphanumeric() || matches!(c, b'-' | b'.'))
+                {
+                    return Err(General::InvalidAttributeValue.into());
+                }
+                st.host_name =
+                    heapless::Vec::from_slice(name).map_err(|_| General::InvalidAttributeValue)?;
+                Ok(total)
+            }
+            8 => match take(data, 1, exact)? {
+                [0] => Err(General::InvalidAttributeValue.into()),
+                [ttl] => {
+                    st.ttl = *ttl;
+                    Ok(1)
+                }
+                _ => Err(General::NotEnoughData.into()),
+            },
+            9 => {
+                let v = take(data, 8, exact)?;
+                let mcast = MulticastConfig {
+                    alloc_control: v.first().copied().unwrap_or(0xFF),
+                    num_mcast: get_u16(v, 2),
+                    start: Ipv4Addr::from(get_u32(v, 4)),
+                };
+                let reserved = v.get(1).copied().unwrap_or(0xFF);
+                if reserved != 0 || !valid_mcast(&mcast) {
+                    return Err(General::InvalidAttributeValue.into());
+                }
+                st.mcast = mcast;
+                Ok(8)
+            }
+            13 => {
+                let v = get_u16(take(data, 2, exact)?, 0);
+                if v > 3600 {
+                    return Err(General::InvalidAttributeValue.into());
+                }
+                st.inactivity_timeout_s = v;
+                Ok(2)
+            }
+            1 | 2 | 4 | 5 | 7 | 10 | 11 | 12 => Err(read_only()),
+            _ => Err(unsupported()),
+        }
+    }
+
+    fn all(&self) -> &'static [u16] {
+        &[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13]
+    }
+}
+
+/// Alloc control 0 takes no range; 1 takes a non-empty range inside 239.192.0.0/14.
+fn valid_mcast(m: &MulticastConfig) -> bool {
+    let start = u32::from(m.start);
+    match m.alloc_control {
+        0 => m.num_mcast == 0 && start == 0,
+        1 => {
+            let end = start
+                .saturating_add(u32::from(m.num_mcast))
+                .saturating_sub(1);
+            m.num_mcast > 0
+                && start & 0xFFFC_0000 == 0xEFC0_0000
+                && end & 0xFFFC_0000 == 0xEFC0_0000
+        }
+        _ => false,
+    }
+}
+
+/// Handles a request to the TCP/IP Interface class or its instance 1.
+pub(crate) fn handle<D: Device>(
+    ctx: &mut Ctx<'_, D>,
+    req: &Request<'_>,
+    w: &mut Writer<'_>,
+) -> CipResult {
+    match instance(req)? {
+        0 => attribute_services(
+            &mut ClassInfo {
+                revision: 4,
+                max_instance: 1,
+                instances: 1,
+                optional_attributes: &[8, 9, 13],
+                max_instance_attribute: 13,
+            },
+            req,
+            w,
+        ),
+        1 => attribute_services(&mut Instance(ctx), req, w),
+        _ => Err(no_instance()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_multicast_algorithm() {
+        let net = NetworkConfig::new_static(
+            Ipv4Addr::new(198, 18, 0, 2),
+            Ipv4Addr::new(255, 255, 255, 0),
+            [2, 0, 0, 0, 0, 1],
+        );
+        // host id 2 - 1 = 1 -> 239.192.1.0 + 32
+        assert_eq!(
+            TcpIpState::new().multicast_start(&net),
+            Ipv4Addr::new(239, 192, 1, 32)
+        );
+    }
+
+    #[test]
+    fn multicast_ranges() {
+        let m = |a, n, s: [u8; 4]| MulticastConfig {
+            alloc_control: a,
+            num_mcast: n,
+            start: Ipv4Addr::from(s),
+        };
+        assert!(valid_mcast(&m(0, 0, [0; 4])));
+        assert!(!valid_mcast(&m(0, 1, [0; 4])));
+        assert!(valid_mcast(&m(1, 1, [239, 192, 15, 32])));
+        assert!(!valid_mcast(&m(1, 0, [239, 192, 15, 32])));
+        assert!(!valid_mcast(&m(1, 1, [224, 0, 0, 1])));
+        assert!(!valid_mcast(&m(2, 1, [239, 192, 15, 32])));
+    }
+}

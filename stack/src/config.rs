@@ -1,0 +1,22 @@
+//! Every compile-time capacity of the stack, in one place.
+
+/// Simultaneous encapsulation sessions: one per TCP socket on port 44818.
+pub const MAX_SESSIONS: usize = 3;
+/// Slots in the CIP connection table (Class 1 and Class 3 share it).
+pub const MAX_CONNECTIONS: usize = 10;
+/// Largest encapsulation data part accepted or produced (bytes after the 24-byte header).
+pub const MAX_ENCAP_DATA: usize = 1024;
+/// Largest whole encapsulation frame: header plus data.
+pub const MAX_ENCAP_FRAME: usize = crate::wire::encap::HEADER_LEN + MAX_ENCAP_DATA;
+/// Largest assembly instance data in bytes.
+pub const MAX_ASSEMBLY_SIZE: usize = 500;
+/// Delayed ListIdentity replies (broadcast requests) that can wait at once.
+pub const MAX_PENDING_LIST_IDENTITY: usize = 4;
+/// Services inside one Multiple_Service_Packet request.
+pub const MAX_MULTIPLE_SERVICES: usize = 32;
+/// Longest host name (TCP/IP attribute 6) and domain name (attribute 5).
+pub const MAX_HOST_NAME: usize = 64;
+/// TCP port of the encapsulation protocol.
+pub const ENCAP_PORT: u16 = 44818;
+/// UDP port of Class 0/1 implicit I/O.
+pub const IO_PORT: u16 = 2222;

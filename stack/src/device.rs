@@ -1,0 +1,125 @@
+//! The [`Device`] trait: what a device profile supplies to the stack.
+
+use crate::cip::request::Request;
+use crate::cip::status::CipResult;
+use crate::time::Instant;
+use crate::wire::Writer;
+
+/// Identity object values (class 0x01, attributes 1-7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct IdentityInfo {
+    /// Vendor ID (attribute 1).
+    pub vendor_id: u16,
+    /// Device type (attribute 2).
+    pub device_type: u16,
+    /// Product code (attribute 3).
+    pub product_code: u16,
+    /// Major and minor revision (attribute 4).
+    pub revision: (u8, u8),
+    /// Serial number (attribute 6).
+    pub serial_number: u32,
+    /// Product name (attribute 7), at most 32 characters.
+    pub product_name: &'static str,
+}
+
+/// What an assembly instance is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum AssemblyRole {
+    /// Produced by the device (T->O data); read-only to explicit messages.
+    Input,
+    /// Consumed by the device (O->T data).
+    Output,
+    /// Configuration data, written at Forward_Open or explicitly.
+    Config,
+    /// O->T connection point of an input-only connection (heartbeat, no data).
+    InputOnlyHeartbeat,
+    /// O->T connection point of a listen-only connection (heartbeat, no data).
+    ListenOnlyHeartbeat,
+    /// Explicit messaging only: read and written, never connected.
+    Explicit,
+}
+
+impl AssemblyRole {
+    /// True if explicit Set_Attribute_Single may write the data.
+    pub const fn settable(self) -> bool {
+        matches!(
+            self,
+            AssemblyRole::Output | AssemblyRole::Config | AssemblyRole::Explicit
+        )
+    }
+}
+
+/// One assembly instance a device exposes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AssemblyInfo {
+    /// Instance ID.
+    pub instance: u16,
+    /// Its role.
+    pub role: AssemblyRole,
+    /// Data size in bytes.
+    pub size: u16,
+    /// True if O->T data for it carries the 32-bit run/idle header.
+    pub run_idle_header: bool,
+}
+
+/// How a connection ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CloseReason {
+    /// Forward_Close from the originator.
+    ForwardClose,
+    /// The inactivity watchdog expired.
+    Timeout,
+    /// The connection it depended on (owner of a listen-only) went away.
+    Dependency,
+    /// Its encapsulation session ended (Class 3).
+    SessionClosed,
+}
+
+/// Connection life-cycle events the stack reports to the device.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ConnectionEvent {
+    /// An exclusive-owner connection now owns the device's outputs.
+    OwnershipGained,
+    /// The last exclusive-owner connection ended.
+    OwnershipLost(CloseReason),
+    /// O->T data switched between Run (true) and Idle (false).
+    RunIdle(bool),
+}
+
+/// Everything a device profile supplies. Only identity and assemblies are required.
+pub trait Device {
+    /// Identity object values.
+    fn identity(&self) -> &IdentityInfo;
+    /// Extra identity status bits the device owns (fault bits 8-11); the stack adds the rest.
+    fn status_bits(&self) -> u16 {
+        0
+    }
+    /// The assembly instances, with role and size.
+    fn assemblies(&self) -> &[AssemblyInfo];
+    /// Copies assembly `instance` into `out` (sized to the declared size); returns the length.
+    fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize>;
+    /// Accepts new data for assembly `instance` (exactly the declared size).
+    fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult;
+    /// Vendor classes the device answers (listed by the Message Router object).
+    fn vendor_classes(&self) -> &[u16] {
+        &[]
+    }
+    /// Handles a request for a vendor class or symbolic path; `None` if not the device's.
+    fn handle_request(&mut self, _req: &Request<'_>, _reply: &mut Writer<'_>) -> Option<CipResult> {
+        None
+    }
+    /// Identity Reset service: 0 emulates a power cycle, 1 also restores factory defaults.
+    /// Called before the reply is sent; the device performs the reset afterwards.
+    fn reset(&mut self, _kind: u8) -> CipResult {
+        Ok(())
+    }
+    /// A connection event (ownership, run/idle).
+    fn connection_event(&mut self, _event: ConnectionEvent) {}
+    /// Advances the device's own behaviour (a simulation); returns when it next needs a call.
+    fn poll(&mut self, _now: Instant) -> Option<Instant> {
+        None
+    }
+}

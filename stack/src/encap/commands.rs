@@ -1,0 +1,271 @@
+//! Encapsulation command handling for whole frames received over TCP or UDP.
+
+use core::net::SocketAddrV4;
+
+use crate::adapter::Adapter;
+use crate::cip::router;
+use crate::device::Device;
+use crate::time::Instant;
+use crate::wire::cpf::{self, item_type};
+use crate::wire::encap::{command, status, Packet, Repr, HEADER_LEN};
+use crate::wire::identity_item::{listen_socket, IdentityRepr, ServiceRepr};
+use crate::wire::register_session::{self, PROTOCOL_VERSION};
+use crate::wire::{rr_data, Writer};
+
+/// Identity state reported in ListIdentity: operational.
+const STATE_OPERATIONAL: u8 = 3;
+
+/// What to do after handling one TCP frame: reply length, and whether to close.
+type TcpAction = (usize, bool);
+
+impl<D: Device> Adapter<D> {
+    /// Handles one complete frame from TCP socket `index`.
+    pub(crate) fn tcp_frame(
+        &mut self,
+        index: usize,
+        frame: &[u8],
+        now: Instant,
+        reply: &mut [u8],
+    ) -> TcpAction {
+        self.objects.link.count_in(frame.len(), true);
+        let Ok(header) = Repr::parse_header(frame) else {
+            return (0, true);
+        };
+        if header.options != 0 {
+            // Vol 2, 2-3.6: a frame with non-zero options is discarded.
+            self.objects.link.count_discard();
+            return (0, false);
+        }
+        let data = frame.get(HEADER_LEN..).unwrap_or(&[]);
+        let session = self.sessions.get(index).and_then(|s| s.handle);
+        let action = match header.command {
+            command::NOP => (0, false),
+            command::LIST_IDENTITY => (
+                self.list_identity_reply(header.session_handle, header.sender_context, reply),
+                false,
+            ),
+            command::LIST_SERVICES => (list_services_reply(&header, reply), false),
+            command::LIST_INTERFACES => (list_interfaces_reply(&header, reply), false),
+            command::REGISTER_SESSION => {
+                (self.register_session(index, &header, data, reply), false)
+            }
+            command::UNREGISTER_SESSION if session.is_some_and(|h| h == header.session_handle) => {
+                (0, true)
+            }
+            command::UNREGISTER_SESSION | command::SEND_RR_DATA | command::SEND_UNIT_DATA
+                if session.is_none_or(|h| h != header.session_handle) =>
+            {
+                (error_reply(&header, status::INVALID_SESSION, reply), false)
+            }
+            command::SEND_RR_DATA => (self.send_rr_data(&header, data, now, reply), false),
+            // Connected explicit messaging arrives with the connection table; until then no
+            // connection ID is valid and the frame is dropped, as for an unknown connection.
+            command::SEND_UNIT_DATA => {
+                self.objects.link.count_discard();
+                (0, false)
+            }
+            _ => (error_reply(&header, status::INVALID_COMMAND, reply), false),
+        };
+        if action.0 > 0 {
+            self.objects.link.count_out(action.0);
+        }
+        action
+    }
+
+    /// Handles one datagram received on UDP 44818.
+    pub(crate) fn udp_frame(
+        &mut self,
+        from: SocketAddrV4,
+        broadcast: bool,
+        datagram: &[u8],
+        now: Instant,
+        reply: &mut [u8],
+    ) -> usize {
+        self.objects.link.count_in(datagram.len(), !broadcast);
+        let header = match Packet::new_checked(datagram).and_then(|p| Repr::parse(&p)) {
+            Ok(h) if h.options == 0 => h,
+            _ => {
+                self.objects.link.count_discard();
+                return 0;
+            }
+        };
+        let len = match header.command {
+            command::NOP => 0,
+            command::LIST_IDENTITY if broadcast => {
+                let queued = self.delayed.schedule(
+                    from,
+                    header.sender_context,
+                    header.session_handle,
+                    now,
+                    &mut self.rng,
+                );
+                if queued {
+                    0
+                } else {
+                    self.list_identity_reply(header.session_handle, header.sender_context, reply)
+                }
+            }
+            command::LIST_IDENTITY => {
+                self.list_identity_reply(header.session_handle, header.sender_context, reply)
+            }
+            command::LIST_SERVICES => list_services_reply(&header, reply),
+            command::LIST_INTERFACES => list_interfaces_reply(&header, reply),
+            _ => error_reply(&header, status::INVALID_COMMAND, reply),
+        };
+        if len > 0 {
+            self.objects.link.count_out(len);
+        }
+        len
+    }
+
+    /// Writes a ListIdentity reply; returns its length (0 if `out` is too small).
+    pub(crate) fn list_identity_reply(
+        &mut self,
+        session_handle: u32,
+        sender_context: [u8; 8],
+        out: &mut [u8],
+    ) -> usize {
+        let ident = *self.device.identity();
+        let status = self.ctx(Instant(0)).identity_status();
+        let item = IdentityRepr {
+            protocol_version: PROTOCOL_VERSION,
+            socket: listen_socket(self.net.ip),
+            vendor_id: ident.vendor_id,
+            device_type: ident.device_type,
+            product_code: ident.product_code,
+            revision: ident.revision,
+            status,
+            serial_number: ident.serial_number,
+            product_name: ident.product_name.as_bytes(),
+            state: STATE_OPERATIONAL,
+        };
+        let header = Repr {
+            command: command::LIST_IDENTITY,
+            length: 0,
+            session_handle,
+            status: status::SUCCESS,
+            sender_context,
+            options: 0,
+        };
+        with_body(&header, out, |w| {
+            w.u16(1)?;
+            cpf::emit_item_header(w, item_type::LIST_IDENTITY, item.buffer_len() as u16)?;
+            item.emit(w)
+        })
+    }
+
+    fn register_session(
+        &mut self,
+        index: usize,
+        header: &Repr,
+        data: &[u8],
+        out: &mut [u8],
+    ) -> usize {
+        let request = match register_session::Packet::new_checked(data) {
+            Ok(p) => register_session::Repr::parse(&p),
+            Err(_) => return error_reply(header, status::INVALID_LENGTH, out),
+        };
+        let already = self.sessions.get(index).is_some_and(|s| s.handle.is_some());
+        let (status, handle) = if already {
+            (status::INVALID_COMMAND, header.session_handle)
+        } else if request.protocol_version != PROTOCOL_VERSION || request.options != 0 {
+            (status::UNSUPPORTED_PROTOCOL, header.session_handle)
+        } else {
+            let h = self.sessions.new_handle(index);
+            if let Some(s) = self.sessions.get_mut(index) {
+                s.handle = Some(h);
+            }
+            (status::SUCCESS, h)
+        };
+        let reply = Repr {
+            session_handle: handle,
+            ..header.reply(status, 0)
+        };
+        with_body(&reply, out, |w| {
+            register_session::Repr {
+                protocol_version: PROTOCOL_VERSION,
+                options: 0,
+            }
+            .emit(w.reserve(register_session::LEN)?)
+        })
+    }
+
+    /// SendRRData: a null address item and an unconnected data item carrying a request.
+    fn send_rr_data(&mut self, header: &Repr, data: &[u8], now: Instant, out: &mut [u8]) -> usize {
+        let Ok(rr) = rr_data::Packet::new_checked(data) else {
+            return error_reply(header, status::INVALID_LENGTH, out);
+        };
+        let request = cpf::Packet::new_checked(rr.cpf()).ok().and_then(|p| {
+            let mut items = p.into_items();
+            match (items.next(), items.next()) {
+                (Some(a), Some(d))
+                    if rr.interface_handle() == 0
+                        && a.type_id == item_type::NULL_ADDRESS
+                        && d.type_id == item_type::UNCONNECTED_DATA
+                        && !d.data.is_empty() =>
+                {
+                    Some(d.data)
+                }
+                _ => None,
+            }
+        });
+        let Some(request) = request else {
+            return error_reply(header, status::INCORRECT_DATA, out);
+        };
+        let mut ctx = self.ctx(now);
+        let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
+            rr_data::emit_prefix(w, 0, 0)?;
+            w.u16(2)?;
+            cpf::emit_item_header(w, item_type::NULL_ADDRESS, 0)?;
+            cpf::emit_item_header(w, item_type::UNCONNECTED_DATA, 0)?;
+            let at = w.len();
+            router::respond(&mut ctx, request, w, 0)?;
+            w.patch_u16(at - 2, (w.len() - at) as u16);
+            Ok(())
+        });
+        if len == 0 {
+            error_reply(header, status::INSUFFICIENT_MEMORY, out)
+        } else {
+            len
+        }
+    }
+}
+
+/// Writes `header` and a body produced by `body`, with the header's length set to the body's.
+/// Returns the frame length, or 0 if it did not fit.
+fn with_body(
+    header: &Repr,
+    out: &mut [u8],
+    body: impl FnOnce(&mut Writer<'_>) -> crate::wire::Result<()>,
+) -> usize {
+    let mut w = Writer::new(out);
+    if w.zeros(HEADER_LEN).is_err() || body(&mut w).is_err() {
+        return 0;
+    }
+    let len = w.len();
+    let Ok(length) = u16::try_from(len - HEADER_LEN) else {
+        return 0;
+    };
+    match (Repr { length, ..*header }).emit(out) {
+        Ok(()) => len,
+        Err(_) => 0,
+    }
+}
+
+/// A header-only reply carrying `status`.
+fn error_reply(header: &Repr, status: u32, out: &mut [u8]) -> usize {
+    with_body(&header.reply(status, 0), out, |_| Ok(()))
+}
+
+fn list_services_reply(header: &Repr, out: &mut [u8]) -> usize {
+    with_body(&header.reply(status::SUCCESS, 0), out, |w| {
+        let s = ServiceRepr::communications();
+        w.u16(1)?;
+        cpf::emit_item_header(w, item_type::LIST_SERVICES, s.buffer_len() as u16)?;
+        s.emit(w)
+    })
+}
+
+fn list_interfaces_reply(header: &Repr, out: &mut [u8]) -> usize {
+    with_body(&header.reply(status::SUCCESS, 0), out, |w| w.u16(0))
+}

@@ -1,0 +1,25 @@
+//! Optional logging: forwards to `defmt` or `log` when one of those features is on, and
+//! compiles to nothing (no formatting cost) when both are off.
+#![allow(unused_macros)]
+
+macro_rules! debug {
+    ($s:literal $(, $x:expr)* $(,)?) => {{
+        #[cfg(feature = "log")]
+        ::log::debug!($s $(, $x)*);
+        #[cfg(feature = "defmt")]
+        ::defmt::debug!($s $(, $x)*);
+        #[cfg(not(any(feature = "log", feature = "defmt")))]
+        { let _ = ($( & $x ),*); }
+    }};
+}
+
+macro_rules! warn {
+    ($s:literal $(, $x:expr)* $(,)?) => {{
+        #[cfg(feature = "log")]
+        ::log::warn!($s $(, $x)*);
+        #[cfg(feature = "defmt")]
+        ::defmt::warn!($s $(, $x)*);
+        #[cfg(not(any(feature = "log", feature = "defmt")))]
+        { let _ = ($( & $x ),*); }
+    }};
+}

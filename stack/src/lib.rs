@@ -1,0 +1,32 @@
+//! A `no_std`, heap-free, sans-IO EtherNet/IP adapter (target) stack.
+//!
+//! The stack never touches a socket or a clock: the runtime hands it received bytes and the
+//! current [`Instant`], and it writes replies into buffers the runtime owns. Every capacity is a
+//! compile-time constant in [`config`].
+//!
+//! - [`wire`]: zero-copy, length-checked codecs for every EtherNet/IP and CIP structure.
+//! - [`cip`]: status codes, the request/reply model and the standard objects.
+//! - [`encap`]: encapsulation sessions, TCP framing and command handling.
+//! - [`device`]: the [`Device`] trait a device profile implements.
+//! - [`adapter`]: the [`Adapter`] the runtime drives.
+#![no_std]
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+#[macro_use]
+mod fmt;
+
+pub mod adapter;
+pub mod cip;
+pub mod config;
+pub mod device;
+pub mod encap;
+pub mod net;
+pub mod rng;
+pub mod time;
+pub mod wire;
+
+pub use adapter::{Adapter, SocketId, TcpOutcome};
+pub use device::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
+pub use net::NetworkConfig;
+pub use time::{Duration, Instant};
