@@ -1,0 +1,2 @@
+//! Placeholder: the Linux host board lands here.
+fn main() {}

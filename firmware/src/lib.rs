@@ -1,0 +1,2 @@
+//! Placeholder: the embassy-net runtime and device profiles land here.
+#![no_std]

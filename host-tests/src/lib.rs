@@ -1,0 +1,1 @@
+//! Placeholder: shared test helpers (scanner, namespace harness) land here.

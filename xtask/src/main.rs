@@ -1,0 +1,2 @@
+//! Placeholder: `cargo xtask` lands here.
+fn main() {}
