@@ -7,6 +7,9 @@ use crate::config::MAX_SESSIONS;
 use crate::device::Device;
 use crate::encap::list_identity::DelayedReplies;
 use crate::encap::session::{Need, Sessions};
+use crate::io::consume::{self, Accepted, Discard};
+use crate::io::open::Origin;
+use crate::io::{produce, ConnectionTable};
 use crate::net::NetworkConfig;
 use crate::rng::Rng;
 use crate::time::{Duration, Instant};
@@ -34,6 +37,7 @@ pub struct Adapter<D: Device> {
     pub(crate) net: NetworkConfig,
     pub(crate) sessions: Sessions,
     pub(crate) delayed: DelayedReplies,
+    pub(crate) connections: ConnectionTable,
     pub(crate) rng: Rng,
 }
 
@@ -42,12 +46,14 @@ impl<D: Device> Adapter<D> {
     pub fn new(device: D, net: NetworkConfig, seed: u64) -> Self {
         let mut rng = Rng::new(seed);
         let handle_seed = rng.next_u64() as u32;
+        let id_seed = rng.next_u64() as u32;
         Adapter {
             device,
             objects: ObjectState::new(),
             net,
             sessions: Sessions::new(handle_seed),
             delayed: DelayedReplies::new(),
+            connections: ConnectionTable::new(id_seed),
             rng,
         }
     }
@@ -63,6 +69,10 @@ impl<D: Device> Adapter<D> {
     /// The stack's object state (TCP/IP settings, counters).
     pub fn objects(&self) -> &ObjectState {
         &self.objects
+    }
+    /// The connection table.
+    pub fn connections(&self) -> &ConnectionTable {
+        &self.connections
     }
     /// The interface configuration.
     pub fn network(&self) -> &NetworkConfig {
@@ -88,6 +98,7 @@ impl<D: Device> Adapter<D> {
     pub fn tcp_close(&mut self, socket: SocketId, now: Instant) {
         debug!("tcp close on socket {}", socket.0);
         self.sessions.reset(usize::from(socket.0), None, now);
+        self.connections.close_session(socket.0, &mut self.device);
     }
 
     /// When the connection on `socket` has been idle for the encapsulation inactivity timeout
@@ -209,9 +220,54 @@ impl<D: Device> Adapter<D> {
         Some((p.to, len))
     }
 
-    /// The next instant the adapter needs [`Self::poll_udp`] (or a later poll) to be called.
+    /// Feeds a datagram received on UDP 2222 (Class 1 O->T data) from `from`.
+    pub fn io_receive(
+        &mut self,
+        from: SocketAddrV4,
+        data: &[u8],
+        now: Instant,
+    ) -> Result<Accepted, Discard> {
+        let r = consume::consume(&mut self.connections, &mut self.device, from, data, now);
+        if r.is_err() {
+            self.objects.link.count_discard();
+        }
+        r
+    }
+
+    /// Closes connections whose watchdog expired, then writes the most overdue T->O datagram
+    /// into `out` (at least the largest input assembly plus 20 bytes) and returns its
+    /// destination (UDP port 2222 of the originator or multicast group) and length. Call until
+    /// it returns `None`, then sleep until [`Self::next_deadline`].
+    pub fn poll_io(&mut self, now: Instant, out: &mut [u8]) -> Option<(SocketAddrV4, usize)> {
+        self.connections.expire(now, &mut self.device);
+        produce::produce_due(&mut self.connections, &mut self.device, now, out)
+    }
+
+    /// Tells the stack that input assembly `instance` has new data: change-of-state and
+    /// application-triggered connections producing it send as soon as their inhibit time allows.
+    pub fn trigger_input(&mut self, instance: u16) {
+        produce::trigger(&mut self.connections, instance);
+    }
+
+    /// The multicast group T->O data goes to while a multicast connection is open.
+    pub fn multicast_group(&self) -> Option<Ipv4Addr> {
+        self.connections
+            .iter()
+            .any(|(_, c)| c.produces_multicast())
+            .then(|| self.objects.tcpip.multicast_start(&self.net))
+    }
+
+    /// TTL for multicast T->O datagrams (TCP/IP attribute 8).
+    pub fn multicast_ttl(&self) -> u8 {
+        self.objects.tcpip.ttl
+    }
+
+    /// The next instant the adapter needs a poll ([`Self::poll_io`], [`Self::poll_udp`]).
     pub fn next_deadline(&self) -> Option<Instant> {
-        self.delayed.next_due()
+        match (self.delayed.next_due(), self.connections.next_deadline()) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 
     /// Number of TCP sockets the runtime must provide.
@@ -220,20 +276,18 @@ impl<D: Device> Adapter<D> {
     }
 
     /// The service context for a request handled at `now`.
-    pub(crate) fn ctx(&mut self, now: Instant) -> Ctx<'_, D> {
+    pub(crate) fn ctx(&mut self, now: Instant, origin: Option<Origin>) -> Ctx<'_, D> {
         Ctx {
             device: &mut self.device,
             state: &mut self.objects,
             net: &self.net,
-            owned_outputs: &[],
-            connection_status: NO_IO_CONNECTIONS,
+            connections: &mut self.connections,
+            origin,
+            reply_t_o_sockaddr: None,
             now,
         }
     }
 }
-
-/// Identity extended device status (bits 4-7) value 3: no I/O connections established.
-const NO_IO_CONNECTIONS: u16 = 3 << 4;
 
 /// Total length of the complete frame at the start of `data`.
 fn frame_len(data: &[u8]) -> usize {

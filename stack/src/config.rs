@@ -20,3 +20,11 @@ pub const MAX_HOST_NAME: usize = 64;
 pub const ENCAP_PORT: u16 = 44818;
 /// UDP port of Class 0/1 implicit I/O.
 pub const IO_PORT: u16 = 2222;
+/// Smallest requested packet interval accepted, in microseconds.
+pub const MIN_RPI_US: u32 = 1_000;
+/// Largest requested packet interval accepted, in microseconds.
+pub const MAX_RPI_US: u32 = 10_000_000;
+/// Largest Class 3 (connected explicit) message and cached reply, in bytes.
+pub const MAX_EXPLICIT_CONNECTED: usize = 504;
+/// The consumer's first packet may take this long even if the watchdog is shorter.
+pub const FIRST_PACKET_GRACE_US: u64 = 10_000_000;

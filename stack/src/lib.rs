@@ -21,6 +21,7 @@ pub mod cip;
 pub mod config;
 pub mod device;
 pub mod encap;
+pub mod io;
 pub mod net;
 pub mod rng;
 pub mod time;

@@ -39,7 +39,12 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
                     return Err(read_only());
                 }
                 let value = super::attributes::take(data, size, exact)?;
-                if self.ctx.owned_outputs.contains(&self.info.instance) {
+                if self
+                    .ctx
+                    .connections
+                    .owned_outputs()
+                    .contains(&self.info.instance)
+                {
                     return Err(General::DeviceStateConflict.into());
                 }
                 self.ctx.device.write_assembly(self.info.instance, value)?;

@@ -1,31 +1,110 @@
-//! Connection Manager object (class 0x06): Unconnected_Send addressed to this device;
-//! Forward_Open and Forward_Close come with the connection table.
+//! Connection Manager object (class 0x06): Forward_Open, Large_Forward_Open, Forward_Close,
+//! and Unconnected_Send addressed to this device.
 
 use super::router::{instance, no_instance, MAX_DEPTH};
 use super::status::{CipError, CipResult, General};
 use super::{service, Ctx, Request};
-use crate::device::Device;
+use crate::config::IO_PORT;
+use crate::device::{CloseReason, Device};
+use crate::io::open::{self, NetFacts};
+use crate::io::status as ext;
+use crate::wire::cpf::SockAddr;
 use crate::wire::epath::{Segment, Segments};
-use crate::wire::{Reader, Writer};
+use crate::wire::forward_open::{
+    self, ConnectionType, ForwardClose, ForwardOpen, ForwardOpenReply,
+};
+use crate::wire::{Error, Reader, Writer};
 
 /// Extended status: the route path names a port this device does not have.
 const EXT_PORT_NOT_AVAILABLE: u16 = 0x0311;
 /// Extended status: the route path's link address is not this device.
 const EXT_LINK_ADDRESS_NOT_VALID: u16 = 0x0312;
-/// Extended status: invalid segment in the route path.
-const EXT_INVALID_SEGMENT: u16 = 0x0315;
 
 /// Handles a request to the Connection Manager (Unconnected_Send is unwrapped by the router).
 pub(crate) fn handle<D: Device>(
-    _ctx: &mut Ctx<'_, D>,
+    ctx: &mut Ctx<'_, D>,
     req: &Request<'_>,
-    _w: &mut Writer<'_>,
-    _depth: u8,
+    w: &mut Writer<'_>,
 ) -> CipResult {
     if instance(req)? != 1 {
         return Err(no_instance());
     }
-    Err(General::ServiceNotSupported.into())
+    match req.service {
+        service::FORWARD_OPEN | service::LARGE_FORWARD_OPEN => forward_open(ctx, req, w),
+        service::FORWARD_CLOSE => forward_close(ctx, req.data, w),
+        _ => Err(General::ServiceNotSupported.into()),
+    }
+}
+
+/// Malformed request data: short is "not enough data", a path that does not fill it "too much".
+fn data_error(e: Error) -> CipError {
+    match e {
+        Error::Truncated => General::NotEnoughData.into(),
+        _ => General::TooMuchData.into(),
+    }
+}
+
+fn forward_open<D: Device>(
+    ctx: &mut Ctx<'_, D>,
+    req: &Request<'_>,
+    w: &mut Writer<'_>,
+) -> CipResult {
+    let fo = ForwardOpen::parse(req.data, req.service == service::LARGE_FORWARD_OPEN)
+        .map_err(data_error)?;
+    let origin = ctx
+        .origin
+        .ok_or(CipError::new(General::ServiceNotSupported))?;
+    let net = NetFacts {
+        ip: ctx.net.ip,
+        netmask: ctx.net.netmask,
+        multicast: ctx.state.tcpip.multicast_start(ctx.net),
+        ttl: ctx.state.tcpip.ttl,
+    };
+    let opened = open::forward_open(ctx.connections, ctx.device, &fo, &origin, &net, ctx.now);
+    let slot = match opened {
+        Ok(slot) => slot,
+        Err(e) => {
+            let remaining = if e.extended() == Some(ext::BAD_SEGMENT) {
+                (fo.path.len() / 2) as u8
+            } else {
+                0
+            };
+            forward_open::emit_failure(w, &fo.triad, remaining)?;
+            return Err(e.keeping_data());
+        }
+    };
+    let conn = ctx
+        .connections
+        .get(slot)
+        .ok_or(CipError::new(General::ResourceUnavailable))?;
+    if fo.t_o_params.connection_type == ConnectionType::Multicast {
+        ctx.reply_t_o_sockaddr = Some(SockAddr {
+            addr: net.multicast,
+            port: IO_PORT,
+        });
+    }
+    ForwardOpenReply {
+        o_t_connection_id: conn.o_t_id,
+        t_o_connection_id: conn.t_o_id,
+        triad: conn.triad,
+        o_t_api: conn.o_t_rpi,
+        t_o_api: conn.t_o_rpi,
+        application_reply: &[],
+    }
+    .emit(w)?;
+    Ok(())
+}
+
+fn forward_close<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8], w: &mut Writer<'_>) -> CipResult {
+    let fc = ForwardClose::parse(data).map_err(data_error)?;
+    let Some(slot) = ctx.connections.find_triad(&fc.triad) else {
+        forward_open::emit_failure(w, &fc.triad, 0)?;
+        return Err(CipError::connection(ext::NOT_FOUND).keeping_data());
+    };
+    ctx.connections
+        .close(slot, CloseReason::ForwardClose, ctx.device);
+    forward_open::emit_close_reply(w, &fc.triad)?;
+    Ok(())
 }
 
 /// True if `req` is an Unconnected_Send to the Connection Manager.
@@ -71,6 +150,6 @@ fn check_route(route: &[u8]) -> CipResult {
             Err(CipError::connection(EXT_LINK_ADDRESS_NOT_VALID))
         }
         (Some(Ok(Segment::Port { .. })), None) => Err(CipError::connection(EXT_PORT_NOT_AVAILABLE)),
-        _ => Err(CipError::connection(EXT_INVALID_SEGMENT)),
+        _ => Err(CipError::connection(ext::BAD_SEGMENT)),
     }
 }

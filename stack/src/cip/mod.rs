@@ -16,8 +16,11 @@ pub mod status;
 pub mod tcpip;
 
 use crate::device::Device;
+use crate::io::open::Origin;
+use crate::io::ConnectionTable;
 use crate::net::NetworkConfig;
 use crate::time::Instant;
+use crate::wire::cpf::SockAddr;
 
 pub use request::{Path, Request};
 pub use status::{CipError, CipResult, General};
@@ -55,17 +58,18 @@ pub(crate) struct Ctx<'a, D: Device> {
     pub device: &'a mut D,
     pub state: &'a mut ObjectState,
     pub net: &'a NetworkConfig,
-    /// Assembly instances an open connection currently writes (O->T), which explicit Set refuses.
-    pub owned_outputs: &'a [u16],
-    /// Identity status bits the connection table contributes (owned, extended device status).
-    pub connection_status: u16,
-    #[allow(dead_code)]
+    /// The connection table (Forward_Open, ownership, identity status).
+    pub connections: &'a mut ConnectionTable,
+    /// Who sent the request, when it came over TCP.
+    pub origin: Option<Origin>,
+    /// Set by a Forward_Open whose T->O data is multicast: the reply's T->O socket address.
+    pub reply_t_o_sockaddr: Option<SockAddr>,
     pub now: Instant,
 }
 
 impl<D: Device> Ctx<'_, D> {
     /// Identity attribute 5: the device's bits plus what the connections contribute.
     pub(crate) fn identity_status(&self) -> u16 {
-        self.device.status_bits() | self.connection_status
+        self.device.status_bits() | self.connections.identity_status()
     }
 }

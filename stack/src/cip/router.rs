@@ -36,8 +36,18 @@ pub(crate) fn respond<D: Device>(
         }
     };
     let general = match result {
-        Ok(()) => 0,
-        Err(e) if e.keeps_data() && w.len() > start => e.general,
+        Ok(()) => 0u8,
+        Err(e) if e.keeps_data() && w.len() > start => {
+            let mut words = [0u8; 2 * super::status::MAX_ADDITIONAL];
+            let n = e.additional().len();
+            for (dst, src) in words.chunks_exact_mut(2).zip(e.additional()) {
+                dst.copy_from_slice(&src.to_le_bytes());
+            }
+            w.insert(start + 4, words.get(..2 * n).unwrap_or(&[]))?;
+            w.patch_u16(start + 2, u16::from(e.general) | ((n as u16) << 8));
+            w.patch_u16(start, u16::from(service | REPLY_BIT));
+            return Ok(());
+        }
         Err(e) => {
             debug!("cip error {:x} on service {:x}", e.general, service);
             w.truncate(start);
@@ -61,7 +71,7 @@ pub(crate) fn dispatch<D: Device>(
         Some(class_id::IDENTITY) => identity::handle(ctx, req, w),
         Some(class_id::MESSAGE_ROUTER) => message_router::handle(ctx, req, w, depth),
         Some(class_id::ASSEMBLY) => assembly::handle(ctx, req, w),
-        Some(class_id::CONNECTION_MANAGER) => connection_manager::handle(ctx, req, w, depth),
+        Some(class_id::CONNECTION_MANAGER) => connection_manager::handle(ctx, req, w),
         Some(class_id::TCP_IP_INTERFACE) => tcpip::handle(ctx, req, w),
         Some(class_id::ETHERNET_LINK) => ethernet_link::handle(ctx, req, w),
         _ => ctx

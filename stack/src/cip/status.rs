@@ -61,13 +61,16 @@ pub enum General {
     PathSizeInvalid = 0x1C,
 }
 
-/// A failed service: general status plus up to two additional status words.
+/// Most additional status words an error carries.
+pub const MAX_ADDITIONAL: usize = 6;
+
+/// A failed service: general status plus up to [`MAX_ADDITIONAL`] additional status words.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CipError {
     /// General status code.
     pub general: u8,
-    additional: [u16; 2],
+    additional: [u16; MAX_ADDITIONAL],
     additional_len: u8,
     keep_data: bool,
 }
@@ -77,7 +80,7 @@ impl CipError {
     pub const fn new(general: General) -> Self {
         CipError {
             general: general as u8,
-            additional: [0; 2],
+            additional: [0; MAX_ADDITIONAL],
             additional_len: 0,
             keep_data: false,
         }
@@ -86,7 +89,7 @@ impl CipError {
     pub const fn raw(general: u8) -> Self {
         CipError {
             general,
-            additional: [0; 2],
+            additional: [0; MAX_ADDITIONAL],
             additional_len: 0,
             keep_data: false,
         }
@@ -99,8 +102,18 @@ impl CipError {
     }
     /// Adds an extended status word and a second additional word (e.g. the allowed size).
     pub const fn with_additional(mut self, ext: u16, second: u16) -> Self {
-        self.additional = [ext, second];
+        self.additional[0] = ext;
+        self.additional[1] = second;
         self.additional_len = 2;
+        self
+    }
+    /// Sets all additional status words (at most [`MAX_ADDITIONAL`]; extra ones are dropped).
+    pub fn with_words(mut self, words: &[u16]) -> Self {
+        let n = words.len().min(MAX_ADDITIONAL);
+        for (dst, src) in self.additional.iter_mut().zip(words) {
+            *dst = *src;
+        }
+        self.additional_len = n as u8;
         self
     }
     /// Marks the error as one whose reply still carries the data written so far

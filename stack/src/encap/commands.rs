@@ -5,8 +5,10 @@ use core::net::SocketAddrV4;
 use crate::adapter::Adapter;
 use crate::cip::router;
 use crate::device::Device;
+use crate::io::explicit;
+use crate::io::open::Origin;
 use crate::time::Instant;
-use crate::wire::cpf::{self, item_type};
+use crate::wire::cpf::{self, item_type, SockAddr};
 use crate::wire::encap::{command, status, Packet, Repr, HEADER_LEN};
 use crate::wire::identity_item::{listen_socket, IdentityRepr, ServiceRepr};
 use crate::wire::register_session::{self, PROTOCOL_VERSION};
@@ -57,12 +59,9 @@ impl<D: Device> Adapter<D> {
             {
                 (error_reply(&header, status::INVALID_SESSION, reply), false)
             }
-            command::SEND_RR_DATA => (self.send_rr_data(&header, data, now, reply), false),
-            // Connected explicit messaging arrives with the connection table; until then no
-            // connection ID is valid and the frame is dropped, as for an unknown connection.
+            command::SEND_RR_DATA => (self.send_rr_data(index, &header, data, now, reply), false),
             command::SEND_UNIT_DATA => {
-                self.objects.link.count_discard();
-                (0, false)
+                (self.send_unit_data(index, &header, data, now, reply), false)
             }
             _ => (error_reply(&header, status::INVALID_COMMAND, reply), false),
         };
@@ -126,7 +125,7 @@ impl<D: Device> Adapter<D> {
         out: &mut [u8],
     ) -> usize {
         let ident = *self.device.identity();
-        let status = self.ctx(Instant(0)).identity_status();
+        let status = self.device.status_bits() | self.connections.identity_status();
         let item = IdentityRepr {
             protocol_version: PROTOCOL_VERSION,
             socket: listen_socket(self.net.ip),
@@ -190,37 +189,48 @@ impl<D: Device> Adapter<D> {
         })
     }
 
-    /// SendRRData: a null address item and an unconnected data item carrying a request.
-    fn send_rr_data(&mut self, header: &Repr, data: &[u8], now: Instant, out: &mut [u8]) -> usize {
-        let Ok(rr) = rr_data::Packet::new_checked(data) else {
+    /// The originator of requests on socket `index`.
+    fn origin(&self, index: usize, t_o_sockaddr: Option<SockAddr>) -> Option<Origin> {
+        let peer = self.sessions.get(index)?.peer?;
+        Some(Origin {
+            ip: *peer.ip(),
+            socket: index as u8,
+            t_o_sockaddr,
+        })
+    }
+
+    /// SendRRData: a null address item and an unconnected data item carrying a request,
+    /// optionally followed by socket address items (Forward_Open).
+    fn send_rr_data(
+        &mut self,
+        index: usize,
+        header: &Repr,
+        data: &[u8],
+        now: Instant,
+        out: &mut [u8],
+    ) -> usize {
+        if data.len() < rr_data::PREFIX_LEN {
             return error_reply(header, status::INVALID_LENGTH, out);
-        };
-        let request = cpf::Packet::new_checked(rr.cpf()).ok().and_then(|p| {
-            let mut items = p.into_items();
-            match (items.next(), items.next()) {
-                (Some(a), Some(d))
-                    if rr.interface_handle() == 0
-                        && a.type_id == item_type::NULL_ADDRESS
-                        && d.type_id == item_type::UNCONNECTED_DATA
-                        && !d.data.is_empty() =>
-                {
-                    Some(d.data)
-                }
-                _ => None,
-            }
-        });
-        let Some(request) = request else {
+        }
+        let Some((request, t_o_sockaddr)) = unconnected_request(data) else {
             return error_reply(header, status::INCORRECT_DATA, out);
         };
-        let mut ctx = self.ctx(now);
+        let origin = self.origin(index, t_o_sockaddr);
+        let mut ctx = self.ctx(now, origin);
         let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
             rr_data::emit_prefix(w, 0, 0)?;
+            let count_at = w.len();
             w.u16(2)?;
             cpf::emit_item_header(w, item_type::NULL_ADDRESS, 0)?;
             cpf::emit_item_header(w, item_type::UNCONNECTED_DATA, 0)?;
             let at = w.len();
             router::respond(&mut ctx, request, w, 0)?;
             w.patch_u16(at - 2, (w.len() - at) as u16);
+            if let Some(sockaddr) = ctx.reply_t_o_sockaddr {
+                w.patch_u16(count_at, 3);
+                cpf::emit_item_header(w, item_type::SOCKADDR_T_O, cpf::SOCKADDR_LEN as u16)?;
+                sockaddr.emit(w)?;
+            }
             Ok(())
         });
         if len == 0 {
@@ -229,6 +239,117 @@ impl<D: Device> Adapter<D> {
             len
         }
     }
+
+    /// SendUnitData: a connected address item and a connected data item (sequence count and
+    /// request) on a Class 3 connection of this session. Unknown connections are dropped.
+    fn send_unit_data(
+        &mut self,
+        index: usize,
+        header: &Repr,
+        data: &[u8],
+        now: Instant,
+        out: &mut [u8],
+    ) -> usize {
+        let Some((o_t_id, sequence, request)) = connected_request(data) else {
+            self.objects.link.count_discard();
+            return 0;
+        };
+        let Some(step) =
+            explicit::lookup(&mut self.connections, o_t_id, index as u8, sequence, now)
+        else {
+            self.objects.link.count_discard();
+            return 0;
+        };
+        let origin = self.origin(index, None);
+        let body = |w: &mut Writer<'_>, t_o_id: u32| -> crate::wire::Result<usize> {
+            rr_data::emit_prefix(w, 0, 0)?;
+            w.u16(2)?;
+            cpf::emit_item(w, item_type::CONNECTED_ADDRESS, &t_o_id.to_le_bytes())?;
+            cpf::emit_item_header(w, item_type::CONNECTED_DATA, 0)?;
+            let at = w.len();
+            w.u16(sequence)?;
+            Ok(at)
+        };
+        match step {
+            explicit::Step::Repeat { slot, t_o_id } => {
+                let cached = explicit::cached(&self.connections, slot);
+                with_body(&header.reply(status::SUCCESS, 0), out, |w| {
+                    let at = body(w, t_o_id)?;
+                    w.bytes(cached)?;
+                    w.patch_u16(at - 2, (w.len() - at) as u16);
+                    Ok(())
+                })
+            }
+            explicit::Step::Execute { slot, t_o_id } => {
+                let mut ctx = self.ctx(now, origin);
+                let mut reply_at = 0;
+                let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
+                    let at = body(w, t_o_id)?;
+                    reply_at = at + 2;
+                    router::respond(&mut ctx, request, w, 0)?;
+                    w.patch_u16(at - 2, (w.len() - at) as u16);
+                    Ok(())
+                });
+                let reply = out.get(reply_at..len).unwrap_or(&[]);
+                explicit::store(&mut self.connections, slot, sequence, reply);
+                len
+            }
+        }
+    }
+}
+
+/// The request in a SendRRData CPF (null address, unconnected data, then at most socket
+/// address items), with the T->O socket address if one was sent.
+fn unconnected_request(data: &[u8]) -> Option<(&[u8], Option<SockAddr>)> {
+    let rr = rr_data::Packet::new_checked(data).ok()?;
+    if rr.interface_handle() != 0 {
+        return None;
+    }
+    let cpf_bytes = data.get(rr_data::PREFIX_LEN..)?;
+    let mut items = cpf::Packet::new_checked(cpf_bytes).ok()?.into_items();
+    let (a, d) = (items.next()?, items.next()?);
+    if a.type_id != item_type::NULL_ADDRESS
+        || d.type_id != item_type::UNCONNECTED_DATA
+        || d.data.is_empty()
+    {
+        return None;
+    }
+    let mut t_o = None;
+    for extra in items {
+        match extra.type_id {
+            item_type::SOCKADDR_T_O => t_o = Some(SockAddr::parse(extra.data).ok()?),
+            item_type::SOCKADDR_O_T => {}
+            _ => return None,
+        }
+    }
+    Some((d.data, t_o))
+}
+
+/// The connection ID, sequence count and request of a SendUnitData CPF.
+fn connected_request(data: &[u8]) -> Option<(u32, u16, &[u8])> {
+    let rr = rr_data::Packet::new_checked(data).ok()?;
+    if rr.interface_handle() != 0 {
+        return None;
+    }
+    let cpf_bytes: &[u8] = data.get(rr_data::PREFIX_LEN..)?;
+    let mut items = cpf::Packet::new_checked(cpf_bytes).ok()?.into_items();
+    let (a, d) = (items.next()?, items.next()?);
+    if a.type_id != item_type::CONNECTED_ADDRESS
+        || d.type_id != item_type::CONNECTED_DATA
+        || items.next().is_some()
+    {
+        return None;
+    }
+    let id = crate::wire::bytes::get_u32(a.data, 0);
+    let (seq, request) = d.data.split_at_checked(2)?;
+    if request.is_empty() {
+        return None;
+    }
+    Some((
+        id,
+        u16::from_le_bytes([*seq.first()?, *seq.get(1)?]),
+        request,
+    ))
 }
 
 /// Writes `header` and a body produced by `body`, with the header's length set to the body's.

@@ -156,6 +156,19 @@ impl<'a> Writer<'a> {
             put_u16(self.buf, at, v);
         }
     }
+    /// Inserts `bytes` at offset `at`, moving what was written after it to the right.
+    pub fn insert(&mut self, at: usize, bytes: &[u8]) -> Result<()> {
+        let old = self.len;
+        if at > old {
+            return Err(Error::Exhausted);
+        }
+        self.reserve(bytes.len())?;
+        self.buf.copy_within(at..old, at + bytes.len());
+        if let Some(dst) = self.buf.get_mut(at..at + bytes.len()) {
+            dst.copy_from_slice(bytes);
+        }
+        Ok(())
+    }
     /// Drops everything written after `len`.
     pub fn truncate(&mut self, len: usize) {
         self.len = self.len.min(len);
@@ -182,6 +195,17 @@ mod tests {
         assert_eq!(r.u16(), Err(Error::Truncated));
         assert_eq!(r.u8(), Ok(3));
         assert_eq!(r.u8(), Err(Error::Truncated));
+    }
+
+    #[test]
+    fn writer_inserts() {
+        let mut buf = [0u8; 6];
+        let mut w = Writer::new(&mut buf);
+        w.bytes(&[1, 2, 3]).unwrap();
+        w.insert(1, &[8, 9]).unwrap();
+        assert_eq!(w.written(), &[1, 8, 9, 2, 3]);
+        assert_eq!(w.insert(0, &[7, 7]), Err(Error::Exhausted));
+        assert_eq!(w.written(), &[1, 8, 9, 2, 3]);
     }
 
     #[test]

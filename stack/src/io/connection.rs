@@ -1,0 +1,143 @@
+//! One entry of the connection table and its per-direction state.
+
+use core::net::{Ipv4Addr, SocketAddrV4};
+
+use crate::config::MAX_EXPLICIT_CONNECTED;
+use crate::time::{Duration, Instant};
+use crate::wire::forward_open::Triad;
+
+/// The application relationship of a connection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Kind {
+    /// Class 1, owns the output assembly it consumes.
+    ExclusiveOwner,
+    /// Class 1, consumes only a heartbeat.
+    InputOnly,
+    /// Class 1, heartbeat only, follows another connection's multicast production.
+    ListenOnly,
+    /// Class 3 connected explicit messaging.
+    Explicit,
+}
+
+/// What makes a Class 1 producer send.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Trigger {
+    /// Every RPI.
+    Cyclic,
+    /// On data change (reported by the device), not faster than the inhibit time; RPI otherwise.
+    ChangeOfState,
+    /// When the application says so, not faster than the inhibit time; RPI otherwise.
+    Application,
+}
+
+/// O->T (consuming) state of a Class 1 connection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Consumer {
+    /// Assembly instance the data goes to (a heartbeat point for input/listen only).
+    pub instance: u16,
+    /// Application data bytes expected.
+    pub size: u16,
+    /// True if the data carries the 32-bit run/idle header.
+    pub run_idle: bool,
+    /// Last 16-bit sequence count applied.
+    pub last_sequence: Option<u16>,
+    /// Last 32-bit encapsulation sequence number seen.
+    pub last_encap_sequence: Option<u32>,
+    /// Last run/idle state reported to the device.
+    pub run: bool,
+}
+
+/// T->O (producing) state of a Class 1 connection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Producer {
+    /// Assembly instance produced.
+    pub instance: u16,
+    /// Application data bytes produced.
+    pub size: u16,
+    /// Where the datagrams go (originator or multicast group, port 2222).
+    pub destination: SocketAddrV4,
+    /// The next production deadline.
+    pub next: Instant,
+    /// Earliest instant a triggered production may go (production inhibit).
+    pub inhibit_until: Instant,
+    /// Production inhibit time.
+    pub inhibit: Duration,
+    /// What makes it produce.
+    pub trigger: Trigger,
+    /// A change-of-state or application trigger is waiting.
+    pub triggered: bool,
+    /// 32-bit encapsulation sequence number of the last datagram.
+    pub encap_sequence: u32,
+    /// 16-bit CIP sequence count of the last new data.
+    pub sequence: u16,
+}
+
+/// Direction-specific state.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Transport {
+    /// Class 1 implicit I/O; a listen-only connection has no producer of its own.
+    Class1 {
+        /// O->T state.
+        consumer: Consumer,
+        /// T->O state, unless it follows another connection's producer.
+        producer: Option<Producer>,
+    },
+    /// Class 3 connected explicit messaging on one encapsulation session.
+    Class3 {
+        /// Socket index of the session that opened it.
+        socket: u8,
+        /// Sequence count of the last request executed.
+        last_sequence: Option<u16>,
+        /// The reply to that request, resent if the request is repeated.
+        reply: heapless::Vec<u8, MAX_EXPLICIT_CONNECTED>,
+    },
+}
+
+/// One open connection.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Connection {
+    /// Application relationship.
+    pub kind: Kind,
+    /// The originator's triad.
+    pub triad: Triad,
+    /// The originator's IP address.
+    pub originator: Ipv4Addr,
+    /// O->T connection ID (chosen here).
+    pub o_t_id: u32,
+    /// T->O connection ID.
+    pub t_o_id: u32,
+    /// O->T packet interval, microseconds.
+    pub o_t_rpi: u32,
+    /// T->O packet interval, microseconds.
+    pub t_o_rpi: u32,
+    /// Inactivity timeout: O->T RPI x multiplier.
+    pub timeout: Duration,
+    /// When the inactivity watchdog fires.
+    pub expires: Instant,
+    /// Direction-specific state.
+    pub transport: Transport,
+}
+
+impl Connection {
+    /// The Class 1 producer, if it has its own.
+    pub fn producer(&self) -> Option<&Producer> {
+        match &self.transport {
+            Transport::Class1 { producer, .. } => producer.as_ref(),
+            Transport::Class3 { .. } => None,
+        }
+    }
+    /// The Class 1 consumer.
+    pub fn consumer(&self) -> Option<&Consumer> {
+        match &self.transport {
+            Transport::Class1 { consumer, .. } => Some(consumer),
+            Transport::Class3 { .. } => None,
+        }
+    }
+    /// True if its T->O data goes to a multicast group.
+    pub fn produces_multicast(&self) -> bool {
+        self.producer()
+            .is_some_and(|p| p.destination.ip().is_multicast())
+    }
+}

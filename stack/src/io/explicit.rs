@@ -1,0 +1,83 @@
+//! Class 3 connected explicit messaging: connection lookup per session, and the cached
+//! reply that answers a repeated sequence count without executing the request again.
+
+use super::connection::Transport;
+use super::table::ConnectionTable;
+use crate::time::Instant;
+
+/// What to do with a SendUnitData request on a Class 3 connection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// A new request: execute it, then [`store`] the reply.
+    Execute {
+        /// Table slot.
+        slot: usize,
+        /// T->O connection ID for the reply's address item.
+        t_o_id: u32,
+    },
+    /// A repeated sequence count: resend the cached reply of this slot.
+    Repeat {
+        /// Table slot.
+        slot: usize,
+        /// T->O connection ID for the reply's address item.
+        t_o_id: u32,
+    },
+}
+
+/// Finds the Class 3 connection `o_t_id` opened by socket `socket`, feeds its watchdog and
+/// says whether `sequence` is new.
+pub fn lookup(
+    table: &mut ConnectionTable,
+    o_t_id: u32,
+    socket: u8,
+    sequence: u16,
+    now: Instant,
+) -> Option<Step> {
+    let slot = table.find_o_t(o_t_id)?;
+    let conn = table.get_mut(slot)?;
+    let Transport::Class3 {
+        socket: owner,
+        last_sequence,
+        ..
+    } = &conn.transport
+    else {
+        return None;
+    };
+    if *owner != socket {
+        return None;
+    }
+    let repeat = *last_sequence == Some(sequence);
+    conn.expires = now.add(conn.timeout);
+    let t_o_id = conn.t_o_id;
+    Some(if repeat {
+        Step::Repeat { slot, t_o_id }
+    } else {
+        Step::Execute { slot, t_o_id }
+    })
+}
+
+/// The reply cached in `slot`.
+pub fn cached(table: &ConnectionTable, slot: usize) -> &[u8] {
+    match table.get(slot).map(|c| &c.transport) {
+        Some(Transport::Class3 { reply, .. }) => reply,
+        _ => &[],
+    }
+}
+
+/// Caches `reply` as the answer to `sequence` in `slot` (a reply too large to cache is
+/// executed again if repeated).
+pub fn store(table: &mut ConnectionTable, slot: usize, sequence: u16, reply: &[u8]) {
+    if let Some(Transport::Class3 {
+        last_sequence,
+        reply: cache,
+        ..
+    }) = table.get_mut(slot).map(|c| &mut c.transport)
+    {
+        cache.clear();
+        if cache.extend_from_slice(reply).is_ok() {
+            *last_sequence = Some(sequence);
+        } else {
+            *last_sequence = None;
+        }
+    }
+}

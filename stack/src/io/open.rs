@@ -1,0 +1,412 @@
+//! Forward_Open validation: every check answered with its own extended status, then the
+//! new connection entry.
+
+use core::net::{Ipv4Addr, SocketAddrV4};
+
+use super::connection::{Connection, Consumer, Kind, Producer, Transport, Trigger};
+use super::status as ext;
+use super::table::ConnectionTable;
+use crate::cip::class_id;
+use crate::cip::status::{CipError, CipResult};
+use crate::config::{
+    FIRST_PACKET_GRACE_US, IO_PORT, MAX_EXPLICIT_CONNECTED, MAX_RPI_US, MIN_RPI_US,
+};
+use crate::device::{AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo};
+use crate::time::{Duration, Instant};
+use crate::wire::cpf::SockAddr;
+use crate::wire::epath::{
+    ElectronicKey, LogicalType, Segment, Segments, NETWORK_PRODUCTION_INHIBIT_MS,
+};
+use crate::wire::forward_open::{ConnectionType, ForwardOpen, NetworkParams};
+use crate::wire::io_datagram::{RUN_IDLE_LEN, SEQUENCE_LEN};
+
+/// Where a Forward_Open came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Origin {
+    /// The originator's IP address (the TCP peer).
+    pub ip: Ipv4Addr,
+    /// Socket index of its encapsulation session.
+    pub socket: u8,
+    /// T->O socket address item it sent, if any (its UDP port for point-to-point data).
+    pub t_o_sockaddr: Option<SockAddr>,
+}
+
+/// The network facts a Forward_Open needs: our address, multicast group and TTL.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NetFacts {
+    /// Our IP address.
+    pub ip: Ipv4Addr,
+    /// Our network mask.
+    pub netmask: Ipv4Addr,
+    /// The T->O multicast group (TCP/IP attribute 9).
+    pub multicast: Ipv4Addr,
+    /// Multicast TTL (TCP/IP attribute 8).
+    pub ttl: u8,
+}
+
+/// The decoded connection path.
+#[derive(Debug, Default)]
+struct ConnPath<'a> {
+    key: Option<ElectronicKey>,
+    class: Option<u32>,
+    points: heapless::Vec<u32, 3>,
+    inhibit_ms: Option<u8>,
+    config_data: Option<&'a [u8]>,
+}
+
+fn bad_segment() -> CipError {
+    CipError::connection(ext::BAD_SEGMENT)
+}
+
+impl<'a> ConnPath<'a> {
+    /// Accepts: [port 1 link 0] [key] class [instance/points...] [attribute] [inhibit] [data].
+    fn parse(raw: &'a [u8]) -> CipResult<ConnPath<'a>> {
+        let mut p = ConnPath::default();
+        for (i, seg) in Segments::new(raw).enumerate() {
+            match seg.map_err(|_| bad_segment())? {
+                Segment::Port { port: 1, link: [0] } if i == 0 => {}
+                Segment::ElectronicKey(k) if p.key.is_none() && p.class.is_none() => {
+                    p.key = Some(k)
+                }
+                Segment::Logical(LogicalType::Class, c) if p.class.is_none() => p.class = Some(c),
+                Segment::Logical(LogicalType::Instance | LogicalType::ConnectionPoint, v)
+                    if p.class.is_some() && p.config_data.is_none() =>
+                {
+                    p.points.push(v).map_err(|_| bad_segment())?;
+                }
+                Segment::Logical(LogicalType::Attribute, _) if !p.points.is_empty() => {}
+                Segment::Network {
+                    kind: NETWORK_PRODUCTION_INHIBIT_MS,
+                    data: [ms],
+                } => p.inhibit_ms = Some(*ms),
+                Segment::Data(d) if p.config_data.is_none() => p.config_data = Some(d),
+                _ => return Err(bad_segment()),
+            }
+        }
+        if p.class.is_none() {
+            return Err(bad_segment());
+        }
+        Ok(p)
+    }
+}
+
+/// Checks an electronic key against the identity (zero fields match anything).
+fn check_key(key: &ElectronicKey, id: &IdentityInfo) -> CipResult {
+    if (key.vendor_id != 0 && key.vendor_id != id.vendor_id)
+        || (key.product_code != 0 && key.product_code != id.product_code)
+    {
+        return Err(CipError::connection(ext::KEY_VENDOR_PRODUCT));
+    }
+    if key.device_type != 0 && key.device_type != id.device_type {
+        return Err(CipError::connection(ext::KEY_DEVICE_TYPE));
+    }
+    let (major, minor) = id.revision;
+    let revision_ok = key.major_revision == 0
+        || (key.major_revision == major
+            && (key.minor_revision == 0
+                || key.minor_revision == minor
+                || (key.compatibility && key.minor_revision <= minor)));
+    if !revision_ok {
+        return Err(CipError::connection(ext::KEY_REVISION));
+    }
+    Ok(())
+}
+
+/// RPI type in 0x0112 additional status: acceptable, minimum, maximum.
+const RPI_OK: u8 = 0;
+const RPI_MIN: u8 = 2;
+const RPI_MAX: u8 = 3;
+
+fn rpi_verdict(rpi: u32, used: bool) -> (u8, u32) {
+    match rpi {
+        _ if !used => (RPI_OK, rpi),
+        r if r < MIN_RPI_US => (RPI_MIN, MIN_RPI_US),
+        r if r > MAX_RPI_US => (RPI_MAX, MAX_RPI_US),
+        r => (RPI_OK, r),
+    }
+}
+
+/// 0x0112 with the acceptable values: O->T type, T->O type, O->T value, T->O value.
+fn check_rpis(fo: &ForwardOpen<'_>) -> CipResult {
+    let (ot, otv) = rpi_verdict(
+        fo.o_t_rpi,
+        fo.o_t_params.connection_type != ConnectionType::Null,
+    );
+    let (to, tov) = rpi_verdict(
+        fo.t_o_rpi,
+        fo.t_o_params.connection_type != ConnectionType::Null,
+    );
+    if ot == RPI_OK && to == RPI_OK {
+        return Ok(());
+    }
+    Err(CipError::connection(ext::RPI_NOT_ACCEPTABLE).with_words(&[
+        ext::RPI_NOT_ACCEPTABLE,
+        u16::from_le_bytes([ot, to]),
+        otv as u16,
+        (otv >> 16) as u16,
+        tov as u16,
+        (tov >> 16) as u16,
+    ]))
+}
+
+fn size_error(code: u16, expected: usize) -> CipError {
+    CipError::connection(code).with_additional(code, expected as u16)
+}
+
+/// A size field matches `expected` exactly, or bounds it when the size is variable.
+fn size_ok(p: &NetworkParams, expected: usize) -> bool {
+    let size = usize::from(p.size);
+    size == expected || (p.variable && size >= expected)
+}
+
+/// The whole Forward_Open check. On success the connection is in the table and its slot
+/// is returned.
+pub fn forward_open<D: Device>(
+    table: &mut ConnectionTable,
+    device: &mut D,
+    fo: &ForwardOpen<'_>,
+    origin: &Origin,
+    net: &NetFacts,
+    now: Instant,
+) -> CipResult<usize> {
+    if fo.timeout_multiplier > 7 {
+        return Err(CipError::connection(ext::BAD_TIMEOUT_MULTIPLIER));
+    }
+    let (ot, to) = (fo.o_t_params.connection_type, fo.t_o_params.connection_type);
+    if ot == ConnectionType::Null && to == ConnectionType::Null {
+        return Err(CipError::connection(ext::NULL_FORWARD_OPEN));
+    }
+    let trigger = match (fo.transport_class(), fo.trigger()) {
+        (1, 0) => Trigger::Cyclic,
+        (1, 1) => Trigger::ChangeOfState,
+        (1, 2) | (3, 0 | 2) => Trigger::Application,
+        _ => return Err(CipError::connection(ext::TRANSPORT_NOT_SUPPORTED)),
+    };
+    if table.find_triad(&fo.triad).is_some() {
+        return Err(CipError::connection(ext::DUPLICATE));
+    }
+    let path = ConnPath::parse(fo.path)?;
+    if let Some(key) = &path.key {
+        check_key(key, device.identity())?;
+    }
+    check_rpis(fo)?;
+    if ot != ConnectionType::PointToPoint
+        || !(to == ConnectionType::PointToPoint
+            || (to == ConnectionType::Multicast && fo.transport_class() == 1))
+    {
+        return Err(CipError::connection(ext::BAD_NETWORK_PARAMS));
+    }
+    let multiplier = 4u64 << fo.timeout_multiplier;
+    let timeout = Duration::from_micros(u64::from(fo.o_t_rpi) * multiplier);
+    let base = Connection {
+        kind: Kind::Explicit,
+        triad: fo.triad,
+        originator: origin.ip,
+        o_t_id: 0,
+        t_o_id: fo.t_o_connection_id,
+        o_t_rpi: fo.o_t_rpi,
+        t_o_rpi: fo.t_o_rpi,
+        timeout,
+        expires: now.add(Duration::from_micros(
+            timeout.as_micros().max(FIRST_PACKET_GRACE_US),
+        )),
+        transport: Transport::Class3 {
+            socket: origin.socket,
+            last_sequence: None,
+            reply: heapless::Vec::new(),
+        },
+    };
+    let conn = if fo.transport_class() == 3 {
+        explicit(fo, &path, base)?
+    } else {
+        class1(table, device, fo, &path, origin, net, trigger, base, now)?
+    };
+    if !table.has_room() {
+        return Err(CipError::connection(ext::OUT_OF_CONNECTIONS));
+    }
+    let mut conn = conn;
+    conn.o_t_id = table.new_id();
+    if conn.produces_multicast() {
+        conn.t_o_id = table.new_id();
+    }
+    let gained = conn.kind == Kind::ExclusiveOwner && table.owned_outputs().is_empty();
+    if let (Some(data), Some(&config)) = (path.config_data, path.points.first()) {
+        if path.points.len() == 3
+            && (conn.kind == Kind::ExclusiveOwner || table.owned_outputs().is_empty())
+        {
+            device.write_assembly(config as u16, data)?;
+        }
+    }
+    let slot = table
+        .insert(conn)
+        .map_err(|_| CipError::connection(ext::OUT_OF_CONNECTIONS))?;
+    if gained {
+        device.connection_event(ConnectionEvent::OwnershipGained);
+    }
+    Ok(slot)
+}
+
+/// Class 3: a path to the Message Router, sizes within the explicit message buffer.
+fn explicit(fo: &ForwardOpen<'_>, path: &ConnPath<'_>, base: Connection) -> CipResult<Connection> {
+    let router = path.class == Some(u32::from(class_id::MESSAGE_ROUTER))
+        && matches!(path.points.as_slice(), [] | [1])
+        && path.config_data.is_none();
+    if !router {
+        return Err(bad_segment());
+    }
+    let max = MAX_EXPLICIT_CONNECTED + SEQUENCE_LEN;
+    if usize::from(fo.o_t_params.size) > max || usize::from(fo.t_o_params.size) > max {
+        return Err(size_error(ext::BAD_SIZE, max));
+    }
+    Ok(base)
+}
+
+fn assembly(device: &impl Device, instance: u32) -> Option<AssemblyInfo> {
+    crate::cip::assembly::find(device, instance)
+}
+
+/// Class 1: application paths, sizes, ownership and multicast rules.
+#[allow(clippy::too_many_arguments)]
+fn class1<D: Device>(
+    table: &ConnectionTable,
+    device: &D,
+    fo: &ForwardOpen<'_>,
+    path: &ConnPath<'_>,
+    origin: &Origin,
+    net: &NetFacts,
+    trigger: Trigger,
+    base: Connection,
+    now: Instant,
+) -> CipResult<Connection> {
+    if path.class != Some(u32::from(class_id::ASSEMBLY)) {
+        return Err(bad_segment());
+    }
+    let (config, consume, produce) = match path.points.as_slice() {
+        [c, o, t] => (Some(*c), *o, *t),
+        [o, t] => (None, *o, *t),
+        _ => return Err(bad_segment()),
+    };
+    if let Some(c) = config {
+        let info = assembly(device, c).filter(|a| a.role == AssemblyRole::Config);
+        match (info, path.config_data) {
+            (None, _) => return Err(CipError::connection(ext::BAD_CONFIG_PATH)),
+            (Some(a), Some(d)) if d.len() != usize::from(a.size) => {
+                return Err(size_error(ext::BAD_CONFIG_SIZE, usize::from(a.size)))
+            }
+            _ => {}
+        }
+    } else if path.config_data.is_some() {
+        return Err(CipError::connection(ext::BAD_CONFIG_PATH));
+    }
+    let consumer_info =
+        assembly(device, consume).ok_or(CipError::connection(ext::BAD_CONSUMING_PATH))?;
+    let kind = match consumer_info.role {
+        AssemblyRole::Output => Kind::ExclusiveOwner,
+        AssemblyRole::InputOnlyHeartbeat => Kind::InputOnly,
+        AssemblyRole::ListenOnlyHeartbeat => Kind::ListenOnly,
+        _ => return Err(CipError::connection(ext::BAD_CONSUMING_PATH)),
+    };
+    let producer_info = assembly(device, produce)
+        .filter(|a| a.role == AssemblyRole::Input)
+        .ok_or(CipError::connection(ext::BAD_PRODUCING_PATH))?;
+
+    let data = usize::from(consumer_info.size);
+    let o_t_size = usize::from(fo.o_t_params.size);
+    let run_idle = if data == 0 {
+        // Heartbeat: sequence count alone, or with a run/idle header.
+        match o_t_size {
+            0 | SEQUENCE_LEN => false,
+            6 => true,
+            _ => return Err(size_error(ext::BAD_O_T_SIZE, SEQUENCE_LEN)),
+        }
+    } else {
+        let expected = SEQUENCE_LEN
+            + if consumer_info.run_idle_header {
+                RUN_IDLE_LEN
+            } else {
+                0
+            }
+            + data;
+        if !size_ok(&fo.o_t_params, expected) {
+            return Err(size_error(ext::BAD_O_T_SIZE, expected));
+        }
+        consumer_info.run_idle_header
+    };
+    let t_o_expected = SEQUENCE_LEN + usize::from(producer_info.size);
+    if !size_ok(&fo.t_o_params, t_o_expected) {
+        return Err(size_error(ext::BAD_T_O_SIZE, t_o_expected));
+    }
+
+    if kind == Kind::ExclusiveOwner && table.owned_outputs().contains(&consumer_info.instance) {
+        return Err(CipError::connection(ext::OWNERSHIP_CONFLICT));
+    }
+    let multicast = fo.t_o_params.connection_type == ConnectionType::Multicast;
+    let mask = u32::from(net.netmask);
+    if multicast && net.ttl <= 1 && u32::from(origin.ip) & mask != u32::from(net.ip) & mask {
+        return Err(CipError::connection(ext::MULTICAST_OFF_SUBNET));
+    }
+    let inhibit = Duration::from_millis(u64::from(path.inhibit_ms.unwrap_or(0)));
+    if trigger != Trigger::Cyclic && inhibit.as_micros() > u64::from(fo.t_o_rpi) {
+        return Err(CipError::connection(ext::RPI_BELOW_INHIBIT));
+    }
+
+    let consumer = Consumer {
+        instance: consumer_info.instance,
+        size: consumer_info.size,
+        run_idle,
+        last_sequence: None,
+        last_encap_sequence: None,
+        run: false,
+    };
+    if kind == Kind::ListenOnly {
+        if !multicast {
+            return Err(CipError::connection(ext::BAD_NETWORK_PARAMS));
+        }
+        let owner = table
+            .iter()
+            .map(|(_, c)| c)
+            .find(|c| {
+                c.kind != Kind::ListenOnly
+                    && c.produces_multicast()
+                    && c.producer()
+                        .is_some_and(|p| p.instance == producer_info.instance)
+            })
+            .ok_or(CipError::connection(ext::NO_OWNER_FOR_LISTEN_ONLY))?;
+        return Ok(Connection {
+            kind,
+            t_o_id: owner.t_o_id,
+            t_o_rpi: owner.t_o_rpi,
+            transport: Transport::Class1 {
+                consumer,
+                producer: None,
+            },
+            ..base
+        });
+    }
+    let destination = if multicast {
+        SocketAddrV4::new(net.multicast, IO_PORT)
+    } else {
+        let port = origin.t_o_sockaddr.map_or(IO_PORT, |s| s.port);
+        SocketAddrV4::new(origin.ip, port)
+    };
+    let producer = Producer {
+        instance: producer_info.instance,
+        size: producer_info.size,
+        destination,
+        next: now,
+        inhibit_until: now,
+        inhibit,
+        trigger,
+        triggered: false,
+        encap_sequence: 0,
+        sequence: 0,
+    };
+    Ok(Connection {
+        kind,
+        transport: Transport::Class1 {
+            consumer,
+            producer: Some(producer),
+        },
+        ..base
+    })
+}

@@ -1,0 +1,104 @@
+//! Class 1 production: exact deadlines (next = previous + RPI), sequence numbers per trigger,
+//! datagrams built straight into the caller's buffer.
+
+use core::net::SocketAddrV4;
+
+use super::connection::{Producer, Transport, Trigger};
+use super::table::ConnectionTable;
+use crate::device::Device;
+use crate::time::{Duration, Instant};
+use crate::wire::bytes::put_u16;
+use crate::wire::io_datagram::{emit_header, HEADER_LEN, SEQUENCE_LEN};
+
+/// When `p` wants to send, if that is no later than `now`.
+fn due(p: &Producer, now: Instant) -> Option<Instant> {
+    let at = if p.triggered {
+        p.inhibit_until.min(p.next)
+    } else {
+        p.next
+    };
+    (at <= now).then_some(at)
+}
+
+/// The first deadline on the grid `previous + k * rpi` that is after `now` (k >= 1).
+fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
+    let rpi = u64::from(rpi.max(1));
+    let next = previous.add(Duration::from_micros(rpi));
+    if next > now {
+        return next;
+    }
+    let missed = now.since(previous).as_micros() / rpi + 1;
+    previous.add(Duration::from_micros(missed * rpi))
+}
+
+/// Writes the most overdue datagram into `out` and returns where it goes and its length;
+/// `None` if nothing is due at `now`.
+pub fn produce_due<D: Device>(
+    table: &mut ConnectionTable,
+    device: &mut D,
+    now: Instant,
+    out: &mut [u8],
+) -> Option<(SocketAddrV4, usize)> {
+    let slot = table
+        .iter()
+        .filter_map(|(i, c)| c.producer().and_then(|p| due(p, now)).map(|at| (i, at)))
+        .min_by_key(|&(_, at)| at)
+        .map(|(i, _)| i)?;
+    let conn = table.get_mut(slot)?;
+    let (t_o_id, rpi) = (conn.t_o_id, conn.t_o_rpi);
+    let Transport::Class1 {
+        producer: Some(p), ..
+    } = &mut conn.transport
+    else {
+        return None;
+    };
+    let triggered = p.triggered;
+    if p.trigger == Trigger::Cyclic || triggered {
+        p.sequence = p.sequence.wrapping_add(1);
+    }
+    p.encap_sequence = p.encap_sequence.wrapping_add(1);
+    let size = usize::from(p.size);
+    let data_at = HEADER_LEN + SEQUENCE_LEN;
+    emit_header(out, t_o_id, p.encap_sequence, SEQUENCE_LEN + size).ok()?;
+    put_u16(out, HEADER_LEN, p.sequence);
+    let data = out.get_mut(data_at..data_at + size)?;
+    if device.read_assembly(p.instance, data).is_err() {
+        data.fill(0);
+    }
+    if triggered {
+        p.triggered = false;
+        p.inhibit_until = now.add(p.inhibit);
+        p.next = now.add(Duration::from_micros(u64::from(rpi)));
+    } else {
+        p.next = advance(p.next, rpi, now);
+    }
+    Some((p.destination, data_at + size))
+}
+
+/// Marks the producers of assembly `instance` with a change-of-state or application trigger
+/// as having new data.
+pub fn trigger(table: &mut ConnectionTable, instance: u16) {
+    for slot in 0..crate::config::MAX_CONNECTIONS {
+        if let Some(Transport::Class1 {
+            producer: Some(p), ..
+        }) = table.get_mut(slot).map(|c| &mut c.transport)
+        {
+            if p.instance == instance && p.trigger != Trigger::Cyclic {
+                p.triggered = true;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn advance_keeps_the_grid() {
+        assert_eq!(advance(Instant(1000), 1000, Instant(1000)), Instant(2000));
+        assert_eq!(advance(Instant(1000), 1000, Instant(1999)), Instant(2000));
+        assert_eq!(advance(Instant(1000), 1000, Instant(2000)), Instant(3000));
+        assert_eq!(advance(Instant(1000), 1000, Instant(4500)), Instant(5000));
+    }
+}

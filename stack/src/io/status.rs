@@ -1,0 +1,48 @@
+//! Connection Manager extended status codes (general status 0x01), Vol 1 table 3-5.33.
+
+/// Connection in use or duplicate Forward_Open.
+pub const DUPLICATE: u16 = 0x0100;
+/// Transport class and trigger combination not supported.
+pub const TRANSPORT_NOT_SUPPORTED: u16 = 0x0103;
+/// Ownership conflict.
+pub const OWNERSHIP_CONFLICT: u16 = 0x0106;
+/// Target connection not found (Forward_Close).
+pub const NOT_FOUND: u16 = 0x0107;
+/// Invalid network connection parameter.
+pub const BAD_NETWORK_PARAMS: u16 = 0x0108;
+/// Invalid connection size.
+pub const BAD_SIZE: u16 = 0x0109;
+/// RPI value(s) not acceptable.
+pub const RPI_NOT_ACCEPTABLE: u16 = 0x0112;
+/// Out of connections.
+pub const OUT_OF_CONNECTIONS: u16 = 0x0113;
+/// Vendor ID or product code mismatch.
+pub const KEY_VENDOR_PRODUCT: u16 = 0x0114;
+/// Device type mismatch.
+pub const KEY_DEVICE_TYPE: u16 = 0x0115;
+/// Revision mismatch.
+pub const KEY_REVISION: u16 = 0x0116;
+/// Non-listen-only connection not opened (listen-only without an owner).
+pub const NO_OWNER_FOR_LISTEN_ONLY: u16 = 0x0119;
+/// RPI smaller than the production inhibit time.
+pub const RPI_BELOW_INHIBIT: u16 = 0x011B;
+/// Invalid configuration size.
+pub const BAD_CONFIG_SIZE: u16 = 0x0126;
+/// Invalid O->T size.
+pub const BAD_O_T_SIZE: u16 = 0x0127;
+/// Invalid T->O size.
+pub const BAD_T_O_SIZE: u16 = 0x0128;
+/// Invalid configuration application path.
+pub const BAD_CONFIG_PATH: u16 = 0x0129;
+/// Invalid consuming application path.
+pub const BAD_CONSUMING_PATH: u16 = 0x012A;
+/// Invalid producing application path.
+pub const BAD_PRODUCING_PATH: u16 = 0x012B;
+/// Null Forward_Open not supported.
+pub const NULL_FORWARD_OPEN: u16 = 0x0132;
+/// Connection timeout multiplier not acceptable.
+pub const BAD_TIMEOUT_MULTIPLIER: u16 = 0x0133;
+/// Invalid segment in the connection path.
+pub const BAD_SEGMENT: u16 = 0x0315;
+/// Multicast T->O requested by an originator off the subnet while the TTL keeps it local.
+pub const MULTICAST_OFF_SUBNET: u16 = 0x0813;

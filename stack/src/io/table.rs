@@ -1,0 +1,189 @@
+//! The fixed-size connection table: lookup, ID allocation, closing with dependants.
+
+use super::connection::{Connection, Kind, Transport};
+use crate::config::MAX_CONNECTIONS;
+use crate::device::{CloseReason, ConnectionEvent, Device};
+use crate::time::Instant;
+use crate::wire::forward_open::Triad;
+
+/// Identity status bit 0: an exclusive owner holds the device.
+const STATUS_OWNED: u16 = 0x0001;
+/// Extended device status (bits 4-7): no I/O connection established.
+const EXT_NO_IO: u16 = 3 << 4;
+/// Extended device status: at least one I/O connection in run mode.
+const EXT_RUN: u16 = 6 << 4;
+/// Extended device status: I/O connections established, all idle.
+const EXT_IDLE: u16 = 7 << 4;
+
+/// All connection slots.
+#[derive(Debug, Clone)]
+pub struct ConnectionTable {
+    slots: [Option<Connection>; MAX_CONNECTIONS],
+    next_id: u32,
+    owned: heapless::Vec<u16, MAX_CONNECTIONS>,
+}
+
+impl ConnectionTable {
+    /// An empty table; connection IDs start from `seed`.
+    pub fn new(seed: u32) -> Self {
+        ConnectionTable {
+            slots: [const { None }; MAX_CONNECTIONS],
+            next_id: seed,
+            owned: heapless::Vec::new(),
+        }
+    }
+    /// Open connections with their slot numbers.
+    pub fn iter(&self) -> impl Iterator<Item = (usize, &Connection)> {
+        self.slots
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| c.as_ref().map(|c| (i, c)))
+    }
+    /// The connection in `slot`.
+    pub fn get(&self, slot: usize) -> Option<&Connection> {
+        self.slots.get(slot).and_then(Option::as_ref)
+    }
+    /// The connection in `slot`, mutably.
+    pub fn get_mut(&mut self, slot: usize) -> Option<&mut Connection> {
+        self.slots.get_mut(slot).and_then(Option::as_mut)
+    }
+    /// Number of open connections.
+    pub fn len(&self) -> usize {
+        self.iter().count()
+    }
+    /// True if no connection is open.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The slot of the connection with `triad`.
+    pub fn find_triad(&self, triad: &Triad) -> Option<usize> {
+        self.iter().find(|(_, c)| c.triad == *triad).map(|(i, _)| i)
+    }
+    /// The slot of the connection consuming O->T connection ID `id`.
+    pub fn find_o_t(&self, id: u32) -> Option<usize> {
+        self.iter().find(|(_, c)| c.o_t_id == id).map(|(i, _)| i)
+    }
+    /// True if a free slot exists.
+    pub fn has_room(&self) -> bool {
+        self.slots.iter().any(Option::is_none)
+    }
+    /// A fresh non-zero connection ID that no open connection uses.
+    pub fn new_id(&mut self) -> u32 {
+        loop {
+            self.next_id = self.next_id.wrapping_add(1);
+            let id = self.next_id;
+            if id != 0 && !self.iter().any(|(_, c)| c.o_t_id == id || c.t_o_id == id) {
+                return id;
+            }
+        }
+    }
+    /// Stores `conn` in a free slot; gives it back if the table is full.
+    pub fn insert(&mut self, conn: Connection) -> Result<usize, Connection> {
+        let Some(slot) = self.slots.iter().position(Option::is_none) else {
+            return Err(conn);
+        };
+        if let Some(s) = self.slots.get_mut(slot) {
+            *s = Some(conn);
+        }
+        self.refresh_owned();
+        Ok(slot)
+    }
+    /// Output assembly instances held by exclusive owners.
+    pub fn owned_outputs(&self) -> &[u16] {
+        &self.owned
+    }
+    /// Identity status bits from the connections: owned, extended device status.
+    pub fn identity_status(&self) -> u16 {
+        let mut io = false;
+        let mut run = false;
+        for (_, c) in self.iter() {
+            if let Transport::Class1 { consumer, .. } = &c.transport {
+                io = true;
+                run |= consumer.run;
+            }
+        }
+        let owned = if self.owned.is_empty() {
+            0
+        } else {
+            STATUS_OWNED
+        };
+        owned
+            | match (io, run) {
+                (false, _) => EXT_NO_IO,
+                (true, true) => EXT_RUN,
+                (true, false) => EXT_IDLE,
+            }
+    }
+    /// The earliest watchdog expiry or production deadline.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.iter()
+            .flat_map(|(_, c)| {
+                let produce = c.producer().map(|p| {
+                    if p.triggered {
+                        p.inhibit_until.min(p.next)
+                    } else {
+                        p.next
+                    }
+                });
+                [Some(c.expires), produce]
+            })
+            .flatten()
+            .min()
+    }
+    /// Closes the connection in `slot` and the listen-only connections that follow its
+    /// production, telling `device` when the last exclusive owner goes.
+    pub fn close<D: Device>(&mut self, slot: usize, reason: CloseReason, device: &mut D) {
+        let Some(conn) = self.slots.get_mut(slot).and_then(Option::take) else {
+            return;
+        };
+        debug!("connection {} closed", slot);
+        let had_owner = !self.owned.is_empty();
+        if conn.producer().is_some() {
+            for s in self.slots.iter_mut() {
+                let follows = s.as_ref().is_some_and(|c| {
+                    c.kind == Kind::ListenOnly && c.t_o_id == conn.t_o_id && c.producer().is_none()
+                });
+                if follows {
+                    *s = None;
+                }
+            }
+        }
+        self.refresh_owned();
+        if had_owner && self.owned.is_empty() {
+            device.connection_event(ConnectionEvent::OwnershipLost(reason));
+        }
+    }
+    /// Closes every connection whose watchdog expired by `now`; returns how many.
+    pub fn expire<D: Device>(&mut self, now: Instant, device: &mut D) -> usize {
+        let mut closed = 0;
+        for slot in 0..MAX_CONNECTIONS {
+            if self.get(slot).is_some_and(|c| c.expires <= now) {
+                warn!("connection {} timed out", slot);
+                self.close(slot, CloseReason::Timeout, device);
+                closed += 1;
+            }
+        }
+        closed
+    }
+    /// Closes the Class 3 connections of the session on socket `socket`.
+    pub fn close_session<D: Device>(&mut self, socket: u8, device: &mut D) {
+        for slot in 0..MAX_CONNECTIONS {
+            let mine = self.get(slot).is_some_and(
+                |c| matches!(c.transport, Transport::Class3 { socket: s, .. } if s == socket),
+            );
+            if mine {
+                self.close(slot, CloseReason::SessionClosed, device);
+            }
+        }
+    }
+
+    fn refresh_owned(&mut self) {
+        self.owned.clear();
+        for slot in self.slots.iter().flatten() {
+            if let (Kind::ExclusiveOwner, Some(c)) = (slot.kind, slot.consumer()) {
+                // Cannot fail: at most one entry per slot.
+                let _ = self.owned.push(c.instance);
+            }
+        }
+    }
+}
