@@ -1,2 +1,32 @@
-//! Placeholder: the embassy-net runtime and device profiles land here.
+//! The EtherNet/IP adapter runtime on embassy-net, and the device profiles.
+//!
+//! A board builds an [`embassy_net::Stack`], wraps a [`stack::Adapter`] over a device profile
+//! with [`share`], and awaits [`run`] next to the stack's runner:
+//!
+//! - [`run`] serves the three encapsulation TCP sockets and the UDP socket on port 44818, and
+//!   keeps the adapter's view of the interface current;
+//! - [`profiles`] holds the device profiles and [`Profile`], which picks one by name;
+//! - [`Resources`] are the socket buffers, which the board places (usually in a `static`).
 #![no_std]
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+#[macro_use]
+mod fmt;
+
+mod clock;
+mod io;
+mod netif;
+pub mod profiles;
+mod resources;
+mod runtime;
+mod shared;
+mod tcp;
+mod udp;
+
+pub use clock::{now, to_embassy, to_stack};
+pub use netif::network_config;
+pub use profiles::Profile;
+pub use resources::Resources;
+pub use runtime::run;
+pub use shared::{share, with_adapter, SharedAdapter};

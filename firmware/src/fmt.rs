@@ -1,0 +1,30 @@
+//! Optional logging: forwards to `defmt` or `log` when one of those features is on, and
+//! compiles to nothing (no formatting cost) when both are off.
+#![allow(unused_macros)]
+
+macro_rules! log_at {
+    ($level:ident, $s:literal $(, $x:expr)* $(,)?) => {{
+        #[cfg(feature = "log")]
+        ::log::$level!($s $(, $x)*);
+        #[cfg(feature = "defmt")]
+        ::defmt::$level!($s $(, $x)*);
+        #[cfg(not(any(feature = "log", feature = "defmt")))]
+        { let _ = ($( & $x ),*); }
+    }};
+}
+
+macro_rules! debug {
+    ($($t:tt)*) => { log_at!(debug, $($t)*) };
+}
+
+macro_rules! info {
+    ($($t:tt)*) => { log_at!(info, $($t)*) };
+}
+
+macro_rules! warn {
+    ($($t:tt)*) => { log_at!(warn, $($t)*) };
+}
+
+macro_rules! error {
+    ($($t:tt)*) => { log_at!(error, $($t)*) };
+}

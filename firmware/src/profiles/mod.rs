@@ -1,0 +1,109 @@
+//! Device profiles, and [`Profile`] to choose one by name at run time.
+
+pub mod generic;
+
+use stack::cip::request::Request;
+use stack::cip::CipResult;
+use stack::device::ConnectionEvent;
+use stack::wire::Writer;
+use stack::{AssemblyInfo, Device, IdentityInfo, Instant};
+
+pub use generic::Generic;
+
+/// One of the device profiles, chosen at run time; implements [`Device`] by dispatch.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Profile {
+    /// The OpENer sample application's assemblies ([`Generic`]).
+    Generic(Generic),
+}
+
+/// Runs `$body` with `$dev` bound to the profile's device.
+macro_rules! dispatch {
+    ($profile:expr, $dev:ident => $body:expr) => {
+        match $profile {
+            Profile::Generic($dev) => $body,
+        }
+    };
+}
+
+impl Profile {
+    /// The names [`Profile::from_name`] accepts.
+    pub const NAMES: &'static [&'static str] = &["generic"];
+
+    /// The profile called `name` in its power-up state, if there is one.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "generic" => Some(Profile::Generic(Generic::new())),
+            _ => None,
+        }
+    }
+
+    /// The profile's name, as [`Profile::from_name`] accepts it.
+    pub const fn name(&self) -> &'static str {
+        match self {
+            Profile::Generic(_) => "generic",
+        }
+    }
+}
+
+impl Default for Profile {
+    fn default() -> Self {
+        Profile::Generic(Generic::new())
+    }
+}
+
+impl Device for Profile {
+    fn identity(&self) -> &IdentityInfo {
+        dispatch!(self, d => d.identity())
+    }
+    fn status_bits(&self) -> u16 {
+        dispatch!(self, d => d.status_bits())
+    }
+    fn assemblies(&self) -> &[AssemblyInfo] {
+        dispatch!(self, d => d.assemblies())
+    }
+    fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
+        dispatch!(self, d => d.read_assembly(instance, out))
+    }
+    fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
+        dispatch!(self, d => d.write_assembly(instance, data))
+    }
+    fn vendor_classes(&self) -> &[u16] {
+        dispatch!(self, d => d.vendor_classes())
+    }
+    fn handle_request(&mut self, req: &Request<'_>, reply: &mut Writer<'_>) -> Option<CipResult> {
+        dispatch!(self, d => d.handle_request(req, reply))
+    }
+    fn reset(&mut self, kind: u8) -> CipResult {
+        dispatch!(self, d => d.reset(kind))
+    }
+    fn connection_event(&mut self, event: ConnectionEvent) {
+        dispatch!(self, d => d.connection_event(event))
+    }
+    fn poll(&mut self, now: Instant) -> Option<Instant> {
+        dispatch!(self, d => d.poll(now))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_name_round_trips() {
+        for name in Profile::NAMES {
+            assert_eq!(Profile::from_name(name).map(|p| p.name()), Some(*name));
+        }
+        assert_eq!(Profile::from_name("nope"), None);
+    }
+
+    #[test]
+    fn dispatches_to_the_profile() {
+        let mut p = Profile::from_name("generic").unwrap();
+        assert_eq!(p.identity().product_name, "enip-rs generic");
+        p.write_assembly(generic::OUTPUT, &[3; 32]).unwrap();
+        let mut buf = [0u8; 32];
+        assert_eq!(p.read_assembly(generic::INPUT, &mut buf), Ok(32));
+        assert_eq!(buf, [3; 32]);
+    }
+}

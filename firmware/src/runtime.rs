@@ -1,0 +1,41 @@
+//! [`run`]: every socket future of the adapter, joined into one that never ends.
+
+use embassy_futures::join::{join4, join_array};
+use embassy_net::Stack;
+use stack::{Device, SocketId};
+
+use crate::resources::Resources;
+use crate::shared::SharedAdapter;
+use crate::{io, netif, tcp, udp};
+
+/// Runs the adapter on `net` forever: the encapsulation TCP sockets and UDP socket on port
+/// 44818, Class 1 I/O, and tracking of the interface configuration.
+///
+/// `on_reset` is called with the Identity Reset type (0: power cycle, 1: factory defaults)
+/// once the reply accepting it has been sent; a board typically restarts there.
+///
+/// Run it on a single-threaded executor, next to the `embassy_net::Runner` of `net`.
+pub async fn run<D: Device>(
+    net: Stack<'_>,
+    adapter: &SharedAdapter<D>,
+    resources: &mut Resources,
+    on_reset: impl Fn(u8),
+) -> ! {
+    let on_reset: &dyn Fn(u8) = &on_reset;
+    let Resources { tcp, udp } = resources;
+    let mut index = 0u8;
+    let sockets = tcp.each_mut().map(|bufs| {
+        let id = SocketId(index);
+        index += 1;
+        tcp::serve(net, adapter, id, bufs, on_reset)
+    });
+    // Every joined future loops forever: the join never completes.
+    let (_, never, _, _) = join4(
+        join_array(sockets),
+        udp::serve(net, adapter, udp),
+        io::serve(net, adapter),
+        netif::track(net, adapter),
+    )
+    .await;
+    never
+}

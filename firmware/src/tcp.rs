@@ -1,0 +1,161 @@
+//! One encapsulation TCP socket on port 44818: accept, feed the adapter, reply, close, listen
+//! again. Each socket is its own future, so a slow or silent peer holds up only its own socket.
+
+use embassy_net::tcp::{State, TcpSocket};
+use embassy_net::Stack;
+use embassy_time::{with_deadline, with_timeout, Duration, Timer};
+use stack::config::ENCAP_PORT;
+use stack::{Device, SocketId};
+
+use crate::clock::{now, to_embassy};
+use crate::netif::v4_endpoint;
+use crate::resources::TcpBuffers;
+use crate::shared::{with_adapter, SharedAdapter};
+
+/// Longest wait for a reply to fit in the transmit buffer (or be acknowledged before a reset).
+const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
+/// Longest wait for the peer to acknowledge our FIN and send its own when closing.
+const LINGER: Duration = Duration::from_secs(2);
+/// Longest wait for the RST of an aborted connection to go out.
+const ABORT_FLUSH: Duration = Duration::from_millis(100);
+/// Pause before listening again after the socket refused to listen.
+const RETRY: Duration = Duration::from_millis(100);
+
+/// What one received chunk led to.
+struct Step {
+    /// Bytes of reply at the start of the reply buffer.
+    reply_len: usize,
+    /// Close the connection after the reply.
+    close: bool,
+    /// An Identity Reset to perform once the reply is out.
+    reset: Option<u8>,
+}
+
+/// Serves TCP socket `id` forever, one connection after the other.
+pub(crate) async fn serve<D: Device>(
+    net: Stack<'_>,
+    adapter: &SharedAdapter<D>,
+    id: SocketId,
+    bufs: &mut TcpBuffers,
+    on_reset: &dyn Fn(u8),
+) -> ! {
+    let TcpBuffers { rx, tx, reply } = bufs;
+    let mut socket = TcpSocket::new(net, rx, tx);
+    loop {
+        if let Err(e) = socket.accept(ENCAP_PORT).await {
+            warn!("tcp socket {}: listen failed: {:?}", id.0, e);
+            socket.abort();
+            Timer::after(RETRY).await;
+            continue;
+        }
+        let Some(peer) = socket.remote_endpoint().and_then(v4_endpoint) else {
+            // Reset during the handshake: nothing to serve.
+            socket.abort();
+            continue;
+        };
+        debug!("tcp socket {}: connection from {}", id.0, peer);
+        with_adapter(adapter, |a| a.tcp_accept(id, peer, now()));
+        converse(&mut socket, adapter, id, reply, on_reset).await;
+        with_adapter(adapter, |a| a.tcp_close(id, now()));
+        shut_down(&mut socket).await;
+        debug!("tcp socket {}: closed", id.0);
+    }
+}
+
+/// Exchanges frames on an accepted connection until either side ends it or it idles out.
+async fn converse<D: Device>(
+    socket: &mut TcpSocket<'_>,
+    adapter: &SharedAdapter<D>,
+    id: SocketId,
+    reply: &mut [u8],
+    on_reset: &dyn Fn(u8),
+) {
+    loop {
+        let deadline = with_adapter(adapter, |a| a.tcp_deadline(id));
+        let read = socket.read_with(|data| feed(adapter, id, data, reply));
+        let step = match deadline {
+            None => read.await,
+            Some(at) => match with_deadline(to_embassy(at), read).await {
+                Ok(step) => step,
+                // The timeout (TCP/IP attribute 13) may have been changed meanwhile.
+                Err(_) if idle(adapter, id) => {
+                    debug!("tcp socket {}: inactivity timeout", id.0);
+                    return;
+                }
+                Err(_) => continue,
+            },
+        };
+        // An error here is the peer's FIN or RST.
+        let Ok(step) = step else { return };
+        if step.reply_len > 0 {
+            let out = reply.get(..step.reply_len).unwrap_or(&[]);
+            if write_all(socket, out).await.is_err() {
+                warn!("tcp socket {}: reply not sent in time", id.0);
+                return;
+            }
+        }
+        if let Some(kind) = step.reset {
+            let _ = with_timeout(WRITE_TIMEOUT, socket.flush()).await;
+            debug!("tcp socket {}: identity reset type {}", id.0, kind);
+            on_reset(kind);
+        }
+        if step.close {
+            return;
+        }
+    }
+}
+
+/// Hands received bytes to the adapter; returns the bytes consumed and what to do next.
+fn feed<D: Device>(
+    adapter: &SharedAdapter<D>,
+    id: SocketId,
+    data: &mut [u8],
+    reply: &mut [u8],
+) -> (usize, Step) {
+    with_adapter(adapter, |a| {
+        let out = a.tcp_receive(id, data, now(), reply);
+        let step = Step {
+            reply_len: out.reply_len.min(reply.len()),
+            // Consuming nothing would spin forever: treat it as a broken stream.
+            close: out.close || out.consumed == 0,
+            reset: a.take_reset(),
+        };
+        (out.consumed.min(data.len()), step)
+    })
+}
+
+/// True if the connection on `id` has been idle past the inactivity timeout.
+fn idle<D: Device>(adapter: &SharedAdapter<D>, id: SocketId) -> bool {
+    with_adapter(adapter, |a| a.tcp_deadline(id)).is_some_and(|at| at <= now())
+}
+
+/// Queues all of `data` for sending, or fails if the peer does not make room in time.
+async fn write_all(socket: &mut TcpSocket<'_>, data: &[u8]) -> Result<(), ()> {
+    let write = async {
+        let mut rest = data;
+        while !rest.is_empty() {
+            match socket.write(rest).await {
+                Ok(n) if n > 0 => rest = rest.get(n..).unwrap_or(&[]),
+                _ => return Err(()),
+            }
+        }
+        Ok(())
+    };
+    with_timeout(WRITE_TIMEOUT, write).await.unwrap_or(Err(()))
+}
+
+/// Closes gracefully if the peer cooperates within [`LINGER`], otherwise resets; either way
+/// the socket is ready to listen again.
+async fn shut_down(socket: &mut TcpSocket<'_>) {
+    socket.close();
+    let linger = async {
+        let _ = socket.flush().await;
+        // Discard anything still arriving until the peer's FIN (or RST) ends the stream.
+        while socket.read_with(|data| (data.len(), ())).await.is_ok() {}
+    };
+    let _ = with_timeout(LINGER, linger).await;
+    if !matches!(socket.state(), State::Closed | State::TimeWait) {
+        socket.abort();
+        let _ = with_timeout(ABORT_FLUSH, socket.flush()).await;
+    }
+}
