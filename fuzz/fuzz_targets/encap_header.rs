@@ -1,0 +1,19 @@
+//! Encapsulation header: `Packet::new_checked` + `Repr::parse`, and emit reproduces the header.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use stack::wire::encap::{Packet, Repr, HEADER_LEN};
+
+fuzz_target!(|data: &[u8]| {
+    let header = Repr::parse_header(data);
+    let Ok(p) = Packet::new_checked(data) else {
+        return;
+    };
+    let repr = Repr::parse(&p).expect("a checked packet parses");
+    assert_eq!(Ok(repr), header);
+    assert_eq!(p.data().len(), usize::from(repr.length));
+    let mut out = [0u8; HEADER_LEN];
+    repr.emit(&mut out).expect("the header fits in 24 bytes");
+    assert_eq!(&out[..], &data[..HEADER_LEN]);
+    assert!(repr.emit(&mut out[..HEADER_LEN - 1]).is_err());
+});

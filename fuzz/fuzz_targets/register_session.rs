@@ -1,0 +1,16 @@
+//! RegisterSession data: parse, then emit reproduces the bytes.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use stack::wire::register_session::{Packet, Repr, LEN};
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(p) = Packet::new_checked(data) else {
+        return;
+    };
+    let repr = Repr::parse(&p);
+    let mut out = [0u8; LEN];
+    repr.emit(&mut out).expect("fits");
+    assert_eq!(&out[..], data);
+    assert_eq!(repr.buffer_len(), LEN);
+});

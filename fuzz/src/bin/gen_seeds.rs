@@ -1,0 +1,216 @@
+//! Writes the seed corpus under `fuzz/corpus/seed/<target>/` and checks, by playing the TCP
+//! and UDP scripts against the adapter, that every seed request gets a successful reply.
+//!
+//! Run from the repository root: `cargo run --manifest-path fuzz/Cargo.toml --bin gen_seeds`.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use enip_fuzz::frames::{self, TcpScript, UdpScript};
+use enip_fuzz::script;
+use stack::wire::cpf;
+use stack::wire::encap::{command, Packet, HEADER_LEN};
+use stack::wire::message_router::ResponseRepr;
+use stack::wire::rr_data;
+
+fn main() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("corpus/seed");
+    let session = learn_session_handle();
+    let requests = frames::requests();
+    let mut seeds: Vec<(&str, String, Vec<u8>)> = Vec::new();
+    let mut add = |target: &'static str, name: &str, bytes: Vec<u8>| {
+        seeds.push((target, name.to_string(), bytes));
+    };
+
+    add(
+        "encap_header",
+        "register_session",
+        frames::register_session(),
+    );
+    add("encap_header", "list_identity", frames::list_identity());
+    for (name, req) in &requests[..3] {
+        add("encap_header", name, frames::send_rr_data(session, req));
+    }
+    add("register_session", "v1", frames::REGISTER_DATA.to_vec());
+    for (name, req) in &requests {
+        add("cpf", name, frames::unconnected_cpf(req));
+        add("message_router", name, req.clone());
+        add("cip_request", name, req.clone());
+    }
+    let mut rr = vec![0, 0, 0, 0, 5, 0];
+    rr.extend_from_slice(&frames::unconnected_cpf(&requests[0].1));
+    add("cpf", "rr_data_prefix", rr);
+    add(
+        "epath",
+        "class_instance_attribute",
+        frames::path(0x01, 1, Some(7)),
+    );
+    add(
+        "epath",
+        "wide_logical",
+        frames::path(0x04, 0x1234, Some(0x300)),
+    );
+    add("epath", "port1_link0", frames::ROUTE_PORT1_LINK0.to_vec());
+    add(
+        "epath",
+        "port_ip_link",
+        vec![
+            0x12, 9, b'1', b'9', b'8', b'.', b'1', b'8', b'.', b'0', b'.', b'2', 0,
+        ],
+    );
+    add(
+        "epath",
+        "symbolic",
+        vec![0x91, 5, b'P', b'4', b'0', b'1', b'2', 0],
+    );
+    add(
+        "epath",
+        "connection_path",
+        vec![
+            0x34, 4, 0xFE, 0xFF, 0x0C, 0, 1, 0, 0x81, 1, // electronic key
+            0x43, 10, // production inhibit
+            0x20, 0x04, 0x24, 151, 0x2C, 150, 0x2C, 100, // assembly points
+            0x80, 2, 1, 2, 3, 4, // data segment
+        ],
+    );
+    add("identity_item", "list_identity_reply", identity_item_seed());
+
+    let mut full = TcpScript::default()
+        .accept(0)
+        .data(0, &frames::register_session());
+    for (_, req) in &requests {
+        full = full.data(0, &frames::send_rr_data(session, req));
+    }
+    add(
+        "adapter_tcp",
+        "session_all_requests",
+        full.data(0, &frames::unregister_session(session)).0,
+    );
+    // Two frames in one segment, then one frame split across three segments.
+    let identity = frames::send_rr_data(session, &requests[0].1);
+    let mut two = frames::register_session();
+    two.extend_from_slice(&identity);
+    add(
+        "adapter_tcp",
+        "coalesced_and_split",
+        TcpScript::default()
+            .accept(0)
+            .data(0, &two)
+            .data(0, &identity[..10])
+            .data(0, &identity[10..30])
+            .data(0, &identity[30..])
+            .close(0)
+            .0,
+    );
+    add(
+        "adapter_tcp",
+        "three_sockets_list",
+        TcpScript::default()
+            .accept(0)
+            .accept(1)
+            .accept(2)
+            .data(1, &frames::list_identity())
+            .data(2, &frames::list_services())
+            .data(0, &frames::register_session())
+            .close(1)
+            .0,
+    );
+    add(
+        "adapter_udp",
+        "unicast_and_broadcast",
+        UdpScript::default()
+            .unicast(&frames::list_identity())
+            .unicast(&frames::list_services())
+            .broadcast(&frames::list_identity())
+            .broadcast(&frames::list_identity())
+            .wait(4)
+            .0,
+    );
+
+    verify(&seeds, session);
+    if root.exists() {
+        fs::remove_dir_all(&root).expect("remove old seeds");
+    }
+    for (target, name, bytes) in &seeds {
+        write(&root.join(target), name, bytes);
+    }
+    println!("wrote {} seeds under {}", seeds.len(), root.display());
+}
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) {
+    fs::create_dir_all(dir).expect("create seed dir");
+    fs::write(dir.join(name), bytes).expect("write seed");
+}
+
+/// The session handle the fuzzed adapter hands to the first RegisterSession on socket 0.
+fn learn_session_handle() -> u32 {
+    let mut handle = None;
+    let s = TcpScript::default()
+        .accept(0)
+        .data(0, &frames::register_session());
+    script::run_tcp(&s.0, |_, reply| {
+        handle = Packet::new_checked(reply).ok().map(|p| p.session_handle());
+    });
+    handle.expect("RegisterSession was answered")
+}
+
+/// The data of the identity item in the adapter's ListIdentity reply.
+fn identity_item_seed() -> Vec<u8> {
+    let mut item = None;
+    let s = UdpScript::default().unicast(&frames::list_identity());
+    script::run_udp(&s.0, |_, reply| {
+        let p = Packet::new_checked(reply).expect("frame");
+        let c = cpf::Packet::new_checked(p.data()).expect("cpf");
+        item = c.items().next().map(|i| i.data.to_vec());
+    });
+    item.expect("ListIdentity was answered")
+}
+
+/// Every reply to the TCP and UDP seed scripts must carry success, down to the CIP status.
+fn verify(seeds: &[(&str, String, Vec<u8>)], session: u32) {
+    for (target, name, bytes) in seeds {
+        let mut replies = 0;
+        match *target {
+            "adapter_tcp" => script::run_tcp(bytes, |_, reply| {
+                replies += 1;
+                check_reply(name, reply, session);
+            }),
+            "adapter_udp" => script::run_udp(bytes, |_, reply| {
+                replies += 1;
+                check_reply(name, reply, session);
+            }),
+            _ => continue,
+        }
+        assert!(replies > 0, "{name}: no reply at all");
+        println!("{target}/{name}: {replies} replies, all successful");
+    }
+}
+
+fn check_reply(name: &str, reply: &[u8], session: u32) {
+    let p = Packet::new_checked(reply).expect("frame");
+    assert_eq!(
+        p.status(),
+        0,
+        "{name}: encapsulation status in {reply:02x?}"
+    );
+    if p.command() == command::REGISTER_SESSION {
+        assert_eq!(p.session_handle(), session, "{name}: handle");
+    }
+    if p.command() != command::SEND_RR_DATA {
+        return;
+    }
+    let rr = rr_data::Packet::new_checked(p.data()).expect("rr data");
+    let c = cpf::Packet::new_checked(rr.cpf()).expect("cpf");
+    let data = c
+        .find(cpf::item_type::UNCONNECTED_DATA)
+        .expect("unconnected data item");
+    let r = ResponseRepr::parse(data.data).expect("response");
+    assert_eq!(
+        r.general_status,
+        0,
+        "{name}: CIP status {:02x} ext {:?} in reply {:02x?}",
+        r.general_status,
+        r.extended_status(),
+        &reply[HEADER_LEN..]
+    );
+}

@@ -1,0 +1,219 @@
+//! Builders for valid frames, requests and scripts: the seed corpus and its self-check.
+
+use stack::wire::cpf::item_type;
+use stack::wire::encap::command;
+
+use crate::script::{TCP_ACCEPT, TCP_CLOSE, TCP_DATA16, UDP_BROADCAST, UDP_TICK, UDP_UNICAST};
+
+/// The sender context every seed uses (bytes 0-1: ListIdentity maximum delay, 250 ms).
+pub const CONTEXT: [u8; 8] = [0xFA, 0x00, b'f', b'u', b'z', b'z', 0, 1];
+
+/// An encapsulation frame: header with `cmd`, `session`, [`CONTEXT`], then `data`.
+pub fn encap(cmd: u16, session: u32, data: &[u8]) -> Vec<u8> {
+    let mut f = Vec::with_capacity(24 + data.len());
+    f.extend_from_slice(&cmd.to_le_bytes());
+    f.extend_from_slice(&(data.len() as u16).to_le_bytes());
+    f.extend_from_slice(&session.to_le_bytes());
+    f.extend_from_slice(&0u32.to_le_bytes());
+    f.extend_from_slice(&CONTEXT);
+    f.extend_from_slice(&0u32.to_le_bytes());
+    f.extend_from_slice(data);
+    f
+}
+
+/// RegisterSession data: protocol version 1, no options.
+pub const REGISTER_DATA: [u8; 4] = [1, 0, 0, 0];
+
+/// A RegisterSession frame.
+pub fn register_session() -> Vec<u8> {
+    encap(command::REGISTER_SESSION, 0, &REGISTER_DATA)
+}
+
+/// An UnRegisterSession frame.
+pub fn unregister_session(session: u32) -> Vec<u8> {
+    encap(command::UNREGISTER_SESSION, session, &[])
+}
+
+/// A ListIdentity request.
+pub fn list_identity() -> Vec<u8> {
+    encap(command::LIST_IDENTITY, 0, &[])
+}
+
+/// A ListServices request.
+pub fn list_services() -> Vec<u8> {
+    encap(command::LIST_SERVICES, 0, &[])
+}
+
+/// A CPF with a null address item and an unconnected data item carrying `request`.
+pub fn unconnected_cpf(request: &[u8]) -> Vec<u8> {
+    let mut c = Vec::new();
+    c.extend_from_slice(&2u16.to_le_bytes());
+    c.extend_from_slice(&item_type::NULL_ADDRESS.to_le_bytes());
+    c.extend_from_slice(&0u16.to_le_bytes());
+    c.extend_from_slice(&item_type::UNCONNECTED_DATA.to_le_bytes());
+    c.extend_from_slice(&(request.len() as u16).to_le_bytes());
+    c.extend_from_slice(request);
+    c
+}
+
+/// A SendRRData frame on `session` carrying the Message Router request `request`.
+pub fn send_rr_data(session: u32, request: &[u8]) -> Vec<u8> {
+    let mut d = Vec::new();
+    d.extend_from_slice(&0u32.to_le_bytes()); // interface handle
+    d.extend_from_slice(&5u16.to_le_bytes()); // timeout
+    d.extend_from_slice(&unconnected_cpf(request));
+    encap(command::SEND_RR_DATA, session, &d)
+}
+
+/// A padded logical path class / instance (/ attribute), 8- or 16-bit as the values need.
+pub fn path(class: u16, instance: u16, attribute: Option<u16>) -> Vec<u8> {
+    let mut p = Vec::new();
+    for (kind, v) in [(0u8, Some(class)), (1, Some(instance)), (4, attribute)] {
+        match v {
+            None => {}
+            Some(v) if v <= 0xFF => p.extend_from_slice(&[0x20 | (kind << 2), v as u8]),
+            Some(v) => {
+                p.extend_from_slice(&[0x21 | (kind << 2), 0]);
+                p.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    p
+}
+
+/// A Message Router request: service, path size in words, path, data.
+pub fn request(service: u8, path: &[u8], data: &[u8]) -> Vec<u8> {
+    let mut r = vec![service, (path.len() / 2) as u8];
+    r.extend_from_slice(path);
+    r.extend_from_slice(data);
+    r
+}
+
+/// Get_Attribute_Single of class/instance/attribute.
+pub fn get_attribute_single(class: u16, instance: u16, attribute: u16) -> Vec<u8> {
+    request(0x0E, &path(class, instance, Some(attribute)), &[])
+}
+
+/// Multiple_Service_Packet to the Message Router carrying `requests`.
+pub fn multiple_service_packet(requests: &[Vec<u8>]) -> Vec<u8> {
+    let mut d = Vec::new();
+    d.extend_from_slice(&(requests.len() as u16).to_le_bytes());
+    let mut offset = 2 + 2 * requests.len();
+    for r in requests {
+        d.extend_from_slice(&(offset as u16).to_le_bytes());
+        offset += r.len();
+    }
+    for r in requests {
+        d.extend_from_slice(r);
+    }
+    request(0x0A, &path(0x02, 1, None), &d)
+}
+
+/// The route path "port 1, link 0" (the backplane slot of a single-module device).
+pub const ROUTE_PORT1_LINK0: [u8; 2] = [0x01, 0x00];
+
+/// Unconnected_Send to the Connection Manager wrapping `inner`, routed to port 1 link 0.
+pub fn unconnected_send(inner: &[u8]) -> Vec<u8> {
+    let mut d = vec![0x0A, 0xF0]; // priority/time tick, timeout ticks
+    d.extend_from_slice(&(inner.len() as u16).to_le_bytes());
+    d.extend_from_slice(inner);
+    if inner.len() % 2 == 1 {
+        d.push(0);
+    }
+    d.push((ROUTE_PORT1_LINK0.len() / 2) as u8);
+    d.push(0);
+    d.extend_from_slice(&ROUTE_PORT1_LINK0);
+    request(0x52, &path(0x06, 1, None), &d)
+}
+
+/// Named Message Router requests every request-level seed set contains.
+pub fn requests() -> Vec<(&'static str, Vec<u8>)> {
+    let identity_name = get_attribute_single(0x01, 1, 7);
+    vec![
+        ("get_identity_name", identity_name.clone()),
+        (
+            "get_attributes_all_identity",
+            request(0x01, &path(0x01, 1, None), &[]),
+        ),
+        ("get_assembly_100_data", get_attribute_single(0x04, 100, 3)),
+        (
+            "set_assembly_150_data",
+            request(0x10, &path(0x04, 150, Some(3)), &[0x5A; 32]),
+        ),
+        (
+            "get_attribute_list_tcpip",
+            request(0x03, &path(0xF5, 1, None), &[3, 0, 1, 0, 3, 0, 5, 0]),
+        ),
+        (
+            "multiple_service_packet",
+            multiple_service_packet(&[
+                get_attribute_single(0x01, 1, 1),
+                get_attribute_single(0x01, 1, 7),
+                get_attribute_single(0x04, 100, 3),
+            ]),
+        ),
+        ("unconnected_send", unconnected_send(&identity_name)),
+        (
+            "symbolic_echo",
+            request(0x4B, &[0x91, 5, b'P', b'4', b'0', b'1', b'2', 0], &[1, 2]),
+        ),
+        ("vendor_echo", request(0x4B, &path(0x64, 1, None), b"echo")),
+    ]
+}
+
+/// Builds a TCP script (see [`crate::script`]).
+#[derive(Debug, Default, Clone)]
+pub struct TcpScript(pub Vec<u8>);
+
+impl TcpScript {
+    /// Accepts a connection on `socket`.
+    pub fn accept(mut self, socket: u8) -> Self {
+        self.0.push(TCP_ACCEPT | socket);
+        self
+    }
+    /// Closes `socket`.
+    pub fn close(mut self, socket: u8) -> Self {
+        self.0.push(TCP_CLOSE | socket);
+        self
+    }
+    /// Delivers `data` on `socket` in one segment.
+    pub fn data(mut self, socket: u8, data: &[u8]) -> Self {
+        self.0.push(TCP_DATA16 | socket);
+        self.0.extend_from_slice(&(data.len() as u16).to_le_bytes());
+        self.0.extend_from_slice(data);
+        self
+    }
+}
+
+/// Builds a UDP script (see [`crate::script`]).
+#[derive(Debug, Default, Clone)]
+pub struct UdpScript(pub Vec<u8>);
+
+impl UdpScript {
+    fn datagram(mut self, kind: u8, data: &[u8]) -> Self {
+        self.0.push(kind);
+        if data.len() < 0xFF {
+            self.0.push(data.len() as u8);
+        } else {
+            self.0.push(0xFF);
+            self.0.extend_from_slice(&(data.len() as u16).to_le_bytes());
+        }
+        self.0.extend_from_slice(data);
+        self
+    }
+    /// A datagram to the adapter's address.
+    pub fn unicast(self, data: &[u8]) -> Self {
+        self.datagram(UDP_UNICAST, data)
+    }
+    /// A datagram to 255.255.255.255.
+    pub fn broadcast(self, data: &[u8]) -> Self {
+        self.datagram(UDP_BROADCAST, data)
+    }
+    /// Lets `steps` x 700 ms pass.
+    pub fn wait(mut self, steps: usize) -> Self {
+        for _ in 0..steps {
+            self.0.push(UDP_TICK | (7 << 2));
+        }
+        self
+    }
+}

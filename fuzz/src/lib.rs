@@ -1,0 +1,10 @@
+//! Support code shared by the fuzz targets and the seed generator: a small test device, the
+//! byte-script format the adapter targets read, the invariants they check, and builders for
+//! valid frames (the seed corpus).
+#![deny(missing_docs)]
+
+pub mod device;
+pub mod frames;
+pub mod script;
+
+pub use device::TestDevice;

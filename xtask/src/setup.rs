@@ -1,0 +1,213 @@
+//! `cargo xtask setup`: installs what the tests need, idempotently and quietly when present.
+
+use std::fs;
+use std::path::PathBuf;
+use std::process::Command;
+
+use crate::util::{self, err, have, loud, output, run, run_quiet, Result};
+
+/// The cross target the firmware and boards build for.
+pub const THUMB_TARGET: &str = "thumbv7em-none-eabihf";
+/// The toolchain `cargo fuzz` needs.
+pub const NIGHTLY: &str = "nightly";
+/// Python peers for the interop tests, pinned; installed into [`venv_dir`].
+pub const PYTHON_PEERS: &[&str] = &["pycomm3==1.2.16", "cpppo==5.2.5"];
+/// npm peers for the interop tests, pinned; installed into [`npm_dir`].
+pub const NPM_PEERS: &[&str] = &["st-ethernet-ip@2.7.5"];
+/// Debian packages the tests need, each with a command that shows it is already there.
+pub const APT_PACKAGES: &[(&str, &[&str])] = &[
+    ("tshark", &["tshark", "--version"]),
+    ("qemu-system-arm", &["qemu-system-arm", "--version"]),
+    (
+        "binutils-arm-none-eabi",
+        &["arm-none-eabi-objdump", "--version"],
+    ),
+    ("iproute2", &["ip", "-V"]),
+    ("valgrind", &["valgrind", "--version"]),
+    ("python3-venv", &["python3", "-c", "import venv, ensurepip"]),
+];
+
+/// Everything: Rust target and toolchains, Debian packages, Python and npm peers.
+pub fn all() -> Result {
+    rust_target()?;
+    if !nightly() {
+        loud(
+            "the nightly toolchain is missing and could not be installed: fuzzing will be SKIPPED",
+        );
+    }
+    cargo_fuzz()?;
+    let missing: Vec<&str> = APT_PACKAGES
+        .iter()
+        .filter(|(_, probe)| !probe_ok(probe))
+        .map(|(pkg, _)| *pkg)
+        .collect();
+    apt_install(&missing)?;
+    python_peers()?;
+    npm_peers()?;
+    println!("setup: everything is in place");
+    Ok(())
+}
+
+fn probe_ok(probe: &[&str]) -> bool {
+    let (prog, args) = probe.split_first().expect("probe has a program");
+    have(prog) && run_quiet(Command::new(prog).args(args)).is_ok()
+}
+
+/// Adds the Cortex-M target to the active toolchain if it is missing.
+pub fn rust_target() -> Result {
+    let installed =
+        output(Command::new("rustup").args(["target", "list", "--installed"])).unwrap_or_default();
+    if installed.lines().any(|l| l.trim() == THUMB_TARGET) {
+        return Ok(());
+    }
+    run(Command::new("rustup").args(["target", "add", THUMB_TARGET]))
+}
+
+/// True if the nightly toolchain is there, installing it (minimal profile) if needed.
+pub fn nightly() -> bool {
+    let has = || {
+        output(Command::new("rustup").args(["toolchain", "list"]))
+            .is_some_and(|l| l.lines().any(|t| t.starts_with("nightly")))
+    };
+    if has() {
+        return true;
+    }
+    let r =
+        run(Command::new("rustup").args(["toolchain", "install", NIGHTLY, "--profile", "minimal"]));
+    if let Err(e) = r {
+        println!("warning: {e}");
+    }
+    has()
+}
+
+/// Installs `cargo-fuzz` from crates.io if `cargo fuzz` is not available.
+pub fn cargo_fuzz() -> Result {
+    if run_quiet(Command::new("cargo").args(["fuzz", "--version"])).is_ok() {
+        return Ok(());
+    }
+    run(Command::new("cargo").args(["install", "--locked", "cargo-fuzz"]))
+}
+
+/// Installs Debian `packages` (running `apt-get update` once first); nothing if empty.
+pub fn apt_install(packages: &[&str]) -> Result {
+    if packages.is_empty() {
+        return Ok(());
+    }
+    if !have("apt-get") {
+        return err(format!(
+            "missing {packages:?} and there is no apt-get here: install them by hand"
+        ));
+    }
+    let sudo = !util::is_root();
+    let apt = |args: &[&str]| {
+        let mut c = if sudo {
+            let mut c = Command::new("sudo");
+            c.arg("-n").arg("apt-get");
+            c
+        } else {
+            Command::new("apt-get")
+        };
+        c.args(args)
+            .env("DEBIAN_FRONTEND", "noninteractive")
+            .stdin(std::process::Stdio::null());
+        c
+    };
+    println!("setup: installing Debian packages {packages:?}");
+    if have("debconf-set-selections") {
+        preseed()?;
+    }
+    run(&mut apt(&["update", "-q"]))?;
+    let mut install = apt(&["install", "-y", "-q"]);
+    install.args(packages);
+    run(&mut install)
+}
+
+/// Answers wireshark-common's question (capture for non-root users) with "no".
+fn preseed() -> Result {
+    use std::io::Write;
+    let mut cmd = if util::is_root() {
+        Command::new("debconf-set-selections")
+    } else {
+        let mut c = Command::new("sudo");
+        c.args(["-n", "debconf-set-selections"]);
+        c
+    };
+    let mut child = cmd.stdin(std::process::Stdio::piped()).spawn()?;
+    if let Some(stdin) = child.stdin.as_mut() {
+        stdin.write_all(b"wireshark-common wireshark-common/install-setuid boolean false\n")?;
+    }
+    let status = child.wait()?;
+    if !status.success() {
+        return err("debconf-set-selections failed");
+    }
+    Ok(())
+}
+
+/// The Python virtual environment holding [`PYTHON_PEERS`].
+pub fn venv_dir() -> PathBuf {
+    util::target_dir().join("peers-venv")
+}
+
+/// Its interpreter.
+pub fn venv_python() -> PathBuf {
+    venv_dir().join("bin/python")
+}
+
+/// Creates the venv and installs [`PYTHON_PEERS`] unless a stamp says they already are.
+pub fn python_peers() -> Result {
+    let dir = venv_dir();
+    let stamp = dir.join(".xtask-installed");
+    let wanted = PYTHON_PEERS.join("\n");
+    if venv_python().exists() && fs::read_to_string(&stamp).is_ok_and(|s| s == wanted) {
+        return Ok(());
+    }
+    if !venv_python().exists() {
+        if !have("python3") {
+            apt_install(&["python3", "python3-venv"])?;
+        }
+        run(Command::new("python3").arg("-m").arg("venv").arg(&dir))?;
+    }
+    let mut pip = Command::new(venv_python());
+    pip.args([
+        "-m",
+        "pip",
+        "install",
+        "-q",
+        "--disable-pip-version-check",
+        "--no-input",
+    ])
+    .args(PYTHON_PEERS);
+    run(&mut pip)?;
+    fs::write(&stamp, wanted)?;
+    Ok(())
+}
+
+/// The npm prefix holding [`NPM_PEERS`].
+pub fn npm_dir() -> PathBuf {
+    util::target_dir().join("peers-npm")
+}
+
+/// Installs [`NPM_PEERS`] unless a stamp says they already are; only warns if npm is missing.
+pub fn npm_peers() -> Result {
+    let dir = npm_dir();
+    let stamp = dir.join(".xtask-installed");
+    let wanted = NPM_PEERS.join("\n");
+    if fs::read_to_string(&stamp).is_ok_and(|s| s == wanted) {
+        return Ok(());
+    }
+    if !have("npm") {
+        loud("npm is not installed: the npm peers (st-ethernet-ip) are NOT installed");
+        return Ok(());
+    }
+    fs::create_dir_all(&dir)?;
+    let mut npm = Command::new("npm");
+    npm.arg("install")
+        .arg("--prefix")
+        .arg(&dir)
+        .args(["--no-audit", "--no-fund", "--loglevel=error"])
+        .args(NPM_PEERS)
+        .stdin(std::process::Stdio::null());
+    run(&mut npm)?;
+    fs::write(&stamp, wanted)?;
+    Ok(())
+}
