@@ -23,6 +23,7 @@ pub mod device;
 pub mod encap;
 pub mod io;
 pub mod net;
+pub mod originator;
 pub mod rng;
 pub mod time;
 pub mod wire;

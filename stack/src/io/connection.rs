@@ -2,7 +2,6 @@
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
-use crate::config::MAX_EXPLICIT_CONNECTED;
 use crate::time::{Duration, Instant};
 use crate::wire::forward_open::Triad;
 
@@ -88,10 +87,8 @@ pub enum Transport {
     Class3 {
         /// Socket index of the session that opened it.
         socket: u8,
-        /// Sequence count of the last request executed.
+        /// Sequence count of the last request executed (its reply is cached in the table).
         last_sequence: Option<u16>,
-        /// The reply to that request, resent if the request is repeated.
-        reply: heapless::Vec<u8, MAX_EXPLICIT_CONNECTED>,
     },
 }
 

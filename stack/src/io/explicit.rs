@@ -58,26 +58,19 @@ pub fn lookup(
 
 /// The reply cached in `slot`.
 pub fn cached(table: &ConnectionTable, slot: usize) -> &[u8] {
-    match table.get(slot).map(|c| &c.transport) {
-        Some(Transport::Class3 { reply, .. }) => reply,
-        _ => &[],
-    }
+    table.cached_reply(slot)
 }
 
 /// Caches `reply` as the answer to `sequence` in `slot` (a reply too large to cache is
 /// executed again if repeated).
 pub fn store(table: &mut ConnectionTable, slot: usize, sequence: u16, reply: &[u8]) {
-    if let Some(Transport::Class3 {
-        last_sequence,
-        reply: cache,
-        ..
-    }) = table.get_mut(slot).map(|c| &mut c.transport)
-    {
+    let cached = table.reply_cache_mut(slot).is_some_and(|cache| {
         cache.clear();
-        if cache.extend_from_slice(reply).is_ok() {
-            *last_sequence = Some(sequence);
-        } else {
-            *last_sequence = None;
-        }
+        cache.extend_from_slice(reply).is_ok()
+    });
+    if let Some(Transport::Class3 { last_sequence, .. }) =
+        table.get_mut(slot).map(|c| &mut c.transport)
+    {
+        *last_sequence = if cached { Some(sequence) } else { None };
     }
 }

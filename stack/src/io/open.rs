@@ -213,7 +213,6 @@ pub fn forward_open<D: Device>(
         transport: Transport::Class3 {
             socket: origin.socket,
             last_sequence: None,
-            reply: heapless::Vec::new(),
         },
     };
     let conn = if fo.transport_class() == 3 {

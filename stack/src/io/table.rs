@@ -1,7 +1,7 @@
 //! The fixed-size connection table: lookup, ID allocation, closing with dependants.
 
 use super::connection::{Connection, Kind, Transport};
-use crate::config::MAX_CONNECTIONS;
+use crate::config::{MAX_CONNECTIONS, MAX_EXPLICIT_CONNECTED};
 use crate::device::{CloseReason, ConnectionEvent, Device};
 use crate::time::Instant;
 use crate::wire::forward_open::Triad;
@@ -21,6 +21,8 @@ pub struct ConnectionTable {
     slots: [Option<Connection>; MAX_CONNECTIONS],
     next_id: u32,
     owned: heapless::Vec<u16, MAX_CONNECTIONS>,
+    /// Per slot: the last Class 3 reply, resent when a request is repeated.
+    replies: [heapless::Vec<u8, MAX_EXPLICIT_CONNECTED>; MAX_CONNECTIONS],
 }
 
 impl ConnectionTable {
@@ -30,6 +32,7 @@ impl ConnectionTable {
             slots: [const { None }; MAX_CONNECTIONS],
             next_id: seed,
             owned: heapless::Vec::new(),
+            replies: [const { heapless::Vec::new() }; MAX_CONNECTIONS],
         }
     }
     /// Open connections with their slot numbers.
@@ -87,6 +90,17 @@ impl ConnectionTable {
         }
         self.refresh_owned();
         Ok(slot)
+    }
+    /// The cached Class 3 reply of `slot`.
+    pub fn cached_reply(&self, slot: usize) -> &[u8] {
+        self.replies.get(slot).map_or(&[], |r| r.as_slice())
+    }
+    /// The Class 3 reply cache of `slot`, to refill.
+    pub fn reply_cache_mut(
+        &mut self,
+        slot: usize,
+    ) -> Option<&mut heapless::Vec<u8, MAX_EXPLICIT_CONNECTED>> {
+        self.replies.get_mut(slot)
     }
     /// Output assembly instances held by exclusive owners.
     pub fn owned_outputs(&self) -> &[u16] {

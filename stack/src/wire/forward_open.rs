@@ -200,7 +200,7 @@ impl<'a> ForwardOpen<'a> {
 
     /// Writes the request data.
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
-        if self.path.len() % 2 != 0 {
+        if !self.path.len().is_multiple_of(2) {
             return Err(Error::Malformed);
         }
         w.u8(self.priority_tick)?;

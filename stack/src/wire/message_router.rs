@@ -71,7 +71,7 @@ impl<'a> RequestRepr<'a> {
     }
     /// Writes the request (the path must be a whole number of words).
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
-        if self.path.len() % 2 != 0 {
+        if !self.path.len().is_multiple_of(2) {
             return Err(Error::Malformed);
         }
         w.u8(self.service)?;

@@ -1,0 +1,183 @@
+//! Frame builders and reply parsers for the originator (scanner) side: what a test scanner
+//! or a PLC sends to an adapter. Everything writes into caller buffers.
+
+use crate::wire::cpf::{self, item_type, SockAddr};
+use crate::wire::encap::{command, Repr, HEADER_LEN};
+use crate::wire::epath::Segment;
+use crate::wire::message_router::{RequestRepr, ResponseRepr};
+use crate::wire::register_session::{self, PROTOCOL_VERSION};
+use crate::wire::{io_datagram, rr_data, Error, Result, Writer};
+
+/// Writes an encapsulation frame with `command` and a body from `body`; returns its length.
+pub fn frame(
+    out: &mut [u8],
+    command: u16,
+    session_handle: u32,
+    sender_context: [u8; 8],
+    body: impl FnOnce(&mut Writer<'_>) -> Result<()>,
+) -> Result<usize> {
+    let mut w = Writer::new(out);
+    w.zeros(HEADER_LEN)?;
+    body(&mut w)?;
+    let len = w.len();
+    let length = u16::try_from(len - HEADER_LEN).map_err(|_| Error::Exhausted)?;
+    Repr {
+        command,
+        length,
+        session_handle,
+        status: 0,
+        sender_context,
+        options: 0,
+    }
+    .emit(out)?;
+    Ok(len)
+}
+
+/// A RegisterSession request.
+pub fn register_session(out: &mut [u8]) -> Result<usize> {
+    frame(out, command::REGISTER_SESSION, 0, [0; 8], |w| {
+        register_session::Repr {
+            protocol_version: PROTOCOL_VERSION,
+            options: 0,
+        }
+        .emit(w.reserve(4)?)
+    })
+}
+
+/// Writes a Message Router request: service, path built from `path`, then `data`.
+pub fn request(w: &mut Writer<'_>, service: u8, path: &[Segment<'_>], data: &[u8]) -> Result<()> {
+    let mut raw = [0u8; 64];
+    let mut pw = Writer::new(&mut raw);
+    for s in path {
+        s.emit(&mut pw)?;
+    }
+    let n = pw.len();
+    RequestRepr {
+        service,
+        path: raw.get(..n).unwrap_or(&[]),
+        data,
+    }
+    .emit(w)
+}
+
+/// A SendRRData frame carrying the request written by `mr`, optionally with a T->O socket
+/// address item (a Forward_Open asking for T->O data on a given port).
+pub fn send_rr_data(
+    out: &mut [u8],
+    session_handle: u32,
+    t_o_sockaddr: Option<SockAddr>,
+    mr: impl FnOnce(&mut Writer<'_>) -> Result<()>,
+) -> Result<usize> {
+    frame(out, command::SEND_RR_DATA, session_handle, [0; 8], |w| {
+        rr_data::emit_prefix(w, 0, 10)?;
+        w.u16(if t_o_sockaddr.is_some() { 3 } else { 2 })?;
+        cpf::emit_item_header(w, item_type::NULL_ADDRESS, 0)?;
+        cpf::emit_item_header(w, item_type::UNCONNECTED_DATA, 0)?;
+        let at = w.len();
+        mr(w)?;
+        w.patch_u16(at - 2, (w.len() - at) as u16);
+        if let Some(s) = t_o_sockaddr {
+            cpf::emit_item_header(w, item_type::SOCKADDR_T_O, cpf::SOCKADDR_LEN as u16)?;
+            s.emit(w)?;
+        }
+        Ok(())
+    })
+}
+
+/// A SendUnitData frame on Class 3 connection `o_t_id` with sequence count `sequence`.
+pub fn send_unit_data(
+    out: &mut [u8],
+    session_handle: u32,
+    o_t_id: u32,
+    sequence: u16,
+    mr: impl FnOnce(&mut Writer<'_>) -> Result<()>,
+) -> Result<usize> {
+    frame(out, command::SEND_UNIT_DATA, session_handle, [0; 8], |w| {
+        rr_data::emit_prefix(w, 0, 0)?;
+        w.u16(2)?;
+        cpf::emit_item(w, item_type::CONNECTED_ADDRESS, &o_t_id.to_le_bytes())?;
+        cpf::emit_item_header(w, item_type::CONNECTED_DATA, 0)?;
+        let at = w.len();
+        w.u16(sequence)?;
+        mr(w)?;
+        w.patch_u16(at - 2, (w.len() - at) as u16);
+        Ok(())
+    })
+}
+
+/// A decoded SendRRData or SendUnitData reply.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Reply<'a> {
+    /// The encapsulation header.
+    pub header: Repr,
+    /// The Message Router response (absent when the encapsulation status is not success).
+    pub response: Option<ResponseRepr<'a>>,
+    /// The T->O socket address item, if the reply carried one.
+    pub t_o_sockaddr: Option<SockAddr>,
+    /// Connection ID and sequence count of a SendUnitData reply.
+    pub connected: Option<(u32, u16)>,
+}
+
+/// Parses a SendRRData or SendUnitData reply frame.
+pub fn parse_reply(frame: &[u8]) -> Result<Reply<'_>> {
+    let header = Repr::parse_header(frame)?;
+    let data = frame
+        .get(HEADER_LEN..HEADER_LEN + usize::from(header.length))
+        .ok_or(Error::Truncated)?;
+    let mut reply = Reply {
+        header,
+        response: None,
+        t_o_sockaddr: None,
+        connected: None,
+    };
+    if header.status != 0 || data.is_empty() {
+        return Ok(reply);
+    }
+    let items = cpf::Packet::new_checked(data.get(rr_data::PREFIX_LEN..).ok_or(Error::Truncated)?)?;
+    for item in items.into_items() {
+        match item.type_id {
+            item_type::UNCONNECTED_DATA => reply.response = Some(ResponseRepr::parse(item.data)?),
+            item_type::CONNECTED_ADDRESS => {
+                let id = crate::wire::bytes::get_u32(item.data, 0);
+                reply.connected = Some((id, 0));
+            }
+            item_type::CONNECTED_DATA => {
+                let (seq, rest) = item.data.split_at_checked(2).ok_or(Error::Truncated)?;
+                let seq = crate::wire::bytes::get_u16(seq, 0);
+                reply.connected = reply.connected.map(|(id, _)| (id, seq));
+                reply.response = Some(ResponseRepr::parse(rest)?);
+            }
+            item_type::SOCKADDR_T_O => reply.t_o_sockaddr = Some(SockAddr::parse(item.data)?),
+            _ => {}
+        }
+    }
+    Ok(reply)
+}
+
+/// A Class 1 O->T datagram; `run_idle` adds the 32-bit header with the run bit as given.
+pub fn io_datagram(
+    out: &mut [u8],
+    connection_id: u32,
+    encap_sequence: u32,
+    sequence: u16,
+    run_idle: Option<bool>,
+    data: &[u8],
+) -> Result<usize> {
+    let header = if run_idle.is_some() {
+        io_datagram::RUN_IDLE_LEN
+    } else {
+        0
+    };
+    let len = io_datagram::SEQUENCE_LEN + header + data.len();
+    io_datagram::emit_header(out, connection_id, encap_sequence, len)?;
+    let mut w = Writer::new(
+        out.get_mut(io_datagram::HEADER_LEN..)
+            .ok_or(Error::Exhausted)?,
+    );
+    w.u16(sequence)?;
+    if let Some(run) = run_idle {
+        w.u32(u32::from(run))?;
+    }
+    w.bytes(data)?;
+    Ok(io_datagram::HEADER_LEN + len)
+}

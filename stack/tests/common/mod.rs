@@ -1,0 +1,241 @@
+//! Shared test fixtures: a device with many assemblies and a scanner-side harness driving
+//! one adapter through its public entry points in virtual time.
+#![allow(dead_code)]
+
+use std::net::{Ipv4Addr, SocketAddrV4};
+
+use stack::cip::CipResult;
+use stack::config::MAX_ENCAP_FRAME;
+use stack::device::{AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo};
+use stack::originator::{self, Reply};
+use stack::wire::epath::{LogicalType, Segment};
+use stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use stack::wire::Writer;
+use stack::{Adapter, Instant, NetworkConfig, SocketId};
+
+pub const IDENTITY: IdentityInfo = IdentityInfo {
+    vendor_id: 1,
+    device_type: 12,
+    product_code: 65001,
+    revision: (1, 2),
+    serial_number: 0x1234_5678,
+    product_name: "test device",
+};
+
+/// Inputs 100..=109, outputs 110..=119 (32 bytes each, outputs with run/idle), config 151,
+/// heartbeats 152 (input only) and 153 (listen only), explicit 154.
+pub struct TestDevice {
+    pub assemblies: Vec<AssemblyInfo>,
+    pub data: std::collections::HashMap<u16, Vec<u8>>,
+    pub events: Vec<ConnectionEvent>,
+    pub writes: Vec<(u16, Vec<u8>)>,
+}
+
+impl TestDevice {
+    pub fn new() -> Self {
+        let mut assemblies = Vec::new();
+        let mut data = std::collections::HashMap::new();
+        for i in 0..10u16 {
+            assemblies.push(AssemblyInfo {
+                instance: 100 + i,
+                role: AssemblyRole::Input,
+                size: 32,
+                run_idle_header: false,
+            });
+            assemblies.push(AssemblyInfo {
+                instance: 110 + i,
+                role: AssemblyRole::Output,
+                size: 32,
+                run_idle_header: true,
+            });
+            data.insert(100 + i, vec![i as u8; 32]);
+            data.insert(110 + i, vec![0; 32]);
+        }
+        assemblies.push(AssemblyInfo {
+            instance: 151,
+            role: AssemblyRole::Config,
+            size: 10,
+            run_idle_header: false,
+        });
+        assemblies.push(AssemblyInfo {
+            instance: 152,
+            role: AssemblyRole::InputOnlyHeartbeat,
+            size: 0,
+            run_idle_header: false,
+        });
+        assemblies.push(AssemblyInfo {
+            instance: 153,
+            role: AssemblyRole::ListenOnlyHeartbeat,
+            size: 0,
+            run_idle_header: false,
+        });
+        assemblies.push(AssemblyInfo {
+            instance: 154,
+            role: AssemblyRole::Explicit,
+            size: 32,
+            run_idle_header: false,
+        });
+        data.insert(151, vec![0; 10]);
+        data.insert(154, vec![0; 32]);
+        TestDevice {
+            assemblies,
+            data,
+            events: Vec::new(),
+            writes: Vec::new(),
+        }
+    }
+}
+
+impl Device for TestDevice {
+    fn identity(&self) -> &IdentityInfo {
+        &IDENTITY
+    }
+    fn assemblies(&self) -> &[AssemblyInfo] {
+        &self.assemblies
+    }
+    fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
+        let d = self.data.get(&instance).map(Vec::as_slice).unwrap_or(&[]);
+        let n = d.len().min(out.len());
+        out[..n].copy_from_slice(&d[..n]);
+        Ok(n)
+    }
+    fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
+        self.writes.push((instance, data.to_vec()));
+        self.data.insert(instance, data.to_vec());
+        Ok(())
+    }
+    fn connection_event(&mut self, event: ConnectionEvent) {
+        self.events.push(event);
+    }
+}
+
+pub const ADAPTER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
+pub const SCANNER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
+
+/// One adapter and a scanner with a registered session on socket 0.
+pub struct Harness {
+    pub adapter: Adapter<TestDevice>,
+    pub session: u32,
+    pub now: Instant,
+}
+
+impl Harness {
+    pub fn new() -> Self {
+        let net = NetworkConfig::new_static(
+            ADAPTER_IP,
+            Ipv4Addr::new(255, 255, 255, 0),
+            [2, 0, 0, 0, 0, 2],
+        );
+        let mut adapter = Adapter::new(TestDevice::new(), net, 42);
+        adapter.tcp_accept(
+            SocketId(0),
+            SocketAddrV4::new(SCANNER_IP, 50000),
+            Instant(0),
+        );
+        let mut h = Harness {
+            adapter,
+            session: 0,
+            now: Instant(0),
+        };
+        let mut buf = [0u8; 64];
+        let n = originator::register_session(&mut buf).unwrap();
+        let reply = h.tcp(&buf[..n]);
+        h.session = u32::from_le_bytes(reply[4..8].try_into().unwrap());
+        assert_ne!(h.session, 0);
+        h
+    }
+
+    /// Feeds `frame` on socket 0 and returns the reply bytes.
+    pub fn tcp(&mut self, frame: &[u8]) -> Vec<u8> {
+        let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+        let out = self
+            .adapter
+            .tcp_receive(SocketId(0), frame, self.now, &mut reply);
+        assert_eq!(out.consumed, frame.len());
+        reply.truncate(out.reply_len);
+        reply
+    }
+
+    /// Sends a request through SendRRData and returns the raw reply frame.
+    pub fn request(&mut self, service: u8, path: &[Segment<'_>], data: &[u8]) -> Vec<u8> {
+        let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+        let session = self.session;
+        let n = originator::send_rr_data(&mut buf, session, None, |w| {
+            originator::request(w, service, path, data)
+        })
+        .unwrap();
+        self.tcp(&buf[..n])
+    }
+
+    /// Sends a Forward_Open (or Large) and returns the raw reply frame.
+    pub fn forward_open(&mut self, fo: &ForwardOpen<'_>) -> Vec<u8> {
+        let mut data = [0u8; 128];
+        let mut w = Writer::new(&mut data);
+        fo.emit(&mut w).unwrap();
+        let n = w.len();
+        let service = if fo.large { 0x5B } else { 0x54 };
+        self.request(service, &cm_path(), &data[..n])
+    }
+}
+
+/// Path to the Connection Manager instance 1.
+pub fn cm_path() -> [Segment<'static>; 2] {
+    [
+        Segment::Logical(LogicalType::Class, 6),
+        Segment::Logical(LogicalType::Instance, 1),
+    ]
+}
+
+/// General status, additional status words and data of a reply frame.
+pub fn status(frame: &[u8]) -> (u8, Vec<u16>, Vec<u8>) {
+    let r: Reply<'_> = originator::parse_reply(frame).unwrap();
+    let resp = r.response.expect("a message router response");
+    let words = resp
+        .additional_status
+        .chunks(2)
+        .map(|c| u16::from_le_bytes([c[0], c[1]]))
+        .collect();
+    (resp.general_status, words, resp.data.to_vec())
+}
+
+/// Connection path bytes: class 4, optional config instance, O->T and T->O points, data.
+pub fn io_path(config: Option<u32>, o_t: u32, t_o: u32, config_data: Option<&[u8]>) -> Vec<u8> {
+    let mut segs = vec![Segment::Logical(LogicalType::Class, 4)];
+    if let Some(c) = config {
+        segs.push(Segment::Logical(LogicalType::Instance, c));
+    }
+    segs.push(Segment::Logical(LogicalType::ConnectionPoint, o_t));
+    segs.push(Segment::Logical(LogicalType::ConnectionPoint, t_o));
+    if let Some(d) = config_data {
+        segs.push(Segment::Data(d));
+    }
+    let mut buf = [0u8; 128];
+    let mut w = Writer::new(&mut buf);
+    for s in &segs {
+        s.emit(&mut w).unwrap();
+    }
+    w.written().to_vec()
+}
+
+/// A point-to-point exclusive-owner Forward_Open of 32-byte output `o_t` and input `t_o`.
+pub fn fo<'a>(serial: u16, path: &'a [u8], rpi: u32) -> ForwardOpen<'a> {
+    ForwardOpen {
+        large: false,
+        priority_tick: 0x0A,
+        timeout_ticks: 0x0E,
+        o_t_connection_id: 0,
+        t_o_connection_id: 0x7000_0000 + u32::from(serial),
+        triad: Triad {
+            connection_serial: serial,
+            vendor_id: 0x1337,
+            originator_serial: 0xC0FFEE,
+        },
+        timeout_multiplier: 0,
+        o_t_rpi: rpi,
+        o_t_params: NetworkParams::from_u16(0x4800 | (2 + 4 + 32)),
+        t_o_rpi: rpi,
+        t_o_params: NetworkParams::from_u16(0x4800 | (2 + 32)),
+        transport: 0x01,
+        path,
+    }
+}

@@ -1,0 +1,319 @@
+//! Encapsulation and explicit messaging through the adapter's entry points: framing, every
+//! encapsulation error, and the CIP status of each kind of bad request.
+
+mod common;
+
+use std::net::{Ipv4Addr, SocketAddrV4};
+
+use common::*;
+use stack::config::MAX_ENCAP_FRAME;
+use stack::originator;
+use stack::wire::encap::{Repr, HEADER_LEN};
+use stack::wire::epath::{LogicalType, Segment};
+use stack::{Instant, SocketId};
+
+fn path(class: u32, instance: u32, attribute: Option<u32>) -> Vec<Segment<'static>> {
+    let mut p = vec![
+        Segment::Logical(LogicalType::Class, class),
+        Segment::Logical(LogicalType::Instance, instance),
+    ];
+    p.extend(attribute.map(|a| Segment::Logical(LogicalType::Attribute, a)));
+    p
+}
+
+fn header(command: u16, length: u16, session: u32) -> [u8; 24] {
+    let mut h = [0u8; 24];
+    Repr {
+        command,
+        length,
+        session_handle: session,
+        status: 0,
+        sender_context: [7; 8],
+        options: 0,
+    }
+    .emit(&mut h)
+    .unwrap();
+    h
+}
+
+fn encap_status(reply: &[u8]) -> u32 {
+    Repr::parse_header(reply).unwrap().status
+}
+
+#[test]
+fn identity_attributes_and_get_attributes_all() {
+    let mut h = Harness::new();
+    let (g, _, d) = status(&h.request(0x0E, &path(1, 1, Some(7)), &[]));
+    assert_eq!((g, d.as_slice()), (0, &b"\x0btest device"[..]));
+    let (g, _, d) = status(&h.request(0x01, &path(1, 1, None), &[]));
+    assert_eq!(g, 0);
+    assert_eq!(d.len(), 2 + 2 + 2 + 2 + 2 + 4 + 12);
+    assert_eq!(&d[..6], &[1, 0, 12, 0, 0xE9, 0xFD]);
+    let (g, _, d) = status(&h.request(0x0E, &path(1, 0, Some(1)), &[]));
+    assert_eq!((g, d), (0, vec![1, 0]));
+}
+
+#[test]
+fn cip_error_statuses() {
+    let mut h = Harness::new();
+    let cases: Vec<(u8, Vec<Segment<'static>>, Vec<u8>, u8)> = vec![
+        (0x0E, path(0x77, 1, Some(1)), vec![], 0x05),
+        (0x0E, path(1, 9, Some(1)), vec![], 0x16),
+        (0x4B, path(1, 1, None), vec![], 0x08),
+        (0x0E, path(1, 1, Some(99)), vec![], 0x14),
+        (0x10, path(1, 1, Some(1)), vec![1, 0], 0x0E),
+        (0x10, path(4, 100, Some(3)), vec![0; 32], 0x0E),
+        (0x10, path(4, 110, Some(3)), vec![0; 31], 0x13),
+        (0x10, path(4, 110, Some(3)), vec![0; 33], 0x15),
+        (0x10, path(0xF5, 1, Some(8)), vec![0], 0x09),
+        (0x10, path(0xF5, 1, Some(13)), vec![0x11, 0x0E], 0x09),
+        (
+            0x10,
+            path(0xF5, 1, Some(9)),
+            vec![1, 0, 1, 0, 1, 0, 0, 224],
+            0x09,
+        ),
+        (0x05, path(1, 1, None), vec![7], 0x20),
+        (
+            0x0E,
+            vec![Segment::Logical(LogicalType::Class, 1)],
+            vec![],
+            0x05,
+        ),
+    ];
+    for (i, (service, p, data, want)) in cases.into_iter().enumerate() {
+        let (g, _, _) = status(&h.request(service, &p, &data));
+        assert_eq!(g, want, "case {i}");
+    }
+    // A path segment error: reserved logical format.
+    let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+    let session = h.session;
+    let n = originator::send_rr_data(&mut buf, session, None, |w| {
+        w.bytes(&[0x0E, 2, 0x23, 1, 0x24, 1])
+    })
+    .unwrap();
+    assert_eq!(status(&h.tcp(&buf[..n])).0, 0x04);
+}
+
+#[test]
+fn settable_attributes_round_trip() {
+    let mut h = Harness::new();
+    assert_eq!(
+        status(&h.request(0x10, &path(4, 110, Some(3)), &[3; 32])).0,
+        0
+    );
+    assert_eq!(
+        status(&h.request(0x0E, &path(4, 110, Some(3)), &[])).2,
+        vec![3; 32]
+    );
+    assert_eq!(status(&h.request(0x10, &path(0xF5, 1, Some(8)), &[5])).0, 0);
+    assert_eq!(
+        status(&h.request(0x0E, &path(0xF5, 1, Some(8)), &[])).2,
+        vec![5]
+    );
+    let mcast = [1, 0, 1, 0, 32, 15, 192, 239];
+    assert_eq!(
+        status(&h.request(0x10, &path(0xF5, 1, Some(9)), &mcast)).0,
+        0
+    );
+    assert_eq!(
+        status(&h.request(0x0E, &path(0xF5, 1, Some(9)), &[])).2,
+        mcast.to_vec()
+    );
+    assert_eq!(
+        status(&h.request(0x10, &path(0xF5, 1, Some(13)), &[30, 0])).0,
+        0
+    );
+    assert_eq!(
+        h.adapter.tcp_deadline(SocketId(0)),
+        Some(Instant(30_000_000))
+    );
+}
+
+#[test]
+fn lists_and_multiple_service_packet() {
+    let mut h = Harness::new();
+    let (g, _, d) = status(&h.request(0x03, &path(1, 1, None), &[2, 0, 1, 0, 99, 0]));
+    assert_eq!(g, 0x0A);
+    assert_eq!(d, vec![2, 0, 1, 0, 0, 0, 1, 0, 99, 0, 0x14, 0]);
+    // Two embedded requests: one good, one to an unknown class.
+    let good = [0x0E, 3, 0x20, 1, 0x24, 1, 0x30, 1];
+    let bad = [0x0E, 3, 0x20, 0x77, 0x24, 1, 0x30, 1];
+    let mut data = vec![2, 0, 6, 0, 14, 0];
+    data.extend(good);
+    data.extend(bad);
+    let (g, _, d) = status(&h.request(0x0A, &path(2, 1, None), &data));
+    assert_eq!(g, 0x1E);
+    assert_eq!(&d[..6], &[2, 0, 6, 0, 12, 0]);
+    assert_eq!(&d[6..12], &[0x8E, 0, 0, 0, 1, 0]);
+    assert_eq!(&d[12..], &[0x8E, 0, 0x05, 0]);
+    // Offsets out of order.
+    assert_eq!(
+        status(&h.request(0x0A, &path(2, 1, None), &[2, 0, 14, 0, 6, 0, 0, 0])).0,
+        0x20
+    );
+}
+
+#[test]
+fn unconnected_send_to_port_1_slot_0() {
+    let mut h = Harness::new();
+    let inner = [0x0E, 3, 0x20, 1, 0x24, 1, 0x30, 7];
+    let mut data = vec![0x0A, 0x0E, inner.len() as u8, 0];
+    data.extend(inner);
+    data.extend([1, 0, 0x01, 0x00]);
+    let (g, _, d) = status(&h.request(0x52, &path(6, 1, None), &data));
+    assert_eq!((g, d.as_slice()), (0, &b"\x0btest device"[..]));
+    let frame = h.request(
+        0x52,
+        &path(6, 1, None),
+        &[&data[..12], &[1, 0, 0x02, 0x00][..]].concat(),
+    );
+    assert_eq!(status(&frame).1, vec![0x0311]);
+}
+
+#[test]
+fn tcp_framing_split_and_batched() {
+    let mut h = Harness::new();
+    let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+    let session = h.session;
+    let n = originator::send_rr_data(&mut buf, session, None, |w| {
+        originator::request(w, 0x0E, &path(1, 1, Some(1)), &[])
+    })
+    .unwrap();
+    let frame = buf[..n].to_vec();
+    // One byte at a time.
+    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    for (i, b) in frame.iter().enumerate() {
+        let out =
+            h.adapter
+                .tcp_receive(SocketId(0), std::slice::from_ref(b), Instant(0), &mut reply);
+        assert_eq!(out.consumed, 1);
+        assert_eq!(out.reply_len > 0, i == frame.len() - 1);
+    }
+    // Three frames in one segment.
+    let three = [frame.clone(), frame.clone(), frame.clone()].concat();
+    let mut at = 0;
+    let mut replies = 0;
+    while at < three.len() {
+        let out = h
+            .adapter
+            .tcp_receive(SocketId(0), &three[at..], Instant(0), &mut reply);
+        assert!(out.consumed > 0);
+        at += out.consumed;
+        replies += usize::from(out.reply_len > 0);
+    }
+    assert_eq!(replies, 3);
+}
+
+#[test]
+fn encapsulation_errors() {
+    let mut h = Harness::new();
+    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    let mut run = |h: &mut Harness, frame: &[u8]| {
+        let out = h
+            .adapter
+            .tcp_receive(SocketId(0), frame, Instant(0), &mut reply);
+        (out.reply_len, out.close, reply[..out.reply_len].to_vec())
+    };
+    // Wrong session handle, unknown command.
+    let mut f = header(0x6F, 0, h.session ^ 0x100).to_vec();
+    let (_, close, r) = run(&mut h, &f);
+    assert_eq!((encap_status(&r), close), (0x64, false));
+    f = header(0x0055, 0, h.session).to_vec();
+    assert_eq!(encap_status(&run(&mut h, &f).2), 0x01);
+    // Bad CPF: item count 5.
+    f = header(0x6F, 8, h.session).to_vec();
+    f.extend([0, 0, 0, 0, 0, 0, 5, 0]);
+    assert_eq!(encap_status(&run(&mut h, &f).2), 0x03);
+    // Non-zero options: discarded, nothing sent, the connection stays.
+    f = header(0x0063, 0, 0).to_vec();
+    f[20] = 1;
+    assert_eq!(run(&mut h, &f).0, 0);
+    // Second RegisterSession on the same connection.
+    f = header(0x65, 4, 0).to_vec();
+    f.extend([1, 0, 0, 0]);
+    assert_eq!(encap_status(&run(&mut h, &f).2), 0x01);
+    // Length over capacity: status 0x65 and close.
+    f = header(0x6F, 0xFFFF, h.session).to_vec();
+    let (n, close, r) = run(&mut h, &f);
+    assert_eq!((n, close, encap_status(&r)), (HEADER_LEN, true, 0x65));
+
+    // A fresh connection: unsupported protocol version, and SendRRData before registering.
+    h.adapter.tcp_accept(
+        SocketId(1),
+        SocketAddrV4::new(SCANNER_IP, 50001),
+        Instant(0),
+    );
+    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    let mut f = header(0x65, 4, 0).to_vec();
+    f.extend([2, 0, 0, 0]);
+    let out = h
+        .adapter
+        .tcp_receive(SocketId(1), &f, Instant(0), &mut reply);
+    assert_eq!(encap_status(&reply[..out.reply_len]), 0x69);
+    assert_eq!(
+        &reply[24..28],
+        &[1, 0, 0, 0],
+        "the supported version is reported"
+    );
+    let f = header(0x6F, 0, 0);
+    let out = h
+        .adapter
+        .tcp_receive(SocketId(1), &f, Instant(0), &mut reply);
+    assert_eq!(encap_status(&reply[..out.reply_len]), 0x64);
+}
+
+#[test]
+fn udp_commands_and_broadcast_delay() {
+    let mut h = Harness::new();
+    let from = SocketAddrV4::new(SCANNER_IP, 50000);
+    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    let n = h.adapter.udp_receive(
+        from,
+        ADAPTER_IP,
+        &header(0x65, 0, 0),
+        Instant(0),
+        &mut reply,
+    );
+    assert_eq!(encap_status(&reply[..n]), 0x01);
+    let n = h.adapter.udp_receive(
+        from,
+        ADAPTER_IP,
+        &header(0x04, 0, 0),
+        Instant(0),
+        &mut reply,
+    );
+    assert_eq!((encap_status(&reply[..n]), n), (0, 24 + 2 + 4 + 20));
+    let n = h.adapter.udp_receive(
+        from,
+        ADAPTER_IP,
+        &header(0x63, 0, 0),
+        Instant(0),
+        &mut reply,
+    );
+    assert!(n > 24 + 30, "unicast ListIdentity answered at once");
+    // Broadcast with a 500 ms bound (sender context 0xF4 0x01 = 500).
+    let mut f = header(0x63, 0, 0);
+    f[12] = 0xF4;
+    f[13] = 0x01;
+    let n = h.adapter.udp_receive(
+        from,
+        Ipv4Addr::new(198, 18, 0, 255),
+        &f,
+        Instant(1_000),
+        &mut reply,
+    );
+    assert_eq!(n, 0);
+    let due = h.adapter.next_deadline().unwrap();
+    assert!(due >= Instant(1_000) && due <= Instant(501_000));
+    if due > Instant(1_000) {
+        assert!(h
+            .adapter
+            .poll_udp(Instant(due.as_micros() - 1), &mut reply)
+            .is_none());
+    }
+    let (to, n) = h.adapter.poll_udp(due, &mut reply).unwrap();
+    assert_eq!(to, from);
+    assert_eq!(&reply[12..14], &[0xF4, 0x01]);
+    assert!(n > 24);
+}

@@ -1,0 +1,211 @@
+//! Class 1 I/O in virtual time: ten connections at a 1 ms RPI for 10 000 ms of simulated
+//! time, exact production intervals and sequence numbers, and exact watchdog timeouts.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::net::SocketAddrV4;
+
+use common::*;
+use stack::device::{CloseReason, ConnectionEvent};
+use stack::io::consume::{Accepted, Discard};
+use stack::wire::forward_open::ForwardOpenReply;
+use stack::wire::io_datagram::Packet;
+use stack::Instant;
+
+const RPI: u64 = 1_000;
+const END: u64 = 10_000_000;
+const CONNECTIONS: u16 = 10;
+
+/// Opens ten exclusive owners (outputs 110.., inputs 100..) and returns their (O->T, T->O) IDs.
+fn open_ten(h: &mut Harness) -> Vec<(u32, u32)> {
+    (0..CONNECTIONS)
+        .map(|i| {
+            let path = io_path(None, 110 + u32::from(i), 100 + u32::from(i), None);
+            let (g, _, data) = status(&h.forward_open(&fo(i + 1, &path, RPI as u32)));
+            assert_eq!(g, 0);
+            let r = ForwardOpenReply::parse(&data).unwrap();
+            (r.o_t_connection_id, r.t_o_connection_id)
+        })
+        .collect()
+}
+
+fn scanner() -> SocketAddrV4 {
+    SocketAddrV4::new(SCANNER_IP, 2222)
+}
+
+fn send(h: &mut Harness, o_t: u32, k: u32, now: u64) -> Result<Accepted, Discard> {
+    let mut buf = [0u8; 64];
+    let n = stack::originator::io_datagram(&mut buf, o_t, k, k as u16, Some(true), &[k as u8; 32])
+        .unwrap();
+    h.adapter.io_receive(scanner(), &buf[..n], Instant(now))
+}
+
+#[test]
+fn ten_connections_at_one_millisecond_for_ten_seconds() {
+    let mut h = Harness::new();
+    let ids = open_ten(&mut h);
+    let mut seen: BTreeMap<u32, Vec<(u64, u32, u16)>> = BTreeMap::new();
+    let mut out = [0u8; 128];
+    let mut next_send = RPI / 2;
+    let mut k = 0u32;
+    for _ in 0..1_000_000 {
+        let deadline = h
+            .adapter
+            .next_deadline()
+            .map_or(u64::MAX, |d| d.as_micros());
+        let now = deadline.min(next_send);
+        if now >= END {
+            break;
+        }
+        if now == next_send {
+            k += 1;
+            for &(o_t, _) in &ids {
+                assert_eq!(send(&mut h, o_t, k, now), Ok(Accepted::NewData));
+            }
+            next_send += RPI;
+        }
+        while let Some((to, len)) = h.adapter.poll_io(Instant(now), &mut out) {
+            assert_eq!(to, scanner());
+            let p = Packet::new_checked(&out[..len]).unwrap();
+            let data = p.connected_data();
+            assert_eq!(data.len(), 2 + 32);
+            seen.entry(p.connection_id()).or_default().push((
+                now,
+                p.encap_sequence(),
+                u16::from_le_bytes([data[0], data[1]]),
+            ));
+        }
+    }
+    assert_eq!(seen.len(), usize::from(CONNECTIONS));
+    for &(_, t_o) in &ids {
+        let packets = &seen[&t_o];
+        assert_eq!(packets.len(), 10_000, "connection {t_o:#x}");
+        for (i, w) in packets.windows(2).enumerate() {
+            assert_eq!(w[1].0 - w[0].0, RPI, "interval {i} of {t_o:#x}");
+            assert_eq!(w[1].1, w[0].1 + 1, "encapsulation sequence {i}");
+            assert_eq!(w[1].2, w[0].2.wrapping_add(1), "CIP sequence {i}");
+        }
+        assert_eq!(packets[0].0, 0, "first production at open");
+    }
+    // O->T data reached the outputs, and every input went out as the device holds it.
+    assert_eq!(h.adapter.device().data[&110], vec![k as u8; 32]);
+
+    // Watchdog: the last O->T went at END - RPI/2; multiplier x4 at 1 ms -> 4 ms later exactly.
+    let last = next_send - RPI;
+    let expiry = last + 4 * RPI;
+    let _ = h.adapter.poll_io(Instant(expiry - 1), &mut out);
+    assert_eq!(h.adapter.connections().len(), usize::from(CONNECTIONS));
+    while h.adapter.poll_io(Instant(expiry - 1), &mut out).is_some() {}
+    assert_eq!(h.adapter.next_deadline(), Some(Instant(expiry)));
+    let _ = h.adapter.poll_io(Instant(expiry), &mut out);
+    assert!(h.adapter.connections().is_empty());
+    assert_eq!(
+        h.adapter.device().events.last(),
+        Some(&ConnectionEvent::OwnershipLost(CloseReason::Timeout))
+    );
+}
+
+#[test]
+fn first_packet_grace_is_ten_seconds() {
+    let mut h = Harness::new();
+    open_ten(&mut h);
+    let mut out = [0u8; 128];
+    while h.adapter.poll_io(Instant(END - 1), &mut out).is_some() {}
+    assert_eq!(h.adapter.connections().len(), usize::from(CONNECTIONS));
+    let _ = h.adapter.poll_io(Instant(END), &mut out);
+    assert!(h.adapter.connections().is_empty());
+}
+
+#[test]
+fn consumption_rules() {
+    let mut h = Harness::new();
+    let (o_t, _) = open_ten(&mut h)[0];
+    assert_eq!(send(&mut h, o_t, 5, 10), Ok(Accepted::NewData));
+    assert_eq!(
+        h.adapter.device().events.last(),
+        Some(&ConnectionEvent::RunIdle(true))
+    );
+    // Older or repeated encapsulation sequence: discarded.
+    assert_eq!(send(&mut h, o_t, 5, 20), Err(Discard::Stale));
+    assert_eq!(send(&mut h, o_t, 4, 20), Err(Discard::Stale));
+    // Newer encapsulation sequence but repeated CIP sequence count: watchdog only.
+    let mut buf = [0u8; 64];
+    let n = stack::originator::io_datagram(&mut buf, o_t, 6, 5, Some(true), &[0xEE; 32]).unwrap();
+    assert_eq!(
+        h.adapter.io_receive(scanner(), &buf[..n], Instant(30)),
+        Ok(Accepted::NoNewData)
+    );
+    assert_eq!(h.adapter.device().data[&110], vec![5; 32]);
+    // Idle: reported, data not applied.
+    let n = stack::originator::io_datagram(&mut buf, o_t, 7, 6, Some(false), &[0xEE; 32]).unwrap();
+    assert_eq!(
+        h.adapter.io_receive(scanner(), &buf[..n], Instant(40)),
+        Ok(Accepted::NoNewData)
+    );
+    assert_eq!(
+        h.adapter.device().events.last(),
+        Some(&ConnectionEvent::RunIdle(false))
+    );
+    assert_eq!(h.adapter.device().data[&110], vec![5; 32]);
+    // Wrong sender, wrong size, unknown connection, garbage.
+    let n = stack::originator::io_datagram(&mut buf, o_t, 8, 7, Some(true), &[1; 32]).unwrap();
+    assert_eq!(
+        h.adapter
+            .io_receive("198.18.0.9:2222".parse().unwrap(), &buf[..n], Instant(50)),
+        Err(Discard::UnknownConnection)
+    );
+    let n = stack::originator::io_datagram(&mut buf, o_t, 8, 7, Some(true), &[1; 31]).unwrap();
+    assert_eq!(
+        h.adapter.io_receive(scanner(), &buf[..n], Instant(50)),
+        Err(Discard::WrongSize)
+    );
+    let n = stack::originator::io_datagram(&mut buf, o_t ^ 1, 8, 7, Some(true), &[1; 32]).unwrap();
+    assert_eq!(
+        h.adapter.io_receive(scanner(), &buf[..n], Instant(50)),
+        Err(Discard::UnknownConnection)
+    );
+    assert_eq!(
+        h.adapter.io_receive(scanner(), &[1, 2, 3], Instant(50)),
+        Err(Discard::Malformed)
+    );
+}
+
+#[test]
+fn application_trigger_respects_inhibit_and_counts_new_data() {
+    let mut h = Harness::new();
+    // Connection path with a production inhibit time of 2 ms (network segment 0x43).
+    let mut path = vec![0x43, 2];
+    path.extend(io_path(None, 110, 100, None));
+    let mut f = fo(1, &path, 10_000);
+    f.transport = 0x21; // application triggered, class 1
+    let (g, _, data) = status(&h.forward_open(&f));
+    assert_eq!(g, 0);
+    let t_o = ForwardOpenReply::parse(&data).unwrap().t_o_connection_id;
+    let mut out = [0u8; 128];
+    let seq = |out: &[u8]| u16::from_le_bytes([out[18], out[19]]);
+    let (_, _) = h.adapter.poll_io(Instant(0), &mut out).unwrap();
+    assert_eq!(
+        seq(&out),
+        0,
+        "RPI production repeats the last sequence count"
+    );
+    assert!(h.adapter.poll_io(Instant(100), &mut out).is_none());
+    h.adapter.trigger_input(100);
+    let (_, len) = h.adapter.poll_io(Instant(100), &mut out).unwrap();
+    assert_eq!(
+        (
+            Packet::new_checked(&out[..len]).unwrap().connection_id(),
+            seq(&out)
+        ),
+        (t_o, 1)
+    );
+    h.adapter.trigger_input(100);
+    assert!(
+        h.adapter.poll_io(Instant(1_000), &mut out).is_none(),
+        "inhibited for 2 ms"
+    );
+    assert_eq!(h.adapter.next_deadline(), Some(Instant(2_100)));
+    assert!(h.adapter.poll_io(Instant(2_100), &mut out).is_some());
+    assert_eq!(seq(&out), 2);
+}
