@@ -28,10 +28,34 @@ pub(crate) struct UdpBuffers {
     pub reply: [u8; MAX_ENCAP_FRAME],
 }
 
+/// Datagrams each UDP 2222 socket can hold in each direction.
+pub const IO_PACKETS: usize = 16;
+/// Payload bytes each UDP 2222 socket can hold in each direction.
+pub const IO_BUFFER_LEN: usize = 4096;
+/// Largest T->O datagram: I/O header, sequence count and the largest assembly.
+pub const IO_DATAGRAM_LEN: usize =
+    stack::wire::io_datagram::HEADER_LEN + 2 + stack::config::MAX_ASSEMBLY_SIZE;
+
+/// Buffers of one UDP 2222 socket.
+pub(crate) struct IoSocketBuffers {
+    pub rx_meta: [PacketMetadata; IO_PACKETS],
+    pub rx: [u8; IO_BUFFER_LEN],
+    pub tx_meta: [PacketMetadata; IO_PACKETS],
+    pub tx: [u8; IO_BUFFER_LEN],
+}
+
+/// Buffers of Class 1 I/O: the point-to-point and multicast sockets, and the datagram being built.
+pub(crate) struct IoBuffers {
+    pub unicast: IoSocketBuffers,
+    pub multicast: IoSocketBuffers,
+    pub out: [u8; IO_DATAGRAM_LEN],
+}
+
 /// Every buffer [`crate::run`] uses; create one with [`Resources::new`] in a `static` cell.
 pub struct Resources {
     pub(crate) tcp: [TcpBuffers; MAX_SESSIONS],
     pub(crate) udp: UdpBuffers,
+    pub(crate) io: IoBuffers,
 }
 
 impl Resources {
@@ -42,6 +66,12 @@ impl Resources {
             tx: [0; TCP_TX_LEN],
             reply: [0; MAX_ENCAP_FRAME],
         };
+        const IO: IoSocketBuffers = IoSocketBuffers {
+            rx_meta: [PacketMetadata::EMPTY; IO_PACKETS],
+            rx: [0; IO_BUFFER_LEN],
+            tx_meta: [PacketMetadata::EMPTY; IO_PACKETS],
+            tx: [0; IO_BUFFER_LEN],
+        };
         Resources {
             tcp: [TCP; MAX_SESSIONS],
             udp: UdpBuffers {
@@ -50,6 +80,11 @@ impl Resources {
                 tx_meta: [PacketMetadata::EMPTY; UDP_PACKETS],
                 tx: [0; UDP_BUFFER_LEN],
                 reply: [0; MAX_ENCAP_FRAME],
+            },
+            io: IoBuffers {
+                unicast: IO,
+                multicast: IO,
+                out: [0; IO_DATAGRAM_LEN],
             },
         }
     }

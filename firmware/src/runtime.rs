@@ -22,7 +22,7 @@ pub async fn run<D: Device>(
     on_reset: impl Fn(u8),
 ) -> ! {
     let on_reset: &dyn Fn(u8) = &on_reset;
-    let Resources { tcp, udp } = resources;
+    let Resources { tcp, udp, io } = resources;
     let mut index = 0u8;
     let sockets = tcp.each_mut().map(|bufs| {
         let id = SocketId(index);
@@ -33,7 +33,7 @@ pub async fn run<D: Device>(
     let (_, never, _, _) = join4(
         join_array(sockets),
         udp::serve(net, adapter, udp),
-        io::serve(net, adapter),
+        io::serve(net, adapter, io),
         netif::track(net, adapter),
     )
     .await;

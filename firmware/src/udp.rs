@@ -39,7 +39,7 @@ pub(crate) async fn serve<D: Device>(
         }
     }
     loop {
-        let due = with_adapter(adapter, |a| a.next_deadline())
+        let due = with_adapter(adapter, |a| a.udp_deadline())
             .map_or(embassy_time::Instant::MAX, to_embassy);
         let event = select(
             socket.recv_from_with(|data, meta| answer(adapter, data, meta, reply)),

@@ -262,9 +262,19 @@ impl<D: Device> Adapter<D> {
         self.objects.tcpip.ttl
     }
 
-    /// The next instant the adapter needs a poll ([`Self::poll_io`], [`Self::poll_udp`]).
+    /// The next instant [`Self::poll_udp`] has a delayed reply to send.
+    pub fn udp_deadline(&self) -> Option<Instant> {
+        self.delayed.next_due()
+    }
+
+    /// The next instant [`Self::poll_io`] has work: a production or a watchdog expiry.
+    pub fn io_deadline(&self) -> Option<Instant> {
+        self.connections.next_deadline()
+    }
+
+    /// The earliest of [`Self::udp_deadline`] and [`Self::io_deadline`].
     pub fn next_deadline(&self) -> Option<Instant> {
-        match (self.delayed.next_due(), self.connections.next_deadline()) {
+        match (self.udp_deadline(), self.io_deadline()) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }
