@@ -1,17 +1,17 @@
 //! Conversions between embassy-time instants and the stack's microsecond [`stack::Instant`].
 
 /// The current time as the stack counts it.
-pub fn now() -> stack::Instant {
+pub(crate) fn now() -> stack::Instant {
     to_stack(embassy_time::Instant::now())
 }
 
 /// An embassy-time instant as a stack instant.
-pub fn to_stack(at: embassy_time::Instant) -> stack::Instant {
+pub(crate) fn to_stack(at: embassy_time::Instant) -> stack::Instant {
     stack::Instant::from_micros(at.as_micros())
 }
 
 /// A stack instant as an embassy-time instant (saturating at [`embassy_time::Instant::MAX`]).
-pub fn to_embassy(at: stack::Instant) -> embassy_time::Instant {
+pub(crate) fn to_embassy(at: stack::Instant) -> embassy_time::Instant {
     embassy_time::Instant::try_from_micros(at.as_micros()).unwrap_or(embassy_time::Instant::MAX)
 }
 

@@ -24,7 +24,6 @@ mod shared;
 mod tcp;
 mod udp;
 
-pub use clock::{now, to_embassy, to_stack};
 pub use netif::network_config;
 pub use profiles::Profile;
 pub use resources::Resources;

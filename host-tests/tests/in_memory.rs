@@ -1,0 +1,531 @@
+//! In-memory PHY integration test (no root, no real network): the firmware runtime with the
+//! generic profile on one embassy-net stack (198.18.0.2/24) and a test client on another
+//! (198.18.0.1/24), joined by an in-memory Ethernet wire and driven on this thread.
+//!
+//! Covered: RegisterSession, SendRRData Get_Attribute_Single (Identity product name),
+//! Set_Attribute_Single on output assembly 150 read back from input assembly 100, unicast and
+//! broadcast ListIdentity over UDP, a 4th TCP client refused while three sessions stay
+//! served, a stalled client that does not hold up the others, a socket freed by
+//! UnregisterSession taking the next client, and the encapsulation inactivity timeout.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::future::Future;
+use std::net::Ipv4Addr;
+use std::pin::pin;
+use std::rc::Rc;
+use std::sync::Arc;
+use std::task::{Context, Poll, Wake, Waker};
+use std::time::{Duration as StdDuration, Instant as StdInstant};
+
+use embassy_futures::join::join3;
+use embassy_futures::select::{select, Either};
+use embassy_net::tcp::{ConnectError, TcpSocket};
+use embassy_net::udp::{PacketMetadata, UdpSocket};
+use embassy_net::{Ipv4Cidr, Stack, StackResources, StaticConfigV4};
+use embassy_time::{with_timeout, Duration};
+use firmware::profiles::generic;
+use firmware::{Profile, Resources};
+use stack::wire::cpf::{self, item_type};
+use stack::wire::encap::{command, Packet, HEADER_LEN};
+use stack::wire::identity_item::IdentityRepr;
+use stack::wire::message_router::ResponseRepr;
+use stack::Adapter;
+
+const ADAPTER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
+const CLIENT_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
+const BROADCAST_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 255);
+const PORT: u16 = 44818;
+/// Wall-clock bound of a whole test, enforced by [`block_on`] whatever the futures do.
+const TEST_LIMIT: StdDuration = StdDuration::from_secs(10);
+/// Bound of one request/reply exchange.
+const STEP: Duration = Duration::from_secs(2);
+
+/// An in-memory Ethernet segment with two ports: frames queued per receiving port.
+mod wire {
+    use super::*;
+    use embassy_net::driver::{self, Capabilities, HardwareAddress, LinkState};
+
+    /// Frames a port may have waiting before the wire drops more, as a busy PHY would.
+    const QUEUE_LIMIT: usize = 64;
+
+    #[derive(Default)]
+    struct Segment {
+        /// Frames waiting to be received by port 0 and port 1.
+        queues: [VecDeque<Vec<u8>>; 2],
+        /// The receiving runner of each port, woken when a frame arrives for it.
+        wakers: [Option<Waker>; 2],
+    }
+
+    /// One end of the segment, usable as an embassy-net driver.
+    pub struct Port {
+        segment: Rc<RefCell<Segment>>,
+        side: usize,
+        mac: [u8; 6],
+    }
+
+    /// A fresh segment's two ports, with these MAC addresses.
+    pub fn pair(mac0: [u8; 6], mac1: [u8; 6]) -> (Port, Port) {
+        let segment = Rc::new(RefCell::new(Segment::default()));
+        let port = |side, mac| Port {
+            segment: segment.clone(),
+            side,
+            mac,
+        };
+        (port(0, mac0), port(1, mac1))
+    }
+
+    pub struct RxToken(Vec<u8>);
+
+    pub struct TxToken {
+        segment: Rc<RefCell<Segment>>,
+        to: usize,
+    }
+
+    impl driver::Driver for Port {
+        type RxToken<'a> = RxToken;
+        type TxToken<'a> = TxToken;
+
+        fn receive(&mut self, cx: &mut Context) -> Option<(RxToken, TxToken)> {
+            let mut seg = self.segment.borrow_mut();
+            match seg.queues[self.side].pop_front() {
+                Some(frame) => {
+                    drop(seg);
+                    Some((RxToken(frame), self.tx()))
+                }
+                None => {
+                    seg.wakers[self.side] = Some(cx.waker().clone());
+                    None
+                }
+            }
+        }
+
+        fn transmit(&mut self, _cx: &mut Context) -> Option<TxToken> {
+            Some(self.tx())
+        }
+
+        fn link_state(&mut self, _cx: &mut Context) -> LinkState {
+            LinkState::Up
+        }
+
+        fn capabilities(&self) -> Capabilities {
+            let mut caps = Capabilities::default();
+            caps.max_transmission_unit = 1514;
+            caps
+        }
+
+        fn hardware_address(&self) -> HardwareAddress {
+            HardwareAddress::Ethernet(self.mac)
+        }
+    }
+
+    impl Port {
+        fn tx(&self) -> TxToken {
+            TxToken {
+                segment: self.segment.clone(),
+                to: 1 - self.side,
+            }
+        }
+    }
+
+    impl driver::RxToken for RxToken {
+        fn consume<R, F: FnOnce(&mut [u8]) -> R>(mut self, f: F) -> R {
+            f(&mut self.0)
+        }
+    }
+
+    impl driver::TxToken for TxToken {
+        fn consume<R, F: FnOnce(&mut [u8]) -> R>(self, len: usize, f: F) -> R {
+            let mut frame = vec![0; len];
+            let r = f(&mut frame);
+            let mut seg = self.segment.borrow_mut();
+            if seg.queues[self.to].len() < QUEUE_LIMIT {
+                seg.queues[self.to].push_back(frame);
+            }
+            if let Some(w) = seg.wakers[self.to].take() {
+                w.wake();
+            }
+            r
+        }
+    }
+}
+
+/// Polls `fut` on this thread, sleeping until woken; panics past [`TEST_LIMIT`].
+fn block_on<F: Future>(fut: F) -> F::Output {
+    struct Unpark(std::thread::Thread);
+    impl Wake for Unpark {
+        fn wake(self: Arc<Self>) {
+            self.0.unpark();
+        }
+    }
+    let waker = Waker::from(Arc::new(Unpark(std::thread::current())));
+    let mut cx = Context::from_waker(&waker);
+    let mut fut = pin!(fut);
+    let deadline = StdInstant::now() + TEST_LIMIT;
+    loop {
+        if let Poll::Ready(out) = fut.as_mut().poll(&mut cx) {
+            return out;
+        }
+        let left = deadline.saturating_duration_since(StdInstant::now());
+        assert!(!left.is_zero(), "test exceeded {TEST_LIMIT:?}");
+        std::thread::park_timeout(left);
+    }
+}
+
+fn static_config(ip: Ipv4Addr) -> embassy_net::Config {
+    embassy_net::Config::ipv4_static(StaticConfigV4 {
+        address: Ipv4Cidr::new(ip, 24),
+        gateway: None,
+        dns_servers: Default::default(),
+    })
+}
+
+/// Runs `scenario` against an adapter with the generic profile; everything on this thread.
+fn with_adapter(scenario: impl AsyncFnOnce(Stack<'_>)) {
+    let (adapter_port, client_port) = wire::pair([2, 0, 0, 0, 0, 2], [2, 0, 0, 0, 0, 1]);
+    let mut adapter_sockets = StackResources::<8>::new();
+    let mut client_sockets = StackResources::<8>::new();
+    let (adapter_net, mut adapter_runner) = embassy_net::new(
+        adapter_port,
+        static_config(ADAPTER_IP),
+        &mut adapter_sockets,
+        0x0123_4567,
+    );
+    let (client_net, mut client_runner) = embassy_net::new(
+        client_port,
+        static_config(CLIENT_IP),
+        &mut client_sockets,
+        0x89AB_CDEF,
+    );
+    let adapter = firmware::share(Adapter::new(
+        Profile::from_name("generic").expect("generic profile"),
+        firmware::network_config(adapter_net),
+        42,
+    ));
+    let mut resources = Box::new(Resources::new());
+    let background = join3(
+        adapter_runner.run(),
+        client_runner.run(),
+        firmware::run(adapter_net, &adapter, &mut resources, |_| {}),
+    );
+    match block_on(select(background, scenario(client_net))) {
+        Either::First(never) => match never.0 {},
+        Either::Second(()) => {}
+    }
+}
+
+/// Encapsulation header for `command` with `len` data bytes.
+fn header(command: u16, len: usize, session: u32, context: [u8; 8]) -> Vec<u8> {
+    let mut h = Vec::with_capacity(HEADER_LEN + len);
+    h.extend_from_slice(&command.to_le_bytes());
+    h.extend_from_slice(&(len as u16).to_le_bytes());
+    h.extend_from_slice(&session.to_le_bytes());
+    h.extend_from_slice(&0u32.to_le_bytes());
+    h.extend_from_slice(&context);
+    h.extend_from_slice(&0u32.to_le_bytes());
+    h
+}
+
+fn register_session() -> Vec<u8> {
+    let mut f = header(command::REGISTER_SESSION, 4, 0, *b"register");
+    f.extend_from_slice(&[1, 0, 0, 0]);
+    f
+}
+
+/// SendRRData carrying the Message Router request `service` on `path`, with `data`.
+fn send_rr_data(session: u32, service: u8, path: &[u8], data: &[u8]) -> Vec<u8> {
+    let mut mr = vec![service, (path.len() / 2) as u8];
+    mr.extend_from_slice(path);
+    mr.extend_from_slice(data);
+    let mut body = vec![0, 0, 0, 0, 5, 0]; // interface handle 0, timeout 5 s
+    body.extend_from_slice(&2u16.to_le_bytes());
+    body.extend_from_slice(&[0, 0, 0, 0]); // null address item
+    body.extend_from_slice(&item_type::UNCONNECTED_DATA.to_le_bytes());
+    body.extend_from_slice(&(mr.len() as u16).to_le_bytes());
+    body.extend_from_slice(&mr);
+    let mut f = header(command::SEND_RR_DATA, body.len(), session, *b"rr-data!");
+    f.extend_from_slice(&body);
+    f
+}
+
+/// Class 0x01 instance 1 attribute 7 (product name).
+const IDENTITY_NAME: [u8; 6] = [0x20, 0x01, 0x24, 0x01, 0x30, 0x07];
+const GET_ATTRIBUTE_SINGLE: u8 = 0x0E;
+const SET_ATTRIBUTE_SINGLE: u8 = 0x10;
+
+/// Assembly (class 0x04) `instance`, attribute 3 (data).
+fn assembly_data(instance: u16) -> Vec<u8> {
+    let [lo, hi] = instance.to_le_bytes();
+    vec![0x20, 0x04, 0x25, 0x00, lo, hi, 0x30, 0x03]
+}
+
+/// A connected client TCP socket with its own buffers.
+struct Client<'a> {
+    socket: TcpSocket<'a>,
+}
+
+impl<'a> Client<'a> {
+    async fn connect(
+        net: Stack<'a>,
+        rx: &'a mut [u8],
+        tx: &'a mut [u8],
+    ) -> Result<Self, ConnectError> {
+        Self::connect_within(net, rx, tx, 1).await
+    }
+
+    /// Connects, trying up to `attempts` times 100 ms apart.
+    async fn connect_within(
+        net: Stack<'a>,
+        rx: &'a mut [u8],
+        tx: &'a mut [u8],
+        attempts: usize,
+    ) -> Result<Self, ConnectError> {
+        let mut socket = TcpSocket::new(net, rx, tx);
+        let mut attempt = 1;
+        loop {
+            let connect = with_timeout(STEP, socket.connect((ADAPTER_IP, PORT)));
+            match connect.await.expect("connect timed out") {
+                Ok(()) => return Ok(Client { socket }),
+                Err(e) if attempt == attempts => return Err(e),
+                Err(_) => {
+                    attempt += 1;
+                    socket.abort();
+                    embassy_time::Timer::after_millis(100).await;
+                }
+            }
+        }
+    }
+
+    async fn write(&mut self, bytes: &[u8]) {
+        let mut rest = bytes;
+        while !rest.is_empty() {
+            let n = with_timeout(STEP, self.socket.write(rest))
+                .await
+                .expect("write timed out")
+                .expect("write failed");
+            rest = &rest[n..];
+        }
+    }
+
+    async fn read_exact(&mut self, out: &mut [u8]) {
+        let mut at = 0;
+        while at < out.len() {
+            let n = with_timeout(STEP, self.socket.read(&mut out[at..]))
+                .await
+                .expect("read timed out")
+                .expect("read failed");
+            assert!(n > 0, "adapter closed the connection");
+            at += n;
+        }
+    }
+
+    /// Waits for the adapter to close the connection (within 3 s), then closes our side.
+    async fn expect_close(&mut self) {
+        let mut buf = [0u8; 64];
+        let read = with_timeout(Duration::from_secs(3), self.socket.read(&mut buf));
+        match read.await.expect("adapter closes the connection in time") {
+            Ok(0) | Err(_) => {}
+            Ok(n) => panic!("{n} unexpected bytes instead of the close"),
+        }
+        self.socket.close();
+        let _ = with_timeout(STEP, self.socket.flush()).await;
+    }
+
+    /// Sends `frame` and returns the encapsulation reply frame.
+    async fn exchange(&mut self, frame: &[u8]) -> Vec<u8> {
+        self.write(frame).await;
+        let mut reply = vec![0; HEADER_LEN];
+        self.read_exact(&mut reply).await;
+        let len = u16::from_le_bytes([reply[2], reply[3]]) as usize;
+        reply.resize(HEADER_LEN + len, 0);
+        self.read_exact(&mut reply[HEADER_LEN..]).await;
+        reply
+    }
+
+    /// Registers a session; returns its handle.
+    async fn register(&mut self) -> u32 {
+        let reply = self.exchange(&register_session()).await;
+        let p = Packet::new_checked(&reply[..]).expect("reply frame");
+        assert_eq!(p.command(), command::REGISTER_SESSION);
+        assert_eq!(p.status(), 0, "RegisterSession status");
+        assert_eq!(p.sender_context(), *b"register");
+        assert_ne!(p.session_handle(), 0);
+        p.session_handle()
+    }
+
+    /// Sends one unconnected request; returns the reply's general status and data.
+    async fn request(
+        &mut self,
+        session: u32,
+        service: u8,
+        path: &[u8],
+        data: &[u8],
+    ) -> (u8, Vec<u8>) {
+        let reply = self
+            .exchange(&send_rr_data(session, service, path, data))
+            .await;
+        let p = Packet::new_checked(&reply[..]).expect("reply frame");
+        assert_eq!((p.command(), p.status()), (command::SEND_RR_DATA, 0));
+        assert_eq!(p.session_handle(), session);
+        let items = cpf::Packet::new_checked(&p.data()[6..]).expect("CPF");
+        let item = items
+            .find(item_type::UNCONNECTED_DATA)
+            .expect("unconnected data item");
+        let mr = ResponseRepr::parse(item.data).expect("Message Router reply");
+        assert_eq!(mr.service, service | 0x80);
+        (mr.general_status, mr.data.to_vec())
+    }
+}
+
+/// Reads Identity attribute 7 on `session` and checks it is the generic profile's name.
+async fn check_product_name(client: &mut Client<'_>, session: u32) {
+    let (status, data) = client
+        .request(session, GET_ATTRIBUTE_SINGLE, &IDENTITY_NAME, &[])
+        .await;
+    assert_eq!(status, 0);
+    let name = generic::IDENTITY.product_name.as_bytes();
+    assert_eq!(data[0] as usize, name.len());
+    assert_eq!(&data[1..], name);
+}
+
+#[test]
+fn explicit_messaging_over_tcp() {
+    with_adapter(async |net| {
+        let (mut rx, mut tx) = ([0u8; 2048], [0u8; 2048]);
+        let mut client = Client::connect(net, &mut rx, &mut tx)
+            .await
+            .expect("connect");
+        let session = client.register().await;
+        check_product_name(&mut client, session).await;
+
+        let outputs: Vec<u8> = (1..=32).collect();
+        let (status, data) = client
+            .request(
+                session,
+                SET_ATTRIBUTE_SINGLE,
+                &assembly_data(generic::OUTPUT),
+                &outputs,
+            )
+            .await;
+        assert_eq!((status, data.len()), (0, 0), "Set output assembly 150");
+        let (status, data) = client
+            .request(
+                session,
+                GET_ATTRIBUTE_SINGLE,
+                &assembly_data(generic::INPUT),
+                &[],
+            )
+            .await;
+        assert_eq!(status, 0);
+        assert_eq!(data, outputs, "input assembly 100 echoes the outputs");
+
+        // A request split across TCP segments and two requests in one segment both work.
+        let frame = send_rr_data(session, GET_ATTRIBUTE_SINGLE, &IDENTITY_NAME, &[]);
+        client.write(&frame[..10]).await;
+        embassy_time::Timer::after_millis(20).await;
+        let reply = client.exchange(&frame[10..]).await;
+        assert_eq!(Packet::new_checked(&reply[..]).unwrap().status(), 0);
+        let two = [frame.clone(), frame].concat();
+        let first = client.exchange(&two).await;
+        let mut second = vec![0; first.len()];
+        client.read_exact(&mut second).await;
+        assert_eq!(first, second);
+    });
+}
+
+#[test]
+fn list_identity_over_udp() {
+    with_adapter(async |net| {
+        let (mut rx_meta, mut tx_meta) = ([PacketMetadata::EMPTY; 4], [PacketMetadata::EMPTY; 4]);
+        let (mut rx, mut tx) = ([0u8; 1024], [0u8; 1024]);
+        let mut socket = UdpSocket::new(net, &mut rx_meta, &mut rx, &mut tx_meta, &mut tx);
+        socket.bind(50_000).expect("bind");
+        // Unicast: answered at once. Broadcast: answered within the 500 ms asked for in
+        // the first two bytes of the sender context.
+        for (to, context) in [
+            (ADAPTER_IP, *b"unicast!"),
+            (BROADCAST_IP, [0xF4, 0x01, 0, 0, 0, 0, 0, 7]),
+        ] {
+            let request = header(command::LIST_IDENTITY, 0, 0, context);
+            socket.send_to(&request, (to, PORT)).await.expect("send");
+            let mut buf = [0u8; 512];
+            let (n, meta) = with_timeout(Duration::from_millis(1500), socket.recv_from(&mut buf))
+                .await
+                .expect("ListIdentity reply in time")
+                .expect("recv");
+            assert_eq!(meta.endpoint, (ADAPTER_IP, PORT).into());
+            let p = Packet::new_checked(&buf[..n]).expect("reply frame");
+            assert_eq!((p.command(), p.status()), (command::LIST_IDENTITY, 0));
+            assert_eq!(p.sender_context(), context);
+            let items = cpf::Packet::new_checked(p.data()).expect("CPF");
+            let item = items.find(item_type::LIST_IDENTITY).expect("identity item");
+            let id = IdentityRepr::parse(item.data).expect("identity");
+            let expected = generic::IDENTITY;
+            assert_eq!(id.vendor_id, expected.vendor_id);
+            assert_eq!(id.device_type, expected.device_type);
+            assert_eq!(id.product_code, expected.product_code);
+            assert_eq!(id.revision, expected.revision);
+            assert_eq!(id.serial_number, expected.serial_number);
+            assert_eq!(id.product_name, expected.product_name.as_bytes());
+            assert_eq!((id.socket.addr, id.socket.port), (ADAPTER_IP, PORT));
+        }
+    });
+}
+
+#[test]
+fn fourth_client_is_refused_and_a_stalled_one_blocks_nobody() {
+    with_adapter(async |net| {
+        let mut bufs = [[0u8; 1024]; 8];
+        let [r0, t0, r1, t1, r2, t2, r3, t3] = &mut bufs;
+        let mut stalled = Client::connect(net, r0, t0).await.expect("connect 1");
+        let mut a = Client::connect(net, r1, t1).await.expect("connect 2");
+        let mut b = Client::connect(net, r2, t2).await.expect("connect 3");
+        let sa = a.register().await;
+        let sb = b.register().await;
+        // The first client sends half a header and goes silent.
+        stalled.write(&register_session()[..12]).await;
+        match Client::connect(net, r3, t3).await {
+            Err(ConnectError::ConnectionReset) => {}
+            Err(e) => panic!("4th connection: {e:?}"),
+            Ok(_) => panic!("4th connection was accepted"),
+        }
+        check_product_name(&mut a, sa).await;
+        check_product_name(&mut b, sb).await;
+        // The stalled client is still served once it finishes its frame.
+        let reply = stalled.exchange(&register_session()[12..]).await;
+        assert_eq!(Packet::new_checked(&reply[..]).unwrap().status(), 0);
+        // Once a session ends, its socket listens again and takes the next client.
+        a.write(&header(command::UNREGISTER_SESSION, 0, sa, [0; 8]))
+            .await;
+        a.expect_close().await;
+        let mut next = Client::connect_within(net, r3, t3, 20)
+            .await
+            .expect("a freed socket accepts again");
+        let session = next.register().await;
+        check_product_name(&mut next, session).await;
+    });
+}
+
+#[test]
+fn idle_connection_is_closed_after_the_inactivity_timeout() {
+    with_adapter(async |net| {
+        let (mut rx, mut tx) = ([0u8; 1024], [0u8; 1024]);
+        let mut client = Client::connect(net, &mut rx, &mut tx)
+            .await
+            .expect("connect");
+        let session = client.register().await;
+        // TCP/IP Interface (0xF5) instance 1 attribute 13: encapsulation inactivity timeout.
+        let path = [0x20, 0xF5, 0x24, 0x01, 0x30, 0x0D];
+        let (status, _) = client
+            .request(session, SET_ATTRIBUTE_SINGLE, &path, &1u16.to_le_bytes())
+            .await;
+        assert_eq!(status, 0, "Set inactivity timeout to 1 s");
+        let idle_since = embassy_time::Instant::now();
+        client.expect_close().await;
+        let idle = idle_since.elapsed();
+        assert!(
+            idle >= Duration::from_millis(900),
+            "closed after {idle:?}, before the timeout"
+        );
+    });
+}
