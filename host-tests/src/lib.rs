@@ -1,1 +1,9 @@
-//! Placeholder: shared test helpers (scanner, namespace harness) land here.
+//! Shared helpers for the integration tests: the TAP rig (namespace, TAP, board, capture),
+//! independent peers, and a raw EtherNet/IP client for hostile inputs.
+
+pub mod capture;
+pub mod enip;
+pub mod netns;
+pub mod peers;
+pub mod process;
+pub mod rig;

@@ -1,0 +1,123 @@
+//! Network namespaces a test creates for itself, so that every frame it sends stays on a
+//! private TAP link (198.18.0.0/24) and nothing reaches the machine's real networks.
+//!
+//! Programs run inside with `ip netns exec`; the test process itself reaches in by opening
+//! sockets on a short-lived thread that joined the namespace (see [`Namespace::inside`]).
+//! Sockets keep the namespace they were made in, so they can be used from any thread after.
+
+use std::ffi::OsStr;
+use std::fs::File;
+use std::io;
+use std::os::fd::AsRawFd;
+use std::process::Command;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::Duration;
+
+use crate::process::{run_bounded, signal};
+
+/// How long one `ip` command may take.
+const IP_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// A network namespace, deleted (with every process still inside it) when dropped.
+#[derive(Debug)]
+pub struct Namespace {
+    name: String,
+}
+
+impl Namespace {
+    /// Creates a namespace with a name no other test (or run) uses, with `lo` up.
+    pub fn create() -> io::Result<Self> {
+        static NEXT: AtomicU32 = AtomicU32::new(0);
+        let name = format!(
+            "enip-t{}-{}",
+            std::process::id(),
+            NEXT.fetch_add(1, Ordering::Relaxed)
+        );
+        ip(&["netns", "add", &name])?;
+        let ns = Namespace { name };
+        ns.exec_checked("ip", &["link", "set", "lo", "up"])?;
+        Ok(ns)
+    }
+
+    /// The namespace's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// A command that runs `program` inside the namespace.
+    pub fn command(&self, program: impl AsRef<OsStr>) -> Command {
+        let mut c = Command::new("ip");
+        c.args(["netns", "exec", &self.name]).arg(program);
+        c
+    }
+
+    /// Runs `program args` inside the namespace (bounded) and fails unless it succeeds.
+    pub fn exec_checked(&self, program: &str, args: &[&str]) -> io::Result<()> {
+        let mut c = self.command(program);
+        c.args(args);
+        check(run_bounded(c, None, IP_TIMEOUT)?, program, args)
+    }
+
+    /// Runs `f` on a thread that has joined the namespace; sockets it opens live there.
+    pub fn inside<T: Send>(&self, f: impl FnOnce() -> T + Send) -> io::Result<T> {
+        let file = File::open(format!("/run/netns/{}", self.name))?;
+        std::thread::scope(|s| {
+            s.spawn(|| {
+                // SAFETY: setns on a valid namespace file descriptor that outlives the call; it
+                // only changes the network namespace of this (scoped, short-lived) thread.
+                if unsafe { libc::setns(file.as_raw_fd(), libc::CLONE_NEWNET) } != 0 {
+                    return Err(io::Error::last_os_error());
+                }
+                Ok(f())
+            })
+            .join()
+            .map_err(|_| io::Error::other("thread inside the namespace panicked"))?
+        })
+    }
+
+    /// Process ids of everything running inside the namespace.
+    fn pids(&self) -> Vec<i32> {
+        let mut c = Command::new("ip");
+        c.args(["netns", "pids", &self.name]);
+        run_bounded(c, None, IP_TIMEOUT)
+            .map(|o| {
+                String::from_utf8_lossy(&o.stdout)
+                    .split_whitespace()
+                    .filter_map(|p| p.parse().ok())
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+}
+
+impl Drop for Namespace {
+    fn drop(&mut self) {
+        // Only this test started processes in its namespace; none may outlive it.
+        for pid in self.pids() {
+            signal(pid, libc::SIGKILL);
+        }
+        if let Err(e) = ip(&["netns", "delete", &self.name]) {
+            eprintln!("warning: could not delete namespace {}: {e}", self.name);
+        }
+    }
+}
+
+/// Runs `ip args` in the test's own namespace (only `netns` management is done this way).
+fn ip(args: &[&str]) -> io::Result<()> {
+    let mut c = Command::new("ip");
+    c.args(args);
+    check(run_bounded(c, None, IP_TIMEOUT)?, "ip", args)
+}
+
+fn check(out: std::process::Output, program: &str, args: &[&str]) -> io::Result<()> {
+    if out.status.success() {
+        Ok(())
+    } else {
+        Err(io::Error::other(format!(
+            "`{program} {}` failed ({}): {}",
+            args.join(" "),
+            out.status,
+            String::from_utf8_lossy(&out.stderr).trim()
+        )))
+    }
+}

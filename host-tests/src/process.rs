@@ -1,0 +1,193 @@
+//! Child processes with bounded waits: one-shot commands with a deadline, and long-running
+//! children (the board, tshark) whose output is collected line by line and which are
+//! stopped, by their own process id, when dropped.
+
+use std::io::{self, BufRead, BufReader, Read, Write};
+use std::process::{Child, Command, ExitStatus, Output, Stdio};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
+use std::sync::{Arc, Mutex};
+use std::thread;
+use std::time::{Duration, Instant};
+
+/// How often a waiting loop looks at a child.
+const POLL: Duration = Duration::from_millis(20);
+
+/// Sends `sig` to process `pid` (errors, e.g. an already gone process, are ignored).
+pub fn signal(pid: i32, sig: i32) {
+    // SAFETY: kill(2) with a specific positive pid has no memory-safety requirements.
+    unsafe {
+        libc::kill(pid, sig);
+    }
+}
+
+/// Runs `cmd` to completion with `stdin` as input, killing it after `timeout`.
+pub fn run_bounded(
+    mut cmd: Command,
+    stdin: Option<&[u8]>,
+    timeout: Duration,
+) -> io::Result<Output> {
+    cmd.stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let mut child = cmd.spawn()?;
+    let input = stdin.unwrap_or_default().to_vec();
+    let mut pipe_in = child.stdin.take();
+    let writer = thread::spawn(move || {
+        if let Some(p) = pipe_in.as_mut() {
+            // A child that exits without reading its input is not an error here.
+            let _ = p.write_all(&input);
+        }
+    });
+    let out = drain(child.stdout.take());
+    let err = drain(child.stderr.take());
+    let status = wait_until(&mut child, Instant::now() + timeout)?;
+    let _ = writer.join();
+    let (stdout, stderr) = (join(out), join(err));
+    match status {
+        Some(status) => Ok(Output {
+            status,
+            stdout,
+            stderr,
+        }),
+        None => Err(io::Error::new(
+            io::ErrorKind::TimedOut,
+            format!(
+                "{cmd:?} still running after {timeout:?}; killed. stderr: {}",
+                String::from_utf8_lossy(&stderr)
+            ),
+        )),
+    }
+}
+
+/// Waits for `child` until `deadline`; kills it (by pid) and returns `None` if it is late.
+fn wait_until(child: &mut Child, deadline: Instant) -> io::Result<Option<ExitStatus>> {
+    loop {
+        if let Some(s) = child.try_wait()? {
+            return Ok(Some(s));
+        }
+        if Instant::now() >= deadline {
+            child.kill()?;
+            child.wait()?;
+            return Ok(None);
+        }
+        thread::sleep(POLL);
+    }
+}
+
+fn drain(pipe: Option<impl Read + Send + 'static>) -> thread::JoinHandle<Vec<u8>> {
+    thread::spawn(move || {
+        let mut buf = Vec::new();
+        if let Some(mut p) = pipe {
+            let _ = p.read_to_end(&mut buf);
+        }
+        buf
+    })
+}
+
+fn join(h: thread::JoinHandle<Vec<u8>>) -> Vec<u8> {
+    h.join().unwrap_or_default()
+}
+
+/// A long-running child whose stdout and stderr lines are logged and can be waited for.
+#[derive(Debug)]
+pub struct LoggedChild {
+    name: String,
+    child: Child,
+    lines: Receiver<String>,
+    log: Arc<Mutex<Vec<String>>>,
+}
+
+impl LoggedChild {
+    /// Spawns `cmd` under the label `name`, collecting its output.
+    pub fn spawn(name: &str, mut cmd: Command) -> io::Result<Self> {
+        cmd.stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        let mut child = cmd.spawn()?;
+        let (tx, lines) = mpsc::channel();
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let out = child
+            .stdout
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>);
+        let err = child
+            .stderr
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>);
+        for pipe in [out, err].into_iter().flatten() {
+            let (tx, log) = (tx.clone(), Arc::clone(&log));
+            thread::spawn(move || {
+                for line in BufReader::new(pipe).lines().map_while(Result::ok) {
+                    if let Ok(mut l) = log.lock() {
+                        l.push(line.clone());
+                    }
+                    let _ = tx.send(line);
+                }
+            });
+        }
+        Ok(LoggedChild {
+            name: name.to_string(),
+            child,
+            lines,
+            log,
+        })
+    }
+
+    /// Waits up to `timeout` for an output line containing `needle`; fails if the child
+    /// exits or stays silent about it.
+    pub fn wait_for_line(&mut self, needle: &str, timeout: Duration) -> io::Result<String> {
+        let deadline = Instant::now() + timeout;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self
+                .lines
+                .recv_timeout(left.min(Duration::from_millis(200)))
+            {
+                Ok(line) if line.contains(needle) => return Ok(line),
+                Ok(_) | Err(RecvTimeoutError::Timeout) => {}
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err(self.failure(&format!("exited before printing {needle:?}")))
+                }
+            }
+            if let Some(s) = self.child.try_wait()? {
+                return Err(self.failure(&format!("exited ({s}) before printing {needle:?}")));
+            }
+            if left.is_zero() {
+                return Err(self.failure(&format!("did not print {needle:?} within {timeout:?}")));
+            }
+        }
+    }
+
+    /// The exit status, if the child has already ended.
+    pub fn exited(&mut self) -> Option<ExitStatus> {
+        self.child.try_wait().ok().flatten()
+    }
+
+    /// Everything the child printed so far.
+    pub fn output(&self) -> String {
+        self.log.lock().map(|l| l.join("\n")).unwrap_or_default()
+    }
+
+    /// Sends `sig`, waits up to `grace` for the child to end, then kills it.
+    pub fn stop(&mut self, sig: i32, grace: Duration) {
+        if self.exited().is_some() {
+            return;
+        }
+        if let Ok(pid) = i32::try_from(self.child.id()) {
+            signal(pid, sig);
+        }
+        if let Err(e) = wait_until(&mut self.child, Instant::now() + grace) {
+            eprintln!("warning: stopping {}: {e}", self.name);
+        }
+    }
+
+    fn failure(&self, what: &str) -> io::Error {
+        io::Error::other(format!("{} {what}; output:\n{}", self.name, self.output()))
+    }
+}
+
+impl Drop for LoggedChild {
+    fn drop(&mut self) {
+        self.stop(libc::SIGTERM, Duration::from_secs(3));
+    }
+}

@@ -1,0 +1,91 @@
+//! The TAP test rig: a fresh namespace holding a TAP device (198.18.0.1/24 on the kernel
+//! side), optionally tshark capturing on it, and the `enip-host` board attached to the TAP at
+//! 198.18.0.2/24 with its own TCP/IP stack. Dropping the rig stops the board and tshark and
+//! deletes the namespace, also when a test panics.
+
+use std::io;
+use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use crate::capture::Capture;
+use crate::netns::Namespace;
+use crate::process::LoggedChild;
+
+/// The TAP device's name inside the namespace.
+pub const TAP: &str = "enip0";
+/// The kernel's address on the TAP (where every peer runs).
+pub const HOST_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
+/// The board's address (its own smoltcp stack, not a kernel address).
+pub const BOARD_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
+/// The subnet's directed broadcast address.
+pub const BROADCAST_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 255);
+/// Prefix length of the test subnet.
+pub const PREFIX: u8 = 24;
+/// The encapsulation port.
+pub const ENCAP_PORT: u16 = 44818;
+/// What the board prints once it serves.
+pub const LISTENING: &str = "enip-host: listening on";
+/// How long the board may take to come up.
+const BOARD_START: Duration = Duration::from_secs(10);
+
+/// The board's encapsulation endpoint.
+pub const fn board_addr() -> SocketAddr {
+    SocketAddr::V4(SocketAddrV4::new(BOARD_IP, ENCAP_PORT))
+}
+
+/// A namespace with a TAP link, an optional capture on it, and the board on the other end.
+/// Fields drop in order: board, capture, namespace.
+#[derive(Debug)]
+pub struct Rig {
+    board: LoggedChild,
+    capture: Option<Capture>,
+    ns: Namespace,
+}
+
+impl Rig {
+    /// Starts the board `bin` with `--profile profile`, capturing into `capture` if given.
+    pub fn start(bin: &Path, profile: &str, capture: Option<&Path>) -> io::Result<Self> {
+        let ns = Namespace::create()?;
+        ns.exec_checked("ip", &["tuntap", "add", "dev", TAP, "mode", "tap"])?;
+        ns.exec_checked(
+            "ip",
+            &["addr", "add", &format!("{HOST_IP}/{PREFIX}"), "dev", TAP],
+        )?;
+        ns.exec_checked("ip", &["link", "set", TAP, "up"])?;
+        let capture = capture.map(|p| Capture::start(&ns, TAP, p)).transpose()?;
+        let mut cmd = ns.command(bin);
+        cmd.args(["--tap", TAP, "--ip", &format!("{BOARD_IP}/{PREFIX}")])
+            .args(["--profile", profile])
+            .env(
+                "RUST_LOG",
+                std::env::var("RUST_LOG").unwrap_or("info".into()),
+            );
+        let mut board = LoggedChild::spawn("enip-host", cmd)?;
+        board.wait_for_line(LISTENING, BOARD_START)?;
+        Ok(Rig { board, capture, ns })
+    }
+
+    /// The namespace every peer must run in.
+    pub fn ns(&self) -> &Namespace {
+        &self.ns
+    }
+
+    /// Everything the board logged so far.
+    pub fn board_log(&self) -> String {
+        self.board.output()
+    }
+
+    /// Stops the board (failing if it had died on its own) and the capture; returns the
+    /// capture file, if any.
+    pub fn finish(mut self) -> io::Result<Option<PathBuf>> {
+        if let Some(status) = self.board.exited() {
+            return Err(io::Error::other(format!(
+                "the board died during the test ({status}); log:\n{}",
+                self.board.output()
+            )));
+        }
+        self.board.stop(libc::SIGTERM, Duration::from_secs(3));
+        Ok(self.capture.take().map(Capture::stop))
+    }
+}

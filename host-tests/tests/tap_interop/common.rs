@@ -1,0 +1,102 @@
+//! What every TAP test shares: starting the rig, the capture check at the end, the expected
+//! identity of the generic profile, and the "is the board still serving" probe.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use host_tests::capture;
+use host_tests::enip::{mr_request, path, Client};
+use host_tests::netns::Namespace;
+use host_tests::rig::Rig;
+
+/// Reply timeout for a single request.
+pub const REPLY: Duration = Duration::from_secs(2);
+/// Bound for a fresh client to register and get an Identity read answered.
+pub const SERVING_BOUND: Duration = Duration::from_secs(1);
+
+/// Identity of the generic profile.
+pub const VENDOR: u16 = 1;
+/// Device type (generic device, keyable).
+pub const DEVICE_TYPE: u16 = 12;
+/// Product code.
+pub const PRODUCT_CODE: u16 = 65001;
+/// Major and minor revision.
+pub const REVISION: [u8; 2] = [1, 0];
+/// Identity status with no I/O connection (extended device status 3).
+pub const STATUS: u16 = 0x0030;
+/// Serial number.
+pub const SERIAL: u32 = 0x5255_5354;
+/// Product name.
+pub const NAME: &str = "enip-rs generic";
+
+/// Capture scope for hostile tests: the adapter's own UDP and encapsulation frames.
+const ADAPTER_FRAMES: &str = "ip.src == 198.18.0.2 && (enip || udp)";
+/// Expert warnings Wireshark puts in a reply about the request it answers (a CIP response
+/// shows the request's path), so a hostile request is flagged again in the adapter's reply.
+const REQUEST_ECHOES: &[&str] = &["Unsupported Logical Segment Format"];
+
+/// The board binary: `ENIP_HOST_BIN`, else the workspace's debug build.
+fn host_bin() -> PathBuf {
+    std::env::var_os("ENIP_HOST_BIN").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/debug/enip-host"),
+        PathBuf::from,
+    )
+}
+
+/// Starts the rig for test `name`, capturing into `target/tmp/tap_interop/<name>.pcapng`.
+pub fn start(name: &str) -> Rig {
+    let bin = host_bin();
+    assert!(
+        bin.exists(),
+        "board binary {} missing: build enip-host or set ENIP_HOST_BIN",
+        bin.display()
+    );
+    let pcap = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("tap_interop")
+        .join(format!("{name}.pcapng"));
+    Rig::start(&bin, "generic", Some(&pcap)).unwrap_or_else(|e| panic!("rig for {name}: {e}"))
+}
+
+/// Stops the rig of a test with well-behaved peers and checks its capture: at least one
+/// encapsulation frame, and every frame free of malformed packets and expert warnings.
+pub fn finish(rig: Rig) {
+    check_capture(rig, "", &[]);
+}
+
+/// Stops the rig of a hostile test and checks the adapter's own UDP and encapsulation
+/// frames the same way, tolerating only [`REQUEST_ECHOES`].
+pub fn finish_hostile(rig: Rig) {
+    check_capture(rig, ADAPTER_FRAMES, REQUEST_ECHOES);
+}
+
+fn check_capture(rig: Rig, scope: &str, tolerated: &[&str]) {
+    let pcap = rig
+        .finish()
+        .unwrap_or_else(|e| panic!("{e}"))
+        .expect("the rig captures");
+    let enip = capture::count(&pcap, "enip").expect("read capture");
+    assert!(enip > 0, "no EtherNet/IP frame in {}", pcap.display());
+    let bad = capture::problems(&pcap, scope, tolerated).expect("read capture");
+    assert!(
+        bad.is_empty(),
+        "{} has frames that do not dissect cleanly:\n{}",
+        pcap.display(),
+        bad.join("\n")
+    );
+}
+
+/// Asserts that a fresh client can register a session and read the Identity product name
+/// within [`SERVING_BOUND`]; `after` names the case for the failure message.
+pub fn assert_serving(ns: &Namespace, after: &str) {
+    let start = Instant::now();
+    let result = (|| {
+        let mut c = Client::connect(ns, SERVING_BOUND)?;
+        c.register(SERVING_BOUND)?;
+        c.request(&mr_request(0x0E, &path(1, 1, Some(7)), &[]), SERVING_BOUND)
+    })();
+    let elapsed = start.elapsed();
+    let reply = result.unwrap_or_else(|e| panic!("not serving after {after}: {e}"));
+    assert_eq!(reply.general, 0, "identity read after {after}: {reply:?}");
+    assert_eq!(&reply.data[1..], NAME.as_bytes(), "after {after}");
+    assert!(elapsed <= SERVING_BOUND, "after {after}: took {elapsed:?}");
+}
