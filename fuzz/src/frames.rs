@@ -2,7 +2,10 @@
 
 use stack::wire::cpf::item_type;
 use stack::wire::encap::command;
+use stack::wire::forward_open::{ForwardClose, ForwardOpen, NetworkParams, Triad};
+use stack::wire::{io_datagram, Writer};
 
+use crate::io_script;
 use crate::script::{TCP_ACCEPT, TCP_CLOSE, TCP_DATA16, UDP_BROADCAST, UDP_TICK, UDP_UNICAST};
 
 /// The sender context every seed uses (bytes 0-1: ListIdentity maximum delay, 250 ms).
@@ -215,5 +218,109 @@ impl UdpScript {
             self.0.push(UDP_TICK | (7 << 2));
         }
         self
+    }
+}
+
+/// The triad of the seed Class 1 connection.
+pub const TRIAD: Triad = Triad {
+    connection_serial: 0x0101,
+    vendor_id: 0xFFFE,
+    originator_serial: 0x1234_5678,
+};
+
+/// Connection path of an exclusive owner: configuration 151, output 150, input 100.
+pub const CONNECTION_PATH: [u8; 8] = [0x20, 0x04, 0x24, 151, 0x2C, 150, 0x2C, 100];
+
+/// Forward_Open (exclusive owner, cyclic, 10 ms both ways, point-to-point) as a Message
+/// Router request to the Connection Manager.
+pub fn forward_open() -> Vec<u8> {
+    let fo = ForwardOpen {
+        large: false,
+        priority_tick: 0x0A,
+        timeout_ticks: 0x0E,
+        o_t_connection_id: 0,
+        t_o_connection_id: 0x2000_0001,
+        triad: TRIAD,
+        timeout_multiplier: 1,
+        o_t_rpi: 10_000,
+        // Point-to-point, scheduled, fixed: 32 data + 2 sequence + 4 run/idle.
+        o_t_params: NetworkParams::from_u16(0x4800 | 38),
+        t_o_rpi: 10_000,
+        // Point-to-point, scheduled, fixed: 32 data + 2 sequence.
+        t_o_params: NetworkParams::from_u16(0x4800 | 34),
+        transport: 0x01,
+        path: &CONNECTION_PATH,
+    };
+    let mut data = [0u8; 64];
+    let mut w = Writer::new(&mut data);
+    fo.emit(&mut w).expect("fits");
+    let n = w.len();
+    request(0x54, &path(0x06, 1, None), &data[..n])
+}
+
+/// Forward_Close of the seed connection.
+pub fn forward_close() -> Vec<u8> {
+    let fc = ForwardClose {
+        priority_tick: 0x0A,
+        timeout_ticks: 0x0E,
+        triad: TRIAD,
+        path: &CONNECTION_PATH,
+    };
+    let mut data = [0u8; 32];
+    let mut w = Writer::new(&mut data);
+    fc.emit(&mut w).expect("fits");
+    let n = w.len();
+    request(0x4E, &path(0x06, 1, None), &data[..n])
+}
+
+/// An O->T datagram for connection `id`: sequence, run header, 32 bytes of output data.
+pub fn o_t_datagram(id: u32, sequence: u16) -> Vec<u8> {
+    let connected = 2 + 4 + 32;
+    let mut d = vec![0u8; io_datagram::HEADER_LEN + connected];
+    io_datagram::emit_header(&mut d, id, u32::from(sequence), connected).expect("fits");
+    let at = io_datagram::HEADER_LEN;
+    d[at..at + 2].copy_from_slice(&sequence.to_le_bytes());
+    d[at + 2..at + 6].copy_from_slice(&1u32.to_le_bytes());
+    d[at + 6..].fill(sequence as u8);
+    d
+}
+
+/// Builds an I/O script (see [`crate::io_script`]).
+#[derive(Debug, Default, Clone)]
+pub struct IoScript(pub Vec<u8>);
+
+impl IoScript {
+    fn op(mut self, kind: u8, arg: u8) -> Self {
+        self.0.push(kind | (arg << 3));
+        self
+    }
+    fn with_u16(mut self, data: &[u8]) -> Self {
+        self.0.extend_from_slice(&(data.len() as u16).to_le_bytes());
+        self.0.extend_from_slice(data);
+        self
+    }
+    /// Accepts a connection on `socket`.
+    pub fn accept(self, socket: u8) -> Self {
+        self.op(io_script::ACCEPT, socket)
+    }
+    /// Closes `socket`.
+    pub fn close(self, socket: u8) -> Self {
+        self.op(io_script::CLOSE, socket)
+    }
+    /// TCP data on `socket`.
+    pub fn tcp(self, socket: u8, data: &[u8]) -> Self {
+        self.op(io_script::TCP_DATA, socket).with_u16(data)
+    }
+    /// A Class 1 datagram from sender 0 (the scanner, port 2222).
+    pub fn io(self, data: &[u8]) -> Self {
+        self.op(io_script::IO_DATA, 0).with_u16(data)
+    }
+    /// `ms` (1..=32) milliseconds pass.
+    pub fn wait_ms(self, ms: u8) -> Self {
+        self.op(io_script::WAIT_MS, ms.clamp(1, 32) - 1)
+    }
+    /// Input assembly 100 has new data.
+    pub fn trigger(self) -> Self {
+        self.op(io_script::TRIGGER, 0)
     }
 }

@@ -5,6 +5,7 @@
 
 pub mod device;
 pub mod frames;
+pub mod io_script;
 pub mod script;
 
 pub use device::TestDevice;

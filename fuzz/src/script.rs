@@ -57,20 +57,25 @@ pub fn adapter() -> Adapter<TestDevice> {
     Adapter::new(TestDevice::new(), network(), ADAPTER_SEED)
 }
 
+/// The TCP peer (the scanner) of `socket`.
+pub fn tcp_peer(socket: u8) -> SocketAddrV4 {
+    SocketAddrV4::new(Ipv4Addr::new(198, 18, 0, 1), 50_000 + u16::from(socket))
+}
+
 /// A cursor over the script bytes.
-struct Cursor<'a>(&'a [u8]);
+pub(crate) struct Cursor<'a>(pub(crate) &'a [u8]);
 
 impl<'a> Cursor<'a> {
-    fn u8(&mut self) -> Option<u8> {
+    pub(crate) fn u8(&mut self) -> Option<u8> {
         let (&b, rest) = self.0.split_first()?;
         self.0 = rest;
         Some(b)
     }
-    fn u16(&mut self) -> Option<u16> {
+    pub(crate) fn u16(&mut self) -> Option<u16> {
         Some(u16::from_le_bytes([self.u8()?, self.u8()?]))
     }
     /// Up to `n` bytes (fewer at the end of the script).
-    fn take(&mut self, n: usize) -> &'a [u8] {
+    pub(crate) fn take(&mut self, n: usize) -> &'a [u8] {
         let (head, rest) = self.0.split_at(n.min(self.0.len()));
         self.0 = rest;
         head
@@ -104,7 +109,7 @@ pub fn run_tcp(script: &[u8], mut on_reply: impl FnMut(u8, &[u8])) {
         } else {
             MAX_ENCAP_FRAME
         };
-        let peer = SocketAddrV4::new(Ipv4Addr::new(198, 18, 0, 1), 50_000 + u16::from(socket));
+        let peer = tcp_peer(socket);
         let data = match op & 0x0C {
             TCP_ACCEPT => {
                 adapter.tcp_accept(SocketId(socket), peer, now);
@@ -123,36 +128,50 @@ pub fn run_tcp(script: &[u8], mut on_reply: impl FnMut(u8, &[u8])) {
                 c.take(usize::from(n))
             }
         };
-        let _ = adapter.tcp_deadline(SocketId(socket));
-        let mut rest = data;
-        // Each call consumes at least one byte, so this many calls always suffice.
-        let mut calls_left = data.len() + 1;
-        loop {
-            assert!(calls_left > 0, "tcp_receive made no progress");
-            calls_left -= 1;
-            let buf = &mut reply[..limit];
-            let out = adapter.tcp_receive(SocketId(socket), rest, now, buf);
-            assert!(out.reply_len <= limit, "reply longer than the reply buffer");
-            assert!(out.consumed <= rest.len(), "consumed more than was given");
-            if out.reply_len > 0 {
-                let frame = &reply[..out.reply_len];
-                check_frame(frame);
-                on_reply(socket, frame);
+        let buf = &mut reply[..limit];
+        feed_tcp(&mut adapter, socket, data, now, buf, &mut on_reply);
+    }
+}
+
+/// Feeds `data` received on `socket` until it is all consumed or the adapter closes the
+/// connection (then closes it, as a runtime would), checking every outcome.
+pub fn feed_tcp(
+    adapter: &mut Adapter<TestDevice>,
+    socket: u8,
+    data: &[u8],
+    now: Instant,
+    reply: &mut [u8],
+    on_reply: &mut impl FnMut(u8, &[u8]),
+) {
+    let limit = reply.len();
+    let _ = adapter.tcp_deadline(SocketId(socket));
+    let mut rest = data;
+    // Each call consumes at least one byte, so this many calls always suffice.
+    let mut calls_left = data.len() + 1;
+    loop {
+        assert!(calls_left > 0, "tcp_receive made no progress");
+        calls_left -= 1;
+        let out = adapter.tcp_receive(SocketId(socket), rest, now, reply);
+        assert!(out.reply_len <= limit, "reply longer than the reply buffer");
+        assert!(out.consumed <= rest.len(), "consumed more than was given");
+        if out.reply_len > 0 {
+            let frame = &reply[..out.reply_len];
+            check_frame(frame);
+            on_reply(socket, frame);
+        }
+        if out.close {
+            if usize::from(socket) < MAX_SESSIONS {
+                adapter.tcp_close(SocketId(socket), now);
             }
-            if out.close {
-                if usize::from(socket) < MAX_SESSIONS {
-                    adapter.tcp_close(SocketId(socket), now);
-                }
-                break;
-            }
-            assert!(
-                rest.is_empty() || out.consumed > 0,
-                "tcp_receive consumed nothing of non-empty data without closing"
-            );
-            rest = &rest[out.consumed..];
-            if rest.is_empty() {
-                break;
-            }
+            return;
+        }
+        assert!(
+            rest.is_empty() || out.consumed > 0,
+            "tcp_receive consumed nothing of non-empty data without closing"
+        );
+        rest = &rest[out.consumed..];
+        if rest.is_empty() {
+            return;
         }
     }
 }
@@ -214,7 +233,7 @@ pub fn run_udp(script: &[u8], mut on_reply: impl FnMut(SocketAddrV4, &[u8])) {
 }
 
 /// Sends every delayed reply due at `now` and checks what is left is in the future.
-fn drain(
+pub(crate) fn drain(
     adapter: &mut Adapter<TestDevice>,
     now: Instant,
     out: &mut [u8],

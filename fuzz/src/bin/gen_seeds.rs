@@ -6,10 +6,11 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use enip_fuzz::frames::{self, TcpScript, UdpScript};
-use enip_fuzz::script;
+use enip_fuzz::frames::{self, IoScript, TcpScript, UdpScript};
+use enip_fuzz::{io_script, script};
 use stack::wire::cpf;
 use stack::wire::encap::{command, Packet, HEADER_LEN};
+use stack::wire::forward_open::ForwardOpenReply;
 use stack::wire::message_router::ResponseRepr;
 use stack::wire::rr_data;
 
@@ -74,6 +75,37 @@ fn main() {
         ],
     );
     add("identity_item", "list_identity_reply", identity_item_seed());
+    // Request data after service and path (class 6, instance 1: 4 bytes).
+    add(
+        "forward_open",
+        "forward_open",
+        frames::forward_open()[6..].to_vec(),
+    );
+    add(
+        "forward_open",
+        "forward_close",
+        frames::forward_close()[6..].to_vec(),
+    );
+    for target in ["message_router", "cip_request"] {
+        add(target, "forward_open", frames::forward_open());
+        add(target, "forward_close", frames::forward_close());
+    }
+    let o_t = learn_o_t_id(session);
+    add("io_datagram", "o_t_run", frames::o_t_datagram(o_t, 1));
+    let mut io = IoScript::default()
+        .accept(0)
+        .tcp(0, &frames::register_session())
+        .tcp(0, &frames::send_rr_data(session, &frames::forward_open()));
+    for seq in 1..=4u16 {
+        io = io.wait_ms(10).io(&frames::o_t_datagram(o_t, seq));
+    }
+    io = io
+        .trigger()
+        .wait_ms(10)
+        .tcp(0, &frames::send_rr_data(session, &frames::forward_close()))
+        .wait_ms(32)
+        .close(0);
+    add("adapter_io", "exclusive_owner", io.0);
 
     let mut full = TcpScript::default()
         .accept(0)
@@ -154,6 +186,30 @@ fn learn_session_handle() -> u32 {
     handle.expect("RegisterSession was answered")
 }
 
+/// The O->T connection ID the adapter picks for the seed Forward_Open.
+fn learn_o_t_id(session: u32) -> u32 {
+    let mut id = None;
+    let s = IoScript::default()
+        .accept(0)
+        .tcp(0, &frames::register_session())
+        .tcp(0, &frames::send_rr_data(session, &frames::forward_open()));
+    io_script::run_io(&s.0, |_, reply| {
+        let p = Packet::new_checked(reply).expect("frame");
+        if p.command() != command::SEND_RR_DATA {
+            return;
+        }
+        let rr = rr_data::Packet::new_checked(p.data()).expect("rr data");
+        let c = cpf::Packet::new_checked(rr.cpf()).expect("cpf");
+        let item = c.find(cpf::item_type::UNCONNECTED_DATA).expect("data item");
+        let r = ResponseRepr::parse(item.data).expect("response");
+        assert_eq!(r.general_status, 0, "Forward_Open failed: {r:02x?}");
+        id = ForwardOpenReply::parse(r.data)
+            .ok()
+            .map(|f| f.o_t_connection_id);
+    });
+    id.expect("Forward_Open was answered")
+}
+
 /// The data of the identity item in the adapter's ListIdentity reply.
 fn identity_item_seed() -> Vec<u8> {
     let mut item = None;
@@ -179,6 +235,21 @@ fn verify(seeds: &[(&str, String, Vec<u8>)], session: u32) {
                 replies += 1;
                 check_reply(name, reply, session);
             }),
+            "adapter_io" => {
+                let stats = io_script::run_io(bytes, |_, reply| {
+                    replies += 1;
+                    check_reply(name, reply, session);
+                });
+                assert!(
+                    stats.accepted > 0,
+                    "{name}: no O->T data accepted: {stats:?}"
+                );
+                assert!(
+                    stats.produced > 0,
+                    "{name}: no T->O data produced: {stats:?}"
+                );
+                println!("{target}/{name}: {stats:?}");
+            }
             _ => continue,
         }
         assert!(replies > 0, "{name}: no reply at all");
