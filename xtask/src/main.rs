@@ -71,3 +71,39 @@ fn parse_seconds(args: &[&str]) -> util::Result<u64> {
         _ => util::err(format!("unexpected arguments {args:?}\n{USAGE}")),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn seconds_argument() {
+        assert_eq!(parse_seconds(&[]).unwrap(), fuzz::DEFAULT_SECONDS);
+        assert_eq!(parse_seconds(&["--seconds", "5"]).unwrap(), 5);
+        assert!(parse_seconds(&["--seconds", "0"]).is_err());
+        assert!(parse_seconds(&["--seconds", "x"]).is_err());
+        assert!(parse_seconds(&["--seconds"]).is_err());
+        assert!(parse_seconds(&["-s", "5"]).is_err());
+    }
+
+    #[test]
+    fn every_fuzz_target_has_seeds() {
+        let seeds = util::root().join("fuzz/corpus/seed");
+        let targets = fuzz::targets().unwrap();
+        assert!(targets.len() >= 9, "{targets:?}");
+        for t in targets {
+            let n = std::fs::read_dir(seeds.join(&t)).map_or(0, |d| d.count());
+            assert!(n > 0, "fuzz target {t} has no seed in fuzz/corpus/seed/{t}");
+        }
+    }
+
+    #[test]
+    fn summary_counts() {
+        let mut s = util::Steps::default();
+        assert!(s.run("a", || Ok(util::Outcome::Passed)));
+        assert!(s.run("b", || Ok(util::Outcome::Skipped)));
+        assert!(s.summary());
+        assert!(!s.run("c", || util::err("boom")));
+        assert!(!s.summary());
+    }
+}
