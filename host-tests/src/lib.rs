@@ -7,3 +7,4 @@ pub mod netns;
 pub mod peers;
 pub mod process;
 pub mod rig;
+pub mod scanner;
