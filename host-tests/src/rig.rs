@@ -4,11 +4,12 @@
 //! deletes the namespace, also when a test panics.
 
 use std::io;
-use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4};
+use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4, UdpSocket};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use crate::capture::Capture;
+use crate::enip::{command, Header};
 use crate::netns::Namespace;
 use crate::process::LoggedChild;
 
@@ -28,6 +29,10 @@ pub const ENCAP_PORT: u16 = 44818;
 pub const LISTENING: &str = "enip-host: listening on";
 /// How long the board may take to come up.
 const BOARD_START: Duration = Duration::from_secs(10);
+/// Reachability probes sent after start-up.
+const PROBES: u32 = 20;
+/// How long each probe waits for its answer.
+const PROBE_WAIT: Duration = Duration::from_millis(250);
 
 /// The board's encapsulation endpoint.
 pub const fn board_addr() -> SocketAddr {
@@ -63,7 +68,35 @@ impl Rig {
             );
         let mut board = LoggedChild::spawn("enip-host", cmd)?;
         board.wait_for_line(LISTENING, BOARD_START)?;
-        Ok(Rig { board, capture, ns })
+        let rig = Rig { board, capture, ns };
+        rig.wait_reachable()?;
+        Ok(rig)
+    }
+
+    /// Waits (bounded) until the board answers a unicast ListIdentity, so that address
+    /// resolution and start-up are over before a test measures anything.
+    fn wait_reachable(&self) -> io::Result<()> {
+        let probe = Header::new(command::LIST_IDENTITY).frame(&[]);
+        let answered = self.ns.inside(|| -> io::Result<bool> {
+            let s = UdpSocket::bind(SocketAddrV4::new(HOST_IP, 0))?;
+            s.set_read_timeout(Some(PROBE_WAIT))?;
+            let mut buf = [0u8; 512];
+            for _ in 0..PROBES {
+                s.send_to(&probe, board_addr())?;
+                if s.recv_from(&mut buf).is_ok() {
+                    return Ok(true);
+                }
+            }
+            Ok(false)
+        })??;
+        if answered {
+            Ok(())
+        } else {
+            Err(io::Error::other(format!(
+                "the board does not answer ListIdentity; log:\n{}",
+                self.board.output()
+            )))
+        }
     }
 
     /// The namespace every peer must run in.

@@ -7,7 +7,9 @@ use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
 use crate::common::{self, assert_serving, REPLY};
-use host_tests::enip::{command, mr_request, path, register_data, Client, Header};
+use host_tests::enip::{
+    command, mr_request, path, register_data, rr_data, ucmm_cpf, Client, Header,
+};
 use host_tests::netns::Namespace;
 use host_tests::rig::board_addr;
 
@@ -32,6 +34,20 @@ fn slow_client_does_not_block_others() {
         reply.header.status, 0,
         "RegisterSession split over a long pause"
     );
+    // One frame delivered a byte per segment.
+    let identity = mr_request(0x0E, &path(1, 1, Some(1)), &[]);
+    let session = Header {
+        session: reply.header.session,
+        ..Header::new(command::SEND_RR_DATA)
+    };
+    for b in session.frame(&rr_data(&ucmm_cpf(&identity))) {
+        slow.send(&[b]).unwrap();
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let reply = slow
+        .recv(REPLY)
+        .expect("reply to a frame sent byte by byte");
+    assert_eq!(reply.header.status, 0, "frame sent byte by byte");
     drop(slow);
     assert_serving(ns, "slow client finished");
     common::finish(rig);

@@ -92,6 +92,37 @@ fn hostile_encapsulation_framing() {
         assert_serving(ns, "oversized length");
     }
 
+    // Exactly the capacity (a NOP of 1024 data bytes) is accepted: no reply, still usable.
+    let mut c = registered(ns);
+    c.send(&Header::new(command::NOP).frame(&[0x5A; 1024]))
+        .unwrap();
+    assert_quiet(&mut c, "NOP of 1024 bytes");
+    assert_usable(&mut c, "after a NOP of 1024 bytes");
+    // A good frame and an oversized header in one segment: the first is answered, then 0x0065.
+    let good = Header {
+        session: c.session,
+        ..Header::new(command::SEND_RR_DATA)
+    }
+    .frame(&rr_data(&ucmm_cpf(&mr_request(
+        0x0E,
+        &path(1, 1, Some(1)),
+        &[],
+    ))));
+    let big = Header {
+        length: 3000,
+        ..Header::new(command::SEND_RR_DATA)
+    }
+    .bytes();
+    c.send(&[good, big].concat()).unwrap();
+    assert_eq!(c.recv(REPLY).expect("first of two").header.status, 0);
+    assert_eq!(c.recv(REPLY).expect("second of two").header.status, 0x0065);
+    assert!(
+        c.closed_within(Duration::from_secs(3)).unwrap(),
+        "closed after the oversized one"
+    );
+    drop(c);
+    assert_serving(ns, "good frame then oversized header");
+
     // Non-zero options: the frame is discarded without reply; the connection stays usable.
     let mut c = connect(ns);
     let opts = Header {

@@ -16,7 +16,7 @@ use host_tests::rig::{board_addr, Rig, BOARD_IP, BROADCAST_IP, ENCAP_PORT, HOST_
 /// Maximum reply delay asked for in the broadcast requests (sender context bytes 0-1).
 const ASKED_DELAY_MS: u16 = 500;
 /// Scheduling and transmission slack on top of a requested delay.
-const SLACK: Duration = Duration::from_millis(300);
+const SLACK: Duration = Duration::from_millis(400);
 
 /// A UDP socket on the kernel side of the TAP, allowed to broadcast.
 fn socket(ns: &Namespace) -> UdpSocket {
