@@ -5,9 +5,12 @@
 //! - `test`: the whole suite, stopping at the first failure, with a summary.
 //! - `fuzz [--seconds N]`: every fuzz target for N seconds (default 60).
 //! - `demo`: the host board in a network namespace, read by a scanner.
+//! - `bench`: benchmarks, written to `target/bench/report.json`.
 
+mod bench;
 mod demo;
 mod fuzz;
+mod netns;
 mod setup;
 mod test;
 mod util;
@@ -22,6 +25,7 @@ commands:
   test                fmt, clippy, doc, tests, no_std builds, fuzz (5 s each), TAP interop
   fuzz [--seconds N]  run every fuzz target for N seconds each (default 60)
   demo                start the host board in netns enip-demo and read it with a scanner
+  bench               Class 1 cycle cost (callgrind, native) and 10 x 1 ms I/O on the host TAP
 ";
 
 fn main() -> ExitCode {
@@ -41,6 +45,7 @@ fn main() -> ExitCode {
             Err(e) => Err(e),
         },
         ["demo"] => demo::run_demo(),
+        ["bench"] => bench::run_all(),
         ["help" | "-h" | "--help"] => {
             print!("{USAGE}");
             Ok(())

@@ -1,0 +1,167 @@
+//! `cargo xtask bench`: benchmarks, never timed tests. Writes `target/bench/report.json`
+//! and prints a table:
+//!
+//! - instructions per Class 1 cycle (consume one O->T, produce one T->O) from callgrind, as
+//!   the difference of two runs of different lengths so set-up cancels out;
+//! - nanoseconds per cycle, natively (median of three runs);
+//! - on the host TAP: 10 connections at a 1 ms RPI for 60 s, T->O intervals per connection,
+//!   packets lost and connections timed out, measured by the project's scanner.
+
+use std::fs;
+use std::process::{Command, Stdio};
+use std::thread::sleep;
+use std::time::Duration;
+
+use crate::netns::{Lab, BOARD_CIDR, BOARD_IP};
+use crate::util::{self, cargo, err, output, run, Result};
+
+/// Cycles of the short and long callgrind runs.
+const CALLGRIND_CYCLES: (u64, u64) = (1_000, 11_000);
+/// Cycles of each native timing run.
+const NATIVE_CYCLES: u64 = 2_000_000;
+/// The TAP run: connections, RPI and duration.
+const TAP_CONNECTIONS: u32 = 10;
+const TAP_RPI_US: u32 = 1_000;
+const TAP_SECONDS: u32 = 60;
+
+/// Runs every benchmark and writes the report.
+pub fn run_all() -> Result {
+    run(cargo().args([
+        "build",
+        "--release",
+        "-p",
+        "host-tests",
+        "--bins",
+        "-p",
+        "enip-host",
+    ]))?;
+    let bin = util::target_dir().join("release");
+    let cycle = bin.join("io_cycle");
+    let cycle = cycle.to_str().unwrap_or("io_cycle");
+
+    let short = callgrind(cycle, CALLGRIND_CYCLES.0)?;
+    let long = callgrind(cycle, CALLGRIND_CYCLES.1)?;
+    let per_cycle =
+        (long.saturating_sub(short)) as f64 / (CALLGRIND_CYCLES.1 - CALLGRIND_CYCLES.0) as f64;
+
+    let mut ns: Vec<f64> = (0..3).map(|_| native_ns(cycle)).collect::<Result<_>>()?;
+    ns.sort_by(f64::total_cmp);
+    let ns_median = ns[1];
+
+    let tap = tap_run(&bin)?;
+
+    let dir = util::target_dir().join("bench");
+    fs::create_dir_all(&dir).map_err(|e| util::Error(format!("{}: {e}", dir.display())))?;
+    let report = format!(
+        "{{\"class1_cycle\":{{\"instructions_per_cycle\":{per_cycle:.1},\"callgrind_runs\":[[{},{short}],[{},{long}]],\"ns_per_cycle_median\":{ns_median:.1},\"ns_per_cycle_runs\":{ns:?}}},\"tap\":{tap}}}",
+        CALLGRIND_CYCLES.0, CALLGRIND_CYCLES.1
+    );
+    let path = dir.join("report.json");
+    fs::write(&path, &report).map_err(|e| util::Error(format!("{}: {e}", path.display())))?;
+    println!();
+    println!("{:<52} {:>12}", "benchmark", "value");
+    println!(
+        "{:<52} {:>12.1}",
+        "instructions per Class 1 cycle (callgrind)", per_cycle
+    );
+    println!(
+        "{:<52} {:>12.1}",
+        "ns per Class 1 cycle (native, median of 3)", ns_median
+    );
+    println!("report: {}", path.display());
+    Ok(())
+}
+
+/// Total instructions of `io_cycle cycles` under callgrind.
+fn callgrind(cycle: &str, cycles: u64) -> Result<u64> {
+    let out_file = util::target_dir()
+        .join("bench")
+        .join(format!("callgrind.{cycles}.out"));
+    let _ = fs::create_dir_all(util::target_dir().join("bench"));
+    let o = Command::new("valgrind")
+        .args([
+            "--tool=callgrind",
+            &format!("--callgrind-out-file={}", out_file.display()),
+            cycle,
+            &cycles.to_string(),
+        ])
+        .stdout(Stdio::null())
+        .output()
+        .map_err(|e| util::Error(format!("valgrind: {e}")))?;
+    let text = String::from_utf8_lossy(&o.stderr);
+    text.lines()
+        .find_map(|l| l.split("Collected :").nth(1))
+        .and_then(|n| n.trim().replace(',', "").parse().ok())
+        .ok_or_else(|| util::Error(format!("no instruction count from callgrind:\n{text}")))
+}
+
+/// Nanoseconds per cycle of one native run.
+fn native_ns(cycle: &str) -> Result<f64> {
+    let out = output(Command::new(cycle).arg(NATIVE_CYCLES.to_string()))
+        .ok_or_else(|| util::Error("io_cycle failed".into()))?;
+    out.split("\"ns_per_cycle\":")
+        .nth(1)
+        .and_then(|v| v.trim_end_matches(['}', '\n']).parse().ok())
+        .ok_or_else(|| util::Error(format!("io_cycle printed {out:?}")))
+}
+
+/// The host board in a namespace, and the scanner's 60 s run against it; returns its JSON.
+fn tap_run(bin: &std::path::Path) -> Result<String> {
+    if !util::is_root() {
+        return err("the TAP benchmark needs root (network namespaces)");
+    }
+    let lab = Lab::create("enip-bench", "enipbench0")?;
+    let host = bin.join("enip-host");
+    let log = util::target_dir().join("bench").join("board.log");
+    let log_file =
+        fs::File::create(&log).map_err(|e| util::Error(format!("{}: {e}", log.display())))?;
+    let mut board = lab
+        .command(host.to_str().unwrap_or("enip-host"))
+        .args(["--tap", &lab.tap, "--ip", BOARD_CIDR])
+        .stdout(Stdio::null())
+        .stderr(log_file)
+        .spawn()
+        .map_err(|e| util::Error(format!("enip-host: {e}")))?;
+    sleep(Duration::from_millis(1500));
+    let json = util::target_dir().join("bench").join("tap.json");
+    let scanner = bin.join("scanner");
+    let status = lab
+        .command("timeout")
+        .args([
+            &(TAP_SECONDS + 60).to_string(),
+            scanner.to_str().unwrap_or("scanner"),
+        ])
+        .args([
+            "--target",
+            BOARD_IP,
+            "--connections",
+            &TAP_CONNECTIONS.to_string(),
+        ])
+        .args([
+            "--rpi-us",
+            &TAP_RPI_US.to_string(),
+            "--seconds",
+            &TAP_SECONDS.to_string(),
+        ])
+        .args([
+            "--multiplier",
+            "2",
+            "--json",
+            json.to_str().unwrap_or("tap.json"),
+        ])
+        .status();
+    let _ = board.kill();
+    let _ = board.wait();
+    drop(lab);
+    match status {
+        Ok(s) if s.success() => {}
+        Ok(s) => {
+            return err(format!(
+                "scanner failed ({s}); board log: {}",
+                log.display()
+            ))
+        }
+        Err(e) => return err(format!("scanner: {e}")),
+    }
+    fs::read_to_string(&json).map_err(|e| util::Error(format!("{}: {e}", json.display())))
+}
