@@ -11,6 +11,8 @@ use std::time::{Duration, Instant};
 
 /// How often a waiting loop looks at a child.
 const POLL: Duration = Duration::from_millis(20);
+/// How long output is still collected after a child ended.
+const PIPE_GRACE: Duration = Duration::from_secs(2);
 
 /// Sends `sig` to process `pid` (errors, e.g. an already gone process, are ignored).
 pub fn signal(pid: i32, sig: i32) {
@@ -32,7 +34,8 @@ pub fn run_bounded(
     let mut child = cmd.spawn()?;
     let input = stdin.unwrap_or_default().to_vec();
     let mut pipe_in = child.stdin.take();
-    let writer = thread::spawn(move || {
+    // Detached: a child that never reads its input must not hold this function up.
+    thread::spawn(move || {
         if let Some(p) = pipe_in.as_mut() {
             // A child that exits without reading its input is not an error here.
             let _ = p.write_all(&input);
@@ -41,8 +44,7 @@ pub fn run_bounded(
     let out = drain(child.stdout.take());
     let err = drain(child.stderr.take());
     let status = wait_until(&mut child, Instant::now() + timeout)?;
-    let _ = writer.join();
-    let (stdout, stderr) = (join(out), join(err));
+    let (stdout, stderr) = (collect(&out), collect(&err));
     match status {
         Some(status) => Ok(Output {
             status,
@@ -74,18 +76,23 @@ fn wait_until(child: &mut Child, deadline: Instant) -> io::Result<Option<ExitSta
     }
 }
 
-fn drain(pipe: Option<impl Read + Send + 'static>) -> thread::JoinHandle<Vec<u8>> {
+/// Reads `pipe` to its end on a thread; the bytes arrive on the returned channel.
+fn drain(pipe: Option<impl Read + Send + 'static>) -> Receiver<Vec<u8>> {
+    let (tx, rx) = mpsc::channel();
     thread::spawn(move || {
         let mut buf = Vec::new();
         if let Some(mut p) = pipe {
             let _ = p.read_to_end(&mut buf);
         }
-        buf
-    })
+        let _ = tx.send(buf);
+    });
+    rx
 }
 
-fn join(h: thread::JoinHandle<Vec<u8>>) -> Vec<u8> {
-    h.join().unwrap_or_default()
+/// What a [`drain`] thread read, waiting at most [`PIPE_GRACE`] (a grandchild may still hold
+/// the pipe open after the child ended).
+fn collect(rx: &Receiver<Vec<u8>>) -> Vec<u8> {
+    rx.recv_timeout(PIPE_GRACE).unwrap_or_default()
 }
 
 /// A long-running child whose stdout and stderr lines are logged and can be waited for.

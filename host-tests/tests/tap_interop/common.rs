@@ -35,12 +35,12 @@ const ADAPTER_FRAMES: &str = "ip.src == 198.18.0.2 && (enip || udp)";
 /// shows the request's path), so a hostile request is flagged again in the adapter's reply.
 const REQUEST_ECHOES: &[&str] = &["Unsupported Logical Segment Format"];
 
-/// The board binary: `ENIP_HOST_BIN`, else the workspace's debug build.
+/// The board binary: `ENIP_HOST_BIN` (relative to the workspace root unless absolute),
+/// else the workspace's debug build.
 fn host_bin() -> PathBuf {
-    std::env::var_os("ENIP_HOST_BIN").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/debug/enip-host"),
-        PathBuf::from,
-    )
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let bin = std::env::var_os("ENIP_HOST_BIN").unwrap_or("target/debug/enip-host".into());
+    root.join(bin)
 }
 
 /// Starts the rig for test `name`, capturing into `target/tmp/tap_interop/<name>.pcapng`.
