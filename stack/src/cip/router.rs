@@ -25,7 +25,10 @@ pub(crate) fn respond<D: Device>(
     let (service, result) = match Request::parse(request) {
         Err((service, e)) => (service, Err(e)),
         Ok(req) if connection_manager::is_unconnected_send(&req) => {
-            match connection_manager::embedded_request(&req, depth) {
+            // An embedded request that cannot even be framed is the Unconnected_Send's error.
+            let inner = connection_manager::embedded_request(&req, depth)
+                .and_then(|inner| Request::parse(inner).map(|_| inner).map_err(|(_, e)| e));
+            match inner {
                 Ok(inner) => return respond(ctx, inner, w, depth + 1),
                 Err(e) => (req.service, Err(e)),
             }
