@@ -254,12 +254,20 @@ impl<D: Device> Adapter<D> {
         self.connections
             .iter()
             .any(|(_, c)| c.produces_multicast())
-            .then(|| self.objects.tcpip.multicast_start(&self.net))
+            .then(|| {
+                self.objects
+                    .tcpip
+                    .multicast_in_use(&self.device, &self.net)
+                    .0
+            })
     }
 
     /// TTL for multicast T->O datagrams (TCP/IP attribute 8).
     pub fn multicast_ttl(&self) -> u8 {
-        self.objects.tcpip.ttl
+        self.objects
+            .tcpip
+            .multicast_in_use(&self.device, &self.net)
+            .1
     }
 
     /// The next instant [`Self::poll_udp`] has a delayed reply to send.

@@ -2,6 +2,7 @@
 
 use crate::cip::request::Request;
 use crate::cip::status::CipResult;
+use crate::cip::tcpip::MulticastConfig;
 use crate::time::Instant;
 use crate::wire::Writer;
 
@@ -89,6 +90,15 @@ pub enum ConnectionEvent {
     RunIdle(bool),
 }
 
+/// TCP/IP attributes 8 and 9 as a device keeps them (see [`Device::multicast`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Multicast {
+    /// Attribute 8: TTL of multicast T->O datagrams.
+    pub ttl: u8,
+    /// Attribute 9: allocation control, number of addresses and the first address in use.
+    pub config: MulticastConfig,
+}
+
 /// Everything a device profile supplies. Only identity and assemblies are required.
 pub trait Device {
     /// Identity object values.
@@ -121,5 +131,24 @@ pub trait Device {
     /// Advances the device's own behaviour (a simulation); returns when it next needs a call.
     fn poll(&mut self, _now: Instant) -> Option<Instant> {
         None
+    }
+    /// The multicast TTL and configuration when the device keeps them itself (e.g. in its
+    /// own parameters): `Some` replaces the TCP/IP object's own values everywhere (attributes
+    /// 8 and 9, Forward_Open, [`crate::Adapter::multicast_group`] and
+    /// [`crate::Adapter::multicast_ttl`]). `config.start` is the address in use, also when
+    /// `config.alloc_control` is 0.
+    fn multicast(&self) -> Option<Multicast> {
+        None
+    }
+    /// A Set of TCP/IP attribute 8 or 9, already validated by the stack (alloc control 0
+    /// comes with no address: the device's default applies), for a device whose
+    /// [`Device::multicast`] is `Some`. An error becomes the reply to the Set.
+    fn set_multicast(&mut self, _multicast: Multicast) -> CipResult {
+        Ok(())
+    }
+    /// False if the device refuses change-of-state Class 1 connections (Forward_Open fails
+    /// with extended status 0x0103, transport class and trigger not supported).
+    fn change_of_state(&self) -> bool {
+        true
     }
 }

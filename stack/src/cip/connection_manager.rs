@@ -54,11 +54,12 @@ fn forward_open<D: Device>(
     let origin = ctx
         .origin
         .ok_or(CipError::new(General::ServiceNotSupported))?;
+    let (multicast, ttl) = ctx.state.tcpip.multicast_in_use(&*ctx.device, ctx.net);
     let net = NetFacts {
         ip: ctx.net.ip,
         netmask: ctx.net.netmask,
-        multicast: ctx.state.tcpip.multicast_start(ctx.net),
-        ttl: ctx.state.tcpip.ttl,
+        multicast,
+        ttl,
     };
     let opened = open::forward_open(ctx.connections, ctx.device, &fo, &origin, &net, ctx.now);
     let slot = match opened {

@@ -10,7 +10,7 @@ use super::router::{attribute_services, instance, no_instance};
 use super::status::{CipResult, General};
 use super::{Ctx, Request};
 use crate::config::MAX_HOST_NAME;
-use crate::device::Device;
+use crate::device::{Device, Multicast};
 use crate::net::NetworkConfig;
 use crate::wire::bytes::{get_u16, get_u32};
 use crate::wire::Writer;
@@ -80,6 +80,15 @@ impl TcpIpState {
         Ipv4Addr::from(CIP_MCAST_BASE + (host_id << 5))
     }
 
+    /// The first multicast address and the TTL in use: the device's when it keeps them
+    /// ([`Device::multicast`]), else this object's.
+    pub fn multicast_in_use(&self, device: &impl Device, net: &NetworkConfig) -> (Ipv4Addr, u8) {
+        match device.multicast() {
+            Some(m) => (m.config.start, m.ttl),
+            None => (self.multicast_start(net), self.ttl),
+        }
+    }
+
     /// Number of multicast addresses in use.
     pub fn multicast_count(&self) -> u16 {
         if self.mcast.alloc_control == 1 {
@@ -117,12 +126,20 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
             }
             6 => padded_string(w, &st.host_name)?,
             7 => w.zeros(6)?,
-            8 => w.u8(st.ttl)?,
+            8 => w.u8(self.0.device.multicast().map_or(st.ttl, |m| m.ttl))?,
             9 => {
-                w.u8(st.mcast.alloc_control)?;
+                let m = self.0.device.multicast().map_or(
+                    MulticastConfig {
+                        alloc_control: st.mcast.alloc_control,
+                        num_mcast: st.multicast_count(),
+                        start: st.multicast_start(net),
+                    },
+                    |m| m.config,
+                );
+                w.u8(m.alloc_control)?;
                 w.u8(0)?;
-                w.u16(st.multicast_count())?;
-                ip(w, st.multicast_start(net))?;
+                w.u16(m.num_mcast)?;
+                ip(w, m.start)?;
             }
             10 | 12 => w.u8(0)?,
             11 => w.zeros(35)?,
@@ -161,7 +178,10 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
             8 => match take(data, 1, exact)? {
                 [0] => Err(General::InvalidAttributeValue.into()),
                 [ttl] => {
-                    st.ttl = *ttl;
+                    match self.0.device.multicast() {
+                        Some(m) => self.0.device.set_multicast(Multicast { ttl: *ttl, ..m })?,
+                        None => st.ttl = *ttl,
+                    }
                     Ok(1)
                 }
                 _ => Err(General::NotEnoughData.into()),
@@ -177,7 +197,13 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
                 if reserved != 0 || !valid_mcast(&mcast) {
                     return Err(General::InvalidAttributeValue.into());
                 }
-                st.mcast = mcast;
+                match self.0.device.multicast() {
+                    Some(m) => self.0.device.set_multicast(Multicast {
+                        ttl: m.ttl,
+                        config: mcast,
+                    })?,
+                    None => st.mcast = mcast,
+                }
                 Ok(8)
             }
             13 => {

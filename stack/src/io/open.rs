@@ -178,7 +178,7 @@ pub fn forward_open<D: Device>(
     }
     let trigger = match (fo.transport_class(), fo.trigger()) {
         (1, 0) => Trigger::Cyclic,
-        (1, 1) => Trigger::ChangeOfState,
+        (1, 1) if device.change_of_state() => Trigger::ChangeOfState,
         (1, 2) | (3, 0 | 2) => Trigger::Application,
         _ => return Err(CipError::connection(ext::TRANSPORT_NOT_SUPPORTED)),
     };

@@ -6,7 +6,7 @@ use std::net::{Ipv4Addr, SocketAddrV4};
 
 use stack::cip::CipResult;
 use stack::config::MAX_ENCAP_FRAME;
-use stack::device::{AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo};
+use stack::device::{AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo, Multicast};
 use stack::originator::{self, Reply};
 use stack::wire::epath::{LogicalType, Segment};
 use stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
@@ -29,6 +29,10 @@ pub struct TestDevice {
     pub data: std::collections::HashMap<u16, Vec<u8>>,
     pub events: Vec<ConnectionEvent>,
     pub writes: Vec<(u16, Vec<u8>)>,
+    /// TCP/IP attributes 8/9 kept by the device (`None`: the stack keeps them).
+    pub multicast: Option<Multicast>,
+    /// Whether change-of-state connections are accepted.
+    pub change_of_state: bool,
 }
 
 impl TestDevice {
@@ -82,6 +86,8 @@ impl TestDevice {
             data,
             events: Vec::new(),
             writes: Vec::new(),
+            multicast: None,
+            change_of_state: true,
         }
     }
 }
@@ -106,6 +112,19 @@ impl Device for TestDevice {
     }
     fn connection_event(&mut self, event: ConnectionEvent) {
         self.events.push(event);
+    }
+    fn multicast(&self) -> Option<Multicast> {
+        self.multicast
+    }
+    fn set_multicast(&mut self, m: Multicast) -> CipResult {
+        if m.config.num_mcast > 1 {
+            return Err(stack::cip::General::InvalidAttributeValue.into());
+        }
+        self.multicast = Some(m);
+        Ok(())
+    }
+    fn change_of_state(&self) -> bool {
+        self.change_of_state
     }
 }
 
