@@ -14,6 +14,7 @@ mod netns;
 mod setup;
 mod test;
 mod util;
+mod workspace;
 
 use std::process::ExitCode;
 
