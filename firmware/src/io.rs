@@ -7,7 +7,7 @@
 
 use core::net::Ipv4Addr;
 
-use embassy_futures::select::select3;
+use embassy_futures::select::select4;
 use embassy_net::udp::{UdpMetadata, UdpSocket};
 use embassy_net::Stack;
 use embassy_time::{with_timeout, Duration, Timer};
@@ -17,7 +17,7 @@ use stack::Device;
 use crate::clock::{now, to_embassy};
 use crate::netif::v4_endpoint;
 use crate::resources::{IoBuffers, IoSocketBuffers};
-use crate::shared::{with_adapter, SharedAdapter};
+use crate::shared::{io_deadline_moved, with_adapter_quiet as with_adapter, SharedAdapter};
 
 /// Longest wait for transmit buffer room before a T->O datagram is dropped.
 const SEND_TIMEOUT: Duration = Duration::from_millis(1);
@@ -47,10 +47,11 @@ pub(crate) async fn serve<D: Device>(
         let due = with_adapter(adapter, |a| a.io_deadline())
             .map_or(embassy_time::Instant::MAX, to_embassy);
         // Whichever comes first, the loop produces what is due and waits again.
-        let _ = select3(
+        let _ = select4(
             unicast.recv_from_with(|data, meta| consume(adapter, data, meta)),
             multicast.recv_from_with(|data, meta| consume(adapter, data, meta)),
             Timer::at(due),
+            io_deadline_moved(adapter),
         )
         .await;
     }

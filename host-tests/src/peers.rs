@@ -27,6 +27,27 @@ pub fn script(name: &str) -> PathBuf {
 pub fn run(ns: &Namespace, name: &str, input: &Value, timeout: Duration) -> io::Result<Value> {
     let mut cmd = ns.command(python());
     cmd.arg(script(name));
+    run_json(cmd, name, input, timeout)
+}
+
+/// Runs the Node.js peer script `name` like [`run`], with the npm peers of
+/// `ENIP_PEER_NPM_DIR` (default `target/peers-npm`) on its module path.
+pub fn run_node(ns: &Namespace, name: &str, input: &Value, timeout: Duration) -> io::Result<Value> {
+    let npm = std::env::var_os("ENIP_PEER_NPM_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/peers-npm"));
+    let mut cmd = ns.command("node");
+    cmd.env("NODE_PATH", npm.join("node_modules"))
+        .arg(script(name));
+    run_json(cmd, name, input, timeout)
+}
+
+fn run_json(
+    cmd: std::process::Command,
+    name: &str,
+    input: &Value,
+    timeout: Duration,
+) -> io::Result<Value> {
     let out = run_bounded(cmd, Some(input.to_string().as_bytes()), timeout)?;
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);

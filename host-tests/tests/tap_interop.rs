@@ -1,6 +1,8 @@
 //! TAP interop suite: the `enip-host` board on a TAP device inside a network namespace each
 //! test creates, exercised by peers nobody here wrote (pycomm3, cpppo), by raw UDP/TCP
-//! encapsulation clients, and by a battery of hostile inputs; every test captures with
+//! encapsulation clients, by Class 1 originators (the PyPI `ethernetip` package, npm
+//! `st-ethernet-ip`, our scanner for listen-only on multicast), and by a battery of hostile
+//! inputs; every test captures with
 //! tshark and checks the capture dissects cleanly.
 //!
 //! Needs root (namespaces, TAP), `ip`, `tshark` and a Python with pycomm3 and cpppo:
@@ -25,6 +27,8 @@
 //!   with its request's path, so a reply to a request with a reserved logical segment format
 //!   is flagged "Unsupported Logical Segment Format" although the reply bytes are fine.
 
+#[path = "tap_interop/class1.rs"]
+mod class1;
 #[path = "tap_interop/common.rs"]
 mod common;
 #[path = "tap_interop/concurrency.rs"]
