@@ -11,7 +11,12 @@ pub const THUMB_TARGET: &str = "thumbv7em-none-eabihf";
 /// The toolchain `cargo fuzz` needs.
 pub const NIGHTLY: &str = "nightly";
 /// Python peers for the interop tests, pinned; installed into [`venv_dir`].
-pub const PYTHON_PEERS: &[&str] = &["pycomm3==1.2.16", "cpppo==5.2.5"];
+pub const PYTHON_PEERS: &[&str] = &[
+    "pycomm3==1.2.16",
+    "cpppo==5.2.5",
+    "ethernetip==1.2.0",
+    "dpkt==1.9.8",
+];
 /// npm peers for the interop tests, pinned; installed into [`npm_dir`].
 pub const NPM_PEERS: &[&str] = &["st-ethernet-ip@2.7.5"];
 /// Debian packages the tests need, each with a command that shows it is already there.
