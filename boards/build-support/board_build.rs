@@ -1,0 +1,132 @@
+// Build-script helpers shared by the embedded boards, `include!`d by their `build.rs`:
+// the linker memory map, the build-time network settings and the chosen device profile.
+// Everything is checked here, so a bad setting fails the build rather than the board.
+
+use std::env;
+use std::fs;
+use std::net::Ipv4Addr;
+use std::path::PathBuf;
+
+/// Environment variable with the board's static address, `A.B.C.D/LEN`.
+const IP_VAR: &str = "ENIP_IP";
+/// Environment variable with the board's default gateway, `A.B.C.D` (optional).
+const GATEWAY_VAR: &str = "ENIP_GATEWAY";
+/// Cargo features that choose the device profile start with this.
+const PROFILE_FEATURE: &str = "CARGO_FEATURE_PROFILE_";
+/// The profile used when no other `profile-*` feature is enabled.
+const DEFAULT_PROFILE: &str = "generic";
+
+fn out_dir() -> PathBuf {
+    PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"))
+}
+
+/// Links with cortex-m-rt's `link.x` and the workspace's top-level `memory.x`.
+///
+/// The linker runs in the workspace root, where `INCLUDE memory.x` finds that file first.
+#[allow(dead_code)] // each board uses one of the two link set-ups
+fn link_with_top_level_memory_map() {
+    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
+    let memory_x = manifest.join("../../memory.x");
+    assert!(memory_x.exists(), "{} is missing", memory_x.display());
+    println!("cargo:rerun-if-changed={}", memory_x.display());
+    println!("cargo:rustc-link-arg-bins=--nmagic");
+    println!("cargo:rustc-link-arg-bins=-Tlink.x");
+}
+
+/// Links with the board's own memory map `memory_x` (relative to the crate) instead of the
+/// top-level one.
+///
+/// cortex-m-rt's `link.x` says `INCLUDE memory.x`, which the linker resolves in its working
+/// directory (the workspace root, holding the STM32 map) before any search path. So this
+/// writes `OUT_DIR/board-link.x`: the board's map followed by cortex-m-rt's `link.x` without
+/// that line. cortex-m-rt's build script has run before this one (it declares `links`).
+#[allow(dead_code)] // each board uses one of the two link set-ups
+fn link_with_own_memory_map(memory_x: &str) {
+    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
+    let source = manifest.join(memory_x);
+    let map = fs::read_to_string(&source).unwrap_or_else(|e| panic!("{}: {e}", source.display()));
+    let rt_link = cortex_m_rt_link_x();
+    let rt = fs::read_to_string(&rt_link).unwrap_or_else(|e| panic!("{}: {e}", rt_link.display()));
+    let body: Vec<&str> = rt.lines().filter(|l| l.trim() != "INCLUDE memory.x").collect();
+    assert!(body.len() < rt.lines().count(), "{}: no INCLUDE memory.x", rt_link.display());
+    let script = format!("{map}\n/* {} */\n{}\n", rt_link.display(), body.join("\n"));
+    fs::write(out_dir().join("board-link.x"), script).expect("OUT_DIR is writable");
+    println!("cargo:rerun-if-changed={}", source.display());
+    println!("cargo:rerun-if-changed={}", rt_link.display());
+    println!("cargo:rustc-link-search={}", out_dir().display());
+    println!("cargo:rustc-link-arg-bins=--nmagic");
+    println!("cargo:rustc-link-arg-bins=-Tboard-link.x");
+}
+
+/// The newest `link.x` written by a cortex-m-rt build script next to this one.
+fn cortex_m_rt_link_x() -> PathBuf {
+    let out = out_dir();
+    let build = out
+        .parent()
+        .and_then(|p| p.parent())
+        .expect("OUT_DIR is build/<crate>-<hash>/out");
+    let entries = fs::read_dir(build).unwrap_or_else(|e| panic!("{}: {e}", build.display()));
+    entries
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().starts_with("cortex-m-rt-"))
+        .map(|e| e.path().join("out/link.x"))
+        .filter_map(|p| Some((fs::metadata(&p).ok()?.modified().ok()?, p)))
+        .max()
+        .map(|(_, p)| p)
+        .expect("cortex-m-rt's build script wrote no link.x")
+}
+
+/// Writes `OUT_DIR/network.rs` with the static address from `ENIP_IP` (default
+/// `default_cidr`) and the gateway from `ENIP_GATEWAY` (default none), as constants
+/// `ADDRESS: [u8; 4]`, `PREFIX_LEN: u8` and `GATEWAY: Option<[u8; 4]>`.
+fn network_settings(default_cidr: &str) {
+    println!("cargo:rerun-if-env-changed={IP_VAR}");
+    println!("cargo:rerun-if-env-changed={GATEWAY_VAR}");
+    let cidr = env::var(IP_VAR).unwrap_or_else(|_| default_cidr.to_string());
+    let (ip, len) = cidr
+        .split_once('/')
+        .unwrap_or_else(|| panic!("{IP_VAR}={cidr:?}: expected A.B.C.D/LEN"));
+    let ip: Ipv4Addr = ip
+        .parse()
+        .unwrap_or_else(|_| panic!("{IP_VAR}={cidr:?}: bad address"));
+    let len: u8 = len
+        .parse()
+        .ok()
+        .filter(|l| (1..=32).contains(l))
+        .unwrap_or_else(|| panic!("{IP_VAR}={cidr:?}: prefix length must be 1..=32"));
+    let gateway = match env::var(GATEWAY_VAR) {
+        Ok(g) if !g.is_empty() => {
+            let g: Ipv4Addr = g
+                .parse()
+                .unwrap_or_else(|_| panic!("{GATEWAY_VAR}={g:?}: bad address"));
+            format!("Some({:?})", g.octets())
+        }
+        _ => "None".to_string(),
+    };
+    let code = format!(
+        "/// The static address (`{IP_VAR}` at build time).\n\
+         pub const ADDRESS: [u8; 4] = {:?};\n\
+         /// Its prefix length.\n\
+         pub const PREFIX_LEN: u8 = {len};\n\
+         /// The default gateway (`{GATEWAY_VAR}` at build time).\n\
+         pub const GATEWAY: Option<[u8; 4]> = {gateway};\n",
+        ip.octets()
+    );
+    fs::write(out_dir().join("network.rs"), code).expect("OUT_DIR is writable");
+}
+
+/// Sets `ENIP_PROFILE` for the crate to the profile chosen by a `profile-NAME` feature
+/// (`profile-generic` when no other is enabled; two others are an error).
+fn profile_from_features() {
+    let mut chosen: Vec<String> = env::vars()
+        .filter_map(|(k, _)| k.strip_prefix(PROFILE_FEATURE).map(str::to_string))
+        .map(|f| f.to_lowercase().replace('_', "-"))
+        .filter(|p| p != DEFAULT_PROFILE)
+        .collect();
+    let profile = match chosen.len() {
+        0 => DEFAULT_PROFILE.to_string(),
+        1 => chosen.remove(0),
+        _ => panic!("enable one profile-* feature, not {chosen:?}"),
+    };
+    println!("cargo:rustc-env=ENIP_PROFILE={profile}");
+}
