@@ -29,6 +29,8 @@
 
 #[path = "tap_interop/class1.rs"]
 mod class1;
+#[path = "tap_interop/class3.rs"]
+mod class3;
 #[path = "tap_interop/common.rs"]
 mod common;
 #[path = "tap_interop/concurrency.rs"]
