@@ -45,6 +45,6 @@ impl Attributes for ClassInfo {
         })
     }
     fn all(&self) -> &'static [u16] {
-        &[1, 2, 3, 6, 7]
+        &[1, 2, 3, 4, 5, 6, 7]
     }
 }

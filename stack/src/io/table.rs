@@ -23,6 +23,8 @@ pub struct ConnectionTable {
     owned: heapless::Vec<u16, MAX_CONNECTIONS>,
     /// Per slot: the last Class 3 reply, resent when a request is repeated.
     replies: [heapless::Vec<u8, MAX_EXPLICIT_CONNECTED>; MAX_CONNECTIONS],
+    /// Exclusive-owner connections closed by their watchdog so far (wrapping).
+    owner_timeouts: u32,
 }
 
 impl ConnectionTable {
@@ -33,6 +35,7 @@ impl ConnectionTable {
             next_id: seed,
             owned: heapless::Vec::new(),
             replies: [const { heapless::Vec::new() }; MAX_CONNECTIONS],
+            owner_timeouts: 0,
         }
     }
     /// Open connections with their slot numbers.
@@ -171,13 +174,22 @@ impl ConnectionTable {
     pub fn expire<D: Device>(&mut self, now: Instant, device: &mut D) -> usize {
         let mut closed = 0;
         for slot in 0..MAX_CONNECTIONS {
-            if self.get(slot).is_some_and(|c| c.expires <= now) {
+            let expired = self.get(slot).filter(|c| c.expires <= now);
+            if let Some(owner) = expired.map(|c| c.kind == Kind::ExclusiveOwner) {
                 warn!("connection {} timed out", slot);
+                if owner {
+                    self.owner_timeouts = self.owner_timeouts.wrapping_add(1);
+                }
                 self.close(slot, CloseReason::Timeout, device);
                 closed += 1;
             }
         }
         closed
+    }
+    /// Exclusive-owner connections closed by their watchdog since start-up (wrapping): what
+    /// the Network Status indicator shows as a connection timeout.
+    pub fn owner_timeouts(&self) -> u32 {
+        self.owner_timeouts
     }
     /// Closes the Class 3 connections of the session on socket `socket`.
     pub fn close_session<D: Device>(&mut self, socket: u8, device: &mut D) {
