@@ -53,7 +53,10 @@ fn identity_attributes_and_get_attributes_all() {
     assert_eq!((g, d), (0, vec![1, 0]));
     // Class-level Get_Attributes_All: attributes 1-7 in order, lists with their counts.
     let (g, _, d) = status(&h.request(0x01, &path(1, 0, None), &[]));
-    assert_eq!((g, d), (0, vec![1, 0, 1, 0, 1, 0, 1, 0, 8, 0, 0, 0, 7, 0, 8, 0]));
+    assert_eq!(
+        (g, d),
+        (0, vec![1, 0, 1, 0, 1, 0, 1, 0, 8, 0, 0, 0, 7, 0, 8, 0])
+    );
 }
 
 #[test]

@@ -467,3 +467,22 @@ fn class3_repeated_sequence_gets_cached_reply() {
     h.adapter.tcp_close(SocketId(0), Instant(0));
     assert!(h.adapter.connections().is_empty());
 }
+
+#[test]
+fn connection_manager_counts_requests_and_rejects() {
+    let mut h = Harness::new();
+    let path = io_path(None, 110, 100, None);
+    assert_eq!(open(&mut h, &fo(1, &path, 10_000)).0, 0);
+    assert_eq!(ext_of(&mut h, &fo(1, &path, 10_000)), (0x01, Some(0x0100)));
+    assert_eq!(status(&h.request(0x54, &cm_path(), &[1, 2, 3])).0, 0x13);
+    assert_eq!(close(&mut h, 9).0, 0x01);
+    assert_eq!(close(&mut h, 1).0, 0);
+    let all = [
+        Segment::Logical(LogicalType::Class, 6),
+        Segment::Logical(LogicalType::Instance, 1),
+    ];
+    let (g, _, d) = status(&h.request(0x01, &all, &[]));
+    assert_eq!(g, 0);
+    // open requests 3, format rejects 1, resource 0, other 1, close requests 2, 0, 1, timeouts 0
+    assert_eq!(d, vec![3, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 0, 1, 0, 0, 0]);
+}

@@ -233,3 +233,52 @@ fn cpppo_explicit_messaging() {
     cpppo_round(&rig, "default", &pattern(50));
     common::finish(rig);
 }
+
+#[test]
+#[ignore = "needs root, tshark and the Python peers"]
+fn get_attributes_all_of_every_object_dissects_cleanly() {
+    let rig = common::start("get_attributes_all");
+    let objects: [(u16, &[u16]); 6] = [
+        (1, &[0, 1]),
+        (2, &[0, 1]),
+        (4, &[0]),
+        (6, &[0]),
+        (0xF5, &[0, 1]),
+        (0xF6, &[0, 1]),
+    ];
+    let mut requests: Vec<Value> = objects
+        .iter()
+        .flat_map(|(class, instances)| {
+            instances
+                .iter()
+                .map(move |i| req(&format!("gaa.{class:x}.{i}"), 0x01, *class, *i, None))
+        })
+        .collect();
+    requests.push(req("getclear.4", 0x4C, 0xF6, 1, Some(4)));
+    requests.push(with_data(
+        req("gal", 0x03, 0xF5, 1, None),
+        &[3, 0, 1, 0, 8, 0, 13, 0],
+    ));
+    let input = json!({"host": BOARD_IP.to_string(), "requests": requests});
+    let out = peers::run(rig.ns(), "pycomm3_explicit.py", &input, PEER_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}\nboard log:\n{}", rig.board_log()));
+    for (class, instances) in objects {
+        for i in instances {
+            let data = ok(&out, &format!("gaa.{class:x}.{i}"));
+            if *i == 0 {
+                // Class attributes 1-7: revision, max instance, count, two lists, two maxima.
+                assert!(data.len() >= 14, "class {class:#x}: {data:?}");
+            }
+        }
+    }
+    assert_eq!(ok(&out, "getclear.4").len(), 44);
+    assert_eq!(
+        ok(&out, "gal"),
+        [
+            &[3, 0, 1, 0, 0, 0, 1, 0, 0, 0, 8, 0, 0, 0, 1, 13, 0, 0, 0][..],
+            &120u16.to_le_bytes()
+        ]
+        .concat()
+    );
+    common::finish(rig);
+}

@@ -1,7 +1,9 @@
 //! Connection Manager object (class 0x06): Forward_Open, Large_Forward_Open, Forward_Close,
 //! and Unconnected_Send addressed to this device.
 
-use super::router::{instance, no_instance, MAX_DEPTH};
+use super::attributes::{read_only, unsupported, Attributes};
+use super::class_info::ClassInfo;
+use super::router::{attribute_services, instance, no_instance, MAX_DEPTH};
 use super::status::{CipError, CipResult, General};
 use super::{service, Ctx, Request};
 use crate::config::IO_PORT;
@@ -20,19 +22,88 @@ const EXT_PORT_NOT_AVAILABLE: u16 = 0x0311;
 /// Extended status: the route path's link address is not this device.
 const EXT_LINK_ADDRESS_NOT_VALID: u16 = 0x0312;
 
+/// Connection Manager instance attributes 1-7: request and reject counters (wrapping).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Attribute 1: Forward_Open requests.
+    pub open_requests: u16,
+    /// Attribute 2: Forward_Opens rejected for their format.
+    pub open_format_rejects: u16,
+    /// Attribute 3: Forward_Opens rejected for lack of resources.
+    pub open_resource_rejects: u16,
+    /// Attribute 4: Forward_Opens rejected for any other reason.
+    pub open_other_rejects: u16,
+    /// Attribute 5: Forward_Close requests.
+    pub close_requests: u16,
+    /// Attribute 6: Forward_Closes rejected for their format.
+    pub close_format_rejects: u16,
+    /// Attribute 7: Forward_Closes rejected for any other reason.
+    pub close_other_rejects: u16,
+}
+
+fn bump(counter: &mut u16) {
+    *counter = counter.wrapping_add(1);
+}
+
+struct Instance<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+
+impl<D: Device> Attributes for Instance<'_, '_, D> {
+    fn get(&mut self, id: u16, w: &mut Writer<'_>) -> CipResult {
+        let c = self.0.state.connection_manager;
+        let value = match id {
+            1 => c.open_requests,
+            2 => c.open_format_rejects,
+            3 => c.open_resource_rejects,
+            4 => c.open_other_rejects,
+            5 => c.close_requests,
+            6 => c.close_format_rejects,
+            7 => c.close_other_rejects,
+            8 => self.0.connections.timeouts(),
+            _ => return Err(unsupported()),
+        };
+        w.u16(value)?;
+        Ok(())
+    }
+    fn set(&mut self, id: u16, _data: &[u8], _exact: bool) -> CipResult<usize> {
+        Err(if (1..=8).contains(&id) {
+            read_only()
+        } else {
+            unsupported()
+        })
+    }
+    fn all(&self) -> &'static [u16] {
+        &[1, 2, 3, 4, 5, 6, 7, 8]
+    }
+}
+
 /// Handles a request to the Connection Manager (Unconnected_Send is unwrapped by the router).
 pub(crate) fn handle<D: Device>(
     ctx: &mut Ctx<'_, D>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
-    if instance(req)? != 1 {
-        return Err(no_instance());
-    }
-    match req.service {
-        service::FORWARD_OPEN | service::LARGE_FORWARD_OPEN => forward_open(ctx, req, w),
-        service::FORWARD_CLOSE => forward_close(ctx, req.data, w),
-        _ => Err(General::ServiceNotSupported.into()),
+    match (instance(req)?, req.service) {
+        (0, _) => attribute_services(
+            &mut ClassInfo {
+                revision: 1,
+                max_instance: 1,
+                instances: 1,
+                optional_attributes: &[1, 2, 3, 4, 5, 6, 7, 8],
+                max_instance_attribute: 8,
+            },
+            req,
+            w,
+        ),
+        (1, service::FORWARD_OPEN | service::LARGE_FORWARD_OPEN) => {
+            bump(&mut ctx.state.connection_manager.open_requests);
+            forward_open(ctx, req, w)
+        }
+        (1, service::FORWARD_CLOSE) => {
+            bump(&mut ctx.state.connection_manager.close_requests);
+            forward_close(ctx, req.data, w)
+        }
+        (1, _) => attribute_services(&mut Instance(ctx), req, w),
+        _ => Err(no_instance()),
     }
 }
 
@@ -49,8 +120,12 @@ fn forward_open<D: Device>(
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
-    let fo = ForwardOpen::parse(req.data, req.service == service::LARGE_FORWARD_OPEN)
-        .map_err(data_error)?;
+    let counters = &mut ctx.state.connection_manager;
+    let fo =
+        ForwardOpen::parse(req.data, req.service == service::LARGE_FORWARD_OPEN).map_err(|e| {
+            bump(&mut counters.open_format_rejects);
+            data_error(e)
+        })?;
     let origin = ctx
         .origin
         .ok_or(CipError::new(General::ServiceNotSupported))?;
@@ -65,6 +140,12 @@ fn forward_open<D: Device>(
     let slot = match opened {
         Ok(slot) => slot,
         Err(e) => {
+            let c = &mut ctx.state.connection_manager;
+            bump(match e.extended() {
+                Some(ext::BAD_SEGMENT) => &mut c.open_format_rejects,
+                Some(ext::OUT_OF_CONNECTIONS) => &mut c.open_resource_rejects,
+                _ => &mut c.open_other_rejects,
+            });
             let remaining = if e.extended() == Some(ext::BAD_SEGMENT) {
                 (fo.path.len() / 2) as u8
             } else {
@@ -97,8 +178,12 @@ fn forward_open<D: Device>(
 }
 
 fn forward_close<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8], w: &mut Writer<'_>) -> CipResult {
-    let fc = ForwardClose::parse(data).map_err(data_error)?;
+    let fc = ForwardClose::parse(data).map_err(|e| {
+        bump(&mut ctx.state.connection_manager.close_format_rejects);
+        data_error(e)
+    })?;
     let Some(slot) = ctx.connections.find_triad(&fc.triad) else {
+        bump(&mut ctx.state.connection_manager.close_other_rejects);
         forward_open::emit_failure(w, &fc.triad, 0)?;
         return Err(CipError::connection(ext::NOT_FOUND).keeping_data());
     };

@@ -4,7 +4,7 @@ pub(crate) mod assembly;
 pub(crate) mod attributes;
 pub mod class_id;
 pub(crate) mod class_info;
-pub(crate) mod connection_manager;
+pub mod connection_manager;
 pub(crate) mod encoding;
 pub mod ethernet_link;
 pub(crate) mod identity;
@@ -32,6 +32,8 @@ pub struct ObjectState {
     pub tcpip: tcpip::TcpIpState,
     /// Ethernet Link object counters and settings.
     pub link: ethernet_link::LinkState,
+    /// Connection Manager request and reject counters.
+    pub connection_manager: connection_manager::Counters,
     /// A Reset service was accepted: its type, for the runtime to act on once replied.
     pub pending_reset: Option<u8>,
 }
@@ -42,6 +44,7 @@ impl ObjectState {
         ObjectState {
             tcpip: tcpip::TcpIpState::new(),
             link: ethernet_link::LinkState::new(),
+            connection_manager: connection_manager::Counters::default(),
             pending_reset: None,
         }
     }

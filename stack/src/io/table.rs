@@ -25,6 +25,7 @@ pub struct ConnectionTable {
     replies: [heapless::Vec<u8, MAX_EXPLICIT_CONNECTED>; MAX_CONNECTIONS],
     /// Exclusive-owner connections closed by their watchdog so far (wrapping).
     owner_timeouts: u32,
+    timeouts: u16,
 }
 
 impl ConnectionTable {
@@ -36,6 +37,7 @@ impl ConnectionTable {
             owned: heapless::Vec::new(),
             replies: [const { heapless::Vec::new() }; MAX_CONNECTIONS],
             owner_timeouts: 0,
+            timeouts: 0,
         }
     }
     /// Open connections with their slot numbers.
@@ -180,6 +182,7 @@ impl ConnectionTable {
                 if owner {
                     self.owner_timeouts = self.owner_timeouts.wrapping_add(1);
                 }
+                self.timeouts = self.timeouts.wrapping_add(1);
                 self.close(slot, CloseReason::Timeout, device);
                 closed += 1;
             }
@@ -190,6 +193,10 @@ impl ConnectionTable {
     /// the Network Status indicator shows as a connection timeout.
     pub fn owner_timeouts(&self) -> u32 {
         self.owner_timeouts
+    }
+    /// Connections of any kind closed by their watchdog (Connection Manager attribute 8).
+    pub fn timeouts(&self) -> u16 {
+        self.timeouts
     }
     /// Closes the Class 3 connections of the session on socket `socket`.
     pub fn close_session<D: Device>(&mut self, socket: u8, device: &mut D) {
