@@ -486,3 +486,15 @@ fn connection_manager_counts_requests_and_rejects() {
     // open requests 3, format rejects 1, resource 0, other 1, close requests 2, 0, 1, timeouts 0
     assert_eq!(d, vec![3, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 0, 1, 0, 0, 0]);
 }
+
+#[test]
+fn error_rpi_below_production_inhibit() {
+    let mut h = Harness::new();
+    // Change-of-state with a 20 ms inhibit time and a 10 ms RPI.
+    let path = [&[0x43u8, 20][..], &io_path(None, 110, 100, None)].concat();
+    let mut f = fo(1, &path, 10_000);
+    f.transport = 0x11;
+    assert_eq!(ext_of(&mut h, &f), (0x01, Some(0x011B)));
+    f.t_o_rpi = 20_000;
+    assert_eq!(open(&mut h, &f).0, 0);
+}
