@@ -3,8 +3,9 @@
 //! A board builds an [`embassy_net::Stack`], wraps a [`stack::Adapter`] over a device profile
 //! with [`share`], and awaits [`run`] next to the stack's runner:
 //!
-//! - [`run`] serves the three encapsulation TCP sockets and the UDP socket on port 44818, and
-//!   keeps the adapter's view of the interface current;
+//! - [`run`] serves the three encapsulation TCP sockets and the UDP socket on port 44818,
+//!   Class 1 I/O, keeps the adapter's view of the interface current, and runs the device's
+//!   own clock (`Device::poll`, e.g. a simulated drive's control tick);
 //! - [`profiles`] holds the device profiles and [`Profile`], which picks one by name;
 //! - [`Resources`] are the socket buffers, which the board places (usually in a `static`).
 #![no_std]
@@ -15,6 +16,7 @@
 mod fmt;
 
 mod clock;
+mod device_tick;
 mod io;
 mod netif;
 pub mod profiles;

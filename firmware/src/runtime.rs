@@ -1,15 +1,16 @@
 //! [`run`]: every socket future of the adapter, joined into one that never ends.
 
-use embassy_futures::join::{join4, join_array};
+use embassy_futures::join::{join5, join_array};
 use embassy_net::Stack;
 use stack::{Device, SocketId};
 
 use crate::resources::Resources;
 use crate::shared::SharedAdapter;
-use crate::{io, netif, tcp, udp};
+use crate::{device_tick, io, netif, tcp, udp};
 
 /// Runs the adapter on `net` forever: the encapsulation TCP sockets and UDP socket on port
-/// 44818, Class 1 I/O, and tracking of the interface configuration.
+/// 44818, Class 1 I/O, tracking of the interface configuration, and the device's own clock
+/// ([`Device::poll`], application-triggered production on input changes).
 ///
 /// `on_reset` is called with the Identity Reset type (0: power cycle, 1: factory defaults)
 /// once the reply accepting it has been sent; a board typically restarts there.
@@ -30,11 +31,12 @@ pub async fn run<D: Device>(
         tcp::serve(net, adapter, id, bufs, on_reset)
     });
     // Every joined future loops forever: the join never completes.
-    let (_, never, _, _) = join4(
+    let (_, never, _, _, _) = join5(
         join_array(sockets),
         udp::serve(net, adapter, udp),
         io::serve(net, adapter, io),
         netif::track(net, adapter),
+        device_tick::serve(adapter),
     )
     .await;
     never

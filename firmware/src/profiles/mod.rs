@@ -1,20 +1,26 @@
 //! Device profiles, and [`Profile`] to choose one by name at run time.
 
 pub mod generic;
+pub mod position_servo;
 
 use stack::cip::request::Request;
 use stack::cip::CipResult;
-use stack::device::ConnectionEvent;
+use stack::device::{ConnectionEvent, Multicast};
 use stack::wire::Writer;
 use stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 
 pub use generic::Generic;
+pub use position_servo::PositionServo;
 
 /// One of the device profiles, chosen at run time; implements [`Device`] by dispatch.
+// Without a heap the profiles are held by value; the enum lives in a `static` on the boards.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Profile {
     /// The OpENer sample application's assemblies ([`Generic`]).
     Generic(Generic),
+    /// The Lenze PositionServo drive ([`PositionServo`]).
+    PositionServo(PositionServo),
 }
 
 /// Runs `$body` with `$dev` bound to the profile's device.
@@ -22,18 +28,20 @@ macro_rules! dispatch {
     ($profile:expr, $dev:ident => $body:expr) => {
         match $profile {
             Profile::Generic($dev) => $body,
+            Profile::PositionServo($dev) => $body,
         }
     };
 }
 
 impl Profile {
     /// The names [`Profile::from_name`] accepts.
-    pub const NAMES: &'static [&'static str] = &["generic"];
+    pub const NAMES: &'static [&'static str] = &["generic", "position-servo"];
 
     /// The profile called `name` in its power-up state, if there is one.
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "generic" => Some(Profile::Generic(Generic::new())),
+            "position-servo" => Some(Profile::PositionServo(PositionServo::new())),
             _ => None,
         }
     }
@@ -42,6 +50,7 @@ impl Profile {
     pub const fn name(&self) -> &'static str {
         match self {
             Profile::Generic(_) => "generic",
+            Profile::PositionServo(_) => "position-servo",
         }
     }
 }
@@ -82,6 +91,15 @@ impl Device for Profile {
     }
     fn poll(&mut self, now: Instant) -> Option<Instant> {
         dispatch!(self, d => d.poll(now))
+    }
+    fn multicast(&self) -> Option<Multicast> {
+        dispatch!(self, d => d.multicast())
+    }
+    fn set_multicast(&mut self, multicast: Multicast) -> CipResult {
+        dispatch!(self, d => d.set_multicast(multicast))
+    }
+    fn change_of_state(&self) -> bool {
+        dispatch!(self, d => d.change_of_state())
     }
 }
 

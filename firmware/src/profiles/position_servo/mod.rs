@@ -1,0 +1,223 @@
+//! The Lenze (AC Tech) PositionServo drive, as its EtherNet/IP reference guide (P94ETH01D)
+//! describes it, with a simulated drive behind it.
+//!
+//! - [`identity`]: the Identity object, "EnetIP 940" (7.1).
+//! - [`variables`]: the variable table and the RAM copy; [`storage`]: the EPM copy.
+//! - [`system940`]: class 0x64, a variable per instance, attributes 0-5 (7.2).
+//! - [`assemblies`]: 103-109 (5.5) and the heartbeat points; [`datalinks`]: 5.4.
+//! - [`drive`]: the simulated drive, advanced by [`Device::poll`] every millisecond.
+//!
+//! Connections (5.1, table 9): cyclic and application-triggered, exclusive owner, input only
+//! and listen only; change-of-state is refused. An exclusive owner sets EXSTATUS bit 24
+//! (0x1000000); when the last one goes, the bit clears and the drive disables, as the
+//! application note of 8.4 has the drive's program do. Run/idle: the drive acts on output
+//! data in Run only (the stack ignores idle data) and does nothing else on Idle. The
+//! multicast TTL and address are variables 273/275 and TCP/IP attributes 8/9 at once.
+
+pub mod assemblies;
+pub mod datalinks;
+pub mod drive;
+pub mod identity;
+pub mod storage;
+pub mod system940;
+pub mod variables;
+
+#[cfg(test)]
+mod drive_tests;
+#[cfg(test)]
+mod eds;
+#[cfg(test)]
+mod tests;
+
+use core::net::Ipv4Addr;
+
+use stack::cip::request::Request;
+use stack::cip::tcpip::MulticastConfig;
+use stack::cip::{CipResult, General};
+use stack::device::{ConnectionEvent, Multicast};
+use stack::wire::Writer;
+use stack::{AssemblyInfo, Device, IdentityInfo, Instant};
+
+use drive::{Drive, MoveKind, Settings};
+use storage::{EpmStorage, RamEpm};
+use variables::{id, Value, Variables, DEFAULT_MULTICAST};
+
+/// The PositionServo: variables, their EPM copy in `S`, and the simulated drive.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PositionServo<S: EpmStorage = RamEpm> {
+    vars: Variables,
+    drive: Drive,
+    epm: S,
+}
+
+impl PositionServo<RamEpm> {
+    /// A drive at power-up with an empty EPM (every variable at its default).
+    pub fn new() -> Self {
+        Self::with_storage(RamEpm::new())
+    }
+}
+
+impl Default for PositionServo<RamEpm> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<S: EpmStorage> PositionServo<S> {
+    /// A drive at power-up whose variables start from the EPM copy in `epm`.
+    pub fn with_storage(epm: S) -> Self {
+        let mut servo = PositionServo {
+            vars: Variables::power_up(&epm),
+            drive: Drive::new(),
+            epm,
+        };
+        servo.drive.publish(&mut servo.vars);
+        servo
+    }
+
+    /// The RAM copy of the variables.
+    pub fn variables(&self) -> &Variables {
+        &self.vars
+    }
+
+    /// The EPM storage.
+    pub fn storage(&self) -> &S {
+        &self.epm
+    }
+
+    /// Writes `value` to variable `id`: the RAM copy, and with `epm` the EPM copy as well.
+    /// Writes with an action (enable, moves) act at once; the drive's read-only variables
+    /// are refreshed.
+    pub fn write(&mut self, id: u16, value: Value, epm: bool) -> CipResult {
+        let (_, var) = variables::find(id).ok_or(General::ObjectDoesNotExist)?;
+        var.writable(epm)?;
+        let raw = var.encode(value)?;
+        self.act(id, raw)?;
+        if epm {
+            self.epm
+                .store(id, raw)
+                .map_err(|_| General::ResourceUnavailable)?;
+        }
+        self.vars.set(id, raw);
+        self.drive.publish(&mut self.vars);
+        Ok(())
+    }
+
+    /// The action a write of `raw` to `id` starts, if any; an error refuses the write.
+    fn act(&mut self, id: u16, raw: u32) -> CipResult {
+        let settings = Settings::from_vars(&self.vars);
+        let amount = f32::from_bits(raw);
+        match id {
+            id::ENABLE => self.drive.set_enable(raw != 0),
+            id::DRIVE_MODE if self.drive.enabled() && raw != self.vars.raw(id) => {
+                return Err(General::DeviceStateConflict.into())
+            }
+            id::MOVED => self
+                .drive
+                .start_move(MoveKind::Relative, amount, false, &settings)?,
+            id::MOVEP => self
+                .drive
+                .start_move(MoveKind::Absolute, amount, false, &settings)?,
+            id::MOVEDS => self
+                .drive
+                .start_move(MoveKind::Relative, amount, true, &settings)?,
+            id::MOVEPS => self
+                .drive
+                .start_move(MoveKind::Absolute, amount, true, &settings)?,
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// Power-up again from the EPM copy, keeping what the network state says (ownership).
+    fn restart(&mut self) {
+        let owned = self.drive.exstatus() != 0;
+        self.vars = Variables::power_up(&self.epm);
+        self.drive = Drive::new();
+        self.drive.set_owned(owned);
+        self.drive.publish(&mut self.vars);
+    }
+}
+
+impl<S: EpmStorage> Device for PositionServo<S> {
+    fn identity(&self) -> &IdentityInfo {
+        &identity::IDENTITY
+    }
+
+    fn assemblies(&self) -> &[AssemblyInfo] {
+        &assemblies::INFOS
+    }
+
+    fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
+        assemblies::read(&self.vars, instance, out)
+    }
+
+    fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
+        assemblies::write(self, instance, data)
+    }
+
+    fn vendor_classes(&self) -> &[u16] {
+        &[system940::CLASS]
+    }
+
+    fn handle_request(&mut self, req: &Request<'_>, reply: &mut Writer<'_>) -> Option<CipResult> {
+        (req.path.class == Some(system940::CLASS.into()))
+            .then(|| system940::handle(self, req, reply))
+    }
+
+    /// 0 restarts from the EPM copy (a power cycle); 1 also erases the EPM (factory
+    /// defaults).
+    fn reset(&mut self, kind: u8) -> CipResult {
+        if kind == 1 {
+            self.epm.clear();
+        }
+        self.restart();
+        Ok(())
+    }
+
+    fn connection_event(&mut self, event: ConnectionEvent) {
+        match event {
+            ConnectionEvent::OwnershipGained => self.drive.set_owned(true),
+            ConnectionEvent::OwnershipLost(_) => {
+                self.drive.set_owned(false);
+                self.drive.disable();
+            }
+            ConnectionEvent::RunIdle(_) => {}
+        }
+        self.drive.publish(&mut self.vars);
+    }
+
+    fn poll(&mut self, now: Instant) -> Option<Instant> {
+        Some(self.drive.poll(now, &mut self.vars))
+    }
+
+    /// Variables 273 (TTL) and 275 (address); Num Mcast is always 1 (2.2.1). The address is
+    /// "automatically generated" (alloc control 0) while it is the default 239.192.15.32.
+    fn multicast(&self) -> Option<Multicast> {
+        let start = self.vars.raw(id::MULTICAST_ADDRESS);
+        Some(Multicast {
+            ttl: u8::try_from(self.vars.raw(id::MULTICAST_TTL)).unwrap_or(1),
+            config: MulticastConfig {
+                alloc_control: u8::from(start != DEFAULT_MULTICAST),
+                num_mcast: 1,
+                start: Ipv4Addr::from(start),
+            },
+        })
+    }
+
+    /// TCP/IP attributes 8/9 write variables 273/275, RAM and EPM (the attributes are
+    /// non-volatile). Alloc control 0 restores the default address; 1 needs Num Mcast 1.
+    fn set_multicast(&mut self, m: Multicast) -> CipResult {
+        let address = match m.config.alloc_control {
+            0 => DEFAULT_MULTICAST,
+            _ if m.config.num_mcast == 1 => u32::from(m.config.start),
+            _ => return Err(General::InvalidAttributeValue.into()),
+        };
+        self.write(id::MULTICAST_TTL, Value::Integer(m.ttl.into()), true)?;
+        self.write(id::MULTICAST_ADDRESS, Value::Integer(address), true)
+    }
+
+    fn change_of_state(&self) -> bool {
+        false
+    }
+}
