@@ -32,6 +32,15 @@ pub(crate) const fn read_only() -> CipError {
     CipError::new(General::AttributeNotSettable)
 }
 
+/// Error for a Set on an object whose attributes `1..=last` are all read-only.
+pub(crate) fn read_only_up_to(id: u16, last: u16) -> CipError {
+    if (1..=last).contains(&id) {
+        read_only()
+    } else {
+        unsupported()
+    }
+}
+
 /// Error for an attribute that does not exist.
 pub(crate) const fn unsupported() -> CipError {
     CipError::new(General::AttributeNotSupported)

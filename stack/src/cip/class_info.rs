@@ -1,6 +1,6 @@
 //! Class-level (instance 0) attributes 1-7, shared by every object.
 
-use super::attributes::{read_only, unsupported, Attributes};
+use super::attributes::{read_only_up_to, unsupported, Attributes};
 use super::status::CipResult;
 use crate::wire::Writer;
 
@@ -38,11 +38,7 @@ impl Attributes for ClassInfo {
         Ok(())
     }
     fn set(&mut self, id: u16, _data: &[u8], _exact: bool) -> CipResult<usize> {
-        Err(if (1..=7).contains(&id) {
-            read_only()
-        } else {
-            unsupported()
-        })
+        Err(read_only_up_to(id, 7))
     }
     fn all(&self) -> &'static [u16] {
         &[1, 2, 3, 4, 5, 6, 7]

@@ -1,7 +1,7 @@
 //! Connection Manager object (class 0x06): Forward_Open, Large_Forward_Open, Forward_Close,
 //! and Unconnected_Send addressed to this device.
 
-use super::attributes::{read_only, unsupported, Attributes};
+use super::attributes::{read_only_up_to, unsupported, Attributes};
 use super::class_info::ClassInfo;
 use super::router::{attribute_services, instance, no_instance, MAX_DEPTH};
 use super::status::{CipError, CipResult, General};
@@ -65,11 +65,7 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
         Ok(())
     }
     fn set(&mut self, id: u16, _data: &[u8], _exact: bool) -> CipResult<usize> {
-        Err(if (1..=8).contains(&id) {
-            read_only()
-        } else {
-            unsupported()
-        })
+        Err(read_only_up_to(id, 8))
     }
     fn all(&self) -> &'static [u16] {
         &[1, 2, 3, 4, 5, 6, 7, 8]

@@ -1,6 +1,6 @@
 //! Identity object (class 0x01): who the device is, its status, and the Reset service.
 
-use super::attributes::{read_only, unsupported, Attributes};
+use super::attributes::{read_only_up_to, unsupported, Attributes};
 use super::class_info::ClassInfo;
 use super::encoding::short_string;
 use super::router::{attribute_services, instance, no_instance};
@@ -31,11 +31,7 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
         Ok(())
     }
     fn set(&mut self, id: u16, _data: &[u8], _exact: bool) -> CipResult<usize> {
-        Err(if (1..=8).contains(&id) {
-            read_only()
-        } else {
-            unsupported()
-        })
+        Err(read_only_up_to(id, 8))
     }
     fn all(&self) -> &'static [u16] {
         &[1, 2, 3, 4, 5, 6, 7]

@@ -1,6 +1,6 @@
 //! Message Router object (class 0x02): its object list, and Multiple_Service_Packet.
 
-use super::attributes::{read_only, unsupported, Attributes};
+use super::attributes::{read_only_up_to, unsupported, Attributes};
 use super::class_info::ClassInfo;
 use super::router::{attribute_services, instance, no_instance, respond, MAX_DEPTH};
 use super::status::{CipError, CipResult, General};
@@ -37,11 +37,7 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
         Ok(())
     }
     fn set(&mut self, id: u16, _data: &[u8], _exact: bool) -> CipResult<usize> {
-        Err(if (1..=2).contains(&id) {
-            read_only()
-        } else {
-            unsupported()
-        })
+        Err(read_only_up_to(id, 2))
     }
     fn all(&self) -> &'static [u16] {
         &[1, 2]
