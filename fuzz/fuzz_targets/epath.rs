@@ -22,21 +22,7 @@ fn canonical(path: &[u8]) -> (Vec<u8>, Vec<Segment<'_>>) {
     (out, segments)
 }
 
-/// KNOWN ISSUE in `stack` (reported, not fixed here): a port segment in the extended form
-/// `0F <u16 port> ...` with port number 0 parses as `Port { port: 0 }`, which emits as `00 ..`
-/// and no longer parses (minimal input `0f 00 00 00`). Until `Segment::parse_port` rejects an
-/// extended port number of 0 (or below 0x0F), such inputs are skipped; set this to `false`
-/// once it does.
-const SKIP_KNOWN_PORT_0_ISSUE: bool = true;
-
 fuzz_target!(|data: &[u8]| {
-    if SKIP_KNOWN_PORT_0_ISSUE
-        && Segments::new(data)
-            .map_while(Result::ok)
-            .any(|s| matches!(s, Segment::Port { port: 0, .. }))
-    {
-        return;
-    }
     let (bytes, first) = canonical(data);
     let reparsed: Vec<_> = Segments::new(&bytes).collect();
     assert!(

@@ -143,7 +143,10 @@ impl<'a> Segment<'a> {
             0 => return Err(Error::Malformed),
             0x0F => {
                 consumed += 2;
-                r.u16()?
+                match r.u16()? {
+                    0 => return Err(Error::Malformed),
+                    p => p,
+                }
             }
             p => u16::from(p),
         };
