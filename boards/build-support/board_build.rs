@@ -58,7 +58,8 @@ fn link_with_own_memory_map(memory_x: &str) {
     println!("cargo:rustc-link-arg-bins=-Tboard-link.x");
 }
 
-/// The newest `link.x` written by a cortex-m-rt build script next to this one.
+/// The newest `link.x` written by a cortex-m-rt build script next to this one, among those
+/// built without the `device` feature (the other boards' builds have it; this one does not).
 fn cortex_m_rt_link_x() -> PathBuf {
     let out = out_dir();
     let build = out
@@ -70,6 +71,7 @@ fn cortex_m_rt_link_x() -> PathBuf {
         .filter_map(Result::ok)
         .filter(|e| e.file_name().to_string_lossy().starts_with("cortex-m-rt-"))
         .map(|e| e.path().join("out/link.x"))
+        .filter(|p| fs::read_to_string(p).is_ok_and(|s| !s.contains("INCLUDE device.x")))
         .filter_map(|p| Some((fs::metadata(&p).ok()?.modified().ok()?, p)))
         .max()
         .map(|(_, p)| p)
@@ -115,18 +117,36 @@ fn network_settings(default_cidr: &str) {
     fs::write(out_dir().join("network.rs"), code).expect("OUT_DIR is writable");
 }
 
-/// Sets `ENIP_PROFILE` for the crate to the profile chosen by a `profile-NAME` feature
-/// (`profile-generic` when no other is enabled; two others are an error).
+/// Writes `OUT_DIR/profile.rs` for the profile chosen by a `profile-NAME` feature
+/// (`profile-generic` when no other is enabled; two others are an error): the constant
+/// `NAME` and the type alias `Chosen` for `firmware::profiles::<Name in CamelCase>`, which
+/// has a `new()` power-up constructor. The board links that one profile only (the run-time
+/// `firmware::Profile` would link them all).
 fn profile_from_features() {
     let mut chosen: Vec<String> = env::vars()
         .filter_map(|(k, _)| k.strip_prefix(PROFILE_FEATURE).map(str::to_string))
         .map(|f| f.to_lowercase().replace('_', "-"))
         .filter(|p| p != DEFAULT_PROFILE)
         .collect();
-    let profile = match chosen.len() {
+    let name = match chosen.len() {
         0 => DEFAULT_PROFILE.to_string(),
         1 => chosen.remove(0),
         _ => panic!("enable one profile-* feature, not {chosen:?}"),
     };
-    println!("cargo:rustc-env=ENIP_PROFILE={profile}");
+    let camel: String = name
+        .split('-')
+        .map(|w| {
+            let mut c = w.chars();
+            c.next()
+                .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
+                .unwrap_or_default()
+        })
+        .collect();
+    let code = format!(
+        "/// The device profile's name (feature `profile-{name}`).\n\
+         pub const NAME: &str = \"{name}\";\n\
+         /// The device profile.\n\
+         pub type Chosen = firmware::profiles::{camel};\n"
+    );
+    fs::write(out_dir().join("profile.rs"), code).expect("OUT_DIR is writable");
 }

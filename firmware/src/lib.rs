@@ -7,7 +7,8 @@
 //!   Class 1 I/O, keeps the adapter's view of the interface current, and runs the device's
 //!   own clock (`Device::poll`, e.g. a simulated drive's control tick);
 //! - [`profiles`] holds the device profiles and [`Profile`], which picks one by name;
-//! - [`Resources`] are the socket buffers, which the board places (usually in a `static`).
+//! - [`Resources`] are the socket buffers, which the board places (usually in a `static`);
+//! - [`indicators`] shows the ODVA Module and Network Status on the board's LEDs.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -17,6 +18,7 @@ mod fmt;
 
 mod clock;
 mod device_tick;
+pub mod indicators;
 mod io;
 mod netif;
 pub mod profiles;

@@ -26,6 +26,7 @@ const TAP_SECONDS: u32 = 60;
 
 /// Runs every benchmark and writes the report.
 pub fn run_all() -> Result {
+    crate::footprint::footprint()?;
     run(cargo().args([
         "build",
         "--release",

@@ -1,10 +1,17 @@
-//! `cargo xtask demo`: the host board in a private network namespace, and a scanner reading
-//! its identity and live input data.
+//! `cargo xtask demo`: the emulated board (QEMU mps2-an386, or with `--host` the Linux host
+//! board) in a private network namespace, its identity, and a live view of Class 1 I/O.
 //!
-//! Layout: namespace `enip-demo` holds TAP `enipdemo0` with 198.18.0.1/24 (the scanner's
-//! side); `enip-host`, started inside the namespace, opens that TAP as its NIC and is
-//! 198.18.0.2/24. Nothing leaves the namespace. Everything is torn down on success, failure
-//! and Ctrl-C.
+//! Layout: namespace `enip-demo` holds TAP `enipdemo0` with 198.18.0.1/24 (the scanners'
+//! side); the board is 198.18.0.2/24 on it. The demo shows:
+//!
+//! 1. the Identity object, read by pycomm3;
+//! 2. Class 1 data: an `ethernetip` exclusive owner changes its output once a second and
+//!    prints the input the board produces (the generic profile echoes it);
+//! 3. Class 1 timing: the project's `scanner` CLI, one connection per second-long round,
+//!    printing packets sent and received and the T->O intervals of each round.
+//!
+//! Nothing leaves the namespace; everything is torn down on success, failure and Ctrl-C,
+//! and the whole demo is bounded in time.
 
 use std::fs;
 use std::path::Path;
@@ -12,215 +19,241 @@ use std::process::{Child, Command, Stdio};
 use std::thread::sleep;
 use std::time::{Duration, Instant};
 
+use crate::boards;
+use crate::json;
+use crate::netns::{Lab, BOARD_CIDR, BOARD_IP};
+use crate::qemu::{self, Qemu};
 use crate::setup;
-use crate::util::{self, err, interrupted, run, run_quiet, Result};
+use crate::util::{self, err, interrupted, run, Result};
 
-/// The namespace the demo creates (and deletes).
-const NETNS: &str = "enip-demo";
-/// The TAP device inside it.
-const TAP: &str = "enipdemo0";
-/// The namespace side of the link.
-const SCANNER_CIDR: &str = "198.18.0.1/24";
-/// The adapter's address.
-const ADAPTER_IP: &str = "198.18.0.2";
-/// The device profile the host board runs.
+/// Which board the demo runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Board {
+    /// The emulated Cortex-M (the default).
+    Qemu,
+    /// The Linux host board.
+    Host,
+}
+
+/// The device profile the board runs.
 const PROFILE: &str = "generic";
-/// The longest the scanner may take before the demo gives up.
-const SCANNER_TIMEOUT: Duration = Duration::from_secs(60);
-
-/// The scanner: pycomm3 explicit messaging (unconnected) against the adapter.
-const SCANNER: &str = r#"
-import socket, struct, sys, time
-from pycomm3 import CIPDriver, Services
-
-ip = sys.argv[1]
-deadline = time.monotonic() + 15
-while True:  # bounded: wait at most 15 s for the adapter to listen
-    try:
-        socket.create_connection((ip, 44818), timeout=0.5).close()
-        break
-    except OSError:
-        if time.monotonic() > deadline:
-            sys.exit(f"adapter at {ip}:44818 did not come up")
-        time.sleep(0.25)
-
-def get(d, cls, inst, attr):
-    # Attribute ids as bytes: pycomm3 drops an integer attribute 0 otherwise.
-    r = d.generic_message(service=Services.get_attribute_single, class_code=cls,
-                          instance=inst, attribute=bytes([attr]), connected=False,
-                          unconnected_send=False, route_path=False, name=f"{cls}/{inst}/{attr}")
-    if r.error:
-        sys.exit(f"Get_Attribute_Single {cls:#x}/{inst}/{attr} failed: {r.error}")
-    return r.value
-
-with CIPDriver(ip) as d:
-    print(f"scanner: session open with {ip}")
-    u16 = lambda b: struct.unpack("<H", b[:2])[0]
-    rows = [
-        ("Vendor ID", lambda b: f"{u16(b)}"),
-        ("Device type", lambda b: f"{u16(b):#06x}"),
-        ("Product code", lambda b: f"{u16(b)}"),
-        ("Revision", lambda b: f"{b[0]}.{b[1]:03d}"),
-        ("Status", lambda b: f"{u16(b):#06x}"),
-        ("Serial number", lambda b: f"{struct.unpack('<I', b[:4])[0]:#010x}"),
-        ("Product name", lambda b: b[1:1 + b[0]].decode("ascii", "replace")),
-    ]
-    print("Identity (class 0x01, instance 1):")
-    for attr, (name, fmt) in enumerate(rows, start=1):
-        print(f"  {attr}  {name:<14} {fmt(get(d, 0x01, 1, attr))}")
-    print("Input assembly 100 (explicit Get_Attribute_Single of attribute 3, once a second):")
-    for i in range(5):
-        data = get(d, 0x04, 100, 3)
-        print(f"  t={i}s  {len(data):3d} bytes  {data.hex(' ')}")
-        time.sleep(1)
-    # CLASS 1 VIEW: a Forward_Open exclusive-owner connection and the live T->O stream
-    # (RPI, sequence counts, data) go here once the stack has Class 1 I/O.
-print("scanner: done")
-"#;
+/// The pycomm3 identity reader.
+const IDENTITY: &str = include_str!("../scripts/demo_identity.py");
+/// The `ethernetip` live data view.
+const LIVE_DATA: &str = include_str!("../scripts/demo_live_data.py");
+/// Live data: RPI in ms and seconds.
+const DATA_RPI_MS: u32 = 10;
+const DATA_SECONDS: u32 = 5;
+/// Live timing: rounds of the scanner, each one connection for one second at this RPI.
+const TIMING_ROUNDS: u32 = 5;
+const TIMING_RPI_US: u32 = 2_000;
+/// The longest any one scanner step may take.
+const STEP_TIMEOUT: Duration = Duration::from_secs(60);
+/// The longest the host board may take to listen.
+const HOST_BOOT_TIMEOUT: Duration = Duration::from_secs(15);
 
 /// Runs the demo; the namespace and every child are gone when it returns.
-pub fn run_demo() -> Result {
-    if !util::is_root() {
-        return err("demo: network namespaces need root; run it as root (or with sudo)");
-    }
+pub fn run_demo(board: Board) -> Result {
+    qemu::require_root("demo")?;
     util::catch_interrupts();
     if !util::have("ip") {
         setup::apt_install(&["iproute2"])?;
     }
     setup::python_peers()?;
-    run(util::cargo().args(["build", "-p", "enip-host"]))?;
-    let host_bin = util::target_dir().join("debug/enip-host");
     let log_dir = util::target_dir().join("demo");
     fs::create_dir_all(&log_dir)?;
-    let log = log_dir.join("enip-host.log");
+    let image = match board {
+        Board::Qemu => {
+            setup::rust_target()?;
+            qemu::ensure_installed()?;
+            boards::build(boards::QEMU, PROFILE)?
+        }
+        Board::Host => {
+            run(util::cargo().args(["build", "-p", "enip-host"]))?;
+            util::target_dir().join("debug/enip-host")
+        }
+    };
+    run(util::cargo().args(["build", "--release", "-p", "host-tests", "--bin", "scanner"]))?;
 
-    let mut demo = Demo { host: None };
-    let result = demo.run(&host_bin, &log);
-    drop(demo); // tears down, as it also would on a panic
+    let lab = Lab::create("enip-demo", "enipdemo0")?;
+    let mut running = match board {
+        Board::Qemu => Running::Qemu(Qemu::boot(&lab, &image, &log_dir.join("board.log"))?),
+        Board::Host => Running::Host(HostBoard::start(
+            &lab,
+            &image,
+            &log_dir.join("enip-host.log"),
+        )?),
+    };
+    println!(
+        "demo: the board runs profile {PROFILE} at {BOARD_CIDR} in namespace {}\n",
+        lab.name
+    );
+    let result = show(&lab, &mut running);
     if result.is_err() {
-        print_log(&log);
+        running.print_log_tail();
+    }
+    drop(running);
+    drop(lab);
+    println!("demo: torn down (board stopped, namespace enip-demo deleted)");
+    result
+}
+
+/// The three parts of the demo, each watched for Ctrl-C and the board's health.
+fn show(lab: &Lab, board: &mut Running) -> Result {
+    let python = setup::venv_python();
+    let python = python.to_string_lossy();
+    supervise(lab.command(&python).args(["-c", IDENTITY, BOARD_IP]), board)?;
+    println!();
+    supervise(
+        lab.command(&python).args([
+            "-c",
+            LIVE_DATA,
+            BOARD_IP,
+            &DATA_RPI_MS.to_string(),
+            &DATA_SECONDS.to_string(),
+        ]),
+        board,
+    )?;
+    println!(
+        "\nClass 1 timing (the project's scanner, one connection per 1 s round, RPI {} ms):",
+        f64::from(TIMING_RPI_US) / 1000.0
+    );
+    let scanner = util::target_dir().join("release/scanner");
+    let json_path = util::target_dir().join("demo/scanner.json");
+    for round in 1..=TIMING_ROUNDS {
+        let mut cmd = lab.command(&scanner.to_string_lossy());
+        cmd.args(["--target", BOARD_IP, "--connections", "1"])
+            .args(["--rpi-us", &TIMING_RPI_US.to_string(), "--seconds", "1"])
+            .args(["--json", &json_path.to_string_lossy()])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null());
+        supervise(&mut cmd, board)?;
+        let out = fs::read_to_string(&json_path)?;
+        let n = |k| json::number(&out, k).unwrap_or(0);
+        println!(
+            "  round {round}: sent {:4} O->T, received {:4} T->O (expected {}), lost {}, \
+             interval p50 {:5} us  p99 {:5} us  max {:5} us",
+            n("sent"),
+            n("received"),
+            n("expected_per_connection"),
+            n("lost"),
+            n("p50_us"),
+            n("p99_us"),
+            n("max_us")
+        );
+    }
+    Ok(())
+}
+
+/// Runs `cmd` to completion, bounded in time, while the board stays up; Ctrl-C stops it.
+fn supervise(cmd: &mut Command, board: &mut Running) -> Result {
+    let mut child = cmd.stdin(Stdio::null()).spawn()?;
+    let start = Instant::now();
+    let result = loop {
+        if let Some(status) = child.try_wait()? {
+            break if status.success() {
+                Ok(())
+            } else {
+                err(format!("`{}` failed ({status})", util::show(cmd)))
+            };
+        }
+        if let Err(e) = board.check_alive() {
+            break Err(e);
+        }
+        if interrupted() {
+            break err("interrupted");
+        }
+        if start.elapsed() > STEP_TIMEOUT {
+            break err(format!(
+                "`{}` still running after {STEP_TIMEOUT:?}",
+                util::show(cmd)
+            ));
+        }
+        sleep(Duration::from_millis(50));
+    };
+    if child.try_wait().ok().flatten().is_none() {
+        let _ = child.kill();
+        let _ = child.wait();
     }
     result
 }
 
-/// What the demo started; dropping it removes it all.
-struct Demo {
-    host: Option<Child>,
+/// The board the demo started.
+enum Running {
+    Qemu(Qemu),
+    Host(HostBoard),
 }
 
-impl Demo {
-    fn run(&mut self, host_bin: &Path, log: &Path) -> Result {
-        // A namespace left by an earlier run that was killed hard goes first.
-        delete_netns();
-        run(Command::new("ip").args(["netns", "add", NETNS]))?;
-        in_netns(&["ip", "link", "set", "lo", "up"])?;
-        in_netns(&["ip", "tuntap", "add", "dev", TAP, "mode", "tap"])?;
-        in_netns(&["ip", "addr", "add", SCANNER_CIDR, "dev", TAP])?;
-        in_netns(&["ip", "link", "set", TAP, "up"])?;
+impl Running {
+    fn check_alive(&mut self) -> Result {
+        match self {
+            Running::Qemu(q) => q.check_alive(),
+            Running::Host(h) => h.check_alive(),
+        }
+    }
 
+    fn print_log_tail(&self) {
+        match self {
+            Running::Qemu(q) => q.print_log_tail(30),
+            Running::Host(h) => h.print_log_tail(),
+        }
+    }
+}
+
+/// `enip-host` inside the lab; stopped when dropped.
+struct HostBoard {
+    child: Child,
+    log: std::path::PathBuf,
+}
+
+impl HostBoard {
+    /// Starts `bin` on the lab's TAP and waits until it listens.
+    fn start(lab: &Lab, bin: &Path, log: &Path) -> Result<HostBoard> {
         let file = fs::File::create(log)?;
-        let mut host = Command::new("ip");
-        host.args(["netns", "exec", NETNS])
-            .arg(host_bin)
-            .args(["--tap", TAP, "--ip", &format!("{ADAPTER_IP}/24")])
-            .args(["--profile", PROFILE])
+        let mut cmd = lab.command(&bin.to_string_lossy());
+        cmd.args(["--tap", &lab.tap, "--ip", BOARD_CIDR, "--profile", PROFILE])
             .stdin(Stdio::null())
             .stdout(file.try_clone()?)
             .stderr(file);
-        println!("$ {}  (log: {})", util::show(&host), log.display());
-        self.host = Some(host.spawn()?);
-
-        let mut scanner = Command::new("ip");
-        scanner
-            .args(["netns", "exec", NETNS])
-            .arg(setup::venv_python())
-            .args(["-c", SCANNER, ADAPTER_IP])
-            .stdin(Stdio::null());
-        println!(
-            "$ ip netns exec {NETNS} {} -c <scanner> {ADAPTER_IP}",
-            setup::venv_python().display()
-        );
-        let mut scanner = scanner.spawn()?;
-        let result = self.supervise(&mut scanner);
-        if scanner.try_wait().ok().flatten().is_none() {
-            let _ = scanner.kill();
-            let _ = scanner.wait();
-        }
-        result
-    }
-
-    /// Waits for the scanner, bounded in time, while watching the host board stays up.
-    fn supervise(&mut self, scanner: &mut Child) -> Result {
+        println!("$ {}  (log: {})", util::show(&cmd), log.display());
+        let mut host = HostBoard {
+            child: cmd.spawn()?,
+            log: log.to_path_buf(),
+        };
         let start = Instant::now();
-        loop {
-            if let Some(status) = scanner.try_wait()? {
-                return if status.success() {
-                    Ok(())
-                } else {
-                    err(format!("scanner failed ({status})"))
-                };
-            }
-            if let Some(host) = self.host.as_mut() {
-                if let Some(status) = host.try_wait()? {
-                    return err(format!("enip-host exited early ({status})"));
-                }
-            }
-            if interrupted() {
-                return err("interrupted");
-            }
-            if start.elapsed() > SCANNER_TIMEOUT {
-                return err(format!("scanner still running after {SCANNER_TIMEOUT:?}"));
+        while !fs::read_to_string(log)
+            .unwrap_or_default()
+            .contains("listening on")
+        {
+            host.check_alive()?;
+            if start.elapsed() > HOST_BOOT_TIMEOUT || interrupted() {
+                return err("enip-host did not come up");
             }
             sleep(Duration::from_millis(100));
         }
+        Ok(host)
     }
 
-    /// Stops the host board (SIGTERM, then SIGKILL after 3 s) and deletes the namespace.
-    fn teardown(&mut self) {
-        if let Some(mut host) = self.host.take() {
-            if host.try_wait().ok().flatten().is_none() {
-                let _ = run_quiet(Command::new("kill").args(["-TERM", &host.id().to_string()]));
-                let start = Instant::now();
-                while host.try_wait().ok().flatten().is_none() && start.elapsed().as_secs() < 3 {
-                    sleep(Duration::from_millis(50));
-                }
-                let _ = host.kill();
-            }
-            let _ = host.wait();
+    fn check_alive(&mut self) -> Result {
+        match self.child.try_wait()? {
+            Some(status) => err(format!("enip-host exited ({status})")),
+            None => Ok(()),
         }
-        delete_netns();
-        println!("demo: torn down (namespace {NETNS} deleted, host board stopped)");
+    }
+
+    fn print_log_tail(&self) {
+        let text = fs::read_to_string(&self.log).unwrap_or_default();
+        let lines: Vec<&str> = text.lines().collect();
+        println!("--- last lines of {} ---", self.log.display());
+        for l in lines.iter().skip(lines.len().saturating_sub(30)) {
+            println!("  | {l}");
+        }
     }
 }
 
-impl Drop for Demo {
+impl Drop for HostBoard {
     fn drop(&mut self) {
-        self.teardown();
-    }
-}
-
-fn in_netns(args: &[&str]) -> Result {
-    run(Command::new("ip").args(["netns", "exec", NETNS]).args(args))
-}
-
-/// Deletes the demo namespace and its TAP if they exist.
-fn delete_netns() {
-    let exists = util::output(Command::new("ip").args(["netns", "list"])).is_some_and(|l| {
-        l.lines()
-            .any(|n| n.split_whitespace().next() == Some(NETNS))
-    });
-    if exists {
-        let _ =
-            run_quiet(Command::new("ip").args(["netns", "exec", NETNS, "ip", "link", "del", TAP]));
-        let _ = run_quiet(Command::new("ip").args(["netns", "del", NETNS]));
-    }
-}
-
-fn print_log(log: &Path) {
-    let text = fs::read_to_string(log).unwrap_or_default();
-    let lines: Vec<&str> = text.lines().collect();
-    println!("--- last lines of {} ---", log.display());
-    for l in lines.iter().skip(lines.len().saturating_sub(30)) {
-        println!("  | {l}");
+        let _ = self.child.kill();
+        let _ = self.child.wait();
     }
 }

@@ -4,14 +4,22 @@
 //!   packages, pinned Python and npm peers under `target/`).
 //! - `test`: the whole suite, stopping at the first failure, with a summary.
 //! - `fuzz [--seconds N]`: every fuzz target for N seconds (default 60).
-//! - `demo`: the host board in a network namespace, read by a scanner.
-//! - `bench`: benchmarks, written to `target/bench/report.json`.
+//! - `qemu [--profile NAME]`: the emulated board (QEMU mps2-an386) in a network namespace.
+//! - `demo [--host]`: the emulated board (or the host board) read by scanners: identity and
+//!   a live Class 1 view.
+//! - `bench`: benchmarks, written to `target/bench/report.json`, and the boards' footprint,
+//!   written to `target/bench/footprint.json`.
 
 mod bench;
+mod boards;
 mod demo;
+mod footprint;
 mod fuzz;
+mod json;
 mod netns;
+mod qemu;
 mod setup;
+mod smoke;
 mod test;
 mod util;
 mod workspace;
@@ -25,8 +33,12 @@ commands:
   setup               install what the tests need (idempotent)
   test                fmt, clippy, doc, tests, no_std builds, fuzz (5 s each), TAP interop
   fuzz [--seconds N]  run every fuzz target for N seconds each (default 60)
-  demo                start the host board in netns enip-demo and read it with a scanner
-  bench               Class 1 cycle cost (callgrind, native) and 10 x 1 ms I/O on the host TAP
+  qemu [--profile NAME]
+                      boot the emulated board (QEMU mps2-an386) in netns enip-qemu until Ctrl-C
+  demo [--host]       boot the emulated board (--host: the Linux host board) in netns
+                      enip-demo; show its identity and a live Class 1 connection
+  bench               boards' footprint; Class 1 cycle cost (callgrind, native) and
+                      10 x 1 ms I/O on the host TAP
 ";
 
 fn main() -> ExitCode {
@@ -45,7 +57,10 @@ fn main() -> ExitCode {
             Ok(seconds) => fuzz::run_all(seconds).map(|_| ()),
             Err(e) => Err(e),
         },
-        ["demo"] => demo::run_demo(),
+        ["qemu"] => qemu::run_interactive(boards::DEFAULT_PROFILE),
+        ["qemu", "--profile", name] => qemu::run_interactive(name),
+        ["demo"] => demo::run_demo(demo::Board::Qemu),
+        ["demo", "--host"] => demo::run_demo(demo::Board::Host),
         ["bench"] => bench::run_all(),
         ["help" | "-h" | "--help"] => {
             print!("{USAGE}");

@@ -1,7 +1,7 @@
 //! `cargo xtask test`: the whole test suite, in order, stopping at the first failure.
 
 use crate::util::{self, loud, run, Outcome, Result, Steps};
-use crate::{fuzz, setup, workspace};
+use crate::{footprint, fuzz, setup, smoke, workspace};
 
 /// Seconds per fuzz target in the test run.
 const FUZZ_SECONDS: u64 = 5;
@@ -16,8 +16,10 @@ pub fn run_all() -> bool {
         Ok(Outcome::Passed)
     };
     // Host steps cover the default members (everything that builds on the host); the
-    // workspace members outside them build only for the embedded target.
-    let mut cross = vec!["enip-stack".to_string(), "enip-firmware".to_string()];
+    // workspace members outside them (the boards) build only for the embedded target, in
+    // release as they ship.
+    let no_std = ["enip-stack", "enip-firmware"];
+    let mut boards = Vec::new();
     // `&&` stops at the first failed step; the summary lists the steps that ran.
     let mut ok = steps.run("setup", || setup::all().map(|()| Outcome::Passed))
         && steps.run("rustfmt", || {
@@ -44,19 +46,34 @@ pub fn run_all() -> bool {
         })
         && steps.run("unit and integration tests", || cargo(&["test"]))
         && steps.run("list the cross-only crates", || {
-            cross.extend(workspace::cross_only_packages()?);
-            println!("built for {}: {}", setup::THUMB_TARGET, cross.join(", "));
+            boards.extend(workspace::cross_only_packages()?);
+            println!(
+                "boards built for {}: {}",
+                setup::THUMB_TARGET,
+                boards.join(", ")
+            );
             Ok(Outcome::Passed)
         });
-    for package in &cross {
+    for package in no_std {
         ok = ok
             && steps.run(&format!("no_std build: {package}"), || {
                 cargo(&["build", "-p", package, "--target", setup::THUMB_TARGET])
             });
     }
-    let _all_passed = ok
-        && steps.run("fuzz", || fuzz::run_all(FUZZ_SECONDS))
-        && steps.run("TAP interop", tap_interop);
+    for board in &boards {
+        ok = ok
+            && steps.run(&format!("board: {board} (release build, clippy)"), || {
+                crate::boards::build(board, crate::boards::DEFAULT_PROFILE)?;
+                crate::boards::clippy(board)?;
+                Ok(Outcome::Passed)
+            });
+    }
+    let _all_passed =
+        ok && steps.run("footprint and the F767 budget", || {
+            footprint::footprint().map(|()| Outcome::Passed)
+        }) && steps.run("fuzz", || fuzz::run_all(FUZZ_SECONDS))
+            && steps.run("TAP interop", tap_interop)
+            && steps.run("QEMU smoke run", smoke::run_smoke);
     steps.summary()
 }
 

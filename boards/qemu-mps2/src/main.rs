@@ -15,6 +15,11 @@ mod mmio;
 mod time;
 mod uart;
 
+/// The device profile chosen by the `profile-NAME` feature.
+mod profile {
+    include!(concat!(env!("OUT_DIR"), "/profile.rs"));
+}
+
 /// The build-time network settings.
 mod network {
     include!(concat!(env!("OUT_DIR"), "/network.rs"));
@@ -24,25 +29,23 @@ use core::net::Ipv4Addr;
 
 use embassy_executor::Spawner;
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
-use firmware::{Profile, Resources, SharedAdapter};
+use firmware::{Resources, SharedAdapter};
 use lan9118::Lan9118;
 use stack::Adapter;
-use static_cell::{ConstStaticCell, StaticCell};
+use static_cell::StaticCell;
 
-/// The device profile, from the `profile-NAME` feature.
-const PROFILE: &str = env!("ENIP_PROFILE");
 /// Sockets of the embassy-net stack: 3 TCP and 1 UDP on 44818, 2 UDP on 2222.
 const SOCKETS: usize = 6;
 
 static NET_RESOURCES: StaticCell<StackResources<SOCKETS>> = StaticCell::new();
-static ADAPTER: StaticCell<SharedAdapter<Profile>> = StaticCell::new();
-static FIRMWARE_RESOURCES: ConstStaticCell<Resources> = ConstStaticCell::new(Resources::new());
+static ADAPTER: StaticCell<SharedAdapter<profile::Chosen>> = StaticCell::new();
+static FIRMWARE_RESOURCES: StaticCell<Resources> = StaticCell::new();
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     time::init();
     uart::init(log::LevelFilter::Info);
-    log::info!("enip-qemu-mps2: booting (profile {PROFILE})");
+    log::info!("enip-qemu-mps2: booting (profile {})", profile::NAME);
 
     let device = match Lan9118::new() {
         Ok(d) => d,
@@ -62,9 +65,11 @@ async fn main(spawner: Spawner) {
         NET_RESOURCES.init(StackResources::new()),
         seed,
     );
-    let profile =
-        Profile::from_name(PROFILE).unwrap_or_else(|| panic!("unknown profile {PROFILE}"));
-    let adapter = Adapter::new(profile, firmware::network_config(net), seed.rotate_left(32));
+    let adapter = Adapter::new(
+        profile::Chosen::new(),
+        firmware::network_config(net),
+        seed.rotate_left(32),
+    );
     let adapter = ADAPTER.init(firmware::share(adapter));
     match net_task(runner) {
         Ok(task) => spawner.spawn(task),
@@ -75,7 +80,13 @@ async fn main(spawner: Spawner) {
         mac,
         network::PREFIX_LEN
     );
-    firmware::run(net, adapter, FIRMWARE_RESOURCES.take(), on_reset).await
+    firmware::run(
+        net,
+        adapter,
+        FIRMWARE_RESOURCES.init_with(Resources::new),
+        on_reset,
+    )
+    .await
 }
 
 /// Seeds for the network stack and the adapter. The machine has no random number

@@ -1,0 +1,48 @@
+//! The embedded boards: release builds for the Cortex-M target, and where their ELFs are.
+
+use std::path::PathBuf;
+
+use crate::setup::THUMB_TARGET;
+use crate::util::{self, run, Result};
+
+/// The NUCLEO-F767ZI board crate.
+pub const NUCLEO: &str = "enip-nucleo-f767zi";
+/// The QEMU mps2-an386 board crate.
+pub const QEMU: &str = "enip-qemu-mps2";
+/// The profile a board runs unless told otherwise.
+pub const DEFAULT_PROFILE: &str = "generic";
+
+/// The release ELF of `board` (its binary has the crate's name).
+pub fn elf(board: &str) -> PathBuf {
+    util::target_dir()
+        .join(THUMB_TARGET)
+        .join("release")
+        .join(board)
+}
+
+/// Builds `board` in release for the Cortex-M target, running `profile` (its
+/// `profile-NAME` feature; the default profile needs none); returns the ELF.
+pub fn build(board: &str, profile: &str) -> Result<PathBuf> {
+    let mut cargo = util::cargo();
+    cargo.args(["build", "-p", board, "--release", "--target", THUMB_TARGET]);
+    if profile != DEFAULT_PROFILE {
+        cargo.args(["--features", &format!("profile-{profile}")]);
+    }
+    run(&mut cargo)?;
+    Ok(elf(board))
+}
+
+/// Clippy on `board` as it is built (release, Cortex-M target), warnings denied.
+pub fn clippy(board: &str) -> Result {
+    run(util::cargo().args([
+        "clippy",
+        "-p",
+        board,
+        "--release",
+        "--target",
+        THUMB_TARGET,
+        "--",
+        "-D",
+        "warnings",
+    ]))
+}

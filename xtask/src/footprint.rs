@@ -1,0 +1,223 @@
+//! Footprint of the embedded boards: release ELF sizes (flash = vector table + text +
+//! rodata + data, static RAM = data + bss + uninit), what the stack, the firmware and
+//! embassy-net take of them (from the symbols), and the NUCLEO-F767ZI budget. Written to
+//! `target/bench/footprint.json` and printed as a table.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::process::Command;
+
+use crate::boards;
+use crate::util::{self, err, output, Result};
+
+/// The F767 image budget: flash bytes.
+pub const NUCLEO_FLASH_BUDGET: u64 = 160 * 1024;
+/// The F767 image budget: static RAM bytes.
+pub const NUCLEO_RAM_BUDGET: u64 = 96 * 1024;
+
+/// Sections that occupy flash, and those that occupy RAM.
+const FLASH_SECTIONS: [&str; 4] = [".vector_table", ".text", ".rodata", ".data"];
+const RAM_SECTIONS: [&str; 3] = [".data", ".bss", ".uninit"];
+
+/// Sizes of one board's image.
+#[derive(Debug, Default)]
+struct Image {
+    sections: BTreeMap<String, u64>,
+    /// Flash bytes by owner: code and read-only data of each crate.
+    flash_by: BTreeMap<String, u64>,
+    /// RAM bytes by owner: the statics.
+    ram_by: BTreeMap<String, u64>,
+}
+
+impl Image {
+    fn sum(&self, names: &[&str]) -> u64 {
+        names.iter().filter_map(|n| self.sections.get(*n)).sum()
+    }
+    fn flash(&self) -> u64 {
+        self.sum(&FLASH_SECTIONS)
+    }
+    fn ram(&self) -> u64 {
+        self.sum(&RAM_SECTIONS)
+    }
+}
+
+/// Builds both boards, writes `target/bench/footprint.json`, prints the table, and fails if
+/// the NUCLEO-F767ZI image is over its budget.
+pub fn footprint() -> Result {
+    let mut images = BTreeMap::new();
+    for board in [boards::NUCLEO, boards::QEMU] {
+        let elf = boards::build(board, boards::DEFAULT_PROFILE)?;
+        images.insert(board, measure(&elf.to_string_lossy())?);
+    }
+    let (sessions, connections) = capacities();
+    let dir = util::target_dir().join("bench");
+    fs::create_dir_all(&dir)?;
+    let path = dir.join("footprint.json");
+    fs::write(&path, to_json(&images, sessions, connections))?;
+
+    println!(
+        "\nFootprint, release, profile {} ({sessions} TCP sessions, {connections} connections):",
+        boards::DEFAULT_PROFILE
+    );
+    println!("{:<22} {:>10} {:>10}", "", "flash", "RAM");
+    for (board, image) in &images {
+        println!(
+            "{board:<22} {:>10} {:>10}",
+            kib(image.flash()),
+            kib(image.ram())
+        );
+        let owners: std::collections::BTreeSet<&String> =
+            image.flash_by.keys().chain(image.ram_by.keys()).collect();
+        for owner in owners {
+            let f = image.flash_by.get(owner).copied().unwrap_or(0);
+            let r = image.ram_by.get(owner).copied().unwrap_or(0);
+            println!("  {owner:<20} {:>10} {:>10}", kib(f), kib(r));
+        }
+    }
+    println!(
+        "budget {}: flash {} / RAM {}",
+        boards::NUCLEO,
+        kib(NUCLEO_FLASH_BUDGET),
+        kib(NUCLEO_RAM_BUDGET)
+    );
+    println!("report: {}", path.display());
+    let nucleo = &images[boards::NUCLEO];
+    if nucleo.flash() > NUCLEO_FLASH_BUDGET || nucleo.ram() > NUCLEO_RAM_BUDGET {
+        return err(format!(
+            "{} is over budget: flash {} (max {}), RAM {} (max {})",
+            boards::NUCLEO,
+            kib(nucleo.flash()),
+            kib(NUCLEO_FLASH_BUDGET),
+            kib(nucleo.ram()),
+            kib(NUCLEO_RAM_BUDGET)
+        ));
+    }
+    Ok(())
+}
+
+fn kib(bytes: u64) -> String {
+    format!("{:.1} KiB", bytes as f64 / 1024.0)
+}
+
+/// Section sizes and symbol shares of `elf`.
+fn measure(elf: &str) -> Result<Image> {
+    let sizes = output(Command::new("arm-none-eabi-size").args(["-A", elf]))
+        .ok_or_else(|| util::Error(format!("arm-none-eabi-size -A {elf} failed")))?;
+    let mut image = Image::default();
+    for line in sizes.lines() {
+        let mut cols = line.split_whitespace();
+        if let (Some(name), Some(size)) = (cols.next(), cols.next().and_then(|s| s.parse().ok())) {
+            if name.starts_with('.') {
+                image.sections.insert(name.to_string(), size);
+            }
+        }
+    }
+    let symbols = output(Command::new("arm-none-eabi-nm").args(["-C", "-S", "--size-sort", elf]))
+        .ok_or_else(|| util::Error(format!("arm-none-eabi-nm {elf} failed")))?;
+    for line in symbols.lines() {
+        let mut cols = line.splitn(4, ' ');
+        let (Some(_), Some(size), Some(kind), Some(name)) =
+            (cols.next(), cols.next(), cols.next(), cols.next())
+        else {
+            continue;
+        };
+        let Ok(size) = u64::from_str_radix(size, 16) else {
+            continue;
+        };
+        match kind {
+            "t" | "T" | "r" | "R" => *image.flash_by.entry(owner(name)).or_default() += size,
+            "d" | "D" | "b" | "B" => *image.ram_by.entry(static_owner(name)).or_default() += size,
+            _ => {}
+        }
+    }
+    Ok(image)
+}
+
+/// Who a code or constant symbol belongs to: the stack, the firmware, embassy-net with
+/// smoltcp, or the rest (HAL, executor, core, board).
+fn owner(symbol: &str) -> String {
+    let path = symbol.trim_start_matches(['<', '&', '_']);
+    let krate = path.split("::").next().unwrap_or("");
+    match krate {
+        "stack" => "stack",
+        "firmware" => "firmware",
+        "embassy_net" | "smoltcp" => "embassy-net+smoltcp",
+        _ => "other",
+    }
+    .to_string()
+}
+
+/// Who a static belongs to: the board's statics are the stack's adapter state, the
+/// firmware's socket buffers, embassy-net's resources and the MAC's DMA buffers.
+fn static_owner(symbol: &str) -> String {
+    let name = symbol.rsplit("::").next().unwrap_or(symbol);
+    match name {
+        "ADAPTER" => "stack".to_string(),
+        "FIRMWARE_RESOURCES" => "firmware".to_string(),
+        "NET_RESOURCES" => "embassy-net+smoltcp".to_string(),
+        _ => owner(symbol),
+    }
+}
+
+/// The stack's capacities, from `stack/src/config.rs`.
+fn capacities() -> (u64, u64) {
+    let text = fs::read_to_string(util::root().join("stack/src/config.rs")).unwrap_or_default();
+    let constant = |name: &str| {
+        text.lines()
+            .find_map(|l| l.strip_prefix(&format!("pub const {name}: usize = ")))
+            .and_then(|v| v.trim_end_matches(';').trim().parse().ok())
+            .unwrap_or(0)
+    };
+    (constant("MAX_SESSIONS"), constant("MAX_CONNECTIONS"))
+}
+
+fn to_json(images: &BTreeMap<&str, Image>, sessions: u64, connections: u64) -> String {
+    let map = |m: &BTreeMap<String, u64>| {
+        let fields: Vec<String> = m.iter().map(|(k, v)| format!("\"{k}\":{v}")).collect();
+        format!("{{{}}}", fields.join(","))
+    };
+    let boards: Vec<String> = images
+        .iter()
+        .map(|(board, i)| {
+            format!(
+                "\"{board}\":{{\"flash\":{},\"ram\":{},\"sections\":{},\"flash_by\":{},\"ram_by\":{}}}",
+                i.flash(),
+                i.ram(),
+                map(&i.sections),
+                map(&i.flash_by),
+                map(&i.ram_by)
+            )
+        })
+        .collect();
+    format!(
+        "{{\"profile\":\"{}\",\"tcp_sessions\":{sessions},\"connections\":{connections},\"budget\":{{\"board\":\"{}\",\"flash\":{NUCLEO_FLASH_BUDGET},\"ram\":{NUCLEO_RAM_BUDGET}}},\"boards\":{{{}}}}}",
+        boards::DEFAULT_PROFILE,
+        boards::NUCLEO,
+        boards.join(",")
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn symbols_are_attributed_to_their_crate() {
+        assert_eq!(owner("stack::io::table::ConnectionTable::expire"), "stack");
+        assert_eq!(
+            owner("<stack::cip::identity::Instance<D> as stack::cip::attributes::Attributes>::get"),
+            "stack"
+        );
+        assert_eq!(owner("firmware::tcp::serve::{{closure}}"), "firmware");
+        assert_eq!(
+            owner("smoltcp::iface::interface::Interface::poll"),
+            "embassy-net+smoltcp"
+        );
+        assert_eq!(owner("core::fmt::write"), "other");
+        assert_eq!(static_owner("enip_qemu_mps2::ADAPTER"), "stack");
+        assert_eq!(
+            static_owner("enip_qemu_mps2::FIRMWARE_RESOURCES"),
+            "firmware"
+        );
+    }
+}

@@ -1,0 +1,35 @@
+//! Just enough JSON reading for the one-line reports of peers and the scanner: the raw value
+//! of the first `"key":` (the reports are flat, or have unique keys).
+
+/// The value of the first `"key":` in `json`: a number, `true`/`false`/`null`, or a string
+/// (without its quotes; escapes are not undone).
+pub fn value<'a>(json: &'a str, key: &str) -> Option<&'a str> {
+    let pattern = format!("\"{key}\"");
+    let at = json.find(&pattern)? + pattern.len();
+    let rest = json[at..].trim_start().strip_prefix(':')?.trim_start();
+    if let Some(s) = rest.strip_prefix('"') {
+        return s.find('"').map(|end| &s[..end]);
+    }
+    let end = rest.find([',', '}', ']']).unwrap_or(rest.len());
+    Some(rest[..end].trim())
+}
+
+/// The value of `key` as an unsigned number.
+pub fn number(json: &str, key: &str) -> Option<u64> {
+    value(json, key)?.parse().ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_numbers_booleans_and_strings() {
+        let j = r#"{"connections":[{"lost":0,"p50_us":1000}],"sent": 10000, "ok": true, "name": "enip-rs generic"}"#;
+        assert_eq!(number(j, "p50_us"), Some(1000));
+        assert_eq!(number(j, "sent"), Some(10000));
+        assert_eq!(value(j, "ok"), Some("true"));
+        assert_eq!(value(j, "name"), Some("enip-rs generic"));
+        assert_eq!(value(j, "missing"), None);
+    }
+}
