@@ -21,8 +21,8 @@ const DEFAULT_MAC: [u8; 6] = [0x02, 0x45, 0x4E, 0x49, 0x50, 0x01];
 
 /// What the command line asks for.
 pub enum Command {
-    /// Run the adapter.
-    Run(Args),
+    /// Run the adapter (boxed: a profile holds its whole device state).
+    Run(Box<Args>),
     /// Print the usage and exit.
     Help,
 }
@@ -72,14 +72,14 @@ pub fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> 
         }
     }
     let (ip, prefix_len) = ip.ok_or("--ip is required")?;
-    Ok(Command::Run(Args {
+    Ok(Command::Run(Box::new(Args {
         tap: tap.ok_or("--tap is required")?,
         ip,
         prefix_len,
         gateway,
         profile,
         mac,
-    }))
+    })))
 }
 
 fn parse_ip(s: &str) -> Result<Ipv4Addr, String> {
@@ -121,7 +121,7 @@ mod tests {
 
     fn run(args: &[&str]) -> Result<Args, String> {
         match parse(args.iter().map(|s| s.to_string()))? {
-            Command::Run(a) => Ok(a),
+            Command::Run(a) => Ok(*a),
             Command::Help => Err("help".into()),
         }
     }

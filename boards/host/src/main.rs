@@ -40,7 +40,7 @@ fn main() {
         exit(1);
     }
     EXECUTOR.init(Executor::new()).run(|spawner| {
-        if let Err(e) = start(spawner, args) {
+        if let Err(e) = start(spawner, *args) {
             log::error!("{e}");
             exit(1);
         }
