@@ -12,6 +12,7 @@ import sys
 import time
 
 from pycomm3 import CIPDriver, Services
+from pycomm3.packets import ListIdentityRequestPacket
 
 ip, broadcast = sys.argv[1], sys.argv[2]
 deadline = time.monotonic() + 15
@@ -46,7 +47,17 @@ with CIPDriver(ip) as driver:
         "serial_number": "%#010x" % struct.unpack("<I", get(driver, 6)[:4])[0],
         "product_name": (lambda b: b[1:1 + b[0]].decode("ascii", "replace"))(get(driver, 7)),
     }
-found = CIPDriver.discover(broadcast)
+# pycomm3's own discover() sends an all-zero sender context, whose first two bytes ask for
+# the default maximum reply delay of 2 s, but listens for only 1 s. So build its ListIdentity
+# with a 500 ms maximum and broadcast it with its own helper (up to 3 tries, bounded).
+request = ListIdentityRequestPacket()
+context = struct.pack("<H", 500) + bytes(6)
+message = request.build_request(None, CIPDriver("0.0.0.0")._session, context, 0)
+found = []
+for _ in range(3):
+    found = CIPDriver._broadcast_discover(None, message, request, broadcast)
+    if found:
+        break
 discovered = [{"ip_address": d.get("ip_address"), "product_name": d.get("product_name")}
               for d in found]
 print(json.dumps({"identity": identity, "discovered": discovered}))

@@ -1,6 +1,7 @@
 //! `cargo xtask bench`: benchmarks, never timed tests. Writes `target/bench/report.json`
 //! and prints a table:
 //!
+//! - first, the boards' footprint ([`crate::footprint`], its own `footprint.json`);
 //! - instructions per Class 1 cycle (consume one O->T, produce one T->O) from callgrind, as
 //!   the difference of two runs of different lengths so set-up cancels out;
 //! - nanoseconds per cycle, natively (median of three runs);

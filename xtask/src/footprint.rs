@@ -59,7 +59,7 @@ pub fn footprint() -> Result {
         "\nFootprint, release, profile {} ({sessions} TCP sessions, {connections} connections):",
         boards::DEFAULT_PROFILE
     );
-    println!("{:<22} {:>10} {:>10}", "", "flash", "RAM");
+    println!("{:<26} {:>10} {:>10}", "", "flash", "RAM");
     for (board, image) in &images {
         println!(
             "{board:<22} {:>10} {:>10}",
@@ -71,7 +71,7 @@ pub fn footprint() -> Result {
         for owner in owners {
             let f = image.flash_by.get(owner).copied().unwrap_or(0);
             let r = image.ram_by.get(owner).copied().unwrap_or(0);
-            println!("  {owner:<20} {:>10} {:>10}", kib(f), kib(r));
+            println!("  {owner:<24} {:>10} {:>10}", kib(f), kib(r));
         }
     }
     println!(
@@ -134,27 +134,45 @@ fn measure(elf: &str) -> Result<Image> {
 }
 
 /// Who a code or constant symbol belongs to: the stack, the firmware, embassy-net with
-/// smoltcp, or the rest (HAL, executor, core, board).
+/// smoltcp, the task futures (where `firmware::run` and the network runner are inlined),
+/// the HAL and runtime crates, `core` with the compiler builtins, or the rest (the board's
+/// own code and anonymous constants).
 fn owner(symbol: &str) -> String {
+    if symbol.contains("TaskStorage<F>::poll") || symbol.contains("embassy_futures::") {
+        return "tasks (inlined futures)".to_string();
+    }
     let path = symbol.trim_start_matches(['<', '&', '_']);
     let krate = path.split("::").next().unwrap_or("");
     match krate {
         "stack" => "stack",
         "firmware" => "firmware",
         "embassy_net" | "smoltcp" => "embassy-net+smoltcp",
-        _ => "other",
+        "core" | "compiler_builtins" => "core+builtins",
+        k if k.starts_with("embassy_")
+            || k.starts_with("stm32")
+            || k.starts_with("cortex_m")
+            || k.starts_with("defmt")
+            || k == "log"
+            || k == "panic_probe" =>
+        {
+            "hal+runtime"
+        }
+        _ => "board+other",
     }
     .to_string()
 }
 
 /// Who a static belongs to: the board's statics are the stack's adapter state, the
-/// firmware's socket buffers, embassy-net's resources and the MAC's DMA buffers.
+/// firmware's socket buffers, embassy-net's resources, the MAC's DMA buffers and the task
+/// futures.
 fn static_owner(symbol: &str) -> String {
     let name = symbol.rsplit("::").next().unwrap_or(symbol);
     match name {
         "ADAPTER" => "stack".to_string(),
         "FIRMWARE_RESOURCES" => "firmware".to_string(),
         "NET_RESOURCES" => "embassy-net+smoltcp".to_string(),
+        "PACKETS" => "hal+runtime".to_string(),
+        "POOL" => "tasks (inlined futures)".to_string(),
         _ => owner(symbol),
     }
 }
@@ -213,7 +231,15 @@ mod tests {
             owner("smoltcp::iface::interface::Interface::poll"),
             "embassy-net+smoltcp"
         );
-        assert_eq!(owner("core::fmt::write"), "other");
+        assert_eq!(owner("core::fmt::write"), "core+builtins");
+        assert_eq!(
+            owner("embassy_executor::raw::TaskStorage<F>::poll"),
+            "tasks (inlined futures)"
+        );
+        assert_eq!(
+            owner("embassy_stm32::eth::v1::Ethernet::new_inner"),
+            "hal+runtime"
+        );
         assert_eq!(static_owner("enip_qemu_mps2::ADAPTER"), "stack");
         assert_eq!(
             static_owner("enip_qemu_mps2::FIRMWARE_RESOURCES"),

@@ -8,7 +8,8 @@
 //! - `demo [--host]`: the emulated board (or the host board) read by scanners: identity and
 //!   a live Class 1 view.
 //! - `bench`: benchmarks, written to `target/bench/report.json`, and the boards' footprint,
-//!   written to `target/bench/footprint.json`.
+//!   written to `target/bench/footprint.json` (`footprint` alone).
+//! - `smoke`: the QEMU smoke run of `test`, alone.
 
 mod bench;
 mod boards;
@@ -39,6 +40,8 @@ commands:
                       enip-demo; show its identity and a live Class 1 connection
   bench               boards' footprint; Class 1 cycle cost (callgrind, native) and
                       10 x 1 ms I/O on the host TAP
+  footprint           the boards' release image sizes and the F767 budget (part of bench)
+  smoke               the QEMU smoke run alone (part of test)
 ";
 
 fn main() -> ExitCode {
@@ -62,6 +65,8 @@ fn main() -> ExitCode {
         ["demo"] => demo::run_demo(demo::Board::Qemu),
         ["demo", "--host"] => demo::run_demo(demo::Board::Host),
         ["bench"] => bench::run_all(),
+        ["footprint"] => footprint::footprint(),
+        ["smoke"] => smoke::run_smoke().map(|_| ()),
         ["help" | "-h" | "--help"] => {
             print!("{USAGE}");
             Ok(())

@@ -8,8 +8,9 @@
 //!    and close cleanly (a connection that timed out is gone and cannot be closed), and the
 //!    board must log no timeout;
 //! 3. the scanner runs one connection at a 1 ms RPI for 10 s; its figures (packets sent and
-//!    received, intervals) are reported as measured under emulation, and the connection
-//!    must stay up.
+//!    received, intervals) are reported as measured under emulation; the connection must
+//!    stay up (with a watchdog wide enough for QEMU's scheduling stalls) and at least half
+//!    the packets must arrive.
 //!
 //! Figures go to `target/qemu-smoke/report.json`, the board's log next to it.
 
@@ -37,6 +38,12 @@ const ETHERNETIP_SECONDS: u32 = 10;
 /// The scanner's run: RPI in µs and duration in s.
 const SCANNER_RPI_US: u32 = 1_000;
 const SCANNER_SECONDS: u32 = 10;
+/// Its timeout multiplier code: 5 is x128, a 128 ms watchdog at 1 ms. An emulated board on a
+/// shared host can stall for tens of milliseconds when QEMU is not scheduled; that is the
+/// host, not the stack, and the figures show it.
+const SCANNER_MULTIPLIER: &str = "5";
+/// Of the T->O packets a 1 ms RPI should bring, the share the run must see (percent).
+const SCANNER_MIN_RECEIVED_PERCENT: u64 = 50;
 /// Extra seconds a peer may take beyond its run before it is killed.
 const PEER_SLACK_SECONDS: u32 = 30;
 
@@ -145,7 +152,7 @@ fn scanner(lab: &Lab, dir: &Path) -> Result<String> {
         "--seconds".into(),
         SCANNER_SECONDS.to_string(),
         "--multiplier".into(),
-        "2".into(),
+        SCANNER_MULTIPLIER.into(),
         "--json".into(),
         json_path.to_string_lossy().into_owned(),
     ];
@@ -171,8 +178,13 @@ fn scanner(lab: &Lab, dir: &Path) -> Result<String> {
         n("p99_us"),
         n("max_us")
     );
-    if n("received") == 0 || n("timeouts") != 0 {
+    if n("timeouts") != 0 {
         return err("the scanner's 1 ms connection did not stay up");
+    }
+    if n("received") * 100 < n("expected_per_connection") * SCANNER_MIN_RECEIVED_PERCENT {
+        return err(format!(
+            "the scanner received under {SCANNER_MIN_RECEIVED_PERCENT}% of the T->O packets"
+        ));
     }
     Ok(out)
 }
