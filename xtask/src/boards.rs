@@ -46,3 +46,42 @@ pub fn clippy(board: &str) -> Result {
         "warnings",
     ]))
 }
+
+#[cfg(test)]
+mod tests {
+    use std::fs;
+
+    use crate::util;
+
+    /// Every profile `firmware::Profile::NAMES` lists can be chosen on both boards.
+    #[test]
+    fn every_profile_has_a_board_feature() {
+        let profiles = fs::read_to_string(util::root().join("firmware/src/profiles/mod.rs"))
+            .expect("firmware/src/profiles/mod.rs");
+        let names = profiles
+            .lines()
+            .find_map(|l| {
+                l.trim()
+                    .strip_prefix("pub const NAMES: &'static [&'static str] = &[")
+            })
+            .expect("Profile::NAMES on one line");
+        let names: Vec<&str> = names
+            .trim_end_matches("];")
+            .split(',')
+            .map(|n| n.trim().trim_matches('"'))
+            .filter(|n| !n.is_empty())
+            .collect();
+        assert!(names.contains(&"generic"), "{names:?}");
+        for board in ["nucleo-f767zi", "qemu-mps2"] {
+            let manifest =
+                fs::read_to_string(util::root().join("boards").join(board).join("Cargo.toml"))
+                    .expect("board manifest");
+            for name in &names {
+                assert!(
+                    manifest.contains(&format!("\nprofile-{name} = []")),
+                    "boards/{board}/Cargo.toml lacks the feature profile-{name}"
+                );
+            }
+        }
+    }
+}

@@ -107,7 +107,7 @@ fn measure(elf: &str) -> Result<Image> {
     for line in sizes.lines() {
         let mut cols = line.split_whitespace();
         if let (Some(name), Some(size)) = (cols.next(), cols.next().and_then(|s| s.parse().ok())) {
-            if name.starts_with('.') {
+            if FLASH_SECTIONS.contains(&name) || RAM_SECTIONS.contains(&name) {
                 image.sections.insert(name.to_string(), size);
             }
         }
