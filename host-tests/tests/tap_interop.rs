@@ -41,5 +41,11 @@ mod explicit;
 mod hostile_cip;
 #[path = "tap_interop/hostile_framing.rs"]
 mod hostile_framing;
+#[path = "tap_interop/position_servo.rs"]
+mod position_servo;
+#[path = "tap_interop/position_servo_connections.rs"]
+mod position_servo_connections;
+#[path = "tap_interop/position_servo_qemu.rs"]
+mod position_servo_qemu;
 #[path = "tap_interop/udp.rs"]
 mod udp;

@@ -16,6 +16,7 @@ pub const PYTHON_PEERS: &[&str] = &[
     "cpppo==5.2.5",
     "ethernetip==1.2.0",
     "dpkt==1.9.8",
+    "eds-pie==1.2.0",
 ];
 /// npm peers for the interop tests, pinned; installed into [`npm_dir`].
 pub const NPM_PEERS: &[&str] = &["st-ethernet-ip@2.7.5"];
