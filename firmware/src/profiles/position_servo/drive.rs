@@ -160,7 +160,7 @@ pub struct Drive {
     /// The move under way: its target, and whether it is smoothed.
     target: Option<i64>,
     s_curve: bool,
-    stack: heapless::Vec<Move, MOTION_STACK>,
+    stack: heapless::Deque<Move, MOTION_STACK>,
     history: [i64; S_CURVE_TICKS],
     head: usize,
     /// Commanded positions of the last [`LAG_TICKS`] ticks.
@@ -185,7 +185,7 @@ impl Drive {
             current_limited: false,
             target: None,
             s_curve: false,
-            stack: heapless::Vec::new(),
+            stack: heapless::Deque::new(),
             history: [0; S_CURVE_TICKS],
             head: 0,
             lag: [0; LAG_TICKS],
@@ -238,7 +238,7 @@ impl Drive {
         }
         let amount = scaled(amount, NANO as f64);
         self.stack
-            .push(Move {
+            .push_back(Move {
                 kind,
                 amount,
                 s_curve,
@@ -322,8 +322,7 @@ impl Drive {
     }
 
     fn position_step(&mut self, s: &Settings) {
-        if self.target.is_none() && !self.stack.is_empty() {
-            let m = self.stack.remove(0);
+        if let Some(m) = self.target.is_none().then(|| self.stack.pop_front()).flatten() {
             self.target = Some(match m.kind {
                 MoveKind::Relative => self.profile.saturating_add(m.amount),
                 MoveKind::Absolute => m.amount,
