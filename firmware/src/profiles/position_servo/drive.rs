@@ -322,7 +322,12 @@ impl Drive {
     }
 
     fn position_step(&mut self, s: &Settings) {
-        if let Some(m) = self.target.is_none().then(|| self.stack.pop_front()).flatten() {
+        let next = if self.target.is_none() {
+            self.stack.pop_front()
+        } else {
+            None
+        };
+        if let Some(m) = next {
             self.target = Some(match m.kind {
                 MoveKind::Relative => self.profile.saturating_add(m.amount),
                 MoveKind::Absolute => m.amount,
