@@ -37,6 +37,9 @@ pub trait Target {
     fn log(&self) -> String;
     /// True if an Identity Reset restarts the board (its RAM-backed EPM starts empty).
     fn restarts_on_reset(&self) -> bool;
+    /// Extra milliseconds a timing bound allows for this board being descheduled by the
+    /// host (an emulated board on a shared host can stall for tens of milliseconds).
+    fn slack_ms(&self) -> f64;
 }
 
 impl Target for Rig {
@@ -48,6 +51,9 @@ impl Target for Rig {
     }
     fn restarts_on_reset(&self) -> bool {
         false
+    }
+    fn slack_ms(&self) -> f64 {
+        10.0
     }
 }
 
@@ -143,18 +149,18 @@ fn velocity(t: &dyn Target) {
             (800.0..=1200.0).contains(&slope),
             "{phase}: slope {slope}: {r}"
         );
+        let bound = 95.0..=140.0 + t.slack_ms();
         assert!(
-            (95.0..=150.0).contains(&reached),
+            bound.contains(&reached),
             "{phase}: at target after {reached} ms"
         );
     }
     assert_eq!(r["velocity_at_stop"], json!(0.0));
     assert_eq!(r["status2_before"].as_u64().map(|s| s & 1), Some(0));
-    assert!(f(&r["enabled_after_ms"]) <= 40.0, "STATUS2 enable bit: {r}");
-    assert!(
-        f(&r["disabled_after_ms"]) <= 40.0,
-        "STATUS2 enable bit: {r}"
-    );
+    // Seen in the next 104 datagram: an RPI or two, plus the peer's own latency.
+    let bit = 20.0 + t.slack_ms();
+    assert!(f(&r["enabled_after_ms"]) <= bit, "STATUS2 enable bit: {r}");
+    assert!(f(&r["disabled_after_ms"]) <= bit, "STATUS2 enable bit: {r}");
     assert_eq!(r["status2_after"].as_u64().map(|s| s & 1), Some(0));
     assert_eq!(r["forward_close"], json!([0, 0]), "{r}");
 }
@@ -176,8 +182,9 @@ fn indexing(t: &dyn Target) {
         (950.0..=1400.0).contains(&done),
         "completed after {done} ms: {r}"
     );
+    let cleared = 20.0 + t.slack_ms();
     assert!(
-        f(&r["cleared_ms"]) <= 40.0,
+        f(&r["cleared_ms"]) <= cleared,
         "motion completed cleared late: {r}"
     );
     let status2 = r["status2_after"].as_u64().unwrap_or(0);
@@ -215,7 +222,7 @@ fn ownership(t: &dyn Target) {
     let (cleared, watchdog) = (f(&r["cleared_ms"]), f(&r["watchdog_ms"]));
     // The watchdog runs from the owner's last datagram, which may precede the kill by an
     // RPI or more (the peer's own jitter); reading EXSTATUS takes about a millisecond.
-    let bound = watchdog / 2.0..=watchdog + 10.0;
+    let bound = watchdog / 2.0..=watchdog + t.slack_ms();
     assert!(
         bound.contains(&cleared),
         "cleared {cleared} ms after the kill: {r}"

@@ -44,6 +44,9 @@ impl Target for QemuBoard {
     fn restarts_on_reset(&self) -> bool {
         true
     }
+    fn slack_ms(&self) -> f64 {
+        40.0
+    }
 }
 
 impl QemuBoard {
