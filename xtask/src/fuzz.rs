@@ -45,6 +45,17 @@ pub fn run_all(seconds: u64) -> Result<Outcome> {
         targets.len(),
         targets.join(", ")
     );
+    // The seeds must still be valid requests to the current stack (stable toolchain).
+    run(util::cargo().args([
+        "run",
+        "--quiet",
+        "--manifest-path",
+        "fuzz/Cargo.toml",
+        "--bin",
+        "gen_seeds",
+        "--",
+        "--check",
+    ]))?;
     // One build for all targets; `cargo fuzz run` then finds them up to date.
     run(util::cargo_toolchain(setup::NIGHTLY).args(["fuzz", "build"]))?;
     let logs = util::target_dir().join("fuzz-logs");

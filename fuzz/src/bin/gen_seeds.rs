@@ -2,6 +2,8 @@
 //! and UDP scripts against the adapter, that every seed request gets a successful reply.
 //!
 //! Run from the repository root: `cargo run --manifest-path fuzz/Cargo.toml --bin gen_seeds`.
+//! With `--check` it writes nothing: it fails if a seed no longer gets a successful reply,
+//! and warns if the committed seeds differ from what it would write.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -15,6 +17,14 @@ use stack::wire::message_router::ResponseRepr;
 use stack::wire::rr_data;
 
 fn main() {
+    let check_only = match std::env::args().nth(1).as_deref() {
+        None => false,
+        Some("--check") => true,
+        Some(other) => {
+            eprintln!("usage: gen_seeds [--check] (unexpected {other:?})");
+            std::process::exit(2);
+        }
+    };
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("corpus/seed");
     let session = learn_session_handle();
     let requests = frames::requests();
@@ -160,6 +170,28 @@ fn main() {
     );
 
     verify(&seeds, session);
+    if check_only {
+        let stale: Vec<String> = seeds
+            .iter()
+            .filter(|(target, name, bytes)| {
+                fs::read(root.join(target).join(name)).ok().as_ref() != Some(bytes)
+            })
+            .map(|(target, name, _)| format!("{target}/{name}"))
+            .collect();
+        if stale.is_empty() {
+            println!(
+                "seeds: all {} up to date and answered successfully",
+                seeds.len()
+            );
+        } else {
+            println!(
+                "warning: committed seeds differ from what gen_seeds writes: {}; refresh them \
+                 with `cargo run --manifest-path fuzz/Cargo.toml --bin gen_seeds`",
+                stale.join(", ")
+            );
+        }
+        return;
+    }
     if root.exists() {
         fs::remove_dir_all(&root).expect("remove old seeds");
     }
