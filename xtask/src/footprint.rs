@@ -62,7 +62,7 @@ pub fn footprint() -> Result {
     println!("{:<26} {:>10} {:>10}", "", "flash", "RAM");
     for (board, image) in &images {
         println!(
-            "{board:<22} {:>10} {:>10}",
+            "{board:<26} {:>10} {:>10}",
             kib(image.flash()),
             kib(image.ram())
         );
