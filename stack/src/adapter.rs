@@ -102,14 +102,20 @@ impl<D: Device> Adapter<D> {
     }
 
     /// When the connection on `socket` has been idle for the encapsulation inactivity timeout
-    /// (TCP/IP attribute 13) and must be closed; `None` if the timeout is off.
+    /// (TCP/IP attribute 13) and must be closed; `None` if the timeout is off. Traffic on the
+    /// CIP connections its Forward_Opens opened (Class 1 O->T data included) counts as activity,
+    /// so a session is not closed under a running I/O connection.
     pub fn tcp_deadline(&self, socket: SocketId) -> Option<Instant> {
         let secs = self.objects.tcpip.inactivity_timeout_s;
         let slot = self.sessions.get(usize::from(socket.0))?;
-        match (secs, slot.peer) {
-            (0, _) | (_, None) => None,
-            _ => Some(slot.last_activity.add(Duration::from_secs(u64::from(secs)))),
+        if secs == 0 || slot.peer.is_none() {
+            return None;
         }
+        let last = match self.connections.last_activity_of_session(socket.0) {
+            Some(io) => io.max(slot.last_activity),
+            None => slot.last_activity,
+        };
+        Some(last.add(Duration::from_secs(u64::from(secs))))
     }
 
     /// Feeds bytes received on `socket`. At most one frame is handled per call: the reply (if

@@ -209,3 +209,44 @@ fn application_trigger_respects_inhibit_and_counts_new_data() {
     assert!(h.adapter.poll_io(Instant(2_100), &mut out).is_some());
     assert_eq!(seq(&out), 2);
 }
+
+#[test]
+fn io_traffic_keeps_its_session_alive_and_outlives_it() {
+    let mut h = Harness::new();
+    let (o_t, _) = open_ten(&mut h)[0];
+    // Encapsulation inactivity timeout of 1 s.
+    let tcpip = [
+        stack::wire::epath::Segment::Logical(stack::wire::epath::LogicalType::Class, 0xF5),
+        stack::wire::epath::Segment::Logical(stack::wire::epath::LogicalType::Instance, 1),
+        stack::wire::epath::Segment::Logical(stack::wire::epath::LogicalType::Attribute, 13),
+    ];
+    assert_eq!(status(&h.request(0x10, &tcpip, &[1, 0])).0, 0);
+    assert_eq!(
+        h.adapter.tcp_deadline(stack::SocketId(0)),
+        Some(Instant(1_000_000))
+    );
+    for k in 1..=30u32 {
+        assert_eq!(
+            send(&mut h, o_t, k, u64::from(k) * 100_000),
+            Ok(Accepted::NewData)
+        );
+    }
+    // The last O->T came at 3 s: the session may idle until 4 s.
+    assert_eq!(
+        h.adapter.tcp_deadline(stack::SocketId(0)),
+        Some(Instant(4_000_000))
+    );
+    // The session ends; the I/O goes on and keeps no new session on that socket alive.
+    h.adapter.tcp_close(stack::SocketId(0), Instant(3_000_000));
+    assert_eq!(h.adapter.connections().len(), usize::from(CONNECTIONS));
+    h.adapter.tcp_accept(
+        stack::SocketId(0),
+        SocketAddrV4::new(SCANNER_IP, 50002),
+        Instant(3_500_000),
+    );
+    assert_eq!(send(&mut h, o_t, 31, 3_600_000), Ok(Accepted::NewData));
+    assert_eq!(
+        h.adapter.tcp_deadline(stack::SocketId(0)),
+        Some(Instant(4_500_000))
+    );
+}

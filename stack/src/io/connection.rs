@@ -83,10 +83,8 @@ pub enum Transport {
         /// T->O state, unless it follows another connection's producer.
         producer: Option<Producer>,
     },
-    /// Class 3 connected explicit messaging on one encapsulation session.
+    /// Class 3 connected explicit messaging on the session that opened it.
     Class3 {
-        /// Socket index of the session that opened it.
-        socket: u8,
         /// Sequence count of the last request executed (its reply is cached in the table).
         last_sequence: Option<u16>,
     },
@@ -101,6 +99,11 @@ pub struct Connection {
     pub triad: Triad,
     /// The originator's IP address.
     pub originator: Ipv4Addr,
+    /// Socket index of the encapsulation session whose Forward_Open opened it.
+    pub socket: u8,
+    /// When its last packet (O->T data, or a Class 3 request) arrived, or when it opened; the
+    /// session that opened it counts this as activity.
+    pub last_activity: Instant,
     /// O->T connection ID (chosen here).
     pub o_t_id: u32,
     /// T->O connection ID.

@@ -77,6 +77,7 @@ pub fn consume<D: Device>(
     }
     c.last_encap_sequence = Some(encap);
     conn.expires = now.add(timeout);
+    conn.last_activity = now;
 
     let sequence = get_u16(data, 0);
     let run = !c.run_idle || get_u32(data, SEQUENCE_LEN) & 1 == 1;

@@ -35,19 +35,15 @@ pub fn lookup(
 ) -> Option<Step> {
     let slot = table.find_o_t(o_t_id)?;
     let conn = table.get_mut(slot)?;
-    let Transport::Class3 {
-        socket: owner,
-        last_sequence,
-        ..
-    } = &conn.transport
-    else {
+    let Transport::Class3 { last_sequence } = &conn.transport else {
         return None;
     };
-    if *owner != socket {
+    if conn.socket != socket {
         return None;
     }
     let repeat = *last_sequence == Some(sequence);
     conn.expires = now.add(conn.timeout);
+    conn.last_activity = now;
     let t_o_id = conn.t_o_id;
     Some(if repeat {
         Step::Repeat { slot, t_o_id }

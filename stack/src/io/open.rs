@@ -202,6 +202,8 @@ pub fn forward_open<D: Device>(
         kind: Kind::Explicit,
         triad: fo.triad,
         originator: origin.ip,
+        socket: origin.socket,
+        last_activity: now,
         o_t_id: 0,
         t_o_id: fo.t_o_connection_id,
         o_t_rpi: fo.o_t_rpi,
@@ -211,7 +213,6 @@ pub fn forward_open<D: Device>(
             timeout.as_micros().max(FIRST_PACKET_GRACE_US),
         )),
         transport: Transport::Class3 {
-            socket: origin.socket,
             last_sequence: None,
         },
     };
@@ -238,7 +239,7 @@ pub fn forward_open<D: Device>(
     }
     let slot = table
         .insert(conn)
-        .map_err(|_| CipError::connection(ext::OUT_OF_CONNECTIONS))?;
+        .ok_or(CipError::connection(ext::OUT_OF_CONNECTIONS))?;
     if gained {
         device.connection_event(ConnectionEvent::OwnershipGained);
     }

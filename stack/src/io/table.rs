@@ -6,6 +6,9 @@ use crate::device::{CloseReason, ConnectionEvent, Device};
 use crate::time::Instant;
 use crate::wire::forward_open::Triad;
 
+/// Socket index of a connection whose opening session has ended.
+const NO_SESSION: u8 = u8::MAX;
+
 /// Identity status bit 0: an exclusive owner holds the device.
 const STATUS_OWNED: u16 = 0x0001;
 /// Extended device status (bits 4-7): no I/O connection established.
@@ -85,16 +88,14 @@ impl ConnectionTable {
             }
         }
     }
-    /// Stores `conn` in a free slot; gives it back if the table is full.
-    pub fn insert(&mut self, conn: Connection) -> Result<usize, Connection> {
-        let Some(slot) = self.slots.iter().position(Option::is_none) else {
-            return Err(conn);
-        };
+    /// Stores `conn` in a free slot and returns it; `None` (and `conn` dropped) if full.
+    pub fn insert(&mut self, conn: Connection) -> Option<usize> {
+        let slot = self.slots.iter().position(Option::is_none)?;
         if let Some(s) = self.slots.get_mut(slot) {
             *s = Some(conn);
         }
         self.refresh_owned();
-        Ok(slot)
+        Some(slot)
     }
     /// The cached Class 3 reply of `slot`.
     pub fn cached_reply(&self, slot: usize) -> &[u8] {
@@ -198,14 +199,25 @@ impl ConnectionTable {
     pub fn timeouts(&self) -> u16 {
         self.timeouts
     }
-    /// Closes the Class 3 connections of the session on socket `socket`.
+    /// The latest traffic on connections opened through the session on socket `socket`.
+    pub fn last_activity_of_session(&self, socket: u8) -> Option<Instant> {
+        self.iter()
+            .filter(|(_, c)| c.socket == socket)
+            .map(|(_, c)| c.last_activity)
+            .max()
+    }
+    /// Closes the Class 3 connections of the session on socket `socket`; its Class 1
+    /// connections stay open, detached from it.
     pub fn close_session<D: Device>(&mut self, socket: u8, device: &mut D) {
         for slot in 0..MAX_CONNECTIONS {
-            let mine = self.get(slot).is_some_and(
-                |c| matches!(c.transport, Transport::Class3 { socket: s, .. } if s == socket),
-            );
-            if mine {
+            let Some(conn) = self.get_mut(slot).filter(|c| c.socket == socket) else {
+                continue;
+            };
+            if matches!(conn.transport, Transport::Class3 { .. }) {
                 self.close(slot, CloseReason::SessionClosed, device);
+            } else {
+                // Class 1 goes on without its session, and keeps no later session alive.
+                conn.socket = NO_SESSION;
             }
         }
     }
