@@ -97,7 +97,10 @@ fn run(a: &Args) -> Result<(), String> {
             .iter()
             .map(|c| serde_json::json!({"t_o_id": c.t_o_id, "received": c.received, "lost": c.lost, "p50_us": c.p50_us, "p99_us": c.p99_us, "max_us": c.max_us}))
             .collect();
-        let doc = serde_json::json!({"rpi_us": a.rpi_us, "seconds": a.seconds, "connections": conns, "timeouts": summary.timeouts, "sent": record.sent, "expected_per_connection": end / u64::from(a.rpi_us)});
+        let worst = |f: fn(&host_tests::scanner::ConnectionStats) -> u64| {
+            summary.connections.iter().map(f).max().unwrap_or(0)
+        };
+        let doc = serde_json::json!({"worst_p99_us": worst(|c| c.p99_us), "worst_max_us": worst(|c| c.max_us), "total_lost": summary.connections.iter().map(|c| c.lost).sum::<u64>(), "rpi_us": a.rpi_us, "seconds": a.seconds, "connections": conns, "timeouts": summary.timeouts, "sent": record.sent, "expected_per_connection": end / u64::from(a.rpi_us)});
         std::fs::write(path, doc.to_string()).map_err(|e| format!("{path}: {e}"))?;
     }
     Ok(())
