@@ -1,11 +1,12 @@
 //! The TAP test rig: a fresh namespace holding a TAP device (198.18.0.1/24 on the kernel
-//! side), optionally tshark capturing on it, and the `enip-host` board attached to the TAP at
-//! 198.18.0.2/24 with its own TCP/IP stack. Dropping the rig stops the board and tshark and
+//! side), optionally tshark capturing on it, and a board attached to the TAP at 198.18.0.2/24
+//! with its own TCP/IP stack: the `enip-host` program or the emulated board in QEMU. Dropping the rig stops the board and tshark and
 //! deletes the namespace, also when a test panics.
 
 use std::io;
 use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4, UdpSocket};
 use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::time::Duration;
 
 use crate::capture::Capture;
@@ -29,8 +30,12 @@ pub const ENCAP_PORT: u16 = 44818;
 pub const LISTENING: &str = "enip-host: listening on";
 /// How long the board may take to come up.
 const BOARD_START: Duration = Duration::from_secs(10);
+/// What the emulated board prints once its sockets listen.
+const QEMU_READY: &str = "listening on";
+/// How long QEMU may take to boot the emulated board.
+const QEMU_BOOT: Duration = Duration::from_secs(30);
 /// Reachability probes sent after start-up.
-const PROBES: u32 = 20;
+const PROBES: u32 = 40;
 /// How long each probe waits for its answer.
 const PROBE_WAIT: Duration = Duration::from_millis(250);
 
@@ -49,8 +54,42 @@ pub struct Rig {
 }
 
 impl Rig {
-    /// Starts the board `bin` with `--profile profile`, capturing into `capture` if given.
+    /// Starts the host board `bin` with `--profile profile`, capturing into `capture` if given.
     pub fn start(bin: &Path, profile: &str, capture: Option<&Path>) -> io::Result<Self> {
+        Self::launch(capture, "enip-host", LISTENING, BOARD_START, |ns| {
+            let mut cmd = ns.command(bin);
+            cmd.args(["--tap", TAP, "--ip", &format!("{BOARD_IP}/{PREFIX}")])
+                .args(["--profile", profile])
+                .env(
+                    "RUST_LOG",
+                    std::env::var("RUST_LOG").unwrap_or("info".into()),
+                );
+            cmd
+        })
+    }
+
+    /// Boots the emulated board's ELF `elf` in QEMU (mps2-an386, LAN9118 on the TAP; the ELF
+    /// has 198.18.0.2/24 built in), capturing into `capture` if given.
+    pub fn start_qemu(elf: &Path, capture: Option<&Path>) -> io::Result<Self> {
+        Self::launch(capture, "qemu", QEMU_READY, QEMU_BOOT, |ns| {
+            let mut cmd = ns.command("qemu-system-arm");
+            cmd.args(["-M", "mps2-an386", "-nographic", "-kernel"])
+                .arg(elf)
+                .args(["-net", "nic,netdev=n0,model=lan9118", "-netdev"])
+                .arg(format!("tap,id=n0,ifname={TAP},script=no,downscript=no"));
+            cmd
+        })
+    }
+
+    /// The namespace and TAP, the capture, then the board `board` builds, which must print
+    /// `ready` within `start` and then answer ListIdentity.
+    fn launch(
+        capture: Option<&Path>,
+        name: &str,
+        ready: &str,
+        start: Duration,
+        board: impl FnOnce(&Namespace) -> Command,
+    ) -> io::Result<Self> {
         let ns = Namespace::create()?;
         ns.exec_checked("ip", &["tuntap", "add", "dev", TAP, "mode", "tap"])?;
         ns.exec_checked(
@@ -59,15 +98,8 @@ impl Rig {
         )?;
         ns.exec_checked("ip", &["link", "set", TAP, "up"])?;
         let capture = capture.map(|p| Capture::start(&ns, TAP, p)).transpose()?;
-        let mut cmd = ns.command(bin);
-        cmd.args(["--tap", TAP, "--ip", &format!("{BOARD_IP}/{PREFIX}")])
-            .args(["--profile", profile])
-            .env(
-                "RUST_LOG",
-                std::env::var("RUST_LOG").unwrap_or("info".into()),
-            );
-        let mut board = LoggedChild::spawn("enip-host", cmd)?;
-        board.wait_for_line(LISTENING, BOARD_START)?;
+        let mut board = LoggedChild::spawn(name, board(&ns))?;
+        board.wait_for_line(ready, start)?;
         let rig = Rig { board, capture, ns };
         rig.wait_reachable()?;
         Ok(rig)
