@@ -38,7 +38,10 @@ pub enum Board {
 /// The device profile the board runs.
 const PROFILE: &str = "generic";
 /// The pycomm3 identity reader.
-const IDENTITY: &str = include_str!("../scripts/demo_identity.py");
+const IDENTITY: &str = concat!(
+    include_str!("../scripts/identity.py"),
+    include_str!("../scripts/demo_identity.py")
+);
 /// The `ethernetip` live data view.
 const LIVE_DATA: &str = include_str!("../scripts/demo_live_data.py");
 /// Live data: RPI in ms and seconds.

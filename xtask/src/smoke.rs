@@ -31,7 +31,10 @@ const BROADCAST: &str = "198.18.0.255";
 /// The `ethernetip` peer script (written for the host TAP interop tests, reused here).
 const ETHERNETIP_PEER: &str = "host-tests/peers/ethernetip_class1.py";
 /// The explicit-messaging part, run with the peers' Python.
-const EXPLICIT: &str = include_str!("../scripts/explicit_smoke.py");
+const EXPLICIT: &str = concat!(
+    include_str!("../scripts/identity.py"),
+    include_str!("../scripts/explicit_smoke.py")
+);
 /// Class 1 with `ethernetip`: RPI in ms and duration in s.
 const ETHERNETIP_RPI_MS: u32 = 10;
 const ETHERNETIP_SECONDS: u32 = 10;
