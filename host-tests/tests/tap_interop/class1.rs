@@ -169,3 +169,144 @@ fn seg_instance(i: u32) -> stack::wire::epath::Segment<'static> {
 fn seg_attribute(a: u32) -> stack::wire::epath::Segment<'static> {
     stack::wire::epath::Segment::Logical(stack::wire::epath::LogicalType::Attribute, a)
 }
+
+/// Garbage aimed at UDP 2222 and malformed Forward_Opens on a second session while an
+/// exclusive owner runs at 10 ms: the owner's I/O goes on untouched (no loss, no timeout,
+/// its own data echoed), and the adapter's replies dissect cleanly.
+#[test]
+#[ignore = "needs root: network namespace and TAP"]
+fn io_survives_hostile_datagrams_and_forward_opens() {
+    use host_tests::scanner::{exchange, open_generic};
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    let rig = common::start("io_hostile");
+    let outcome = rig.ns().inside(|| -> std::io::Result<_> {
+        let mut owner = Session::connect(BOARD_IP, common::REPLY)?;
+        let opened = open_generic(&mut owner, 1, 10_000, 2)?;
+        let o_t = opened[0].o_t_id;
+        let stop = AtomicBool::new(false);
+        std::thread::scope(|s| {
+            let attacker = s.spawn(|| -> std::io::Result<(u32, Vec<u8>)> {
+                let udp = UdpSocket::bind(SocketAddrV4::new(HOST_IP, 0))?;
+                let to = SocketAddrV4::new(BOARD_IP, 2222);
+                let mut sent = 0u32;
+                let mut buf = [0u8; 128];
+                // Let the owner's own sequence numbers start first: a spoofed datagram with a
+                // newer sequence number from the originator's address is, by design, data.
+                std::thread::sleep(Duration::from_millis(200));
+                // Bounded: at most 2000 datagrams, stopped early when the exchange ends.
+                for k in 0..2000u32 {
+                    if stop.load(Ordering::Relaxed) {
+                        break;
+                    }
+                    let garbage: Vec<u8> = match k % 5 {
+                        0 => (0..(k % 40) as u8).collect(),
+                        // The owner's connection ID, a stale sequence number (0 never advances).
+                        1 => {
+                            let n = stack::originator::io_datagram(
+                                &mut buf,
+                                o_t,
+                                0,
+                                0,
+                                Some(true),
+                                &[0xEE; 32],
+                            )
+                            .map_err(|e| std::io::Error::other(format!("{e:?}")))?;
+                            buf[..n].to_vec()
+                        }
+                        // The owner's connection ID, a wrong size.
+                        2 => {
+                            let n = stack::originator::io_datagram(
+                                &mut buf,
+                                o_t,
+                                k + 1_000_000,
+                                0,
+                                Some(true),
+                                &[0xEE; 31],
+                            )
+                            .map_err(|e| std::io::Error::other(format!("{e:?}")))?;
+                            buf[..n].to_vec()
+                        }
+                        // An unknown connection ID.
+                        3 => {
+                            let n = stack::originator::io_datagram(
+                                &mut buf,
+                                o_t ^ 0xFFFF,
+                                k,
+                                k as u16,
+                                Some(true),
+                                &[0xEE; 32],
+                            )
+                            .map_err(|e| std::io::Error::other(format!("{e:?}")))?;
+                            buf[..n].to_vec()
+                        }
+                        // A CPF claiming more items than it has.
+                        _ => vec![9, 0, 0x02, 0x80, 8, 0, 1, 2, 3, 4],
+                    };
+                    udp.send_to(&garbage, to)?;
+                    sent += 1;
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+                // Malformed Forward_Opens on a session of its own.
+                let mut other = Session::connect(BOARD_IP, common::REPLY)?;
+                let mut statuses = Vec::new();
+                for data in [&[1u8, 2, 3][..], &[0u8; 36][..], &[0xFF; 60][..]] {
+                    let cm = [
+                        stack::wire::epath::Segment::Logical(
+                            stack::wire::epath::LogicalType::Class,
+                            6,
+                        ),
+                        stack::wire::epath::Segment::Logical(
+                            stack::wire::epath::LogicalType::Instance,
+                            1,
+                        ),
+                    ];
+                    statuses.push(other.request(0x54, &cm, data)?.general);
+                }
+                Ok((sent, statuses))
+            });
+            let record = exchange(
+                BOARD_IP,
+                &opened,
+                Duration::from_millis(10),
+                Duration::from_secs(3),
+                |k| [(k % 100) as u8 + 1; 32],
+            );
+            stop.store(true, Ordering::Relaxed);
+            let attack = attacker
+                .join()
+                .map_err(|_| std::io::Error::other("attacker panicked"))??;
+            let record = record?;
+            owner.forward_close(opened[0].triad)?;
+            Ok((record, attack, opened[0].t_o_id))
+        })
+    });
+    let (record, (sent, statuses), t_o) = outcome
+        .expect("namespace")
+        .unwrap_or_else(|e| panic!("{e}\n{}", rig.board_log()));
+    assert!(sent > 100, "only {sent} hostile datagrams went out");
+    assert!(
+        statuses.iter().all(|&g| g != 0),
+        "malformed Forward_Opens must fail: {statuses:02x?}"
+    );
+    let summary = record.summary(3_000_000, 500_000);
+    assert_eq!(summary.timeouts, 0, "the owner's connection must stay up");
+    let packets = &record.packets[&t_o];
+    assert!(
+        packets.len() >= 250,
+        "{} T->O packets in 3 s at 10 ms",
+        packets.len()
+    );
+    assert_eq!(summary.connections[0].lost, 0);
+    // Never the attacker's 0xEE data (the owner's own data is 1..=100): its ticks come back.
+    assert!(packets
+        .iter()
+        .all(|(_, _, head)| head[0] != 0xEE || head[1] != 0xEE));
+    assert!(
+        packets
+            .iter()
+            .any(|(_, _, head)| head[0] != 0 && head == &[head[0]; 4]),
+        "the owner's data is echoed"
+    );
+    common::finish_hostile(rig);
+}
