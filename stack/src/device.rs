@@ -100,6 +100,56 @@ pub struct Multicast {
 }
 
 /// Everything a device profile supplies. Only identity and assemblies are required.
+///
+/// A minimal I/O block: 4 input bytes produced, 4 output bytes consumed (with the run/idle
+/// header), driven through the adapter's entry points.
+///
+/// ```
+/// use core::net::{Ipv4Addr, SocketAddrV4};
+/// use stack::cip::CipResult;
+/// use stack::{Adapter, AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant, NetworkConfig, SocketId};
+///
+/// const IDENTITY: IdentityInfo = IdentityInfo {
+///     vendor_id: 0xFFFF,
+///     device_type: 7,
+///     product_code: 1,
+///     revision: (1, 0),
+///     serial_number: 42,
+///     product_name: "tiny I/O block",
+/// };
+/// const ASSEMBLIES: [AssemblyInfo; 2] = [
+///     AssemblyInfo { instance: 100, role: AssemblyRole::Input, size: 4, run_idle_header: false },
+///     AssemblyInfo { instance: 150, role: AssemblyRole::Output, size: 4, run_idle_header: true },
+/// ];
+///
+/// struct Block { inputs: [u8; 4], outputs: [u8; 4] }
+///
+/// impl Device for Block {
+///     fn identity(&self) -> &IdentityInfo { &IDENTITY }
+///     fn assemblies(&self) -> &[AssemblyInfo] { &ASSEMBLIES }
+///     fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
+///         let data = if instance == 100 { &self.inputs } else { &self.outputs };
+///         out.copy_from_slice(data);
+///         Ok(data.len())
+///     }
+///     fn write_assembly(&mut self, _instance: u16, data: &[u8]) -> CipResult {
+///         self.outputs.copy_from_slice(data);
+///         Ok(())
+///     }
+/// }
+///
+/// let net = NetworkConfig::new_static(Ipv4Addr::new(198, 18, 0, 2), Ipv4Addr::new(255, 255, 255, 0), [2, 0, 0, 0, 0, 1]);
+/// let mut adapter = Adapter::new(Block { inputs: [1, 2, 3, 4], outputs: [0; 4] }, net, 7);
+/// // A scanner connects and registers a session; the reply goes back on the same socket.
+/// adapter.tcp_accept(SocketId(0), SocketAddrV4::new(Ipv4Addr::new(198, 18, 0, 1), 50000), Instant(0));
+/// let mut frame = [0u8; 64];
+/// let n = stack::originator::register_session(&mut frame).unwrap();
+/// let mut reply = [0u8; stack::config::MAX_ENCAP_FRAME];
+/// let out = adapter.tcp_receive(SocketId(0), &frame[..n], Instant(0), &mut reply);
+/// assert_eq!((out.consumed, out.reply_len, out.close), (n, 28, false));
+/// // Nothing is due until a connection opens.
+/// assert_eq!(adapter.io_deadline(), None);
+/// ```
 pub trait Device {
     /// Identity object values.
     fn identity(&self) -> &IdentityInfo;
