@@ -21,23 +21,38 @@ pub(crate) fn respond<D: Device>(
     w: &mut Writer<'_>,
     depth: u8,
 ) -> wire::Result<()> {
+    match Request::parse(request) {
+        Ok(req) => respond_to(ctx, &req, w, depth),
+        Err((service, e)) => finish(w, w.len(), service, Err(e)),
+    }
+}
+
+/// Executes a framed request; an Unconnected_Send to this device is answered by its embedded
+/// request's response (framed once, here).
+fn respond_to<D: Device>(
+    ctx: &mut Ctx<'_, D>,
+    req: &Request<'_>,
+    w: &mut Writer<'_>,
+    depth: u8,
+) -> wire::Result<()> {
     let start = w.len();
-    let (service, result) = match Request::parse(request) {
-        Err((service, e)) => (service, Err(e)),
-        Ok(req) if connection_manager::is_unconnected_send(&req) => {
-            // An embedded request that cannot even be framed is the Unconnected_Send's error.
-            let inner = connection_manager::embedded_request(&req, depth)
-                .and_then(|inner| Request::parse(inner).map(|_| inner).map_err(|(_, e)| e));
-            match inner {
-                Ok(inner) => return respond(ctx, inner, w, depth + 1),
-                Err(e) => (req.service, Err(e)),
-            }
-        }
-        Ok(req) => {
-            w.zeros(4)?;
-            (req.service, dispatch(ctx, &req, w, depth))
-        }
-    };
+    if connection_manager::is_unconnected_send(req) {
+        // An embedded request that cannot even be framed is the Unconnected_Send's error.
+        let inner = connection_manager::embedded_request(req, depth)
+            .and_then(|bytes| Request::parse(bytes).map_err(|(_, e)| e));
+        return match inner {
+            Ok(inner) => respond_to(ctx, &inner, w, depth + 1),
+            Err(e) => finish(w, start, req.service, Err(e)),
+        };
+    }
+    w.zeros(4)?;
+    let result = dispatch(ctx, req, w, depth);
+    finish(w, start, req.service, result)
+}
+
+/// Completes the response that starts at `start`: patches the header reserved there, or
+/// replaces what was written with an error header (keeping the data where the error says so).
+fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> wire::Result<()> {
     let general = match result {
         Ok(()) => 0u8,
         Err(e) if e.keeps_data() && w.len() > start => {
