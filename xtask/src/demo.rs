@@ -132,18 +132,7 @@ fn show(lab: &Lab, board: &mut Running) -> Result {
             .stderr(Stdio::null());
         supervise(&mut cmd, board)?;
         let out = fs::read_to_string(&json_path)?;
-        let n = |k| json::number(&out, k).unwrap_or(0);
-        println!(
-            "  round {round}: sent {:4} O->T, received {:4} T->O (expected {}), lost {}, \
-             interval p50 {:5} us  p99 {:5} us  max {:5} us",
-            n("sent"),
-            n("received"),
-            n("expected_per_connection"),
-            n("lost"),
-            n("p50_us"),
-            n("p99_us"),
-            n("max_us")
-        );
+        println!("  round {round}: {}", json::scanner_figures(&out));
     }
     Ok(())
 }

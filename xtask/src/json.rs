@@ -19,6 +19,23 @@ pub fn number(json: &str, key: &str) -> Option<u64> {
     value(json, key)?.parse().ok()
 }
 
+/// One line of the scanner's single-connection figures from its `--json` report: packets
+/// sent and received (of those expected), lost, and the interval percentiles.
+pub fn scanner_figures(report: &str) -> String {
+    let n = |k| number(report, k).unwrap_or(0);
+    format!(
+        "sent {:5} O->T, received {:5} T->O of {} expected, lost {}, \
+         interval p50 {:5} us, p99 {:5} us, max {:5} us",
+        n("sent"),
+        n("received"),
+        n("expected_per_connection"),
+        n("lost"),
+        n("p50_us"),
+        n("p99_us"),
+        n("max_us")
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -169,18 +169,11 @@ fn scanner(lab: &Lab, dir: &Path) -> Result<String> {
     )?;
     print!("{table}");
     let out = fs::read_to_string(&json_path)?;
-    let n = |k| json::number(&out, k).unwrap_or(0);
     println!(
-        "scanner at {SCANNER_RPI_US} us under emulation: sent {} O->T, received {} T->O of {} \
-         expected, lost {}, interval p50 {} us, p99 {} us, max {} us",
-        n("sent"),
-        n("received"),
-        n("expected_per_connection"),
-        n("lost"),
-        n("p50_us"),
-        n("p99_us"),
-        n("max_us")
+        "scanner at {SCANNER_RPI_US} us under emulation: {}",
+        json::scanner_figures(&out)
     );
+    let n = |k| json::number(&out, k).unwrap_or(0);
     if n("timeouts") != 0 {
         return err("the scanner's 1 ms connection did not stay up");
     }
