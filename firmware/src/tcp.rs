@@ -5,6 +5,7 @@ use embassy_net::tcp::{State, TcpSocket};
 use embassy_net::Stack;
 use embassy_time::{with_deadline, with_timeout, Duration, Timer};
 use stack::config::ENCAP_PORT;
+use stack::device::CloseReason;
 use stack::{Device, SocketId};
 
 use crate::clock::{now, to_embassy};
@@ -96,7 +97,11 @@ async fn converse<D: Device>(
         }
         if let Some(kind) = step.reset {
             let _ = with_timeout(WRITE_TIMEOUT, socket.flush()).await;
-            debug!("tcp socket {}: identity reset type {}", id.0, kind);
+            info!(
+                "identity reset type {} requested on tcp socket {}",
+                kind, id.0
+            );
+            with_adapter(adapter, |a| a.close_all(CloseReason::Reset));
             on_reset(kind);
         }
         if step.close {

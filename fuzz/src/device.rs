@@ -1,6 +1,10 @@
-//! A small device profile for fuzzing: three assemblies and one echo vendor class.
+//! A small device profile for fuzzing: three assemblies and one declared vendor class with
+//! a settable number, a settable name and an echo service.
 
+use stack::cip::context::RequestContext;
+use stack::cip::object::{AttributeDef, ClassDef, DataType};
 use stack::cip::{CipError, CipResult, General, Request};
+use stack::device::{AttributeRef, InputChanges};
 use stack::wire::Writer;
 use stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
 
@@ -10,9 +14,24 @@ pub const INPUT: u16 = 100;
 pub const OUTPUT: u16 = 150;
 /// Configuration assembly, 10 bytes.
 pub const CONFIG: u16 = 151;
-/// A vendor class whose instance 1 echoes the request data of service 0x4B (so does any
-/// symbolic path).
+/// A vendor class whose instances 1 and 2 echo the request data of service 0x4B (so does
+/// any symbolic path), with attributes 1 (UDINT, below 1000) and 2 (SHORT_STRING).
 pub const ECHO_CLASS: u16 = 0x64;
+
+/// The echo class as the stack serves it.
+const ECHO: ClassDef = ClassDef {
+    id: ECHO_CLASS,
+    name: "Echo",
+    revision: 1,
+    max_instance: 2,
+    attributes: &[
+        AttributeDef::get_set(1, DataType::Udint, "Number"),
+        AttributeDef::get_set(2, DataType::ShortString { max: 16 }, "Name"),
+        AttributeDef::get(3, DataType::Usint, "Constant"),
+    ],
+    get_all: &[1, 2, 3],
+    optional_attributes: &[],
+};
 
 const ASSEMBLIES: [AssemblyInfo; 3] = [
     AssemblyInfo {
@@ -50,6 +69,9 @@ pub struct TestDevice {
     input: [u8; 32],
     output: [u8; 32],
     config: [u8; 10],
+    numbers: [u32; 2],
+    names: [Vec<u8>; 2],
+    changed: InputChanges,
 }
 
 impl Default for TestDevice {
@@ -69,6 +91,9 @@ impl TestDevice {
             input,
             output: [0; 32],
             config: [0; 10],
+            numbers: [0; 2],
+            names: [Vec::new(), Vec::new()],
+            changed: InputChanges::new(),
         }
     }
 
@@ -111,11 +136,70 @@ impl Device for TestDevice {
         Ok(())
     }
 
-    fn vendor_classes(&self) -> &[u16] {
-        &[ECHO_CLASS]
+    fn classes(&self) -> &[ClassDef] {
+        &[ECHO]
     }
 
-    fn handle_request(&mut self, req: &Request<'_>, reply: &mut Writer<'_>) -> Option<CipResult> {
+    fn get_attribute(
+        &mut self,
+        _cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        w: &mut Writer<'_>,
+    ) -> CipResult {
+        let i = (at.instance as usize).saturating_sub(1);
+        match at.attribute.id {
+            1 => w.u32(self.numbers.get(i).copied().unwrap_or(0))?,
+            2 => {
+                let name = self.names.get(i).map_or(&[][..], |n| n.as_slice());
+                w.u8(name.len() as u8)?;
+                w.bytes(name)?;
+            }
+            _ => w.u8(7)?,
+        }
+        Ok(())
+    }
+
+    /// Number 1 also becomes the first input byte, and the inputs are marked changed.
+    fn set_attribute(
+        &mut self,
+        _cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        value: &[u8],
+    ) -> CipResult {
+        let i = (at.instance as usize).saturating_sub(1);
+        match at.attribute.id {
+            1 => {
+                let bytes = <[u8; 4]>::try_from(value).map_err(|_| General::NotEnoughData)?;
+                let n = u32::from_le_bytes(bytes);
+                if n >= 1000 {
+                    return Err(General::InvalidAttributeValue.into());
+                }
+                if let Some(slot) = self.numbers.get_mut(i) {
+                    *slot = n;
+                }
+                self.input[0] = n as u8;
+                self.changed.mark(INPUT);
+            }
+            _ => {
+                // The stack checked the length against the type's 16 characters.
+                if let Some(slot) = self.names.get_mut(i) {
+                    *slot = value.get(1..).unwrap_or(&[]).to_vec();
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn take_input_changes(&mut self) -> InputChanges {
+        core::mem::take(&mut self.changed)
+    }
+
+    fn handle_request(
+        &mut self,
+        _cx: &RequestContext,
+        req: &Request<'_>,
+        reply: &mut Writer<'_>,
+    ) -> Option<CipResult> {
         if let Some(symbol) = req.path.symbol {
             return Some(match req.service {
                 0x4B => reply
@@ -125,15 +209,11 @@ impl Device for TestDevice {
                 _ => Err(CipError::new(General::ServiceNotSupported)),
             });
         }
-        if req.path.class != Some(u32::from(ECHO_CLASS)) {
-            return None;
-        }
-        Some(match (req.path.instance, req.service) {
-            (Some(1), 0x4B) => reply
+        // Reached only for an existing instance of the declared echo class.
+        (req.service == 0x4B).then(|| {
+            reply
                 .bytes(req.data)
-                .map_err(|_| CipError::new(General::ReplyDataTooLarge)),
-            (Some(1), _) => Err(CipError::new(General::ServiceNotSupported)),
-            _ => Err(CipError::new(General::ObjectDoesNotExist)),
+                .map_err(|_| CipError::new(General::ReplyDataTooLarge))
         })
     }
 }

@@ -2,9 +2,10 @@
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
+use crate::cip::context::RequestContext;
 use crate::cip::{Ctx, ObjectState};
 use crate::config::MAX_SESSIONS;
-use crate::device::Device;
+use crate::device::{CloseReason, Device};
 use crate::encap::list_identity::DelayedReplies;
 use crate::encap::session::{Need, Sessions};
 use crate::io::consume::{self, Accepted, Discard};
@@ -65,6 +66,23 @@ impl<D: Device> Adapter<D> {
     /// The device profile, mutably.
     pub fn device_mut(&mut self) -> &mut D {
         &mut self.device
+    }
+    /// Takes the device back, ending the adapter.
+    pub fn into_device(self) -> D {
+        self.device
+    }
+    /// Runs one Message Router request (service, path, data) as an unconnected request
+    /// with no session, and writes the Message Router response into `reply`; returns its
+    /// length. For a device's own tests and local tools: the same objects and rules a
+    /// scanner's request meets.
+    pub fn execute(&mut self, request: &[u8], now: Instant, reply: &mut [u8]) -> usize {
+        let mut ctx = self.ctx(RequestContext::unconnected(None, now), None);
+        let mut w = crate::wire::Writer::new(reply);
+        // Fails only if not even an error header fits; then nothing was written.
+        let _ = crate::cip::router::respond(&mut ctx, request, &mut w, 0);
+        let len = w.len();
+        self.after_explicit_request();
+        len
     }
     /// The stack's object state (TCP/IP settings, counters).
     pub fn objects(&self) -> &ObjectState {
@@ -234,10 +252,26 @@ impl<D: Device> Adapter<D> {
         now: Instant,
     ) -> Result<Accepted, Discard> {
         let r = consume::consume(&mut self.connections, &mut self.device, from, data, now);
-        if r.is_err() {
-            self.objects.link.count_discard();
+        match r {
+            Ok(_) => self.apply_input_changes(),
+            Err(_) => self.objects.link.count_discard(),
         }
         r
+    }
+
+    /// Runs the device's own behaviour ([`Device::poll`]) at `now`, then triggers the inputs
+    /// it says changed; returns when the device next wants to run.
+    pub fn poll_device(&mut self, now: Instant) -> Option<Instant> {
+        let next = self.device.poll(now);
+        self.apply_input_changes();
+        next
+    }
+
+    /// Closes every connection with `reason` (the runtime calls it with
+    /// [`CloseReason::Reset`] before it performs an Identity Reset), telling the device of
+    /// each.
+    pub fn close_all(&mut self, reason: CloseReason) {
+        self.connections.close_all(reason, &mut self.device);
     }
 
     /// Closes connections whose watchdog expired, then writes the most overdue T->O datagram
@@ -250,7 +284,8 @@ impl<D: Device> Adapter<D> {
     }
 
     /// Tells the stack that input assembly `instance` has new data: change-of-state and
-    /// application-triggered connections producing it send as soon as their inhibit time allows.
+    /// application-triggered connections producing it send as soon as their inhibit time
+    /// allows. (A device says the same from inside with [`Device::take_input_changes`].)
     pub fn trigger_input(&mut self, instance: u16) {
         produce::trigger(&mut self.connections, instance);
     }
@@ -299,8 +334,8 @@ impl<D: Device> Adapter<D> {
         MAX_SESSIONS
     }
 
-    /// The service context for a request handled at `now`.
-    pub(crate) fn ctx(&mut self, now: Instant, origin: Option<Origin>) -> Ctx<'_, D> {
+    /// The service context for a request.
+    pub(crate) fn ctx(&mut self, request: RequestContext, origin: Option<Origin>) -> Ctx<'_, D> {
         Ctx {
             device: &mut self.device,
             state: &mut self.objects,
@@ -308,7 +343,26 @@ impl<D: Device> Adapter<D> {
             connections: &mut self.connections,
             origin,
             reply_t_o_sockaddr: None,
-            now,
+            request,
+        }
+    }
+
+    /// After an explicit request: connections whose assembly size the request changed are
+    /// closed, and the inputs the device says changed are triggered.
+    pub(crate) fn after_explicit_request(&mut self) {
+        self.connections.close_resized(&mut self.device);
+        self.apply_input_changes();
+    }
+
+    /// Triggers production of the input assemblies the device says changed.
+    fn apply_input_changes(&mut self) {
+        let changes = self.device.take_input_changes();
+        if changes.all() {
+            produce::trigger_all(&mut self.connections);
+        } else {
+            for instance in changes.iter() {
+                produce::trigger(&mut self.connections, instance);
+            }
         }
     }
 }

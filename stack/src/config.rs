@@ -28,3 +28,6 @@ pub const MAX_RPI_US: u32 = 10_000_000;
 pub const MAX_EXPLICIT_CONNECTED: usize = 504;
 /// The consumer's first packet may take this long even if the watchdog is shorter.
 pub const FIRST_PACKET_GRACE_US: u64 = 10_000_000;
+/// Input assemblies a device can mark one by one in [`crate::device::InputChanges`]; more
+/// count as "every input changed".
+pub const MAX_CHANGED_INPUTS: usize = 8;

@@ -1,9 +1,11 @@
 //! The generic profile: the assemblies of the OpENer sample application under our identity.
 //!
 //! Output data written to assembly 150 is echoed into input assembly 100, so a scanner sees
-//! its own outputs come back; 154 is a scratch assembly for explicit messaging.
+//! its own outputs come back (an application-triggered connection produces it at once); 154
+//! is a scratch assembly for explicit messaging.
 
 use stack::cip::{CipError, CipResult, General};
+use stack::device::InputChanges;
 use stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
 
 /// Identity of the generic profile: every value in one place.
@@ -76,6 +78,7 @@ pub struct Generic {
     output: [u8; IO_SIZE],
     config: [u8; CONFIG_SIZE],
     explicit: [u8; IO_SIZE],
+    changed: InputChanges,
 }
 
 impl Generic {
@@ -86,6 +89,7 @@ impl Generic {
             output: [0; IO_SIZE],
             config: [0; CONFIG_SIZE],
             explicit: [0; IO_SIZE],
+            changed: InputChanges::new(),
         }
     }
 
@@ -130,7 +134,10 @@ impl Device for Generic {
         match instance {
             OUTPUT => {
                 copy_exact(&mut self.output, data)?;
-                self.input = self.output;
+                if self.input != self.output {
+                    self.input = self.output;
+                    self.changed.mark(INPUT);
+                }
                 Ok(())
             }
             CONFIG => copy_exact(&mut self.config, data),
@@ -139,6 +146,11 @@ impl Device for Generic {
             INPUT => Err(General::AttributeNotSettable.into()),
             _ => Err(unknown()),
         }
+    }
+
+    /// The echo of new outputs into [`INPUT`].
+    fn take_input_changes(&mut self) -> InputChanges {
+        core::mem::take(&mut self.changed)
     }
 }
 

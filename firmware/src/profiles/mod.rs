@@ -3,9 +3,11 @@
 pub mod generic;
 pub mod position_servo;
 
+use stack::cip::context::RequestContext;
+use stack::cip::object::{Access, ClassDef};
 use stack::cip::request::Request;
 use stack::cip::CipResult;
-use stack::device::{ConnectionEvent, Multicast};
+use stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
 use stack::wire::Writer;
 use stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 
@@ -77,11 +79,50 @@ impl Device for Profile {
     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
         dispatch!(self, d => d.write_assembly(instance, data))
     }
-    fn vendor_classes(&self) -> &[u16] {
-        dispatch!(self, d => d.vendor_classes())
+    fn classes(&self) -> &[ClassDef] {
+        dispatch!(self, d => d.classes())
     }
-    fn handle_request(&mut self, req: &Request<'_>, reply: &mut Writer<'_>) -> Option<CipResult> {
-        dispatch!(self, d => d.handle_request(req, reply))
+    fn has_instance(&self, class: &ClassDef, instance: u32) -> bool {
+        dispatch!(self, d => d.has_instance(class, instance))
+    }
+    fn instance_count(&self, class: &ClassDef) -> u32 {
+        dispatch!(self, d => d.instance_count(class))
+    }
+    fn attribute_access(&self, at: &AttributeRef<'_>) -> Access {
+        dispatch!(self, d => d.attribute_access(at))
+    }
+    fn attribute_size(&self, at: &AttributeRef<'_>) -> Option<usize> {
+        dispatch!(self, d => d.attribute_size(at))
+    }
+    fn get_attribute(
+        &mut self,
+        cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        w: &mut Writer<'_>,
+    ) -> CipResult {
+        dispatch!(self, d => d.get_attribute(cx, at, w))
+    }
+    fn set_attribute(
+        &mut self,
+        cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        value: &[u8],
+    ) -> CipResult {
+        dispatch!(self, d => d.set_attribute(cx, at, value))
+    }
+    fn handle_request(
+        &mut self,
+        cx: &RequestContext,
+        req: &Request<'_>,
+        reply: &mut Writer<'_>,
+    ) -> Option<CipResult> {
+        dispatch!(self, d => d.handle_request(cx, req, reply))
+    }
+    fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
+        dispatch!(self, d => d.admit(request))
+    }
+    fn take_input_changes(&mut self) -> InputChanges {
+        dispatch!(self, d => d.take_input_changes())
     }
     fn reset(&mut self, kind: u8) -> CipResult {
         dispatch!(self, d => d.reset(kind))
@@ -97,9 +138,6 @@ impl Device for Profile {
     }
     fn set_multicast(&mut self, multicast: Multicast) -> CipResult {
         dispatch!(self, d => d.set_multicast(multicast))
-    }
-    fn change_of_state(&self) -> bool {
-        dispatch!(self, d => d.change_of_state())
     }
 }
 

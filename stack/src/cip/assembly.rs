@@ -1,61 +1,82 @@
 //! Assembly object (class 0x04): instance data (attribute 3) and size (attribute 4).
 
-use super::attributes::{read_only, unsupported, Attributes};
-use super::class_info::ClassInfo;
-use super::router::{attribute_services, instance, no_instance};
+use super::object::{Access, AttributeDef, ClassDef, DataType};
+use super::serve::{serve, Object};
 use super::status::{CipError, CipResult, General};
-use super::{Ctx, Request};
+use super::{class_id, Ctx, Request};
 use crate::config::MAX_ASSEMBLY_SIZE;
 use crate::device::{AssemblyInfo, Device};
 use crate::wire::Writer;
 
-struct Instance<'c, 'a, D: Device> {
-    ctx: &'c mut Ctx<'a, D>,
-    info: AssemblyInfo,
+/// The Assembly class: the device's assembly instances, data and size. Data is settable on
+/// output, configuration and explicit assemblies (see [`crate::AssemblyRole::settable`]).
+pub const CLASS: ClassDef = ClassDef {
+    id: class_id::ASSEMBLY,
+    name: "Assembly",
+    revision: 2,
+    max_instance: 0,
+    attributes: &[
+        AttributeDef::get_set(3, DataType::RunTime, "Data"),
+        AttributeDef::get(4, DataType::Uint, "Size"),
+    ],
+    get_all: &[],
+    optional_attributes: &[4],
+};
+
+struct Assembly<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+
+impl<D: Device> Assembly<'_, '_, D> {
+    fn info(&self, instance: u32) -> Option<AssemblyInfo> {
+        find(&*self.0.device, instance)
+    }
 }
 
-impl<D: Device> Attributes for Instance<'_, '_, D> {
-    fn get(&mut self, id: u16, w: &mut Writer<'_>) -> CipResult {
-        match id {
-            3 => {
-                let size = usize::from(self.info.size);
-                let mut buf = [0u8; MAX_ASSEMBLY_SIZE];
-                let out = buf
-                    .get_mut(..size)
-                    .ok_or(CipError::new(General::ReplyDataTooLarge))?;
-                let n = self.ctx.device.read_assembly(self.info.instance, out)?;
-                w.bytes(out.get(..n).unwrap_or(&[]))?;
-            }
-            4 => w.u16(self.info.size)?,
-            _ => return Err(unsupported()),
+impl<D: Device> Object for Assembly<'_, '_, D> {
+    fn class(&self) -> &ClassDef {
+        &CLASS
+    }
+    fn has_instance(&self, instance: u32) -> bool {
+        self.info(instance).is_some()
+    }
+    fn max_instance(&self) -> u32 {
+        let list = self.0.device.assemblies();
+        list.iter()
+            .map(|a| u32::from(a.instance))
+            .max()
+            .unwrap_or(0)
+    }
+    fn instance_count(&self) -> u32 {
+        self.0.device.assemblies().len() as u32
+    }
+    fn access(&self, instance: u32, attr: &AttributeDef) -> Access {
+        match self.info(instance) {
+            Some(info) if attr.id == 3 && info.role.settable() => Access::GetSet,
+            _ => Access::Get,
         }
+    }
+    fn run_time_size(&self, instance: u32, _attr: &AttributeDef) -> Option<usize> {
+        self.info(instance).map(|a| usize::from(a.size))
+    }
+    fn get(&mut self, instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
+        let info = self.info(instance).ok_or(General::ObjectDoesNotExist)?;
+        if attr.id == 4 {
+            w.u16(info.size)?;
+            return Ok(());
+        }
+        let mut buf = [0u8; MAX_ASSEMBLY_SIZE];
+        let out = buf
+            .get_mut(..usize::from(info.size))
+            .ok_or(CipError::new(General::ReplyDataTooLarge))?;
+        let n = self.0.device.read_assembly(info.instance, out)?;
+        w.bytes(out.get(..n).unwrap_or(&[]))?;
         Ok(())
     }
-    fn set(&mut self, id: u16, data: &[u8], exact: bool) -> CipResult<usize> {
-        match id {
-            3 => {
-                let size = usize::from(self.info.size);
-                if !self.info.role.settable() {
-                    return Err(read_only());
-                }
-                let value = super::attributes::take(data, size, exact)?;
-                if self
-                    .ctx
-                    .connections
-                    .owned_outputs()
-                    .contains(&self.info.instance)
-                {
-                    return Err(General::DeviceStateConflict.into());
-                }
-                self.ctx.device.write_assembly(self.info.instance, value)?;
-                Ok(size)
-            }
-            4 => Err(read_only()),
-            _ => Err(unsupported()),
+    fn set(&mut self, instance: u32, _attr: &AttributeDef, value: &[u8]) -> CipResult {
+        let info = self.info(instance).ok_or(General::ObjectDoesNotExist)?;
+        if self.0.connections.owned_outputs().contains(&info.instance) {
+            return Err(General::DeviceStateConflict.into());
         }
-    }
-    fn all(&self) -> &'static [u16] {
-        &[]
+        self.0.device.write_assembly(info.instance, value)
     }
 }
 
@@ -65,26 +86,7 @@ pub(crate) fn handle<D: Device>(
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
-    match instance(req)? {
-        0 => {
-            let list = ctx.device.assemblies();
-            attribute_services(
-                &mut ClassInfo {
-                    revision: 2,
-                    max_instance: list.iter().map(|a| a.instance).max().unwrap_or(0),
-                    instances: list.len() as u16,
-                    optional_attributes: &[4],
-                    max_instance_attribute: 4,
-                },
-                req,
-                w,
-            )
-        }
-        n => {
-            let info = find(ctx.device, n).ok_or(no_instance())?;
-            attribute_services(&mut Instance { ctx, info }, req, w)
-        }
-    }
+    serve(&mut Assembly(ctx), req, w)
 }
 
 /// The assembly `instance` of `device`, if it has one.

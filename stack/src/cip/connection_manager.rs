@@ -1,11 +1,11 @@
 //! Connection Manager object (class 0x06): Forward_Open, Large_Forward_Open, Forward_Close,
 //! and Unconnected_Send addressed to this device.
 
-use super::attributes::{read_only_up_to, unsupported, Attributes};
-use super::class_info::ClassInfo;
-use super::router::{attribute_services, instance, no_instance, MAX_DEPTH};
+use super::object::{AttributeDef, ClassDef, DataType};
+use super::router::MAX_DEPTH;
+use super::serve::{serve, Object};
 use super::status::{CipError, CipResult, General};
-use super::{service, Ctx, Request};
+use super::{class_id, service, Ctx, Request};
 use crate::config::IO_PORT;
 use crate::device::{CloseReason, Device};
 use crate::io::open::{self, NetFacts};
@@ -45,12 +45,36 @@ fn bump(counter: &mut u16) {
     *counter = counter.wrapping_add(1);
 }
 
-struct Instance<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+/// The Connection Manager class: request and reject counters (attributes 1-8), and the
+/// Forward_Open, Large_Forward_Open and Forward_Close services.
+pub const CLASS: ClassDef = ClassDef {
+    id: class_id::CONNECTION_MANAGER,
+    name: "Connection Manager",
+    revision: 1,
+    max_instance: 1,
+    attributes: &[
+        AttributeDef::get(1, DataType::Uint, "Open Requests"),
+        AttributeDef::get(2, DataType::Uint, "Open Format Rejects"),
+        AttributeDef::get(3, DataType::Uint, "Open Resource Rejects"),
+        AttributeDef::get(4, DataType::Uint, "Open Other Rejects"),
+        AttributeDef::get(5, DataType::Uint, "Close Requests"),
+        AttributeDef::get(6, DataType::Uint, "Close Format Requests"),
+        AttributeDef::get(7, DataType::Uint, "Close Other Requests"),
+        AttributeDef::get(8, DataType::Uint, "Connection Timeouts"),
+    ],
+    get_all: &[1, 2, 3, 4, 5, 6, 7, 8],
+    optional_attributes: &[1, 2, 3, 4, 5, 6, 7, 8],
+};
 
-impl<D: Device> Attributes for Instance<'_, '_, D> {
-    fn get(&mut self, id: u16, w: &mut Writer<'_>) -> CipResult {
+struct Manager<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+
+impl<D: Device> Object for Manager<'_, '_, D> {
+    fn class(&self) -> &ClassDef {
+        &CLASS
+    }
+    fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         let c = self.0.state.connection_manager;
-        let value = match id {
+        let value = match attr.id {
             1 => c.open_requests,
             2 => c.open_format_rejects,
             3 => c.open_resource_rejects,
@@ -58,17 +82,29 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
             5 => c.close_requests,
             6 => c.close_format_rejects,
             7 => c.close_other_rejects,
-            8 => self.0.connections.timeouts(),
-            _ => return Err(unsupported()),
+            _ => self.0.connections.timeouts(),
         };
         w.u16(value)?;
         Ok(())
     }
-    fn set(&mut self, id: u16, _data: &[u8], _exact: bool) -> CipResult<usize> {
-        Err(read_only_up_to(id, 8))
-    }
-    fn all(&self) -> &'static [u16] {
-        &[1, 2, 3, 4, 5, 6, 7, 8]
+    fn service(
+        &mut self,
+        instance: u32,
+        req: &Request<'_>,
+        w: &mut Writer<'_>,
+    ) -> Option<CipResult> {
+        let ctx = &mut *self.0;
+        match (instance, req.service) {
+            (1, service::FORWARD_OPEN | service::LARGE_FORWARD_OPEN) => {
+                bump(&mut ctx.state.connection_manager.open_requests);
+                Some(forward_open(ctx, req, w))
+            }
+            (1, service::FORWARD_CLOSE) => {
+                bump(&mut ctx.state.connection_manager.close_requests);
+                Some(forward_close(ctx, req.data, w))
+            }
+            _ => None,
+        }
     }
 }
 
@@ -78,29 +114,7 @@ pub(crate) fn handle<D: Device>(
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
-    match (instance(req)?, req.service) {
-        (0, _) => attribute_services(
-            &mut ClassInfo {
-                revision: 1,
-                max_instance: 1,
-                instances: 1,
-                optional_attributes: &[1, 2, 3, 4, 5, 6, 7, 8],
-                max_instance_attribute: 8,
-            },
-            req,
-            w,
-        ),
-        (1, service::FORWARD_OPEN | service::LARGE_FORWARD_OPEN) => {
-            bump(&mut ctx.state.connection_manager.open_requests);
-            forward_open(ctx, req, w)
-        }
-        (1, service::FORWARD_CLOSE) => {
-            bump(&mut ctx.state.connection_manager.close_requests);
-            forward_close(ctx, req.data, w)
-        }
-        (1, _) => attribute_services(&mut Instance(ctx), req, w),
-        _ => Err(no_instance()),
-    }
+    serve(&mut Manager(ctx), req, w)
 }
 
 /// Malformed request data: short is "not enough data", a path that does not fill it "too much".
@@ -132,7 +146,7 @@ fn forward_open<D: Device>(
         multicast,
         ttl,
     };
-    let opened = open::forward_open(ctx.connections, ctx.device, &fo, &origin, &net, ctx.now);
+    let opened = open::forward_open(ctx.connections, ctx.device, &fo, &origin, &net, ctx.now());
     let slot = match opened {
         Ok(slot) => slot,
         Err(e) => {
@@ -202,7 +216,7 @@ pub(crate) fn embedded_request<'a>(req: &Request<'a>, depth: u8) -> CipResult<&'
         return Err(General::ServiceNotSupported.into());
     }
     if req.path.instance_or_point() != Some(1) {
-        return Err(no_instance());
+        return Err(General::ObjectDoesNotExist.into());
     }
     let mut r = Reader::new(req.data);
     r.u8()?; // priority / time tick

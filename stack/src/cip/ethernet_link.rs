@@ -1,11 +1,10 @@
 //! Ethernet Link object (class 0xF6): speed, flags, MAC address, counters, admin state.
 
-use super::attributes::{read_only, take, unsupported, Attributes};
-use super::class_info::ClassInfo;
 use super::encoding::short_string;
-use super::router::{attribute_services, instance, no_instance};
+use super::object::{AttributeDef, ClassDef, DataType};
+use super::serve::{attribute_services, serve, Object};
 use super::status::{CipResult, General};
-use super::{service, Ctx, Request};
+use super::{class_id, service, Ctx, Request};
 use crate::device::Device;
 use crate::wire::Writer;
 
@@ -87,13 +86,40 @@ fn flags(link_up: bool) -> u32 {
     }
 }
 
-struct Instance<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+/// The Ethernet Link class: one instance, attributes 1-11; 9 (admin state) is settable, and
+/// Get_and_Clear reads and clears the counters (4) or reads the media counters (5).
+pub const CLASS: ClassDef = ClassDef {
+    id: class_id::ETHERNET_LINK,
+    name: "Ethernet Link",
+    revision: 4,
+    max_instance: 1,
+    attributes: &[
+        AttributeDef::get(1, DataType::Udint, "Interface Speed"),
+        AttributeDef::get(2, DataType::Dword, "Interface Flags"),
+        AttributeDef::get(3, DataType::Bytes(6), "Physical Address"),
+        AttributeDef::get(4, DataType::Bytes(44), "Interface Counters"),
+        AttributeDef::get(5, DataType::Bytes(48), "Media Counters"),
+        AttributeDef::get(6, DataType::Bytes(4), "Interface Control"),
+        AttributeDef::get(7, DataType::Usint, "Interface Type"),
+        AttributeDef::get(8, DataType::Usint, "Interface State"),
+        AttributeDef::get_set(9, DataType::Usint, "Admin State"),
+        AttributeDef::get(10, DataType::ShortString { max: 64 }, "Interface Label"),
+        AttributeDef::get(11, DataType::Bytes(11), "Interface Capability"),
+    ],
+    get_all: &[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11],
+    optional_attributes: &[4, 5, 6, 7, 8, 9, 10, 11],
+};
 
-impl<D: Device> Attributes for Instance<'_, '_, D> {
-    fn get(&mut self, id: u16, w: &mut Writer<'_>) -> CipResult {
+struct Link<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+
+impl<D: Device> Object for Link<'_, '_, D> {
+    fn class(&self) -> &ClassDef {
+        &CLASS
+    }
+    fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         let net = self.0.net;
         let link = &self.0.state.link;
-        match id {
+        match attr.id {
             1 => w.u32(net.link_speed_mbps)?,
             2 => w.u32(flags(net.link_up))?,
             3 => w.bytes(&net.mac)?,
@@ -115,7 +141,7 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
             8 => w.u8(if net.link_up { 1 } else { 2 })?,
             9 => w.u8(link.admin_state)?,
             10 => short_string(w, b"Port 1")?,
-            11 => {
+            _ => {
                 w.u32(0x0000_0004)?; // auto-negotiate capable
                 w.u8(2)?;
                 w.u16(10)?;
@@ -123,28 +149,55 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
                 w.u16(100)?;
                 w.u8(1)?;
             }
-            _ => return Err(unsupported()),
         }
         Ok(())
     }
 
-    fn set(&mut self, id: u16, data: &[u8], exact: bool) -> CipResult<usize> {
-        match id {
-            9 => match take(data, 1, exact)? {
-                [v @ (1 | 2)] => {
-                    self.0.state.link.admin_state = *v;
-                    Ok(1)
-                }
-                _ => Err(General::InvalidAttributeValue.into()),
-            },
-            1..=8 | 10 | 11 => Err(read_only()),
-            _ => Err(unsupported()),
+    fn set(&mut self, _instance: u32, _attr: &AttributeDef, value: &[u8]) -> CipResult {
+        // Attribute 9, the only settable one.
+        match value {
+            [v @ (1 | 2)] => {
+                self.0.state.link.admin_state = *v;
+                Ok(())
+            }
+            _ => Err(General::InvalidAttributeValue.into()),
         }
     }
 
-    fn all(&self) -> &'static [u16] {
-        &[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11]
+    fn service(
+        &mut self,
+        instance: u32,
+        req: &Request<'_>,
+        w: &mut Writer<'_>,
+    ) -> Option<CipResult> {
+        (instance == 1 && req.service == service::GET_AND_CLEAR)
+            .then(|| get_and_clear(self, req, w))
     }
+}
+
+/// Get_and_Clear: Get_Attribute_Single of attribute 4 or 5, then attribute 4 cleared.
+fn get_and_clear<D: Device>(
+    link: &mut Link<'_, '_, D>,
+    req: &Request<'_>,
+    w: &mut Writer<'_>,
+) -> CipResult {
+    let attr = req.path.attribute;
+    if !matches!(attr, Some(4 | 5)) {
+        return Err(if attr.is_some() {
+            General::AttributeNotSupported.into()
+        } else {
+            General::PathDestinationUnknown.into()
+        });
+    }
+    let get = Request {
+        service: service::GET_ATTRIBUTE_SINGLE,
+        ..*req
+    };
+    attribute_services(link, 1, &get, w)?;
+    if attr == Some(4) {
+        link.0.state.link.counters = InterfaceCounters::default();
+    }
+    Ok(())
 }
 
 /// Handles a request to the Ethernet Link class or its instance 1.
@@ -153,41 +206,5 @@ pub(crate) fn handle<D: Device>(
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
-    match instance(req)? {
-        0 => attribute_services(
-            &mut ClassInfo {
-                revision: 4,
-                max_instance: 1,
-                instances: 1,
-                optional_attributes: &[4, 5, 6, 7, 8, 9, 10, 11],
-                max_instance_attribute: 11,
-            },
-            req,
-            w,
-        ),
-        1 if req.service == service::GET_AND_CLEAR => {
-            let attr = req.path.attribute;
-            if !matches!(attr, Some(4 | 5)) {
-                return Err(if attr.is_some() {
-                    unsupported()
-                } else {
-                    General::PathDestinationUnknown.into()
-                });
-            }
-            attribute_services(
-                &mut Instance(ctx),
-                &Request {
-                    service: service::GET_ATTRIBUTE_SINGLE,
-                    ..*req
-                },
-                w,
-            )?;
-            if attr == Some(4) {
-                ctx.state.link.counters = InterfaceCounters::default();
-            }
-            Ok(())
-        }
-        1 => attribute_services(&mut Instance(ctx), req, w),
-        _ => Err(no_instance()),
-    }
+    serve(&mut Link(ctx), req, w)
 }

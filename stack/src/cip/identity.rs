@@ -1,23 +1,45 @@
 //! Identity object (class 0x01): who the device is, its status, and the Reset service.
 
-use super::attributes::{read_only_up_to, unsupported, Attributes};
-use super::class_info::ClassInfo;
 use super::encoding::short_string;
-use super::router::{attribute_services, instance, no_instance};
+use super::object::{AttributeDef, ClassDef, DataType};
+use super::serve::{serve, Object};
 use super::status::{CipResult, General};
-use super::{service, Ctx, Request};
+use super::{class_id, service, Ctx, Request};
 use crate::device::Device;
 use crate::wire::Writer;
 
 /// Identity state attribute value: operational.
 const STATE_OPERATIONAL: u8 = 3;
 
-struct Instance<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+/// The Identity class: one instance, attributes 1-8, all read-only.
+pub const CLASS: ClassDef = ClassDef {
+    id: class_id::IDENTITY,
+    name: "Identity",
+    revision: 1,
+    max_instance: 1,
+    attributes: &[
+        AttributeDef::get(1, DataType::Uint, "Vendor ID"),
+        AttributeDef::get(2, DataType::Uint, "Device Type"),
+        AttributeDef::get(3, DataType::Uint, "Product Code"),
+        AttributeDef::get(4, DataType::Bytes(2), "Revision"),
+        AttributeDef::get(5, DataType::Word, "Status"),
+        AttributeDef::get(6, DataType::Udint, "Serial Number"),
+        AttributeDef::get(7, DataType::ShortString { max: 32 }, "Product Name"),
+        AttributeDef::get(8, DataType::Usint, "State"),
+    ],
+    get_all: &[1, 2, 3, 4, 5, 6, 7],
+    optional_attributes: &[8],
+};
 
-impl<D: Device> Attributes for Instance<'_, '_, D> {
-    fn get(&mut self, id: u16, w: &mut Writer<'_>) -> CipResult {
+struct Identity<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+
+impl<D: Device> Object for Identity<'_, '_, D> {
+    fn class(&self) -> &ClassDef {
+        &CLASS
+    }
+    fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         let ident = *self.0.device.identity();
-        match id {
+        match attr.id {
             1 => w.u16(ident.vendor_id)?,
             2 => w.u16(ident.device_type)?,
             3 => w.u16(ident.product_code)?,
@@ -25,16 +47,17 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
             5 => w.u16(self.0.identity_status())?,
             6 => w.u32(ident.serial_number)?,
             7 => short_string(w, ident.product_name.as_bytes())?,
-            8 => w.u8(STATE_OPERATIONAL)?,
-            _ => return Err(unsupported()),
+            _ => w.u8(STATE_OPERATIONAL)?,
         }
         Ok(())
     }
-    fn set(&mut self, id: u16, _data: &[u8], _exact: bool) -> CipResult<usize> {
-        Err(read_only_up_to(id, 8))
-    }
-    fn all(&self) -> &'static [u16] {
-        &[1, 2, 3, 4, 5, 6, 7]
+    fn service(
+        &mut self,
+        instance: u32,
+        req: &Request<'_>,
+        _w: &mut Writer<'_>,
+    ) -> Option<CipResult> {
+        (instance == 1 && req.service == service::RESET).then(|| reset(self.0, req.data))
     }
 }
 
@@ -44,22 +67,7 @@ pub(crate) fn handle<D: Device>(
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
-    match instance(req)? {
-        0 => attribute_services(
-            &mut ClassInfo {
-                revision: 1,
-                max_instance: 1,
-                instances: 1,
-                optional_attributes: &[8],
-                max_instance_attribute: 8,
-            },
-            req,
-            w,
-        ),
-        1 if req.service == service::RESET => reset(ctx, req.data),
-        1 => attribute_services(&mut Instance(ctx), req, w),
-        _ => Err(no_instance()),
-    }
+    serve(&mut Identity(ctx), req, w)
 }
 
 /// Reset: no data or one byte, 0 (power cycle) or 1 (factory defaults); handed to the device.

@@ -1,8 +1,8 @@
 //! Message Router object (class 0x02): its object list, and Multiple_Service_Packet.
 
-use super::attributes::{read_only_up_to, unsupported, Attributes};
-use super::class_info::ClassInfo;
-use super::router::{attribute_services, instance, no_instance, respond, MAX_DEPTH};
+use super::object::{AttributeDef, ClassDef, DataType};
+use super::router::{respond, MAX_DEPTH};
+use super::serve::{serve, Object};
 use super::status::{CipError, CipResult, General};
 use super::{class_id, service, Ctx, Request};
 use crate::config::{MAX_CONNECTIONS, MAX_MULTIPLE_SERVICES};
@@ -19,28 +19,50 @@ const STANDARD_CLASSES: [u16; 6] = [
     class_id::ETHERNET_LINK,
 ];
 
-struct Instance<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+/// The Message Router class: its object list and connection count, and
+/// Multiple_Service_Packet.
+pub const CLASS: ClassDef = ClassDef {
+    id: class_id::MESSAGE_ROUTER,
+    name: "Message Router",
+    revision: 1,
+    max_instance: 1,
+    attributes: &[
+        AttributeDef::get(1, DataType::Unsized, "Object List"),
+        AttributeDef::get(2, DataType::Uint, "Number Available"),
+    ],
+    get_all: &[1, 2],
+    optional_attributes: &[1, 2],
+};
 
-impl<D: Device> Attributes for Instance<'_, '_, D> {
-    fn get(&mut self, id: u16, w: &mut Writer<'_>) -> CipResult {
-        match id {
-            1 => {
-                let vendor = self.0.device.vendor_classes();
-                w.u16((STANDARD_CLASSES.len() + vendor.len()) as u16)?;
-                for c in STANDARD_CLASSES.iter().chain(vendor) {
-                    w.u16(*c)?;
-                }
-            }
-            2 => w.u16(MAX_CONNECTIONS as u16)?,
-            _ => return Err(unsupported()),
+struct Router<'c, 'a, D: Device> {
+    ctx: &'c mut Ctx<'a, D>,
+    depth: u8,
+}
+
+impl<D: Device> Object for Router<'_, '_, D> {
+    fn class(&self) -> &ClassDef {
+        &CLASS
+    }
+    fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
+        if attr.id == 2 {
+            w.u16(MAX_CONNECTIONS as u16)?;
+            return Ok(());
+        }
+        let vendor = self.ctx.device.classes();
+        w.u16((STANDARD_CLASSES.len() + vendor.len()) as u16)?;
+        for c in STANDARD_CLASSES.iter().chain(vendor.iter().map(|c| &c.id)) {
+            w.u16(*c)?;
         }
         Ok(())
     }
-    fn set(&mut self, id: u16, _data: &[u8], _exact: bool) -> CipResult<usize> {
-        Err(read_only_up_to(id, 2))
-    }
-    fn all(&self) -> &'static [u16] {
-        &[1, 2]
+    fn service(
+        &mut self,
+        instance: u32,
+        req: &Request<'_>,
+        w: &mut Writer<'_>,
+    ) -> Option<CipResult> {
+        (instance == 1 && req.service == service::MULTIPLE_SERVICE_PACKET)
+            .then(|| multiple_service_packet(self.ctx, req.data, w, self.depth))
     }
 }
 
@@ -51,24 +73,7 @@ pub(crate) fn handle<D: Device>(
     w: &mut Writer<'_>,
     depth: u8,
 ) -> CipResult {
-    match instance(req)? {
-        0 => attribute_services(
-            &mut ClassInfo {
-                revision: 1,
-                max_instance: 1,
-                instances: 1,
-                optional_attributes: &[1, 2],
-                max_instance_attribute: 2,
-            },
-            req,
-            w,
-        ),
-        1 if req.service == service::MULTIPLE_SERVICE_PACKET => {
-            multiple_service_packet(ctx, req.data, w, depth)
-        }
-        1 => attribute_services(&mut Instance(ctx), req, w),
-        _ => Err(no_instance()),
-    }
+    serve(&mut Router { ctx, depth }, req, w)
 }
 
 /// Multiple_Service_Packet: runs each embedded request in order and replies with a count, an

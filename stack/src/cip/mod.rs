@@ -1,26 +1,28 @@
 //! The CIP object model: status codes, requests, the Message Router and the standard objects.
 
-pub(crate) mod assembly;
-pub(crate) mod attributes;
+pub mod assembly;
 pub mod class_id;
-pub(crate) mod class_info;
 pub mod connection_manager;
+pub mod context;
 pub(crate) mod encoding;
 pub mod ethernet_link;
-pub(crate) mod identity;
-pub(crate) mod message_router;
+pub mod identity;
+pub mod message_router;
+pub mod object;
 pub mod request;
 pub(crate) mod router;
+pub(crate) mod serve;
 pub mod service;
 pub mod status;
 pub mod tcpip;
+pub(crate) mod vendor;
 
 use crate::device::Device;
 use crate::io::open::Origin;
 use crate::io::ConnectionTable;
 use crate::net::NetworkConfig;
-use crate::time::Instant;
 use crate::wire::cpf::SockAddr;
+use context::RequestContext;
 
 pub use request::{Path, Request};
 pub use status::{CipError, CipResult, General};
@@ -67,12 +69,17 @@ pub(crate) struct Ctx<'a, D: Device> {
     pub origin: Option<Origin>,
     /// Set by a Forward_Open whose T->O data is multicast: the reply's T->O socket address.
     pub reply_t_o_sockaddr: Option<SockAddr>,
-    pub now: Instant,
+    /// Unconnected or connected, the session's peer, the time.
+    pub request: RequestContext,
 }
 
 impl<D: Device> Ctx<'_, D> {
     /// Identity attribute 5: the device's bits plus what the connections contribute.
     pub(crate) fn identity_status(&self) -> u16 {
         self.device.status_bits() | self.connections.identity_status()
+    }
+    /// The time the request is handled.
+    pub(crate) fn now(&self) -> crate::time::Instant {
+        self.request.now
     }
 }

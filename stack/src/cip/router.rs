@@ -1,11 +1,10 @@
 //! The Message Router: frames a request, sends it to the object its path names, and writes
 //! the response with the right general and additional status.
 
-use super::attributes::{self, Attributes};
 use super::request::Request;
-use super::status::{CipError, CipResult, General};
+use super::status::CipResult;
 use super::{assembly, class_id, connection_manager, ethernet_link, identity};
-use super::{message_router, tcpip, Ctx};
+use super::{message_router, tcpip, vendor, Ctx};
 use crate::device::Device;
 use crate::wire::message_router::{emit_response_header, REPLY_BIT};
 use crate::wire::{self, Writer};
@@ -77,7 +76,8 @@ fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> w
     Ok(())
 }
 
-/// Sends a decoded request to its object.
+/// Sends a decoded request to its object: a built-in one, a class the device declares, or
+/// else whatever the device makes of it (0x05 if nothing).
 pub(crate) fn dispatch<D: Device>(
     ctx: &mut Ctx<'_, D>,
     req: &Request<'_>,
@@ -92,31 +92,6 @@ pub(crate) fn dispatch<D: Device>(
         Some(class_id::CONNECTION_MANAGER) => connection_manager::handle(ctx, req, w),
         Some(class_id::TCP_IP_INTERFACE) => tcpip::handle(ctx, req, w),
         Some(class_id::ETHERNET_LINK) => ethernet_link::handle(ctx, req, w),
-        _ => ctx
-            .device
-            .handle_request(req, w)
-            .unwrap_or(Err(CipError::new(General::PathDestinationUnknown))),
+        _ => vendor::handle(ctx, class, req, w),
     }
-}
-
-/// The instance a request addresses (0 is the class); a path without one is unknown (0x05).
-pub(crate) fn instance(req: &Request<'_>) -> CipResult<u32> {
-    req.path
-        .instance_or_point()
-        .ok_or(CipError::new(General::PathDestinationUnknown))
-}
-
-/// Runs the shared attribute services on `obj`; anything else is not supported (0x08).
-pub(crate) fn attribute_services(
-    obj: &mut impl Attributes,
-    req: &Request<'_>,
-    w: &mut Writer<'_>,
-) -> CipResult {
-    attributes::handle(obj, req.service, req.path.attribute, req.data, w)
-        .unwrap_or(Err(CipError::new(General::ServiceNotSupported)))
-}
-
-/// An instance number the object does not have.
-pub(crate) const fn no_instance() -> CipError {
-    CipError::new(General::ObjectDoesNotExist)
 }

@@ -59,6 +59,8 @@ pub enum General {
     UnexpectedAttributeInList = 0x26,
     /// Path size invalid.
     PathSizeInvalid = 0x1C,
+    /// Attribute not gettable.
+    AttributeNotGettable = 0x2C,
 }
 
 /// Most additional status words an error carries.

@@ -3,12 +3,11 @@
 
 use core::net::Ipv4Addr;
 
-use super::attributes::{read_only, take, unsupported, Attributes};
-use super::class_info::ClassInfo;
 use super::encoding::{ip, padded_string};
-use super::router::{attribute_services, instance, no_instance};
+use super::object::{AttributeDef, ClassDef, DataType};
+use super::serve::{serve, Object};
 use super::status::{CipResult, General};
-use super::{Ctx, Request};
+use super::{class_id, Ctx, Request};
 use crate::config::MAX_HOST_NAME;
 use crate::device::{Device, Multicast};
 use crate::net::NetworkConfig;
@@ -105,13 +104,47 @@ impl Default for TcpIpState {
     }
 }
 
-struct Instance<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+/// The TCP/IP Interface class: one instance, attributes 1-13; 3, 6, 8, 9 and 13 settable.
+pub const CLASS: ClassDef = ClassDef {
+    id: class_id::TCP_IP_INTERFACE,
+    name: "TCP/IP Interface",
+    revision: 4,
+    max_instance: 1,
+    attributes: &[
+        AttributeDef::get(1, DataType::Dword, "Status"),
+        AttributeDef::get(2, DataType::Dword, "Configuration Capability"),
+        AttributeDef::get_set(3, DataType::Dword, "Configuration Control"),
+        AttributeDef::get(4, DataType::Bytes(6), "Physical Link Object"),
+        AttributeDef::get(5, DataType::Unsized, "Interface Configuration"),
+        AttributeDef::get_set(
+            6,
+            DataType::PaddedString {
+                max: MAX_HOST_NAME as u16,
+            },
+            "Host Name",
+        ),
+        AttributeDef::get(7, DataType::Bytes(6), "Safety Network Number"),
+        AttributeDef::get_set(8, DataType::Usint, "TTL Value"),
+        AttributeDef::get_set(9, DataType::Bytes(8), "Mcast Config"),
+        AttributeDef::get(10, DataType::Bool, "Select ACD"),
+        AttributeDef::get(11, DataType::Bytes(35), "Last Conflict Detected"),
+        AttributeDef::get(12, DataType::Bool, "EtherNet/IP Quick Connect"),
+        AttributeDef::get_set(13, DataType::Uint, "Encapsulation Inactivity Timeout"),
+    ],
+    get_all: &[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13],
+    optional_attributes: &[8, 9, 13],
+};
 
-impl<D: Device> Attributes for Instance<'_, '_, D> {
-    fn get(&mut self, id: u16, w: &mut Writer<'_>) -> CipResult {
+struct TcpIp<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+
+impl<D: Device> Object for TcpIp<'_, '_, D> {
+    fn class(&self) -> &ClassDef {
+        &CLASS
+    }
+    fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         let net = self.0.net;
         let st = &self.0.state.tcpip;
-        match id {
+        match attr.id {
             1 => w.u32(1)?,
             2 => w.u32(CAPABILITY_DHCP | CAPABILITY_CHANGE_NEEDS_RESET)?,
             3 => w.u32(st.config_control)?,
@@ -143,28 +176,25 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
             }
             10 | 12 => w.u8(0)?,
             11 => w.zeros(35)?,
-            13 => w.u16(st.inactivity_timeout_s)?,
-            _ => return Err(unsupported()),
+            _ => w.u16(st.inactivity_timeout_s)?,
         }
         Ok(())
     }
 
-    fn set(&mut self, id: u16, data: &[u8], exact: bool) -> CipResult<usize> {
+    fn set(&mut self, _instance: u32, attr: &AttributeDef, value: &[u8]) -> CipResult {
         let st = &mut self.0.state.tcpip;
-        match id {
+        match attr.id {
             3 => {
-                let v = get_u32(take(data, 4, exact)?, 0);
+                let v = get_u32(value, 0);
                 if v & 0x0F != CONTROL_STATIC && v & 0x0F != CONTROL_DHCP || v & !0x1F != 0 {
                     return Err(General::InvalidAttributeValue.into());
                 }
                 st.config_control = v;
-                Ok(4)
+                Ok(())
             }
             6 => {
-                let len = usize::from(get_u16(take(data, 2, false)?, 0));
-                let total = 2 + len + len % 2;
-                let raw = take(data, total, exact)?;
-                let name = raw.get(2..2 + len).unwrap_or(&[]);
+                let len = usize::from(get_u16(value, 0));
+                let name = value.get(2..2 + len).unwrap_or(&[]);
                 if !name
                     .iter()
                     .all(|c| c.is_ascii_alphanumeric() || matches!(c, b'-' | b'.'))
@@ -173,21 +203,20 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
                 }
                 st.host_name =
                     heapless::Vec::from_slice(name).map_err(|_| General::InvalidAttributeValue)?;
-                Ok(total)
+                Ok(())
             }
-            8 => match take(data, 1, exact)? {
-                [0] => Err(General::InvalidAttributeValue.into()),
-                [ttl] => {
+            8 => match value.first().copied().unwrap_or(0) {
+                0 => Err(General::InvalidAttributeValue.into()),
+                ttl => {
                     match self.0.device.multicast() {
-                        Some(m) => self.0.device.set_multicast(Multicast { ttl: *ttl, ..m })?,
-                        None => st.ttl = *ttl,
+                        Some(m) => self.0.device.set_multicast(Multicast { ttl, ..m })?,
+                        None => st.ttl = ttl,
                     }
-                    Ok(1)
+                    Ok(())
                 }
-                _ => Err(General::NotEnoughData.into()),
             },
             9 => {
-                let v = take(data, 8, exact)?;
+                let v = value;
                 let mcast = MulticastConfig {
                     alloc_control: v.first().copied().unwrap_or(0xFF),
                     num_mcast: get_u16(v, 2),
@@ -204,23 +233,17 @@ impl<D: Device> Attributes for Instance<'_, '_, D> {
                     })?,
                     None => st.mcast = mcast,
                 }
-                Ok(8)
+                Ok(())
             }
-            13 => {
-                let v = get_u16(take(data, 2, exact)?, 0);
+            _ => {
+                let v = get_u16(value, 0);
                 if v > 3600 {
                     return Err(General::InvalidAttributeValue.into());
                 }
                 st.inactivity_timeout_s = v;
-                Ok(2)
+                Ok(())
             }
-            1 | 2 | 4 | 5 | 7 | 10 | 11 | 12 => Err(read_only()),
-            _ => Err(unsupported()),
         }
-    }
-
-    fn all(&self) -> &'static [u16] {
-        &[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13]
     }
 }
 
@@ -247,21 +270,7 @@ pub(crate) fn handle<D: Device>(
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
-    match instance(req)? {
-        0 => attribute_services(
-            &mut ClassInfo {
-                revision: 4,
-                max_instance: 1,
-                instances: 1,
-                optional_attributes: &[8, 9, 13],
-                max_instance_attribute: 13,
-            },
-            req,
-            w,
-        ),
-        1 => attribute_services(&mut Instance(ctx), req, w),
-        _ => Err(no_instance()),
-    }
+    serve(&mut TcpIp(ctx), req, w)
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 use core::net::SocketAddrV4;
 
 use crate::adapter::Adapter;
+use crate::cip::context::{RequestContext, Via};
 use crate::cip::router;
 use crate::device::Device;
 use crate::io::explicit;
@@ -59,9 +60,15 @@ impl<D: Device> Adapter<D> {
             {
                 (error_reply(&header, status::INVALID_SESSION, reply), false)
             }
-            command::SEND_RR_DATA => (self.send_rr_data(index, &header, data, now, reply), false),
+            command::SEND_RR_DATA => {
+                let len = self.send_rr_data(index, &header, data, now, reply);
+                self.after_explicit_request();
+                (len, false)
+            }
             command::SEND_UNIT_DATA => {
-                (self.send_unit_data(index, &header, data, now, reply), false)
+                let len = self.send_unit_data(index, &header, data, now, reply);
+                self.after_explicit_request();
+                (len, false)
             }
             _ => (error_reply(&header, status::INVALID_COMMAND, reply), false),
         };
@@ -191,12 +198,17 @@ impl<D: Device> Adapter<D> {
 
     /// The originator of requests on socket `index`.
     fn origin(&self, index: usize, t_o_sockaddr: Option<SockAddr>) -> Option<Origin> {
-        let peer = self.sessions.get(index)?.peer?;
+        let peer = self.peer(index)?;
         Some(Origin {
             ip: *peer.ip(),
             socket: index as u8,
             t_o_sockaddr,
         })
+    }
+
+    /// The peer of the session on socket `index`.
+    fn peer(&self, index: usize) -> Option<SocketAddrV4> {
+        self.sessions.get(index)?.peer
     }
 
     /// SendRRData: a null address item and an unconnected data item carrying a request,
@@ -216,7 +228,8 @@ impl<D: Device> Adapter<D> {
             return error_reply(header, status::INCORRECT_DATA, out);
         };
         let origin = self.origin(index, t_o_sockaddr);
-        let mut ctx = self.ctx(now, origin);
+        let cx = RequestContext::unconnected(self.peer(index), now);
+        let mut ctx = self.ctx(cx, origin);
         let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
             rr_data::emit_prefix(w, 0, 0)?;
             let count_at = w.len();
@@ -281,7 +294,12 @@ impl<D: Device> Adapter<D> {
                 })
             }
             explicit::Step::Execute { slot, t_o_id } => {
-                let mut ctx = self.ctx(now, origin);
+                let cx = RequestContext {
+                    via: Via::Connected { slot },
+                    peer: self.peer(index),
+                    now,
+                };
+                let mut ctx = self.ctx(cx, origin);
                 let mut reply_at = 0;
                 let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
                     let at = body(w, t_o_id)?;

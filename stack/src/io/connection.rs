@@ -2,6 +2,7 @@
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
+use crate::device::ConnectionPoints;
 use crate::time::{Duration, Instant};
 use crate::wire::forward_open::Triad;
 
@@ -99,6 +100,8 @@ pub struct Connection {
     pub triad: Triad,
     /// The originator's IP address.
     pub originator: Ipv4Addr,
+    /// The assembly instances of its path.
+    pub points: ConnectionPoints,
     /// Socket index of the encapsulation session whose Forward_Open opened it.
     pub socket: u8,
     /// When its last packet (O->T data, or a Class 3 request) arrived, or when it opened; the

@@ -11,7 +11,11 @@ use crate::cip::status::{CipError, CipResult};
 use crate::config::{
     FIRST_PACKET_GRACE_US, IO_PORT, MAX_EXPLICIT_CONNECTED, MAX_RPI_US, MIN_RPI_US,
 };
-use crate::device::{AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo};
+use crate::device::admission::rpi_check;
+use crate::device::{
+    AssemblyInfo, AssemblyRole, ConnectionEvent, ConnectionInfo, ConnectionPoints, Device,
+    Direction, IdentityInfo, OpenRequest,
+};
 use crate::time::{Duration, Instant};
 use crate::wire::cpf::SockAddr;
 use crate::wire::epath::{
@@ -112,41 +116,17 @@ fn check_key(key: &ElectronicKey, id: &IdentityInfo) -> CipResult {
     Ok(())
 }
 
-/// RPI type in 0x0112 additional status: acceptable, minimum, maximum.
-const RPI_OK: u8 = 0;
-const RPI_MIN: u8 = 2;
-const RPI_MAX: u8 = 3;
-
-fn rpi_verdict(rpi: u32, used: bool) -> (u8, u32) {
-    match rpi {
-        _ if !used => (RPI_OK, rpi),
-        r if r < MIN_RPI_US => (RPI_MIN, MIN_RPI_US),
-        r if r > MAX_RPI_US => (RPI_MAX, MAX_RPI_US),
-        r => (RPI_OK, r),
-    }
-}
-
-/// 0x0112 with the acceptable values: O->T type, T->O type, O->T value, T->O value.
+/// 0x0112 with the acceptable values if an RPI in use lies outside the stack's range.
 fn check_rpis(fo: &ForwardOpen<'_>) -> CipResult {
-    let (ot, otv) = rpi_verdict(
-        fo.o_t_rpi,
-        fo.o_t_params.connection_type != ConnectionType::Null,
-    );
-    let (to, tov) = rpi_verdict(
-        fo.t_o_rpi,
-        fo.t_o_params.connection_type != ConnectionType::Null,
-    );
-    if ot == RPI_OK && to == RPI_OK {
-        return Ok(());
-    }
-    Err(CipError::connection(ext::RPI_NOT_ACCEPTABLE).with_words(&[
-        ext::RPI_NOT_ACCEPTABLE,
-        u16::from_le_bytes([ot, to]),
-        otv as u16,
-        (otv >> 16) as u16,
-        tov as u16,
-        (tov >> 16) as u16,
-    ]))
+    let used = |p: &NetworkParams| p.connection_type != ConnectionType::Null;
+    rpi_check(
+        [
+            (fo.o_t_rpi, used(&fo.o_t_params)),
+            (fo.t_o_rpi, used(&fo.t_o_params)),
+        ],
+        MIN_RPI_US,
+        MAX_RPI_US,
+    )
 }
 
 fn size_error(code: u16, expected: usize) -> CipError {
@@ -178,7 +158,7 @@ pub fn forward_open<D: Device>(
     }
     let trigger = match (fo.transport_class(), fo.trigger()) {
         (1, 0) => Trigger::Cyclic,
-        (1, 1) if device.change_of_state() => Trigger::ChangeOfState,
+        (1, 1) => Trigger::ChangeOfState,
         (1, 2) | (3, 0 | 2) => Trigger::Application,
         _ => return Err(CipError::connection(ext::TRANSPORT_NOT_SUPPORTED)),
     };
@@ -202,6 +182,7 @@ pub fn forward_open<D: Device>(
         kind: Kind::Explicit,
         triad: fo.triad,
         originator: origin.ip,
+        points: ConnectionPoints::default(),
         socket: origin.socket,
         last_activity: now,
         o_t_id: 0,
@@ -221,29 +202,74 @@ pub fn forward_open<D: Device>(
     } else {
         class1(table, device, fo, &path, origin, net, trigger, base, now)?
     };
-    if !table.has_room() {
-        return Err(CipError::connection(ext::OUT_OF_CONNECTIONS));
-    }
+    let slot = table
+        .free_slot()
+        .ok_or(CipError::connection(ext::OUT_OF_CONNECTIONS))?;
+    device.admit(&OpenRequest {
+        kind: conn.kind,
+        transport_class: fo.transport_class(),
+        trigger,
+        inhibit: conn
+            .producer()
+            .map_or(Duration::from_micros(0), |p| p.inhibit),
+        points: conn.points,
+        o_t: Direction {
+            rpi_us: fo.o_t_rpi,
+            params: fo.o_t_params,
+        },
+        t_o: Direction {
+            rpi_us: fo.t_o_rpi,
+            params: fo.t_o_params,
+        },
+        timeout_multiplier: fo.timeout_multiplier,
+        originator: origin.ip,
+        triad: fo.triad,
+        key: path.key,
+        config_data: path.config_data,
+    })?;
     let mut conn = conn;
     conn.o_t_id = table.new_id();
     if conn.produces_multicast() {
         conn.t_o_id = table.new_id();
     }
     let gained = conn.kind == Kind::ExclusiveOwner && table.owned_outputs().is_empty();
-    if let (Some(data), Some(&config)) = (path.config_data, path.points.first()) {
-        if path.points.len() == 3
-            && (conn.kind == Kind::ExclusiveOwner || table.owned_outputs().is_empty())
-        {
-            device.write_assembly(config as u16, data)?;
+    if let (Some(data), Some(config)) = (path.config_data, conn.points.config) {
+        if conn.kind == Kind::ExclusiveOwner || table.owned_outputs().is_empty() {
+            device
+                .write_assembly(config, data)
+                .map_err(configuration_refused)?;
         }
     }
-    let slot = table
+    let info = ConnectionInfo::of(slot, &conn);
+    table
         .insert(conn)
         .ok_or(CipError::connection(ext::OUT_OF_CONNECTIONS))?;
+    info!(
+        "connection {} opened: {:?} from {}, points {:?}/{:?}/{:?}, RPI O->T {} us T->O {} us",
+        slot,
+        info.kind,
+        info.originator,
+        info.points.config,
+        info.points.consumed,
+        info.points.produced,
+        info.o_t_rpi_us,
+        info.t_o_rpi_us
+    );
+    device.connection_event(ConnectionEvent::Opened(info));
     if gained {
         device.connection_event(ConnectionEvent::OwnershipGained);
     }
     Ok(slot)
+}
+
+/// A configuration the device refused to take at Forward_Open: its connection failure as
+/// given, anything else 0x01/0x0110 (target not configured).
+fn configuration_refused(e: CipError) -> CipError {
+    if e.general == crate::cip::General::ConnectionFailure as u8 {
+        e
+    } else {
+        CipError::connection(ext::NOT_CONFIGURED)
+    }
 }
 
 /// Class 3: a path to the Message Router, sizes within the explicit message buffer.
@@ -350,6 +376,11 @@ fn class1<D: Device>(
         return Err(CipError::connection(ext::RPI_BELOW_INHIBIT));
     }
 
+    let points = ConnectionPoints {
+        config: config.and_then(|c| u16::try_from(c).ok()),
+        consumed: Some(consumer_info.instance),
+        produced: Some(producer_info.instance),
+    };
     let consumer = Consumer {
         instance: consumer_info.instance,
         size: consumer_info.size,
@@ -374,6 +405,7 @@ fn class1<D: Device>(
             .ok_or(CipError::connection(ext::NO_OWNER_FOR_LISTEN_ONLY))?;
         return Ok(Connection {
             kind,
+            points,
             t_o_id: owner.t_o_id,
             t_o_rpi: owner.t_o_rpi,
             transport: Transport::Class1 {
@@ -403,6 +435,7 @@ fn class1<D: Device>(
     };
     Ok(Connection {
         kind,
+        points,
         transport: Transport::Class1 {
             consumer,
             producer: Some(producer),

@@ -57,14 +57,19 @@ pub fn produce_due<D: Device>(
         p.sequence = p.sequence.wrapping_add(1);
     }
     p.encap_sequence = p.encap_sequence.wrapping_add(1);
-    let size = usize::from(p.size);
     let data_at = HEADER_LEN + SEQUENCE_LEN;
+    let data = out.get_mut(data_at..data_at + usize::from(p.size))?;
+    // The device's length is honoured (never more than the connection's size); an error
+    // sends zeros rather than stale bytes.
+    let size = match device.read_assembly(p.instance, data) {
+        Ok(n) => n.min(data.len()),
+        Err(_) => {
+            data.fill(0);
+            data.len()
+        }
+    };
     emit_header(out, t_o_id, p.encap_sequence, SEQUENCE_LEN + size).ok()?;
     put_u16(out, HEADER_LEN, p.sequence);
-    let data = out.get_mut(data_at..data_at + size)?;
-    if device.read_assembly(p.instance, data).is_err() {
-        data.fill(0);
-    }
     if triggered {
         p.triggered = false;
         p.inhibit_until = now.add(p.inhibit);
@@ -78,12 +83,21 @@ pub fn produce_due<D: Device>(
 /// Marks the producers of assembly `instance` with a change-of-state or application trigger
 /// as having new data.
 pub fn trigger(table: &mut ConnectionTable, instance: u16) {
+    trigger_where(table, |p| p.instance == instance);
+}
+
+/// Marks every producer with a change-of-state or application trigger as having new data.
+pub fn trigger_all(table: &mut ConnectionTable) {
+    trigger_where(table, |_| true);
+}
+
+fn trigger_where(table: &mut ConnectionTable, pick: impl Fn(&Producer) -> bool) {
     for slot in 0..crate::config::MAX_CONNECTIONS {
         if let Some(Transport::Class1 {
             producer: Some(p), ..
         }) = table.get_mut(slot).map(|c| &mut c.transport)
         {
-            if p.instance == instance && p.trigger != Trigger::Cyclic {
+            if p.trigger != Trigger::Cyclic && pick(p) {
                 p.triggered = true;
             }
         }

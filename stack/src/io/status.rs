@@ -12,6 +12,8 @@ pub const NOT_FOUND: u16 = 0x0107;
 pub const BAD_NETWORK_PARAMS: u16 = 0x0108;
 /// Invalid connection size.
 pub const BAD_SIZE: u16 = 0x0109;
+/// Target for the connection not configured (the device refused its configuration).
+pub const NOT_CONFIGURED: u16 = 0x0110;
 /// RPI value(s) not acceptable.
 pub const RPI_NOT_ACCEPTABLE: u16 = 0x0112;
 /// Out of connections.

@@ -2,7 +2,7 @@
 
 use super::connection::{Connection, Kind, Transport};
 use crate::config::{MAX_CONNECTIONS, MAX_EXPLICIT_CONNECTED};
-use crate::device::{CloseReason, ConnectionEvent, Device};
+use crate::device::{CloseReason, ConnectionEvent, ConnectionInfo, Device};
 use crate::time::Instant;
 use crate::wire::forward_open::Triad;
 
@@ -88,9 +88,13 @@ impl ConnectionTable {
             }
         }
     }
+    /// The slot [`ConnectionTable::insert`] will use next, if one is free.
+    pub fn free_slot(&self) -> Option<usize> {
+        self.slots.iter().position(Option::is_none)
+    }
     /// Stores `conn` in a free slot and returns it; `None` (and `conn` dropped) if full.
     pub fn insert(&mut self, conn: Connection) -> Option<usize> {
-        let slot = self.slots.iter().position(Option::is_none)?;
+        let slot = self.free_slot()?;
         if let Some(s) = self.slots.get_mut(slot) {
             *s = Some(conn);
         }
@@ -156,15 +160,31 @@ impl ConnectionTable {
         let Some(conn) = self.slots.get_mut(slot).and_then(Option::take) else {
             return;
         };
-        debug!("connection {} closed", slot);
+        info!(
+            "connection {} closed ({:?} from {}): {}",
+            slot,
+            conn.kind,
+            conn.originator,
+            reason.describe()
+        );
+        device.connection_event(ConnectionEvent::Closed(
+            ConnectionInfo::of(slot, &conn),
+            reason,
+        ));
         let had_owner = !self.owned.is_empty();
         if conn.producer().is_some() {
-            for s in self.slots.iter_mut() {
+            for (i, s) in self.slots.iter_mut().enumerate() {
                 let follows = s.as_ref().is_some_and(|c| {
                     c.kind == Kind::ListenOnly && c.t_o_id == conn.t_o_id && c.producer().is_none()
                 });
-                if follows {
-                    *s = None;
+                if let Some(c) = s.take_if(|_| follows) {
+                    info!(
+                        "connection {} closed: {}",
+                        i,
+                        CloseReason::Dependency.describe()
+                    );
+                    let info = ConnectionInfo::of(i, &c);
+                    device.connection_event(ConnectionEvent::Closed(info, CloseReason::Dependency));
                 }
             }
         }
@@ -173,13 +193,39 @@ impl ConnectionTable {
             device.connection_event(ConnectionEvent::OwnershipLost(reason));
         }
     }
+    /// Closes every open connection with `reason`.
+    pub fn close_all<D: Device>(&mut self, reason: CloseReason, device: &mut D) {
+        for slot in 0..MAX_CONNECTIONS {
+            self.close(slot, reason, device);
+        }
+    }
+    /// Closes the Class 1 connections whose consumed or produced assembly no longer has the
+    /// size it had when they opened ([`CloseReason::Reconfigured`]).
+    pub fn close_resized<D: Device>(&mut self, device: &mut D) {
+        for slot in 0..MAX_CONNECTIONS {
+            let resized = self.get(slot).is_some_and(|c| {
+                let differs = |instance: u16, size: u16| {
+                    device
+                        .assemblies()
+                        .iter()
+                        .find(|a| a.instance == instance)
+                        .is_none_or(|a| a.size != size)
+                };
+                c.consumer()
+                    .is_some_and(|k| k.size > 0 && differs(k.instance, k.size))
+                    || c.producer().is_some_and(|p| differs(p.instance, p.size))
+            });
+            if resized {
+                self.close(slot, CloseReason::Reconfigured, device);
+            }
+        }
+    }
     /// Closes every connection whose watchdog expired by `now`; returns how many.
     pub fn expire<D: Device>(&mut self, now: Instant, device: &mut D) -> usize {
         let mut closed = 0;
         for slot in 0..MAX_CONNECTIONS {
             let expired = self.get(slot).filter(|c| c.expires <= now);
             if let Some(owner) = expired.map(|c| c.kind == Kind::ExclusiveOwner) {
-                warn!("connection {} timed out", slot);
                 if owner {
                     self.owner_timeouts = self.owner_timeouts.wrapping_add(1);
                 }

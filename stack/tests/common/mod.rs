@@ -4,9 +4,12 @@
 
 use std::net::{Ipv4Addr, SocketAddrV4};
 
-use stack::cip::CipResult;
+use stack::cip::{CipError, CipResult};
 use stack::config::MAX_ENCAP_FRAME;
-use stack::device::{AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo, Multicast};
+use stack::device::{
+    AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo, Multicast, OpenRequest,
+};
+use stack::io::Trigger;
 use stack::originator::{self, Reply};
 use stack::wire::epath::{LogicalType, Segment};
 use stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
@@ -27,7 +30,10 @@ pub const IDENTITY: IdentityInfo = IdentityInfo {
 pub struct TestDevice {
     pub assemblies: Vec<AssemblyInfo>,
     pub data: std::collections::HashMap<u16, Vec<u8>>,
+    /// Ownership and run/idle events.
     pub events: Vec<ConnectionEvent>,
+    /// Opened and closed events.
+    pub lifecycle: Vec<ConnectionEvent>,
     pub writes: Vec<(u16, Vec<u8>)>,
     /// TCP/IP attributes 8/9 kept by the device (`None`: the stack keeps them).
     pub multicast: Option<Multicast>,
@@ -85,6 +91,7 @@ impl TestDevice {
             assemblies,
             data,
             events: Vec::new(),
+            lifecycle: Vec::new(),
             writes: Vec::new(),
             multicast: None,
             change_of_state: true,
@@ -111,7 +118,10 @@ impl Device for TestDevice {
         Ok(())
     }
     fn connection_event(&mut self, event: ConnectionEvent) {
-        self.events.push(event);
+        match event {
+            ConnectionEvent::Opened(_) | ConnectionEvent::Closed(..) => self.lifecycle.push(event),
+            _ => self.events.push(event),
+        }
     }
     fn multicast(&self) -> Option<Multicast> {
         self.multicast
@@ -123,8 +133,11 @@ impl Device for TestDevice {
         self.multicast = Some(m);
         Ok(())
     }
-    fn change_of_state(&self) -> bool {
-        self.change_of_state
+    fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
+        if request.trigger == Trigger::ChangeOfState && !self.change_of_state {
+            return Err(CipError::connection(0x0103));
+        }
+        Ok(())
     }
 }
 

@@ -31,12 +31,15 @@ mod tests;
 
 use core::net::Ipv4Addr;
 
-use stack::cip::request::Request;
+use stack::cip::context::RequestContext;
+use stack::cip::object::{Access, ClassDef};
 use stack::cip::tcpip::MulticastConfig;
-use stack::cip::{CipResult, General};
-use stack::device::{ConnectionEvent, Multicast};
+use stack::cip::{CipError, CipResult, General};
+use stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
+use stack::io::status::TRANSPORT_NOT_SUPPORTED;
+use stack::io::Trigger;
 use stack::wire::Writer;
-use stack::{AssemblyInfo, Device, IdentityInfo, Instant};
+use stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant};
 
 use drive::{Drive, MoveKind, Settings};
 use storage::{EpmStorage, RamEpm};
@@ -156,13 +159,42 @@ impl<S: EpmStorage> Device for PositionServo<S> {
         assemblies::write(self, instance, data)
     }
 
-    fn vendor_classes(&self) -> &[u16] {
-        &[system940::CLASS]
+    fn classes(&self) -> &[ClassDef] {
+        &[system940::CLASS_DEF]
     }
 
-    fn handle_request(&mut self, req: &Request<'_>, reply: &mut Writer<'_>) -> Option<CipResult> {
-        (req.path.class == Some(system940::CLASS.into()))
-            .then(|| system940::handle(self, req, reply))
+    /// A System940 instance is a variable of the table.
+    fn has_instance(&self, _class: &ClassDef, instance: u32) -> bool {
+        system940::variable(instance).is_some()
+    }
+
+    fn instance_count(&self, _class: &ClassDef) -> u32 {
+        variables::COUNT as u32
+    }
+
+    fn attribute_access(&self, at: &AttributeRef<'_>) -> Access {
+        system940::access(at)
+    }
+
+    fn get_attribute(
+        &mut self,
+        _cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        w: &mut Writer<'_>,
+    ) -> CipResult {
+        let var = system940::variable(at.instance).ok_or(General::ObjectDoesNotExist)?;
+        system940::get(&self.vars, var, at.attribute.id, w)
+    }
+
+    fn set_attribute(
+        &mut self,
+        _cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        value: &[u8],
+    ) -> CipResult {
+        let var = system940::variable(at.instance).ok_or(General::ObjectDoesNotExist)?;
+        let (value, epm) = system940::decode(var, at.attribute.id, value)?;
+        self.write(var.id, value, epm)
     }
 
     /// 0 restarts from the EPM copy (a power cycle); 1 also erases the EPM (factory
@@ -182,9 +214,22 @@ impl<S: EpmStorage> Device for PositionServo<S> {
                 self.drive.set_owned(false);
                 self.drive.disable();
             }
-            ConnectionEvent::RunIdle(_) => {}
+            _ => {}
         }
         self.drive.publish(&mut self.vars);
+    }
+
+    /// Every input assembly is made of variables (DataLinks can map any of them), so a
+    /// change of any variable marks them all.
+    fn take_input_changes(&mut self) -> InputChanges {
+        let mut changes = InputChanges::new();
+        if self.vars.take_changed() {
+            let inputs = assemblies::INFOS
+                .iter()
+                .filter(|a| a.role == AssemblyRole::Input);
+            inputs.for_each(|a| changes.mark(a.instance));
+        }
+        changes
     }
 
     fn poll(&mut self, now: Instant) -> Option<Instant> {
@@ -217,7 +262,12 @@ impl<S: EpmStorage> Device for PositionServo<S> {
         self.write(id::MULTICAST_ADDRESS, Value::Integer(address), true)
     }
 
-    fn change_of_state(&self) -> bool {
-        false
+    /// Change-of-state connections are refused (5.1, table 9: cyclic and application
+    /// triggered only) with 0x0103, transport class and trigger not supported.
+    fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
+        if request.trigger == Trigger::ChangeOfState {
+            return Err(CipError::connection(TRANSPORT_NOT_SUPPORTED));
+        }
+        Ok(())
     }
 }

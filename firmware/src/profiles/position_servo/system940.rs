@@ -1,34 +1,62 @@
 //! The System940 object (class 0x64, 7.2): instance = variable ID; attributes 0/1 integer,
-//! 2/3 REAL, 4/5 string, the even ones the RAM copy, the odd ones the EPM copy.
+//! 2/3 REAL, 4/5 string, the even ones the RAM copy, the odd ones the EPM copy. Declared as
+//! a [`ClassDef`]: the stack serves every service and status rule, this module only converts
+//! values.
 //!
-//! Attributes 1, 3 and 5 are write-only: reading them gives attributes 0, 2 and 4. Writing
-//! the EPM copy also writes the RAM copy (PM94H201: "this change is done both in the user
-//! program's RAM memory as well as in the EPM"); writing the RAM copy leaves the EPM alone.
-//! Strings carry a 4-byte length header (the number of ASCII bytes after it) and hold the
-//! value in decimal (hexadecimal `0x...` is accepted for unsigned words).
+//! Attributes 1, 3 and 5 are "write-only" in the manual's sense: reading them gives
+//! attributes 0, 2 and 4 (the RAM copy). Writing the EPM copy also writes the RAM copy
+//! (PM94H201: "this change is done both in the user program's RAM memory as well as in the
+//! EPM"); writing the RAM copy leaves the EPM alone. Strings carry a 4-byte length header
+//! (the number of ASCII bytes after it) and hold the value in decimal (hexadecimal `0x...` is
+//! accepted for unsigned words).
 //!
-//! Services: Get_Attribute_Single, Set_Attribute_Single and Get_Attributes_All (attributes
-//! 0, 2 and 4 in that order); the class (instance 0) answers Get_Attribute_Single of its
-//! revision (1) and maximum instance (2). Statuses: unknown variable 0x16, unknown attribute
+//! Services: Get/Set_Attribute_Single, Get/Set_Attribute_List, and Get_Attributes_All
+//! (attributes 0, 2 and 4 in that order); the class (instance 0) answers its attributes 1-7
+//! (revision 1, highest instance 275). Statuses: unknown variable 0x16, unknown attribute
 //! 0x14, read-only variable (or EPM write of a variable without an EPM copy) 0x0E, value
 //! out of range 0x09, wrong data length 0x13/0x15, action refused by the drive 0x10.
 
 use core::fmt::Write as _;
 
-use stack::cip::service::{GET_ATTRIBUTES_ALL, GET_ATTRIBUTE_SINGLE, SET_ATTRIBUTE_SINGLE};
-use stack::cip::{CipError, CipResult, General, Request};
+use stack::cip::object::{Access, AttributeDef, ClassDef, DataType};
+use stack::cip::{CipError, CipResult, General};
+use stack::device::AttributeRef;
 use stack::wire::Writer;
 
-use super::storage::EpmStorage;
 use super::variables::{self, Format, Value, Variable, Variables};
-use super::PositionServo;
 
 /// Class code of the System940 object.
 pub const CLASS: u16 = 0x64;
-/// Class revision (class attribute 1).
-const REVISION: u16 = 1;
 /// Longest decimal text of a value (a negative subnormal REAL).
 const MAX_TEXT: usize = 48;
+/// Longest text a write may carry.
+const MAX_TEXT_IN: u16 = 64;
+
+/// The System940 class as the stack serves it.
+pub const CLASS_DEF: ClassDef = ClassDef {
+    id: CLASS,
+    name: "System940",
+    revision: 1,
+    max_instance: variables::TABLE[variables::COUNT - 1].id as u32,
+    attributes: &[
+        AttributeDef::get_set(0, DataType::Dint, "Value as integer (RAM)"),
+        AttributeDef::get_set(1, DataType::Dint, "Value as integer (RAM and EPM)"),
+        AttributeDef::get_set(2, DataType::Real, "Value as REAL (RAM)"),
+        AttributeDef::get_set(3, DataType::Real, "Value as REAL (RAM and EPM)"),
+        AttributeDef::get_set(
+            4,
+            DataType::CountedBytes { max: MAX_TEXT_IN },
+            "Value as text (RAM)",
+        ),
+        AttributeDef::get_set(
+            5,
+            DataType::CountedBytes { max: MAX_TEXT_IN },
+            "Value as text (RAM and EPM)",
+        ),
+    ],
+    get_all: &[0, 2, 4],
+    optional_attributes: &[],
+};
 
 /// How an attribute presents the value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,87 +67,36 @@ enum Encoding {
 }
 
 /// The encoding of attribute `id`, and whether it addresses the EPM copy.
-fn attribute(id: Option<u32>) -> CipResult<(Encoding, bool)> {
-    match id {
-        None => Err(General::PathDestinationUnknown.into()),
-        Some(0) => Ok((Encoding::Integer, false)),
-        Some(1) => Ok((Encoding::Integer, true)),
-        Some(2) => Ok((Encoding::Real, false)),
-        Some(3) => Ok((Encoding::Real, true)),
-        Some(4) => Ok((Encoding::Text, false)),
-        Some(5) => Ok((Encoding::Text, true)),
-        Some(_) => Err(General::AttributeNotSupported.into()),
-    }
+fn encoding(id: u16) -> (Encoding, bool) {
+    let kind = match id / 2 {
+        0 => Encoding::Integer,
+        1 => Encoding::Real,
+        _ => Encoding::Text,
+    };
+    (kind, id % 2 == 1)
 }
 
-/// Handles a request to class 0x64.
-pub fn handle<S: EpmStorage>(
-    servo: &mut PositionServo<S>,
-    req: &Request<'_>,
-    w: &mut Writer<'_>,
-) -> CipResult {
-    let instance = req
-        .path
-        .instance_or_point()
-        .ok_or(CipError::new(General::PathDestinationUnknown))?;
-    if instance == 0 {
-        return class(req, w);
-    }
-    let var = u16::try_from(instance)
+/// The variable instance `instance` names.
+pub fn variable(instance: u32) -> Option<&'static Variable> {
+    u16::try_from(instance)
         .ok()
         .and_then(variables::find)
         .map(|(_, v)| v)
-        .ok_or(CipError::new(General::ObjectDoesNotExist))?;
-    match req.service {
-        GET_ATTRIBUTE_SINGLE => {
-            let (encoding, _) = attribute(req.path.attribute)?;
-            no_data(req)?;
-            get(servo.variables(), var, encoding, w)
-        }
-        SET_ATTRIBUTE_SINGLE => {
-            let (encoding, epm) = attribute(req.path.attribute)?;
-            var.writable(epm)?;
-            let value = decode(var, encoding, req.data)?;
-            servo.write(var.id, value, epm)
-        }
-        GET_ATTRIBUTES_ALL => {
-            no_data(req)?;
-            [Encoding::Integer, Encoding::Real, Encoding::Text]
-                .into_iter()
-                .try_for_each(|e| get(servo.variables(), var, e, w))
-        }
-        _ => Err(General::ServiceNotSupported.into()),
+}
+
+/// Read-only variables, and the EPM attributes of variables without an EPM copy, are Get.
+pub fn access(at: &AttributeRef<'_>) -> Access {
+    let (_, epm) = encoding(at.attribute.id);
+    match variable(at.instance) {
+        Some(var) if var.writable(epm).is_ok() => Access::GetSet,
+        _ => Access::Get,
     }
 }
 
-fn no_data(req: &Request<'_>) -> CipResult {
-    if req.data.is_empty() {
-        Ok(())
-    } else {
-        Err(General::TooMuchData.into())
-    }
-}
-
-/// Class attributes: revision and maximum instance.
-fn class(req: &Request<'_>, w: &mut Writer<'_>) -> CipResult {
-    if req.service != GET_ATTRIBUTE_SINGLE {
-        return Err(General::ServiceNotSupported.into());
-    }
-    no_data(req)?;
-    let max_instance = variables::TABLE.last().map_or(0, |v| v.id);
-    match req.path.attribute {
-        Some(1) => w.u16(REVISION)?,
-        Some(2) => w.u16(max_instance)?,
-        None => return Err(General::PathDestinationUnknown.into()),
-        Some(_) => return Err(General::AttributeNotSupported.into()),
-    }
-    Ok(())
-}
-
-/// Writes variable `var`'s RAM value in `encoding`.
-fn get(vars: &Variables, var: &Variable, encoding: Encoding, w: &mut Writer<'_>) -> CipResult {
+/// Writes variable `var`'s RAM value in the encoding of attribute `id`.
+pub fn get(vars: &Variables, var: &Variable, id: u16, w: &mut Writer<'_>) -> CipResult {
     let raw = vars.raw(var.id);
-    match encoding {
+    match encoding(id).0 {
         Encoding::Integer => w.u32(var.int_bits(raw))?,
         Encoding::Real => w.bytes(&var.real(raw).to_le_bytes())?,
         Encoding::Text => {
@@ -129,6 +106,22 @@ fn get(vars: &Variables, var: &Variable, encoding: Encoding, w: &mut Writer<'_>)
         }
     }
     Ok(())
+}
+
+/// Decodes the value of a Set of attribute `id` (exactly its bytes); with the EPM flag.
+pub fn decode(var: &Variable, id: u16, value: &[u8]) -> CipResult<(Value, bool)> {
+    let (kind, epm) = encoding(id);
+    let four = || <[u8; 4]>::try_from(value.get(..4).unwrap_or(&[])).map_err(|_| not_enough());
+    let decoded = match kind {
+        Encoding::Integer => Value::Integer(u32::from_le_bytes(four()?)),
+        Encoding::Real => Value::Real(f32::from_le_bytes(four()?)),
+        Encoding::Text => parse(var, value.get(4..).unwrap_or(&[]))?,
+    };
+    Ok((decoded, epm))
+}
+
+fn not_enough() -> CipError {
+    CipError::new(General::NotEnoughData)
 }
 
 /// The decimal text of native bits `raw`.
@@ -141,32 +134,6 @@ fn text(var: &Variable, raw: u32) -> CipResult<heapless::String<MAX_TEXT>> {
     };
     written.map_err(|_| CipError::new(General::ReplyDataTooLarge))?;
     Ok(s)
-}
-
-/// Decodes Set_Attribute_Single data in `encoding` for variable `var`.
-fn decode(var: &Variable, encoding: Encoding, data: &[u8]) -> CipResult<Value> {
-    match encoding {
-        Encoding::Integer => Ok(Value::Integer(u32::from_le_bytes(exactly_4(data)?))),
-        Encoding::Real => Ok(Value::Real(f32::from_le_bytes(exactly_4(data)?))),
-        Encoding::Text => {
-            let header = data.get(..4).ok_or(CipError::new(General::NotEnoughData))?;
-            let len = u32::from_le_bytes(exactly_4(header)?) as usize;
-            let body = data.get(4..).unwrap_or(&[]);
-            match body.len().cmp(&len) {
-                core::cmp::Ordering::Less => Err(General::NotEnoughData.into()),
-                core::cmp::Ordering::Greater => Err(General::TooMuchData.into()),
-                core::cmp::Ordering::Equal => parse(var, body),
-            }
-        }
-    }
-}
-
-fn exactly_4(data: &[u8]) -> CipResult<[u8; 4]> {
-    match data.len() {
-        0..=3 => Err(General::NotEnoughData.into()),
-        4 => <[u8; 4]>::try_from(data).map_err(|_| General::NotEnoughData.into()),
-        _ => Err(General::TooMuchData.into()),
-    }
 }
 
 /// Parses decimal (or `0x` hexadecimal for words) ASCII text into a value for `var`.

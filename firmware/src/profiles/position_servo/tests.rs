@@ -7,10 +7,9 @@ use std::vec;
 use std::vec::Vec;
 
 use stack::cip::tcpip::MulticastConfig;
-use stack::cip::{CipError, CipResult, General, Request};
+use stack::cip::{CipError, CipResult, General};
 use stack::device::Multicast;
-use stack::wire::Writer;
-use stack::{AssemblyRole, Device, Instant};
+use stack::{Adapter, AssemblyRole, Device, Instant, NetworkConfig};
 
 use super::assemblies::{self, status2};
 use super::drive::status;
@@ -31,6 +30,27 @@ fn request(service: u8, instance: u16, attribute: Option<u8>, data: &[u8]) -> Ve
     out
 }
 
+/// Runs Message Router request `bytes` against `servo` through the stack; returns the
+/// general status and the reply data.
+fn execute(servo: &mut PositionServo, bytes: &[u8]) -> (CipResult, Vec<u8>) {
+    let net = NetworkConfig::new_static(
+        Ipv4Addr::new(198, 18, 0, 2),
+        Ipv4Addr::new(255, 255, 255, 0),
+        [2, 0, 0, 0, 0, 1],
+    );
+    let mut adapter = Adapter::new(core::mem::take(servo), net, 1);
+    let mut buf = [0u8; 512];
+    let n = adapter.execute(bytes, Instant(0), &mut buf);
+    *servo = adapter.into_device();
+    let reply = &buf[..n];
+    let additional = 2 * usize::from(reply[3]);
+    let data = reply[4 + additional..].to_vec();
+    match reply[2] {
+        0 => (Ok(()), data),
+        g => (Err(CipError::raw(g)), data),
+    }
+}
+
 /// Runs a request against `servo`; returns the status and the reply data.
 fn call(
     servo: &mut PositionServo,
@@ -39,14 +59,7 @@ fn call(
     attribute: Option<u8>,
     data: &[u8],
 ) -> (CipResult, Vec<u8>) {
-    let bytes = request(service, instance, attribute, data);
-    let req = Request::parse(&bytes).unwrap();
-    let mut buf = [0u8; 128];
-    let mut w = Writer::new(&mut buf);
-    let r = servo
-        .handle_request(&req, &mut w)
-        .expect("class 0x64 is ours");
-    (r, w.written().to_vec())
+    execute(servo, &request(service, instance, attribute, data))
 }
 
 fn get(servo: &mut PositionServo, instance: u16, attribute: u8) -> Vec<u8> {
@@ -196,22 +209,59 @@ fn errors_carry_the_proper_cip_status() {
     // The class: revision and highest variable ID.
     assert_eq!(get(&mut servo, 0, 1), 1u16.to_le_bytes());
     assert_eq!(get(&mut servo, 0, 2), 275u16.to_le_bytes());
-    assert_eq!(
-        call(&mut servo, 0x01, 0, None, &[]).0,
-        err(General::ServiceNotSupported)
-    );
+    // Class attributes 1-7 through Get_Attributes_All: revision 1, max instance 275,
+    // 65 instances, no optional attributes or services, 7 class attributes, attributes 0-5.
+    let (r, all) = call(&mut servo, 0x01, 0, None, &[]);
+    r.unwrap();
+    assert_eq!(all, [1, 0, 0x13, 0x01, 65, 0, 0, 0, 0, 0, 7, 0, 5, 0]);
+}
+
+#[test]
+fn attribute_lists_on_a_variable() {
+    let mut servo = PositionServo::new();
+    set(&mut servo, 100, 2, &2.5f32.to_le_bytes()).unwrap();
+    // Get_Attribute_List of V0 as integer and REAL: count, then id, status, value each.
+    let (r, d) = call(&mut servo, 0x03, 100, None, &[2, 0, 0, 0, 2, 0]);
+    r.unwrap();
+    let mut expected = vec![2, 0, 0, 0, 0, 0, 3, 0, 0, 0, 2, 0, 0, 0];
+    expected.extend_from_slice(&2.5f32.to_le_bytes());
+    assert_eq!(d, expected);
+    // Set_Attribute_List: V0 = 7 (integer), then an out-of-range text to the read-only
+    // STATUS-free attribute 3 (EPM REAL) = 1.5: both applied, each with status 0.
+    let mut list = vec![2, 0, 0, 0];
+    list.extend_from_slice(&7u32.to_le_bytes());
+    list.extend_from_slice(&[3, 0]);
+    list.extend_from_slice(&1.5f32.to_le_bytes());
+    let (r, d) = call(&mut servo, 0x04, 100, None, &list);
+    r.unwrap();
+    assert_eq!(d, [2, 0, 0, 0, 0, 0, 3, 0, 0, 0]);
+    assert_eq!(servo.variables().real(id::V0), 1.5);
+    assert_eq!(servo.storage().load(id::V0), Some(1.5f32.to_bits()));
+    // An unknown attribute ends the list (its value's length is unknown); a read-only
+    // one is skipped and the next entry still applies.
+    let mut list = vec![2, 0, 9, 0];
+    list.extend_from_slice(&text("5"));
+    let (r, d) = call(&mut servo, 0x04, 100, None, &list);
+    assert_eq!(r, Err(CipError::raw(0x0A)));
+    assert_eq!(d, [1, 0, 9, 0, 0x14, 0]);
+    let mut list = vec![2, 0, 0, 0];
+    list.extend_from_slice(&1u32.to_le_bytes());
+    list.extend_from_slice(&[4, 0]);
+    list.extend_from_slice(&text("3"));
+    let (r, d) = call(&mut servo, 0x04, id::STATUS, None, &list);
+    assert_eq!(r, Err(CipError::raw(0x0A)));
+    assert_eq!(d, [2, 0, 0, 0, 0x0E, 0, 4, 0, 0x0E, 0]);
 }
 
 #[test]
 fn other_classes_are_not_ours() {
     let mut servo = PositionServo::new();
-    let bytes = [0x0E, 3, 0x20, 0x65, 0x24, 0x01, 0x30, 0x01];
-    let req = Request::parse(&bytes).unwrap();
-    let mut buf = [0u8; 8];
-    assert!(servo
-        .handle_request(&req, &mut Writer::new(&mut buf))
-        .is_none());
-    assert_eq!(servo.vendor_classes(), &[0x64]);
+    let (r, _) = execute(&mut servo, &[0x0E, 3, 0x20, 0x65, 0x24, 0x01, 0x30, 0x01]);
+    assert_eq!(r, err(General::PathDestinationUnknown));
+    assert_eq!(
+        servo.classes().iter().map(|c| c.id).collect::<Vec<_>>(),
+        [0x64]
+    );
 }
 
 #[test]
@@ -354,7 +404,10 @@ fn multicast_is_variables_273_and_275() {
         servo.variables().raw(id::MULTICAST_ADDRESS),
         DEFAULT_MULTICAST
     );
-    assert!(!servo.change_of_state());
+    assert_eq!(
+        servo.admit(&change_of_state_request()),
+        Err(CipError::connection(0x0103))
+    );
 }
 
 #[test]
@@ -362,5 +415,50 @@ fn selectable_by_name() {
     let p = crate::Profile::from_name("position-servo").unwrap();
     assert_eq!(p.name(), "position-servo");
     assert_eq!(p.identity().product_name, "EnetIP 940");
-    assert!(!p.change_of_state());
+    let mut p = p;
+    assert_eq!(
+        p.admit(&change_of_state_request()),
+        Err(CipError::connection(0x0103))
+    );
+}
+
+/// An exclusive owner of 106/104 with a change-of-state trigger, as the stack admits it.
+fn change_of_state_request() -> stack::device::OpenRequest<'static> {
+    use stack::device::{ConnectionPoints, Direction, OpenRequest};
+    use stack::wire::forward_open::{ConnectionType, NetworkParams, Triad};
+    let params = |size| NetworkParams {
+        redundant_owner: false,
+        connection_type: ConnectionType::PointToPoint,
+        priority: 0,
+        variable: false,
+        size,
+    };
+    OpenRequest {
+        kind: stack::io::Kind::ExclusiveOwner,
+        transport_class: 1,
+        trigger: stack::io::Trigger::ChangeOfState,
+        inhibit: stack::Duration::from_millis(0),
+        points: ConnectionPoints {
+            config: Some(103),
+            consumed: Some(106),
+            produced: Some(104),
+        },
+        o_t: Direction {
+            rpi_us: 10_000,
+            params: params(14),
+        },
+        t_o: Direction {
+            rpi_us: 10_000,
+            params: params(10),
+        },
+        timeout_multiplier: 2,
+        originator: Ipv4Addr::new(198, 18, 0, 1),
+        triad: Triad {
+            connection_serial: 1,
+            vendor_id: 1,
+            originator_serial: 1,
+        },
+        key: None,
+        config_data: None,
+    }
 }

@@ -376,10 +376,12 @@ impl Variable {
     }
 }
 
-/// The RAM copy of every variable, as raw bits of its native format.
+/// The RAM copy of every variable, as raw bits of its native format, and whether any
+/// changed since [`Variables::take_changed`] was last asked.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Variables {
     ram: [u32; COUNT],
+    changed: bool,
 }
 
 impl Variables {
@@ -389,7 +391,12 @@ impl Variables {
         for (slot, v) in ram.iter_mut().zip(TABLE.iter()) {
             *slot = if v.epm { epm.load(v.id) } else { None }.unwrap_or(v.default);
         }
-        Variables { ram }
+        Variables { ram, changed: true }
+    }
+
+    /// True if a value changed since the last call.
+    pub fn take_changed(&mut self) -> bool {
+        core::mem::take(&mut self.changed)
     }
 
     /// Raw bits of variable `id` (0 if unknown).
@@ -407,6 +414,7 @@ impl Variables {
     /// Stores raw bits for variable `id` (ignored if unknown); no checks.
     pub fn set(&mut self, id: u16, raw: u32) {
         if let Some(slot) = find(id).and_then(|(i, _)| self.ram.get_mut(i)) {
+            self.changed |= *slot != raw;
             *slot = raw;
         }
     }

@@ -1,10 +1,22 @@
-//! The [`Device`] trait: what a device profile supplies to the stack.
+//! The [`Device`] trait: what a device profile supplies to the stack, and the types it
+//! speaks in (identity, assemblies, vendor classes, admission, events, input changes).
+//! [`crate::guide`] walks through writing one.
 
+pub mod admission;
+pub mod events;
+pub mod inputs;
+
+use crate::cip::context::RequestContext;
+use crate::cip::object::{Access, AttributeDef, ClassDef};
 use crate::cip::request::Request;
-use crate::cip::status::CipResult;
+use crate::cip::status::{CipError, CipResult, General};
 use crate::cip::tcpip::MulticastConfig;
 use crate::time::Instant;
 use crate::wire::Writer;
+
+pub use admission::{Direction, OpenRequest};
+pub use events::{CloseReason, ConnectionEvent, ConnectionInfo, ConnectionPoints};
+pub use inputs::InputChanges;
 
 /// Identity object values (class 0x01, attributes 1-7).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,32 +74,6 @@ pub struct AssemblyInfo {
     pub size: u16,
     /// True if O->T data for it carries the 32-bit run/idle header.
     pub run_idle_header: bool,
-}
-
-/// How a connection ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum CloseReason {
-    /// Forward_Close from the originator.
-    ForwardClose,
-    /// The inactivity watchdog expired.
-    Timeout,
-    /// The connection it depended on (owner of a listen-only) went away.
-    Dependency,
-    /// Its encapsulation session ended (Class 3).
-    SessionClosed,
-}
-
-/// Connection life-cycle events the stack reports to the device.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum ConnectionEvent {
-    /// An exclusive-owner connection now owns the device's outputs.
-    OwnershipGained,
-    /// The last exclusive-owner connection ended.
-    OwnershipLost(CloseReason),
-    /// O->T data switched between Run (true) and Idle (false).
-    RunIdle(bool),
 }
 
 /// TCP/IP attributes 8 and 9 as a device keeps them (see [`Device::multicast`]).
@@ -157,27 +143,92 @@ pub trait Device {
     fn status_bits(&self) -> u16 {
         0
     }
-    /// The assembly instances, with role and size.
+    /// The assembly instances, with role and current size. The stack reads it at every
+    /// Forward_Open, Get and Set, so sizes may follow the device's configuration (see
+    /// [`crate::guide`] on run-time sizes).
     fn assemblies(&self) -> &[AssemblyInfo];
-    /// Copies assembly `instance` into `out` (sized to the declared size); returns the length.
+    /// Copies assembly `instance` into `out` (sized to the assembly's current size) and
+    /// returns the length written; Get and production send exactly that many bytes.
     fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize>;
-    /// Accepts new data for assembly `instance` (exactly the declared size).
+    /// Accepts new data for assembly `instance` (exactly its current size): O->T data in
+    /// Run, an explicit Set, or a Forward_Open's configuration data. An error refuses it.
     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult;
-    /// Vendor classes the device answers (listed by the Message Router object).
-    fn vendor_classes(&self) -> &[u16] {
+
+    /// The vendor classes the device declares; the stack serves their attribute services,
+    /// class attributes and status rules, and lists them in the Message Router.
+    fn classes(&self) -> &[ClassDef] {
         &[]
     }
-    /// Handles a request for a vendor class or symbolic path; `None` if not the device's.
-    fn handle_request(&mut self, _req: &Request<'_>, _reply: &mut Writer<'_>) -> Option<CipResult> {
+    /// True if `instance` (at least 1) of `class` exists; by default `1..=max_instance`.
+    fn has_instance(&self, class: &ClassDef, instance: u32) -> bool {
+        instance <= class.max_instance
+    }
+    /// Class attribute 3 of `class`, the number of instances; by default `max_instance`.
+    fn instance_count(&self, class: &ClassDef) -> u32 {
+        class.max_instance
+    }
+    /// The access rule of an attribute on one instance; by default its definition's (a
+    /// read-only instance of a settable attribute answers 0x0E before its value is read).
+    fn attribute_access(&self, at: &AttributeRef<'_>) -> Access {
+        at.attribute.access
+    }
+    /// The size of a [`crate::cip::object::DataType::RunTime`] attribute.
+    fn attribute_size(&self, _at: &AttributeRef<'_>) -> Option<usize> {
         None
     }
+    /// Writes the value of a gettable attribute of a declared class.
+    fn get_attribute(
+        &mut self,
+        _cx: &RequestContext,
+        _at: &AttributeRef<'_>,
+        _w: &mut Writer<'_>,
+    ) -> CipResult {
+        Err(CipError::new(General::AttributeNotSupported))
+    }
+    /// Stores `value` (exactly the attribute's encoded bytes, length already checked) in a
+    /// settable attribute, or refuses it (0x09 invalid value, 0x0C object state, 0x10 device
+    /// state...) and changes nothing.
+    fn set_attribute(
+        &mut self,
+        _cx: &RequestContext,
+        _at: &AttributeRef<'_>,
+        _value: &[u8],
+    ) -> CipResult {
+        Err(CipError::new(General::AttributeNotSettable))
+    }
+    /// Any other request: a vendor service on a declared class (after the stack found the
+    /// instance), or a class the device does not declare, or a symbolic path. `None` if it
+    /// is not the device's: the stack then serves the attribute services of a declared
+    /// class, and answers 0x05 otherwise.
+    fn handle_request(
+        &mut self,
+        _cx: &RequestContext,
+        _req: &Request<'_>,
+        _reply: &mut Writer<'_>,
+    ) -> Option<CipResult> {
+        None
+    }
+
+    /// Decides on a Forward_Open the stack found valid, before the connection exists:
+    /// `Ok(())` accepts it; an error (a connection failure with the device's extended
+    /// status) goes out as the reply exactly as given.
+    fn admit(&mut self, _request: &OpenRequest<'_>) -> CipResult {
+        Ok(())
+    }
+    /// A connection event: opened, closed (with the reason), ownership, run/idle.
+    fn connection_event(&mut self, _event: ConnectionEvent) {}
+    /// The input assemblies whose data changed since the last call; the stack asks after
+    /// every call into the device (explicit requests, O->T data, [`Device::poll`]) and
+    /// triggers change-of-state and application-triggered production of each.
+    fn take_input_changes(&mut self) -> InputChanges {
+        InputChanges::new()
+    }
+
     /// Identity Reset service: 0 emulates a power cycle, 1 also restores factory defaults.
     /// Called before the reply is sent; the device performs the reset afterwards.
     fn reset(&mut self, _kind: u8) -> CipResult {
         Ok(())
     }
-    /// A connection event (ownership, run/idle).
-    fn connection_event(&mut self, _event: ConnectionEvent) {}
     /// Advances the device's own behaviour (a simulation); returns when it next needs a call.
     fn poll(&mut self, _now: Instant) -> Option<Instant> {
         None
@@ -196,9 +247,15 @@ pub trait Device {
     fn set_multicast(&mut self, _multicast: Multicast) -> CipResult {
         Ok(())
     }
-    /// False if the device refuses change-of-state Class 1 connections (Forward_Open fails
-    /// with extended status 0x0103, transport class and trigger not supported).
-    fn change_of_state(&self) -> bool {
-        true
-    }
+}
+
+/// One attribute of one instance of a declared class, as a request addresses it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AttributeRef<'a> {
+    /// The class.
+    pub class: &'a ClassDef,
+    /// The instance (at least 1).
+    pub instance: u32,
+    /// The attribute.
+    pub attribute: &'a AttributeDef,
 }
