@@ -190,8 +190,8 @@ impl Device for TestDevice {
         Ok(())
     }
 
-    fn take_input_changes(&mut self) -> InputChanges {
-        core::mem::take(&mut self.changed)
+    fn input_changes(&mut self) -> Option<&mut InputChanges> {
+        Some(&mut self.changed)
     }
 
     fn handle_request(

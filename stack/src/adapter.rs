@@ -285,7 +285,7 @@ impl<D: Device> Adapter<D> {
 
     /// Tells the stack that input assembly `instance` has new data: change-of-state and
     /// application-triggered connections producing it send as soon as their inhibit time
-    /// allows. (A device says the same from inside with [`Device::take_input_changes`].)
+    /// allows. (A device says the same from inside with [`Device::input_changes`].)
     pub fn trigger_input(&mut self, instance: u16) {
         produce::trigger(&mut self.connections, instance);
     }
@@ -356,7 +356,12 @@ impl<D: Device> Adapter<D> {
 
     /// Triggers production of the input assemblies the device says changed.
     fn apply_input_changes(&mut self) {
-        let changes = self.device.take_input_changes();
+        let Some(changes) = self.device.input_changes() else {
+            return;
+        };
+        if changes.is_empty() {
+            return;
+        }
         if changes.all() {
             produce::trigger_all(&mut self.connections);
         } else {
@@ -364,6 +369,7 @@ impl<D: Device> Adapter<D> {
                 produce::trigger(&mut self.connections, instance);
             }
         }
+        changes.clear();
     }
 }
 

@@ -7,7 +7,8 @@
 //! - [`wire`]: zero-copy, length-checked codecs for every EtherNet/IP and CIP structure.
 //! - [`cip`]: status codes, the request/reply model and the standard objects.
 //! - [`encap`]: encapsulation sessions, TCP framing and command handling.
-//! - [`device`]: the [`Device`] trait a device profile implements.
+//! - [`device`]: the [`Device`] trait a device profile implements; [`guide`] walks through
+//!   writing one.
 //! - [`adapter`]: the [`Adapter`] the runtime drives.
 #![no_std]
 #![forbid(unsafe_code)]
@@ -21,6 +22,7 @@ pub mod cip;
 pub mod config;
 pub mod device;
 pub mod encap;
+pub mod guide;
 pub mod io;
 pub mod net;
 pub mod originator;

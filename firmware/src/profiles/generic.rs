@@ -74,7 +74,7 @@ const fn assembly(
 /// The generic device: assembly data, all zero at power-up.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Generic {
-    input: [u8; IO_SIZE],
+    /// The outputs, which are also the inputs (the echo).
     output: [u8; IO_SIZE],
     config: [u8; CONFIG_SIZE],
     explicit: [u8; IO_SIZE],
@@ -85,7 +85,6 @@ impl Generic {
     /// A device with every assembly zeroed.
     pub const fn new() -> Self {
         Generic {
-            input: [0; IO_SIZE],
             output: [0; IO_SIZE],
             config: [0; CONFIG_SIZE],
             explicit: [0; IO_SIZE],
@@ -96,8 +95,7 @@ impl Generic {
     /// The data of assembly `instance`, if it exists.
     fn data(&self, instance: u16) -> Option<&[u8]> {
         match instance {
-            INPUT => Some(&self.input),
-            OUTPUT => Some(&self.output),
+            INPUT | OUTPUT => Some(&self.output),
             CONFIG => Some(&self.config),
             INPUT_ONLY_HEARTBEAT | LISTEN_ONLY_HEARTBEAT => Some(&[]),
             EXPLICIT => Some(&self.explicit),
@@ -133,9 +131,8 @@ impl Device for Generic {
     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
         match instance {
             OUTPUT => {
-                copy_exact(&mut self.output, data)?;
-                if self.input != self.output {
-                    self.input = self.output;
+                if data != self.output {
+                    copy_exact(&mut self.output, data)?;
                     self.changed.mark(INPUT);
                 }
                 Ok(())
@@ -149,8 +146,8 @@ impl Device for Generic {
     }
 
     /// The echo of new outputs into [`INPUT`].
-    fn take_input_changes(&mut self) -> InputChanges {
-        core::mem::take(&mut self.changed)
+    fn input_changes(&mut self) -> Option<&mut InputChanges> {
+        Some(&mut self.changed)
     }
 }
 

@@ -121,8 +121,8 @@ impl Device for Profile {
     fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
         dispatch!(self, d => d.admit(request))
     }
-    fn take_input_changes(&mut self) -> InputChanges {
-        dispatch!(self, d => d.take_input_changes())
+    fn input_changes(&mut self) -> Option<&mut InputChanges> {
+        dispatch!(self, d => d.input_changes())
     }
     fn reset(&mut self, kind: u8) -> CipResult {
         dispatch!(self, d => d.reset(kind))

@@ -2,11 +2,12 @@
 
 use crate::config::MAX_CHANGED_INPUTS;
 
-/// Input assembly instances with new data since the stack last asked
-/// ([`crate::Device::take_input_changes`]). The stack triggers change-of-state and
-/// application-triggered production of each, within the production inhibit time.
+/// Input assembly instances with new data since the stack last looked
+/// ([`crate::Device::input_changes`]). The stack triggers change-of-state and
+/// application-triggered production of each, within the production inhibit time, and clears
+/// the set.
 ///
-/// A device keeps one, marks it where its inputs change and hands it over when asked:
+/// A device keeps one, marks it where its inputs change and lends it when asked:
 ///
 /// ```
 /// use stack::device::InputChanges;
@@ -15,8 +16,8 @@ use crate::config::MAX_CHANGED_INPUTS;
 /// changes.mark(100);
 /// changes.mark(100);
 /// changes.mark(101);
-/// let taken = core::mem::take(&mut changes);
-/// assert_eq!(taken.iter().collect::<Vec<_>>(), [100, 101]);
+/// assert_eq!(changes.iter().collect::<Vec<_>>(), [100, 101]);
+/// changes.clear();
 /// assert!(changes.is_empty());
 /// ```
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -46,6 +47,11 @@ impl InputChanges {
     /// Every input assembly has new data.
     pub fn mark_all(&mut self) {
         self.all = true;
+    }
+    /// Forgets every mark (the stack does, once it has triggered them).
+    pub fn clear(&mut self) {
+        self.instances.clear();
+        self.all = false;
     }
     /// True if nothing changed.
     pub fn is_empty(&self) -> bool {

@@ -217,11 +217,12 @@ pub trait Device {
     }
     /// A connection event: opened, closed (with the reason), ownership, run/idle.
     fn connection_event(&mut self, _event: ConnectionEvent) {}
-    /// The input assemblies whose data changed since the last call; the stack asks after
-    /// every call into the device (explicit requests, O->T data, [`Device::poll`]) and
-    /// triggers change-of-state and application-triggered production of each.
-    fn take_input_changes(&mut self) -> InputChanges {
-        InputChanges::new()
+    /// The input assemblies whose data changed, kept by the device: after every call into
+    /// the device (explicit requests, O->T data, [`Device::poll`]) the stack triggers
+    /// change-of-state and application-triggered production of each and clears the set.
+    /// `None` (the default) for a device whose inputs only change cyclically.
+    fn input_changes(&mut self) -> Option<&mut InputChanges> {
+        None
     }
 
     /// Identity Reset service: 0 emulates a power cycle, 1 also restores factory defaults.

@@ -87,8 +87,9 @@ pub fn consume<D: Device>(
     if fresh {
         c.last_sequence = Some(sequence);
     }
-    let (instance, size) = (c.instance, c.size);
-    if run_changed && c.run_idle {
+    let (instance, size, run_idle) = (c.instance, c.size, c.run_idle);
+    table.note_expiry(now.add(timeout));
+    if run_changed && run_idle {
         device.connection_event(ConnectionEvent::RunIdle(run));
     }
     if !fresh || !run {

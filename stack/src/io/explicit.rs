@@ -42,9 +42,11 @@ pub fn lookup(
         return None;
     }
     let repeat = *last_sequence == Some(sequence);
-    conn.expires = now.add(conn.timeout);
+    let expires = now.add(conn.timeout);
+    conn.expires = expires;
     conn.last_activity = now;
     let t_o_id = conn.t_o_id;
+    table.note_expiry(expires);
     Some(if repeat {
         Step::Repeat { slot, t_o_id }
     } else {

@@ -29,6 +29,10 @@ pub struct ConnectionTable {
     /// Exclusive-owner connections closed by their watchdog so far (wrapping).
     owner_timeouts: u32,
     timeouts: u16,
+    /// No watchdog expires before this instant. Traffic only moves an expiry later, so it
+    /// stays a lower bound until a connection is inserted; [`ConnectionTable::expire`]
+    /// rescans only once it is reached.
+    expiry_bound: Instant,
 }
 
 impl ConnectionTable {
@@ -41,6 +45,7 @@ impl ConnectionTable {
             replies: [const { heapless::Vec::new() }; MAX_CONNECTIONS],
             owner_timeouts: 0,
             timeouts: 0,
+            expiry_bound: Instant(u64::MAX),
         }
     }
     /// Open connections with their slot numbers.
@@ -55,7 +60,7 @@ impl ConnectionTable {
         self.slots.get(slot).and_then(Option::as_ref)
     }
     /// The connection in `slot`, mutably.
-    pub fn get_mut(&mut self, slot: usize) -> Option<&mut Connection> {
+    pub(crate) fn get_mut(&mut self, slot: usize) -> Option<&mut Connection> {
         self.slots.get_mut(slot).and_then(Option::as_mut)
     }
     /// Number of open connections.
@@ -74,10 +79,6 @@ impl ConnectionTable {
     pub fn find_o_t(&self, id: u32) -> Option<usize> {
         self.iter().find(|(_, c)| c.o_t_id == id).map(|(i, _)| i)
     }
-    /// True if a free slot exists.
-    pub fn has_room(&self) -> bool {
-        self.slots.iter().any(Option::is_none)
-    }
     /// A fresh non-zero connection ID that no open connection uses.
     pub fn new_id(&mut self) -> u32 {
         loop {
@@ -88,6 +89,11 @@ impl ConnectionTable {
             }
         }
     }
+    /// A watchdog was moved to `at` (traffic on a connection): the table's bound on the
+    /// earliest expiry follows it down.
+    pub(crate) fn note_expiry(&mut self, at: Instant) {
+        self.expiry_bound = self.expiry_bound.min(at);
+    }
     /// The slot [`ConnectionTable::insert`] will use next, if one is free.
     pub fn free_slot(&self) -> Option<usize> {
         self.slots.iter().position(Option::is_none)
@@ -95,6 +101,7 @@ impl ConnectionTable {
     /// Stores `conn` in a free slot and returns it; `None` (and `conn` dropped) if full.
     pub fn insert(&mut self, conn: Connection) -> Option<usize> {
         let slot = self.free_slot()?;
+        self.expiry_bound = self.expiry_bound.min(conn.expires);
         if let Some(s) = self.slots.get_mut(slot) {
             *s = Some(conn);
         }
@@ -222,6 +229,9 @@ impl ConnectionTable {
     }
     /// Closes every connection whose watchdog expired by `now`; returns how many.
     pub fn expire<D: Device>(&mut self, now: Instant, device: &mut D) -> usize {
+        if now < self.expiry_bound {
+            return 0;
+        }
         let mut closed = 0;
         for slot in 0..MAX_CONNECTIONS {
             let expired = self.get(slot).filter(|c| c.expires <= now);
@@ -234,6 +244,11 @@ impl ConnectionTable {
                 closed += 1;
             }
         }
+        self.expiry_bound = self
+            .iter()
+            .map(|(_, c)| c.expires)
+            .min()
+            .unwrap_or(Instant(u64::MAX));
         closed
     }
     /// Exclusive-owner connections closed by their watchdog since start-up (wrapping): what

@@ -145,44 +145,63 @@ pub const ADAPTER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
 pub const SCANNER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
 
 /// One adapter and a scanner with a registered session on socket 0.
-pub struct Harness {
-    pub adapter: Adapter<TestDevice>,
+pub struct Harness<D: Device = TestDevice> {
+    pub adapter: Adapter<D>,
     pub session: u32,
     pub now: Instant,
 }
 
 impl Harness {
     pub fn new() -> Self {
+        Harness::with_device(TestDevice::new())
+    }
+}
+
+impl<D: Device> Harness<D> {
+    /// An adapter for `device` with a scanner's session on socket 0.
+    pub fn with_device(device: D) -> Self {
         let net = NetworkConfig::new_static(
             ADAPTER_IP,
             Ipv4Addr::new(255, 255, 255, 0),
             [2, 0, 0, 0, 0, 2],
         );
-        let mut adapter = Adapter::new(TestDevice::new(), net, 42);
-        adapter.tcp_accept(
-            SocketId(0),
-            SocketAddrV4::new(SCANNER_IP, 50000),
-            Instant(0),
-        );
+        let adapter = Adapter::new(device, net, 42);
         let mut h = Harness {
             adapter,
             session: 0,
             now: Instant(0),
         };
+        h.session = h.open_session(0, 50000);
+        h
+    }
+
+    /// Accepts a TCP connection from the scanner's `port` on `socket` and registers a
+    /// session there; returns its handle.
+    pub fn open_session(&mut self, socket: u8, port: u16) -> u32 {
+        self.adapter.tcp_accept(
+            SocketId(socket),
+            SocketAddrV4::new(SCANNER_IP, port),
+            self.now,
+        );
         let mut buf = [0u8; 64];
         let n = originator::register_session(&mut buf).unwrap();
-        let reply = h.tcp(&buf[..n]);
-        h.session = u32::from_le_bytes(reply[4..8].try_into().unwrap());
-        assert_ne!(h.session, 0);
-        h
+        let reply = self.tcp_on(socket, &buf[..n]);
+        let handle = u32::from_le_bytes(reply[4..8].try_into().unwrap());
+        assert_ne!(handle, 0);
+        handle
     }
 
     /// Feeds `frame` on socket 0 and returns the reply bytes.
     pub fn tcp(&mut self, frame: &[u8]) -> Vec<u8> {
+        self.tcp_on(0, frame)
+    }
+
+    /// Feeds `frame` on `socket` and returns the reply bytes.
+    pub fn tcp_on(&mut self, socket: u8, frame: &[u8]) -> Vec<u8> {
         let mut reply = vec![0u8; MAX_ENCAP_FRAME];
         let out = self
             .adapter
-            .tcp_receive(SocketId(0), frame, self.now, &mut reply);
+            .tcp_receive(SocketId(socket), frame, self.now, &mut reply);
         assert_eq!(out.consumed, frame.len());
         reply.truncate(out.reply_len);
         reply

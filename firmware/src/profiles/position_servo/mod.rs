@@ -51,6 +51,8 @@ pub struct PositionServo<S: EpmStorage = RamEpm> {
     vars: Variables,
     drive: Drive,
     epm: S,
+    /// Input assemblies to produce now (application-triggered connections).
+    changes: InputChanges,
 }
 
 impl PositionServo<RamEpm> {
@@ -73,6 +75,7 @@ impl<S: EpmStorage> PositionServo<S> {
             vars: Variables::power_up(&epm),
             drive: Drive::new(),
             epm,
+            changes: InputChanges::new(),
         };
         servo.drive.publish(&mut servo.vars);
         servo
@@ -221,15 +224,14 @@ impl<S: EpmStorage> Device for PositionServo<S> {
 
     /// Every input assembly is made of variables (DataLinks can map any of them), so a
     /// change of any variable marks them all.
-    fn take_input_changes(&mut self) -> InputChanges {
-        let mut changes = InputChanges::new();
+    fn input_changes(&mut self) -> Option<&mut InputChanges> {
         if self.vars.take_changed() {
             let inputs = assemblies::INFOS
                 .iter()
                 .filter(|a| a.role == AssemblyRole::Input);
-            inputs.for_each(|a| changes.mark(a.instance));
+            inputs.for_each(|a| self.changes.mark(a.instance));
         }
-        changes
+        Some(&mut self.changes)
     }
 
     fn poll(&mut self, now: Instant) -> Option<Instant> {

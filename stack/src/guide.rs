@@ -1,0 +1,227 @@
+//! Writing a device: the [`crate::Device`] trait step by step, and what the stack guarantees.
+//!
+//! A device is one type that implements [`crate::Device`]. Only four methods are required
+//! (identity, the assembly list, read and write of assembly data); everything else has a
+//! default that behaves like a plain I/O block. The stack owns the protocol: sessions,
+//! the Message Router, every standard object, Forward_Open validation, the connection table,
+//! production timing and every status code. The device owns its data and its decisions.
+//!
+//! # 1. Identity and assemblies
+//!
+//! ```
+//! use stack::cip::{CipResult, General};
+//! use stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
+//!
+//! const IDENTITY: IdentityInfo = IdentityInfo {
+//!     vendor_id: 0xFFFF,
+//!     device_type: 7, // general purpose discrete I/O
+//!     product_code: 16,
+//!     revision: (1, 0),
+//!     serial_number: 0x0000_0042,
+//!     product_name: "16-channel I/O block",
+//! };
+//! const INPUTS: u16 = 100;
+//! const OUTPUTS: u16 = 150;
+//! const CONFIG: u16 = 151;
+//! const ASSEMBLIES: [AssemblyInfo; 3] = [
+//!     AssemblyInfo { instance: INPUTS, role: AssemblyRole::Input, size: 2, run_idle_header: false },
+//!     AssemblyInfo { instance: OUTPUTS, role: AssemblyRole::Output, size: 2, run_idle_header: true },
+//!     AssemblyInfo { instance: CONFIG, role: AssemblyRole::Config, size: 1, run_idle_header: false },
+//! ];
+//!
+//! #[derive(Default)]
+//! struct Block { inputs: [u8; 2], outputs: [u8; 2], filter_ms: u8 }
+//!
+//! impl Device for Block {
+//!     fn identity(&self) -> &IdentityInfo { &IDENTITY }
+//!     fn assemblies(&self) -> &[AssemblyInfo] { &ASSEMBLIES }
+//!     fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
+//!         match instance {
+//!             INPUTS => out.copy_from_slice(&self.inputs),
+//!             OUTPUTS => out.copy_from_slice(&self.outputs),
+//!             _ => out.copy_from_slice(&[self.filter_ms]),
+//!         }
+//!         Ok(out.len())
+//!     }
+//!     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
+//!         match instance {
+//!             OUTPUTS => self.outputs.copy_from_slice(data),
+//!             CONFIG if data[0] > 100 => return Err(General::InvalidAttributeValue.into()),
+//!             CONFIG => self.filter_ms = data[0],
+//!             _ => return Err(General::AttributeNotSettable.into()),
+//!         }
+//!         Ok(())
+//!     }
+//! }
+//! # let mut b = Block::default();
+//! # assert_eq!(b.write_assembly(CONFIG, &[101]).unwrap_err().general, 0x09);
+//! ```
+//!
+//! The stack calls `write_assembly` with exactly the assembly's current size, and sends
+//! exactly the length `read_assembly` returns (never more than the size).
+//!
+//! # 2. A vendor class
+//!
+//! Declare the class as data ([`crate::cip::object::ClassDef`]); the stack serves
+//! Get/Set_Attribute_Single, Get/Set_Attribute_List, Get_Attributes_All, the class
+//! attributes 1-7 and every status rule (see [`crate::cip::object`]); the device only
+//! converts values. Vendor services (0x4B-0x63...) reach
+//! [`crate::Device::handle_request`] once the stack found the instance.
+//!
+//! ```
+//! use stack::cip::context::RequestContext;
+//! use stack::cip::object::{AttributeDef, ClassDef, DataType};
+//! use stack::cip::{CipResult, General, Request};
+//! use stack::device::AttributeRef;
+//! use stack::wire::Writer;
+//! # use stack::{AssemblyInfo, Device, IdentityInfo};
+//!
+//! /// Class 0x70: one instance per channel, a debounce time (settable, 0-100 ms) and a
+//! /// counter of edges (read-only); service 0x4B clears the counter.
+//! const CHANNELS: ClassDef = ClassDef {
+//!     id: 0x70,
+//!     name: "Channel",
+//!     revision: 1,
+//!     max_instance: 16,
+//!     attributes: &[
+//!         AttributeDef::get_set(1, DataType::Usint, "Debounce"),
+//!         AttributeDef::get(2, DataType::Udint, "Edges"),
+//!     ],
+//!     get_all: &[1, 2],
+//!     optional_attributes: &[],
+//! };
+//!
+//! struct Block { debounce: [u8; 16], edges: [u32; 16] }
+//!
+//! impl Device for Block {
+//! #   fn identity(&self) -> &IdentityInfo { unimplemented!() }
+//! #   fn assemblies(&self) -> &[AssemblyInfo] { &[] }
+//! #   fn read_assembly(&mut self, _: u16, _: &mut [u8]) -> CipResult<usize> { Ok(0) }
+//! #   fn write_assembly(&mut self, _: u16, _: &[u8]) -> CipResult { Ok(()) }
+//!     fn classes(&self) -> &[ClassDef] { &[CHANNELS] }
+//!     fn get_attribute(&mut self, _cx: &RequestContext, at: &AttributeRef<'_>, w: &mut Writer<'_>) -> CipResult {
+//!         let ch = at.instance as usize - 1; // the stack checked 1..=16
+//!         match at.attribute.id {
+//!             1 => w.u8(self.debounce[ch])?,
+//!             _ => w.u32(self.edges[ch])?,
+//!         }
+//!         Ok(())
+//!     }
+//!     fn set_attribute(&mut self, _cx: &RequestContext, at: &AttributeRef<'_>, value: &[u8]) -> CipResult {
+//!         // Only attribute 1 is settable, and `value` is exactly one byte.
+//!         match value[0] {
+//!             v @ 0..=100 => self.debounce[at.instance as usize - 1] = v,
+//!             _ => return Err(General::InvalidAttributeValue.into()),
+//!         }
+//!         Ok(())
+//!     }
+//!     fn handle_request(&mut self, _cx: &RequestContext, req: &Request<'_>, _w: &mut Writer<'_>) -> Option<CipResult> {
+//!         let ch = req.path.instance? as usize;
+//!         (req.service == 0x4B).then(|| { self.edges[ch - 1] = 0; Ok(()) })
+//!     }
+//! }
+//! ```
+//!
+//! A handler that refuses a value changes nothing; Set_Attribute_List applies each entry on
+//! its own and skips a refused one. [`crate::cip::context::RequestContext`] tells a handler
+//! whether the request came unconnected or over which Class 3 connection, from which peer,
+//! and when. To test a device without a network, [`crate::Adapter::execute`] runs one
+//! Message Router request through the same machinery.
+//!
+//! # 3. Admission of connections
+//!
+//! [`crate::Device::admit`] sees every Forward_Open the stack found valid, with everything
+//! in it ([`crate::device::OpenRequest`]), before the connection exists. Its error goes out
+//! exactly as given.
+//!
+//! ```
+//! use stack::cip::{CipError, CipResult};
+//! use stack::device::{ConnectionEvent, OpenRequest};
+//! use stack::io::status::{OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
+//! use stack::io::Kind;
+//!
+//! /// One Class 1 connection at a time, RPI 2-100 ms, configuration byte 0 at most 100.
+//! #[derive(Default)]
+//! struct Policy { class1_open: usize }
+//!
+//! impl Policy {
+//!     fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
+//!         if request.is_class1() && self.class1_open > 0 {
+//!             let ext = if request.kind == Kind::ExclusiveOwner { OWNERSHIP_CONFLICT } else { OUT_OF_CONNECTIONS };
+//!             return Err(CipError::connection(ext));
+//!         }
+//!         if request.config_data.is_some_and(|c| c[0] > 100) {
+//!             return Err(CipError::connection(0x0110)); // target not configured
+//!         }
+//!         request.refuse_rpi(2_000, 100_000)
+//!     }
+//!     fn connection_event(&mut self, event: ConnectionEvent) {
+//!         match event {
+//!             ConnectionEvent::Opened(c) if c.kind != Kind::Explicit => self.class1_open += 1,
+//!             ConnectionEvent::Closed(c, _) if c.kind != Kind::Explicit => self.class1_open -= 1,
+//!             _ => {}
+//!         }
+//!     }
+//! }
+//! ```
+//!
+//! (In a device, these two are the bodies of `Device::admit` and
+//! `Device::connection_event`.) Configuration data of an admitted Forward_Open is then
+//! written with `write_assembly`; an error there answers 0x01/0x0110 unless it is already a
+//! connection failure.
+//!
+//! # 4. Events
+//!
+//! [`crate::device::ConnectionEvent`]: `Opened` (slot, kind, points, RPIs, originator and
+//! triad), `Closed` with a [`crate::device::CloseReason`] (Forward_Close, timeout,
+//! dependency, session closed, Reset, reconfigured), `OwnershipGained` / `OwnershipLost`, and
+//! `RunIdle`. Enough for status parameters that report the live connection.
+//!
+//! # 5. Inputs that change
+//!
+//! Cyclic connections read the inputs every RPI by themselves. For change-of-state and
+//! application-triggered connections, the device says which input assemblies changed: it
+//! keeps an [`crate::device::InputChanges`], marks it, and lends it from
+//! [`crate::Device::input_changes`]. The stack looks after every call into the device
+//! (explicit requests, O->T data, [`crate::Adapter::poll_device`]), so a device without a
+//! clock of its own gets its changes produced too, as soon as the production inhibit time
+//! allows.
+//!
+//! ```
+//! use stack::device::InputChanges;
+//!
+//! struct Block { inputs: [u8; 2], changes: InputChanges }
+//! impl Block {
+//!     /// Called by the firmware's input scan.
+//!     fn scan(&mut self, pins: [u8; 2]) {
+//!         if pins != self.inputs {
+//!             self.inputs = pins;
+//!             self.changes.mark(100);
+//!         }
+//!     }
+//!     // In `impl Device`: fn input_changes(&mut self) -> Option<&mut InputChanges> { Some(&mut self.changes) }
+//! }
+//! ```
+//!
+//! # 6. Assembly sizes that follow the configuration
+//!
+//! [`crate::Device::assemblies`] is read at every Forward_Open, Get and Set, so a device may
+//! keep its list in a field and change sizes when its configuration changes. A device should
+//! refuse (0x10, device state conflict) a change that resizes an assembly a connection is
+//! using; it knows which from its events. If it does not, the stack closes each connection
+//! whose consumed or produced assembly changed size with `CloseReason::Reconfigured` right
+//! after the explicit request that changed it, so no datagram of a stale size goes out.
+//!
+//! # What the stack guarantees
+//!
+//! - **Idle data**: O->T data whose run/idle header says Idle is never written to the
+//!   device; the device hears `RunIdle(false)` and chooses its idle state itself. Run data
+//!   is written only when its sequence count is new.
+//! - **Owned outputs**: an explicit Set of an output assembly that an exclusive-owner
+//!   connection holds is refused with 0x10 (device state conflict); the device never sees it.
+//! - **Connection loss**: when the watchdog (multiplier x RPI) expires, the connection is
+//!   closed with `Closed(_, Timeout)`, followed by `OwnershipLost(Timeout)` when it was the last
+//!   exclusive owner. The stack never writes outputs itself: the device applies its safe
+//!   state on `OwnershipLost` (the PositionServo profile disables the drive there).
+//! - **Refused writes**: a refused Set, or refused O->T data, leaves the device as it was and
+//!   every other session and connection goes on.
