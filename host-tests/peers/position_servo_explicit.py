@@ -1,6 +1,7 @@
 """Explicit messages to the PositionServo profile with pycomm3 (UCMM): manual example 6.3
 (Get/Set_Attribute_Single of class 0x64 instance 100 attribute 2, then attribute 0), the
-string and EPM attributes, the CIP statuses of bad requests, the Identity object (7.1), and
+string and EPM attributes, the CIP statuses of bad requests, the class attributes and the
+attribute lists, the Identity object (7.1), and
 the multicast TTL/address being one setting in variables 273/275 and TCP/IP attributes 8/9.
 An Identity Reset (type 0) in the middle shows the EPM copy coming back into RAM; a board that
 really restarts drops the connection, so the script reconnects after it.
@@ -87,6 +88,14 @@ def main():
         r["out_of_range"] = var(d, put, 34, 0, struct.pack("<I", 9))
         r["short_data"] = var(d, put, 100, 2, b"\x00\x00")
         r["bad_text"] = var(d, put, 100, 4, text("fast"))
+        # The class and the attribute lists, served by the stack like any CIP object:
+        # class attributes 1 (revision) and 2 (highest instance); V0 set to 12 as integer
+        # and then 12.5 as REAL in one Set_Attribute_List, read back as both in one
+        # Get_Attribute_List.
+        r["class_revision"] = var(d, get, 0, 1)
+        r["class_max_instance"] = var(d, get, 0, 2)
+        r["list_set"] = var(d, 0x04, 100, None, struct.pack("<HHiHf", 2, 0, 12, 2, 12.5))
+        r["list_get"] = var(d, 0x03, 100, None, struct.pack("<HHH", 2, 0, 2))
         # Identity.
         r["product_name"] = raw(d, get, 0x01, 1, 7)
         r["identity_all"] = raw(d, 0x01, 0x01, 1, None)

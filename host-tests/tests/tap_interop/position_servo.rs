@@ -122,6 +122,17 @@ fn explicit(t: &dyn Target) {
     ] {
         assert_eq!(r[k]["status"].as_u64(), Some(status), "{k}: {}", r[k]);
     }
+    ok("class_revision", "0100");
+    ok("class_max_instance", &hex(&275u16.to_le_bytes()));
+    // Count 2; attribute 0 status 0; attribute 2 status 0.
+    ok("list_set", "02000000000002000000");
+    // Count 2; attribute 0, status 0, 13 (12.5 rounded); attribute 2, status 0, 12.5.
+    let list = format!(
+        "020000000000{}02000000{}",
+        hex(&13u32.to_le_bytes()),
+        hex(&12.5f32.to_le_bytes())
+    );
+    ok("list_get", &list);
     ok("product_name", &format!("0a{}", hex(b"EnetIP 940")));
     ok("ttl_default", "01");
     ok("mcast_default", "00000100200fc0ef");
