@@ -371,3 +371,93 @@ fn inputs_changed_by_a_write_are_produced_within_the_inhibit_time() {
     assert_eq!(status(&h.request(0x0E, &setpoint, &[])).0, 0);
     assert_eq!(h.adapter.io_deadline(), Some(Instant(106_000)));
 }
+
+/// A device whose input assembly size is its configuration (class 0x72 attribute 1), as
+/// the Parker controller's is: a resize under a running connection closes it.
+struct Resizable {
+    assemblies: [AssemblyInfo; 2],
+    events: Vec<ConnectionEvent>,
+}
+
+impl Device for Resizable {
+    fn identity(&self) -> &IdentityInfo {
+        &IDENTITY
+    }
+    fn assemblies(&self) -> &[AssemblyInfo] {
+        &self.assemblies
+    }
+    fn read_assembly(&mut self, _instance: u16, out: &mut [u8]) -> CipResult<usize> {
+        out.fill(7);
+        Ok(out.len())
+    }
+    fn write_assembly(&mut self, _instance: u16, _data: &[u8]) -> CipResult {
+        Ok(())
+    }
+    fn classes(&self) -> &[ClassDef] {
+        const CLASS: ClassDef = ClassDef {
+            id: 0x72,
+            name: "Layout",
+            revision: 1,
+            max_instance: 1,
+            attributes: &[AttributeDef::get_set(1, DataType::Uint, "Input size")],
+            get_all: &[],
+            optional_attributes: &[],
+        };
+        &[CLASS]
+    }
+    fn set_attribute(
+        &mut self,
+        _: &RequestContext,
+        _: &AttributeRef<'_>,
+        value: &[u8],
+    ) -> CipResult {
+        self.assemblies[0].size = u16::from_le_bytes([value[0], value[1]]);
+        Ok(())
+    }
+    fn connection_event(&mut self, event: ConnectionEvent) {
+        self.events.push(event);
+    }
+}
+
+#[test]
+fn an_assembly_resized_under_a_connection_closes_it() {
+    let mut h = Harness::with_device(Resizable {
+        assemblies: [ASSEMBLIES[0], ASSEMBLIES[1]],
+        events: Vec::new(),
+    });
+    let path = io_path(None, OUTPUT.into(), INPUT.into(), None);
+    let mut f = fo(1, &path, 10_000);
+    f.o_t_params = NetworkParams::from_u16(0x4800 | (2 + 4 + 4));
+    f.t_o_params = NetworkParams::from_u16(0x4800 | (2 + 4));
+    assert_eq!(status(&h.forward_open(&f)).0, 0);
+    let layout = [
+        Segment::Logical(LogicalType::Class, 0x72),
+        Segment::Logical(LogicalType::Instance, 1),
+        Segment::Logical(LogicalType::Attribute, 1),
+    ];
+    assert_eq!(status(&h.request(0x10, &layout, &[8, 0])).0, 0);
+    assert!(h.adapter.connections().is_empty());
+    assert!(matches!(
+        h.adapter
+            .device()
+            .events
+            .iter()
+            .rev()
+            .find(|e| matches!(e, ConnectionEvent::Closed(..))),
+        Some(ConnectionEvent::Closed(_, CloseReason::Reconfigured))
+    ));
+    // The next Forward_Open meets the new size: 0x0128 with the size it expects.
+    let (g, words, _) = status(&h.forward_open(&f));
+    assert_eq!((g, words), (0x01, vec![0x0128, 2 + 8]));
+    f.t_o_params = NetworkParams::from_u16(0x4800 | (2 + 8));
+    assert_eq!(status(&h.forward_open(&f)).0, 0);
+    let mut out = [0u8; 64];
+    let (_, len) = h.adapter.poll_io(h.now, &mut out).unwrap();
+    assert_eq!(
+        Packet::new_checked(&out[..len])
+            .unwrap()
+            .connected_data()
+            .len(),
+        2 + 8
+    );
+}

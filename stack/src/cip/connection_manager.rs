@@ -150,6 +150,12 @@ fn forward_open<D: Device>(
     let slot = match opened {
         Ok(slot) => slot,
         Err(e) => {
+            info!(
+                "Forward_Open from {} refused: general status {:#04x}, extended {:#06x}",
+                origin.ip,
+                e.general,
+                e.extended().unwrap_or(0)
+            );
             let c = &mut ctx.state.connection_manager;
             bump(match e.extended() {
                 Some(ext::BAD_SEGMENT) => &mut c.open_format_rejects,
