@@ -1,6 +1,11 @@
 //! Optional logging: forwards to `defmt` or `log` when one of those features is on, and
-//! compiles to nothing (no formatting cost) when both are off.
+//! compiles to nothing (no formatting cost) when both are off. Both on is a compile error.
 #![allow(unused_macros)]
+
+#[cfg(all(feature = "defmt", feature = "log"))]
+compile_error!(
+    "enip-stack: features `defmt` and `log` are both enabled; choose one of them (or neither, for no logging)"
+);
 
 macro_rules! debug {
     ($s:literal $(, $x:expr)* $(,)?) => {{

@@ -6,15 +6,22 @@ use firmware::Profile;
 
 /// How to invoke the program.
 pub const USAGE: &str = "\
-usage: enip-host --tap IFNAME --ip A.B.C.D/LEN [--gateway A.B.C.D] [--profile NAME] [--mac xx:xx:xx:xx:xx:xx]
+usage: enip-host --tap IFNAME --ip A.B.C.D/LEN [--gateway A.B.C.D] [--profile NAME] [--mac xx:xx:xx:xx:xx:xx] [--create-tap]
 
-  --tap IFNAME       an existing TAP interface to attach to
+  --tap IFNAME       an existing TAP interface to attach to; create it first, typically
+                     inside a network namespace: `ip tuntap add dev IFNAME mode tap` and
+                     `ip link set IFNAME up` (add `user $USER` to run enip-host unprivileged)
   --ip A.B.C.D/LEN   the adapter's static address and prefix length
   --gateway A.B.C.D  default gateway (none by default)
   --profile NAME     device profile (default: generic)
   --mac MAC          the adapter's MAC address (default: 02:45:4e:49:50:01)
+  --create-tap       create IFNAME if there is none (needs root or CAP_NET_ADMIN); it is
+                     down, has no host address and disappears when enip-host exits
 
 Logs go to stderr; set RUST_LOG to change the level (default: info).";
+
+/// Size of a Linux interface name buffer, the terminating NUL included.
+const IFNAMSIZ: usize = 16;
 
 /// The MAC address used when `--mac` is not given (locally administered, unicast).
 const DEFAULT_MAC: [u8; 6] = [0x02, 0x45, 0x4E, 0x49, 0x50, 0x01];
@@ -41,6 +48,8 @@ pub struct Args {
     pub profile: Profile,
     /// MAC address.
     pub mac: [u8; 6],
+    /// Create the TAP interface if there is none.
+    pub create_tap: bool,
 }
 
 /// Parses the arguments after the program name.
@@ -50,13 +59,19 @@ pub fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> 
     let mut gateway = None;
     let mut profile = Profile::default();
     let mut mac = DEFAULT_MAC;
+    let mut create_tap = false;
     while let Some(flag) = args.next() {
-        if flag == "-h" || flag == "--help" {
-            return Ok(Command::Help);
+        match flag.as_str() {
+            "-h" | "--help" => return Ok(Command::Help),
+            "--create-tap" => {
+                create_tap = true;
+                continue;
+            }
+            _ => {}
         }
         let value = args.next().ok_or_else(|| format!("{flag} needs a value"))?;
         match flag.as_str() {
-            "--tap" => tap = Some(value),
+            "--tap" => tap = Some(parse_ifname(value)?),
             "--ip" => ip = Some(parse_cidr(&value)?),
             "--gateway" => gateway = Some(parse_ip(&value)?),
             "--profile" => {
@@ -79,7 +94,27 @@ pub fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> 
         gateway,
         profile,
         mac,
+        create_tap,
     })))
+}
+
+/// Checks an interface name the way Linux does (`dev_valid_name`): 1 to 15 bytes, not `.`
+/// or `..`, no `/`, `:`, white space or NUL.
+fn parse_ifname(s: String) -> Result<String, String> {
+    let valid = (1..IFNAMSIZ).contains(&s.len())
+        && s != "."
+        && s != ".."
+        && !s
+            .chars()
+            .any(|c| c == '/' || c == ':' || c == '\0' || c.is_whitespace());
+    if valid {
+        Ok(s)
+    } else {
+        Err(format!(
+            "bad interface name {s:?} (1 to {} bytes, no '/', ':' or white space)",
+            IFNAMSIZ - 1
+        ))
+    }
 }
 
 fn parse_ip(s: &str) -> Result<Ipv4Addr, String> {
@@ -146,6 +181,28 @@ mod tests {
         assert_eq!(a.gateway, Some(Ipv4Addr::new(198, 18, 0, 1)));
         assert_eq!(a.profile.name(), "generic");
         assert_eq!(a.mac, [2, 0, 0, 0, 0, 0x2a]);
+        assert!(!a.create_tap);
+        let a = run(&["--create-tap", "--tap", "tap0", "--ip", "198.18.0.2/24"]).unwrap();
+        assert!(a.create_tap);
+    }
+
+    #[test]
+    fn interface_names() {
+        let tap = |name: &str| run(&["--tap", name, "--ip", "198.18.0.2/24"]).map(|a| a.tap);
+        assert_eq!(tap("enip0").as_deref(), Ok("enip0"));
+        assert_eq!(tap("a23456789012345").as_deref(), Ok("a23456789012345"));
+        for bad in [
+            "",
+            ".",
+            "..",
+            "a234567890123456",
+            "a/b",
+            "a:1",
+            "a b",
+            "a\0",
+        ] {
+            assert!(tap(bad).is_err(), "{bad:?}");
+        }
     }
 
     #[test]

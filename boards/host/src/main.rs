@@ -2,6 +2,7 @@
 
 mod args;
 mod signals;
+mod tap;
 
 use std::process::exit;
 
@@ -39,18 +40,20 @@ fn main() {
         eprintln!("enip-host: cannot install signal handlers: {e}");
         exit(1);
     }
+    let device = tap::open(&args.tap, args.create_tap).unwrap_or_else(|e| {
+        eprintln!("enip-host: {e}");
+        exit(1);
+    });
     EXECUTOR.init(Executor::new()).run(|spawner| {
-        if let Err(e) = start(spawner, *args) {
-            log::error!("{e}");
+        if let Err(e) = start(spawner, device, *args) {
+            eprintln!("enip-host: {e}");
             exit(1);
         }
     })
 }
 
-/// Opens the TAP device, builds the network stack and the adapter, and spawns their tasks.
-fn start(spawner: Spawner, args: Args) -> Result<(), String> {
-    let mut device =
-        TunTapDevice::new(&args.tap).map_err(|e| format!("cannot open TAP {}: {e}", args.tap))?;
+/// Builds the network stack on the TAP device and the adapter, and spawns their tasks.
+fn start(spawner: Spawner, mut device: TunTapDevice, args: Args) -> Result<(), String> {
     device.set_hardware_address(args.mac);
     let config = embassy_net::Config::ipv4_static(StaticConfigV4 {
         address: Ipv4Cidr::new(args.ip, args.prefix_len),
