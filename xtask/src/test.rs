@@ -44,7 +44,12 @@ pub fn run_all() -> bool {
                 .env("RUSTDOCFLAGS", "-Dwarnings"))?;
             Ok(Outcome::Passed)
         })
-        && steps.run("unit and integration tests", || cargo(&["test"]))
+        // host-tests' start-up checks run the enip-host binary, which `cargo test` alone
+        // does not build.
+        && steps.run("unit and integration tests", || {
+            cargo(&["build", "-p", "enip-host"])?;
+            cargo(&["test"])
+        })
         && steps.run("list the cross-only crates", || {
             boards.extend(workspace::cross_only_packages()?);
             println!(

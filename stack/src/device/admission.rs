@@ -23,10 +23,12 @@ pub struct Direction {
     pub params: NetworkParams,
 }
 
-/// A Forward_Open that passed every check of the stack (paths, sizes, RPI range, key,
-/// ownership, free slot). The device accepts it with `Ok(())`, or refuses it with a
-/// connection failure that goes out exactly as given, e.g.
-/// `CipError::connection(0x0106)` or [`OpenRequest::refuse_rpi`].
+/// A Forward_Open whose request passed every check of the stack (format, paths, sizes, RPI
+/// range, electronic key, network parameters). The device accepts it with `Ok(())`, or
+/// refuses it with a connection failure that goes out exactly as given, e.g.
+/// `CipError::connection(0x0103)` or [`OpenRequest::refuse_rpi`]. What the connection table
+/// holds is judged after the device accepts: outputs already owned (0x0106), no free slot
+/// (0x0113).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct OpenRequest<'a> {
     /// Exclusive owner, input only, listen only, or Class 3 explicit.

@@ -202,9 +202,6 @@ pub fn forward_open<D: Device>(
     } else {
         class1(table, device, fo, &path, origin, net, trigger, base, now)?
     };
-    let slot = table
-        .free_slot()
-        .ok_or(CipError::connection(ext::OUT_OF_CONNECTIONS))?;
     device.admit(&OpenRequest {
         kind: conn.kind,
         transport_class: fo.transport_class(),
@@ -227,6 +224,16 @@ pub fn forward_open<D: Device>(
         key: path.key,
         config_data: path.config_data,
     })?;
+    // What the table holds is judged after the request itself: outputs owned, free slots.
+    let owned = conn.consumer().map(|c| c.instance);
+    if conn.kind == Kind::ExclusiveOwner
+        && owned.is_some_and(|i| table.owned_outputs().contains(&i))
+    {
+        return Err(CipError::connection(ext::OWNERSHIP_CONFLICT));
+    }
+    let slot = table
+        .free_slot()
+        .ok_or(CipError::connection(ext::OUT_OF_CONNECTIONS))?;
     let mut conn = conn;
     conn.o_t_id = table.new_id();
     if conn.produces_multicast() {
@@ -363,9 +370,6 @@ fn class1<D: Device>(
         return Err(size_error(ext::BAD_T_O_SIZE, t_o_expected));
     }
 
-    if kind == Kind::ExclusiveOwner && table.owned_outputs().contains(&consumer_info.instance) {
-        return Err(CipError::connection(ext::OWNERSHIP_CONFLICT));
-    }
     let multicast = fo.t_o_params.connection_type == ConnectionType::Multicast;
     let mask = u32::from(net.netmask);
     if multicast && net.ttl <= 1 && u32::from(origin.ip) & mask != u32::from(net.ip) & mask {
