@@ -7,7 +7,9 @@
 //!   Class 1 I/O, keeps the adapter's view of the interface current, and runs the device's
 //!   own clock (`Device::poll`, e.g. a simulated drive's control tick);
 //! - [`profiles`] holds the device profiles and [`Profile`], which picks one by name;
-//! - [`Resources`] are the socket buffers, which the board places (usually in a `static`);
+//! - [`Resources`] are the socket buffers, which the board places (usually in a `static`),
+//!   and the embassy-net stack needs [`SOCKETS`] sockets (build its resources with
+//!   [`stack_resources`], which refuses fewer);
 //! - [`indicators`] shows the ODVA Module and Network Status on the board's LEDs.
 #![no_std]
 #![forbid(unsafe_code)]
@@ -30,6 +32,6 @@ mod udp;
 
 pub use netif::network_config;
 pub use profiles::Profile;
-pub use resources::Resources;
+pub use resources::{stack_resources, Resources, SOCKETS};
 pub use runtime::run;
 pub use shared::{share, with_adapter, SharedAdapter};

@@ -1,7 +1,26 @@
-//! Socket buffers the runtime needs, allocated by the board (usually in a `static`).
+//! What the runtime needs from a board: the number of embassy-net sockets, and the socket
+//! buffers (usually placed in a `static`).
 
 use embassy_net::udp::PacketMetadata;
+use embassy_net::StackResources;
 use stack::config::{MAX_ENCAP_FRAME, MAX_SESSIONS};
+
+/// Sockets [`crate::run`] opens on the embassy-net stack: a TCP socket per encapsulation
+/// session on port 44818 (3), a UDP socket on 44818, and two UDP sockets on 2222
+/// (point-to-point and multicast T->O). A board using DHCP adds one for the DHCP client.
+pub const SOCKETS: usize = MAX_SESSIONS + 1 + 2;
+
+/// The embassy-net `StackResources` for `N` sockets, refusing fewer than [`SOCKETS`]: in a
+/// `static` or `const` initializer the refusal is a compile error, otherwise a panic with
+/// this message at start-up (rather than smoltcp's "adding a socket to a full SocketSet"
+/// deep inside the runtime).
+pub const fn stack_resources<const N: usize>() -> StackResources<N> {
+    assert!(
+        N >= SOCKETS,
+        "embassy-net StackResources too small: the EtherNet/IP runtime needs firmware::SOCKETS (6) sockets, plus one for DHCP"
+    );
+    StackResources::new()
+}
 
 /// Receive window of each encapsulation TCP socket, in bytes.
 pub const TCP_RX_LEN: usize = 2048;

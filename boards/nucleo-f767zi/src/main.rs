@@ -49,7 +49,7 @@ bind_interrupts!(struct Irqs {
 type Device = Ethernet<'static, ETH, GenericPhy<Sma<'static, ETH_SMA>>>;
 
 /// Sockets of the embassy-net stack: 3 TCP and 1 UDP on 44818, 2 UDP on 2222, and DHCP.
-const SOCKETS: usize = 6 + cfg!(feature = "dhcp") as usize;
+const SOCKETS: usize = firmware::SOCKETS + cfg!(feature = "dhcp") as usize;
 /// DMA descriptors and buffers of the MAC (1536 bytes each): transmit, receive.
 const TX_PACKETS: usize = 4;
 const RX_PACKETS: usize = 8;
@@ -90,7 +90,7 @@ async fn main(spawner: Spawner) {
     let (net, runner) = embassy_net::new(
         device,
         net_config(),
-        NET_RESOURCES.init(StackResources::new()),
+        NET_RESOURCES.init(firmware::stack_resources()),
         seed,
     );
     let mut interface = firmware::network_config(net);

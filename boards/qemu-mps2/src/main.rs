@@ -34,8 +34,8 @@ use lan9118::Lan9118;
 use stack::Adapter;
 use static_cell::StaticCell;
 
-/// Sockets of the embassy-net stack: 3 TCP and 1 UDP on 44818, 2 UDP on 2222.
-const SOCKETS: usize = 6;
+/// Sockets of the embassy-net stack: what the runtime needs (3 TCP and 1 UDP on 44818, 2 UDP on 2222).
+const SOCKETS: usize = firmware::SOCKETS;
 
 static NET_RESOURCES: StaticCell<StackResources<SOCKETS>> = StaticCell::new();
 static ADAPTER: StaticCell<SharedAdapter<profile::Chosen>> = StaticCell::new();
@@ -62,7 +62,7 @@ async fn main(spawner: Spawner) {
     let (net, runner) = embassy_net::new(
         device,
         config,
-        NET_RESOURCES.init(StackResources::new()),
+        NET_RESOURCES.init(firmware::stack_resources()),
         seed,
     );
     let adapter = Adapter::new(

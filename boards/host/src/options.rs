@@ -1,22 +1,17 @@
-//! Command-line parsing for `enip-host`.
+//! [`Options`]: the settings of a host adapter, and their command line.
 
 use core::net::Ipv4Addr;
 
-use firmware::Profile;
-
-/// How to invoke the program.
-pub const USAGE: &str = "\
-usage: enip-host --tap IFNAME --ip A.B.C.D/LEN [--gateway A.B.C.D] [--profile NAME] [--mac xx:xx:xx:xx:xx:xx] [--create-tap]
-
+/// The options every host adapter understands, for a program's usage text.
+pub const OPTIONS_USAGE: &str = "\
   --tap IFNAME       an existing TAP interface to attach to; create it first, typically
                      inside a network namespace: `ip tuntap add dev IFNAME mode tap` and
-                     `ip link set IFNAME up` (add `user $USER` to run enip-host unprivileged)
+                     `ip link set IFNAME up` (add `user $USER` to run unprivileged)
   --ip A.B.C.D/LEN   the adapter's static address and prefix length
   --gateway A.B.C.D  default gateway (none by default)
-  --profile NAME     device profile (default: generic)
   --mac MAC          the adapter's MAC address (default: 02:45:4e:49:50:01)
   --create-tap       create IFNAME if there is none (needs root or CAP_NET_ADMIN); it is
-                     down, has no host address and disappears when enip-host exits
+                     down, has no host address and disappears when the program exits
 
 Logs go to stderr; set RUST_LOG to change the level (default: info).";
 
@@ -24,18 +19,20 @@ Logs go to stderr; set RUST_LOG to change the level (default: info).";
 const IFNAMSIZ: usize = 16;
 
 /// The MAC address used when `--mac` is not given (locally administered, unicast).
-const DEFAULT_MAC: [u8; 6] = [0x02, 0x45, 0x4E, 0x49, 0x50, 0x01];
+pub const DEFAULT_MAC: [u8; 6] = [0x02, 0x45, 0x4E, 0x49, 0x50, 0x01];
 
-/// What the command line asks for.
-pub enum Command {
-    /// Run the adapter (boxed: a profile holds its whole device state).
-    Run(Box<Args>),
+/// What a command line asks for.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Parsed {
+    /// Run the adapter with these options.
+    Run(Options),
     /// Print the usage and exit.
     Help,
 }
 
-/// The adapter's settings.
-pub struct Args {
+/// How a host adapter attaches to the network.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Options {
     /// TAP interface name.
     pub tap: String,
     /// Static address.
@@ -44,58 +41,84 @@ pub struct Args {
     pub prefix_len: u8,
     /// Default gateway.
     pub gateway: Option<Ipv4Addr>,
-    /// Device profile.
-    pub profile: Profile,
     /// MAC address.
     pub mac: [u8; 6],
     /// Create the TAP interface if there is none.
     pub create_tap: bool,
 }
 
-/// Parses the arguments after the program name.
-pub fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> {
-    let mut tap = None;
-    let mut ip = None;
-    let mut gateway = None;
-    let mut profile = Profile::default();
-    let mut mac = DEFAULT_MAC;
-    let mut create_tap = false;
-    while let Some(flag) = args.next() {
-        match flag.as_str() {
-            "-h" | "--help" => return Ok(Command::Help),
-            "--create-tap" => {
-                create_tap = true;
-                continue;
-            }
-            _ => {}
-        }
-        let value = args.next().ok_or_else(|| format!("{flag} needs a value"))?;
-        match flag.as_str() {
-            "--tap" => tap = Some(parse_ifname(value)?),
-            "--ip" => ip = Some(parse_cidr(&value)?),
-            "--gateway" => gateway = Some(parse_ip(&value)?),
-            "--profile" => {
-                profile = Profile::from_name(&value).ok_or_else(|| {
-                    format!(
-                        "unknown profile {value:?} (known: {})",
-                        Profile::NAMES.join(", ")
-                    )
-                })?
-            }
-            "--mac" => mac = parse_mac(&value)?,
-            _ => return Err(format!("unknown option {flag:?}")),
+impl Options {
+    /// The adapter on TAP `tap` at `ip`/`prefix_len`, with the defaults for the rest.
+    pub fn new(tap: &str, ip: Ipv4Addr, prefix_len: u8) -> Self {
+        Options {
+            tap: tap.into(),
+            ip,
+            prefix_len,
+            gateway: None,
+            mac: DEFAULT_MAC,
+            create_tap: false,
         }
     }
-    let (ip, prefix_len) = ip.ok_or("--ip is required")?;
-    Ok(Command::Run(Box::new(Args {
-        tap: tap.ok_or("--tap is required")?,
-        ip,
-        prefix_len,
-        gateway,
-        profile,
-        mac,
-        create_tap,
-    })))
+
+    /// Parses the arguments after the program name. `extra` sees every option this does
+    /// not know, with its value, and says whether it took it (e.g. `--profile NAME`).
+    pub fn parse(
+        mut args: impl Iterator<Item = String>,
+        mut extra: impl FnMut(&str, String) -> Result<bool, String>,
+    ) -> Result<Parsed, String> {
+        let mut tap = None;
+        let mut ip = None;
+        let mut gateway = None;
+        let mut mac = DEFAULT_MAC;
+        let mut create_tap = false;
+        while let Some(flag) = args.next() {
+            match flag.as_str() {
+                "-h" | "--help" => return Ok(Parsed::Help),
+                "--create-tap" => {
+                    create_tap = true;
+                    continue;
+                }
+                _ => {}
+            }
+            let value = args.next().ok_or_else(|| format!("{flag} needs a value"))?;
+            match flag.as_str() {
+                "--tap" => tap = Some(parse_ifname(value)?),
+                "--ip" => ip = Some(parse_cidr(&value)?),
+                "--gateway" => gateway = Some(parse_ip(&value)?),
+                "--mac" => mac = parse_mac(&value)?,
+                _ if extra(&flag, value)? => {}
+                _ => return Err(format!("unknown option {flag:?}")),
+            }
+        }
+        let (ip, prefix_len) = ip.ok_or("--ip is required")?;
+        Ok(Parsed::Run(Options {
+            tap: tap.ok_or("--tap is required")?,
+            ip,
+            prefix_len,
+            gateway,
+            mac,
+            create_tap,
+        }))
+    }
+
+    /// The options of this process's command line (`extra` as in [`Options::parse`]); on
+    /// `--help` prints `usage` and exits 0, on an error prints it with `usage` and exits 2.
+    pub fn from_env_args(
+        usage: &str,
+        extra: impl FnMut(&str, String) -> Result<bool, String>,
+    ) -> Options {
+        match Options::parse(std::env::args().skip(1), extra) {
+            Ok(Parsed::Run(options)) => options,
+            Ok(Parsed::Help) => {
+                println!("{usage}");
+                std::process::exit(0);
+            }
+            Err(e) => {
+                eprintln!("{}: {e}\n\n{usage}", crate::program_name());
+                std::process::exit(2);
+            }
+        }
+    }
 }
 
 /// Checks an interface name the way Linux does (`dev_valid_name`): 1 to 15 bytes, not `.`
@@ -154,10 +177,16 @@ fn parse_mac(s: &str) -> Result<[u8; 6], String> {
 mod tests {
     use super::*;
 
-    fn run(args: &[&str]) -> Result<Args, String> {
-        match parse(args.iter().map(|s| s.to_string()))? {
-            Command::Run(a) => Ok(*a),
-            Command::Help => Err("help".into()),
+    /// Parses `args`, taking `--profile NAME` for "generic" only.
+    fn run(args: &[&str]) -> Result<Options, String> {
+        let profile = |flag: &str, value: String| match (flag, value.as_str()) {
+            ("--profile", "generic") => Ok(true),
+            ("--profile", _) => Err(format!("unknown profile {value:?}")),
+            _ => Ok(false),
+        };
+        match Options::parse(args.iter().map(|s| s.to_string()), profile)? {
+            Parsed::Run(a) => Ok(a),
+            Parsed::Help => Err("help".into()),
         }
     }
 
@@ -179,7 +208,6 @@ mod tests {
         assert_eq!(a.tap, "tap0");
         assert_eq!((a.ip, a.prefix_len), (Ipv4Addr::new(198, 18, 0, 2), 24));
         assert_eq!(a.gateway, Some(Ipv4Addr::new(198, 18, 0, 1)));
-        assert_eq!(a.profile.name(), "generic");
         assert_eq!(a.mac, [2, 0, 0, 0, 0, 0x2a]);
         assert!(!a.create_tap);
         let a = run(&["--create-tap", "--tap", "tap0", "--ip", "198.18.0.2/24"]).unwrap();

@@ -1,0 +1,32 @@
+//! `enip_host`: any [`stack::Device`] as an EtherNet/IP adapter on a Linux TAP device, with
+//! one call.
+//!
+//! ```no_run
+//! # use stack::Device;
+//! # fn my_device() -> firmware::profiles::Generic { firmware::profiles::Generic::new() }
+//! let options = enip_host::Options::from_env_args("usage: my-device --tap IFNAME --ip A.B.C.D/LEN", |_, _| Ok(false));
+//! enip_host::run(my_device(), options)
+//! ```
+//!
+//! [`run`] opens the TAP (refusing one that does not exist, unless
+//! [`Options::create_tap`]), builds the embassy-net stack with
+//! [`firmware::SOCKETS`] sockets, wraps the device in a [`stack::Adapter`], logs to stderr
+//! (`RUST_LOG`, default `info`), exits 0 on SIGINT or SIGTERM and 1 on any start-up error.
+
+mod options;
+mod runner;
+mod signals;
+mod tap;
+
+pub use options::{Options, Parsed, DEFAULT_MAC, OPTIONS_USAGE};
+pub use runner::run;
+
+/// The running program's file name, for messages.
+pub fn program_name() -> String {
+    std::env::args()
+        .next()
+        .as_deref()
+        .map(std::path::Path::new)
+        .and_then(|p| p.file_name())
+        .map_or_else(|| "enip-host".into(), |n| n.to_string_lossy().into_owned())
+}

@@ -1,0 +1,114 @@
+//! [`run`]: a device on the TAP, on the embassy std executor.
+
+use std::future::Future;
+use std::pin::Pin;
+use std::process::exit;
+
+use embassy_executor::{Executor, Spawner};
+use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
+use embassy_net_tuntap::TunTapDevice;
+use firmware::Resources;
+use stack::{Adapter, Device};
+
+use crate::{program_name, signals, tap, Options};
+
+/// Sockets of the embassy-net stack: what the adapter needs, and none to spare.
+const SOCKETS: usize = firmware::SOCKETS;
+
+/// The adapter's whole run, type-erased so that one (non-generic) task can drive it.
+type AdapterRun = Pin<&'static mut dyn Future<Output = ()>>;
+
+/// Runs `device` on the TAP interface `options` names until SIGINT or SIGTERM (exit 0);
+/// any start-up error is printed and exits 1.
+pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
+    let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
+        .try_init();
+    let program = program_name();
+    if let Err(e) = signals::exit_on_termination() {
+        eprintln!("{program}: cannot install signal handlers: {e}");
+        exit(1);
+    }
+    let tap = tap::open(&options.tap, options.create_tap).unwrap_or_else(|e| {
+        eprintln!("{program}: {e}");
+        exit(1);
+    });
+    let adapter_run = start(device, tap, options, program);
+    let executor: &'static mut Executor = Box::leak(Box::new(Executor::new()));
+    executor.run(|spawner: Spawner| {
+        let (net, adapter) = adapter_run;
+        match (net_task(net), adapter_task(adapter)) {
+            (Ok(net), Ok(adapter)) => {
+                spawner.spawn(net);
+                spawner.spawn(adapter);
+            }
+            _ => {
+                eprintln!("{}: cannot spawn the adapter's tasks", program_name());
+                exit(1);
+            }
+        }
+    })
+}
+
+/// Builds the network stack and the adapter: the network runner, and the adapter's run.
+fn start<D: Device + 'static>(
+    device: D,
+    mut tap: TunTapDevice,
+    options: Options,
+    program: String,
+) -> (Runner<'static, TunTapDevice>, AdapterRun) {
+    tap.set_hardware_address(options.mac);
+    let config = embassy_net::Config::ipv4_static(StaticConfigV4 {
+        address: Ipv4Cidr::new(options.ip, options.prefix_len),
+        gateway: options.gateway,
+        dns_servers: Default::default(),
+    });
+    let seed = seed();
+    let resources: &'static mut StackResources<SOCKETS> =
+        Box::leak(Box::new(firmware::stack_resources()));
+    let (net, runner) = embassy_net::new(tap, config, resources, seed);
+    let name = device.identity().product_name;
+    let adapter = Adapter::new(device, firmware::network_config(net), seed.rotate_left(32));
+    let adapter = Box::leak(Box::new(firmware::share(adapter)));
+    let buffers: &'static mut Resources = Box::leak(Box::new(Resources::new()));
+    let tap_name = options.tap;
+    let run = async move {
+        let announce = async {
+            net.wait_config_up().await;
+            let ip = net.config_v4().map(|c| c.address.address());
+            // `run` was polled first by the join, so its sockets already listen.
+            eprintln!(
+                "{program}: listening on {} (tap {tap_name}, device {name:?})",
+                ip.map_or_else(|| "?".into(), |ip| ip.to_string())
+            );
+        };
+        embassy_futures::join::join(firmware::run(net, adapter, buffers, on_reset), announce).await;
+    };
+    let run: &'static mut dyn Future<Output = ()> = Box::leak(Box::new(run));
+    (runner, Pin::static_mut(run))
+}
+
+/// A random seed for the network stack and the adapter, from the OS or else the clock.
+fn seed() -> u64 {
+    getrandom::u64().unwrap_or_else(|_| {
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0x5EED, |d| d.as_nanos() as u64)
+    })
+}
+
+/// Moves frames between the TAP device and the network stack.
+#[embassy_executor::task]
+async fn net_task(mut runner: Runner<'static, TunTapDevice>) -> ! {
+    runner.run().await
+}
+
+/// Drives the adapter's run (it never ends).
+#[embassy_executor::task]
+async fn adapter_task(run: AdapterRun) {
+    run.await
+}
+
+/// Identity Reset: a host process does not restart itself, so it only reports the request.
+fn on_reset(kind: u8) {
+    log::warn!("identity reset (type {kind}) requested; a host adapter does not restart");
+}
