@@ -114,7 +114,13 @@ impl<D: Device> Adapter<D> {
 
     /// The TCP connection on `socket` closed (by either side): its session ends.
     pub fn tcp_close(&mut self, socket: SocketId, now: Instant) {
-        debug!("tcp close on socket {}", socket.0);
+        if let Some(peer) = self
+            .sessions
+            .get(usize::from(socket.0))
+            .and_then(|s| s.peer)
+        {
+            info!("tcp connection from {} closed (socket {})", peer, socket.0);
+        }
         self.sessions.reset(usize::from(socket.0), None, now);
         self.connections.close_session(socket.0, &mut self.device);
     }

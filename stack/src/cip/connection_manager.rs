@@ -151,10 +151,11 @@ fn forward_open<D: Device>(
         Ok(slot) => slot,
         Err(e) => {
             info!(
-                "Forward_Open from {} refused: general status {:#04x}, extended {:#06x}",
+                "Forward_Open from {} refused: general status {:#04x}, extended {:#06x} {}",
                 origin.ip,
                 e.general,
-                e.extended().unwrap_or(0)
+                e.extended().unwrap_or(0),
+                ext::describe(e.extended().unwrap_or(0))
             );
             let c = &mut ctx.state.connection_manager;
             bump(match e.extended() {

@@ -178,6 +178,12 @@ impl<D: Device> Adapter<D> {
             (status::UNSUPPORTED_PROTOCOL, header.session_handle)
         } else {
             let h = self.sessions.new_handle(index);
+            if let Some(peer) = self.peer(index) {
+                info!(
+                    "session {:#010x} registered by {} (socket {})",
+                    h, peer, index
+                );
+            }
             if let Some(s) = self.sessions.get_mut(index) {
                 s.handle = Some(h);
             }

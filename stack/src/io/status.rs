@@ -48,3 +48,35 @@ pub const BAD_TIMEOUT_MULTIPLIER: u16 = 0x0133;
 pub const BAD_SEGMENT: u16 = 0x0315;
 /// Multicast T->O requested by an originator off the subnet while the TTL keeps it local.
 pub const MULTICAST_OFF_SUBNET: u16 = 0x0813;
+
+/// The meaning of extended status `ext` in words, for logs ("" for one this stack does not
+/// name).
+pub const fn describe(ext: u16) -> &'static str {
+    match ext {
+        DUPLICATE => "connection in use or duplicate Forward_Open",
+        TRANSPORT_NOT_SUPPORTED => "transport class and trigger not supported",
+        OWNERSHIP_CONFLICT => "ownership conflict: another exclusive owner holds the outputs",
+        NOT_FOUND => "no such connection",
+        BAD_NETWORK_PARAMS => "invalid network connection parameter",
+        BAD_SIZE => "invalid connection size",
+        NOT_CONFIGURED => "the device refused the configuration",
+        RPI_NOT_ACCEPTABLE => "RPI not acceptable",
+        OUT_OF_CONNECTIONS => "out of connections",
+        KEY_VENDOR_PRODUCT => "electronic key: vendor ID or product code mismatch",
+        KEY_DEVICE_TYPE => "electronic key: device type mismatch",
+        KEY_REVISION => "electronic key: revision mismatch",
+        NO_OWNER_FOR_LISTEN_ONLY => "listen only without a connection to follow",
+        RPI_BELOW_INHIBIT => "RPI smaller than the production inhibit time",
+        BAD_CONFIG_SIZE => "invalid configuration size",
+        BAD_O_T_SIZE => "invalid O->T size",
+        BAD_T_O_SIZE => "invalid T->O size",
+        BAD_CONFIG_PATH => "invalid configuration application path",
+        BAD_CONSUMING_PATH => "invalid consuming application path",
+        BAD_PRODUCING_PATH => "invalid producing application path",
+        NULL_FORWARD_OPEN => "null Forward_Open not supported",
+        BAD_TIMEOUT_MULTIPLIER => "connection timeout multiplier not acceptable",
+        BAD_SEGMENT => "invalid segment in the connection path",
+        MULTICAST_OFF_SUBNET => "multicast T->O requested from another subnet with TTL 1",
+        _ => "",
+    }
+}
