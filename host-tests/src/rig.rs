@@ -28,6 +28,8 @@ pub const PREFIX: u8 = 24;
 pub const ENCAP_PORT: u16 = 44818;
 /// What the board prints once it serves.
 pub const LISTENING: &str = "enip-host: listening on";
+/// What any `enip_host::run` program prints once it serves (after its own name).
+const PROGRAM_READY: &str = ": listening on";
 /// How long the board may take to come up.
 const BOARD_START: Duration = Duration::from_secs(10);
 /// What the emulated board prints once its sockets listen.
@@ -60,6 +62,20 @@ impl Rig {
             let mut cmd = ns.command(bin);
             cmd.args(["--tap", TAP, "--ip", &format!("{BOARD_IP}/{PREFIX}")])
                 .args(["--profile", profile])
+                .env(
+                    "RUST_LOG",
+                    std::env::var("RUST_LOG").unwrap_or("info".into()),
+                );
+            cmd
+        })
+    }
+
+    /// Starts `bin`, a program built on `enip_host::run` (its own device, no `--profile`),
+    /// capturing into `capture` if given.
+    pub fn start_program(bin: &Path, capture: Option<&Path>) -> io::Result<Self> {
+        Self::launch(capture, "program", PROGRAM_READY, BOARD_START, |ns| {
+            let mut cmd = ns.command(bin);
+            cmd.args(["--tap", TAP, "--ip", &format!("{BOARD_IP}/{PREFIX}")])
                 .env(
                     "RUST_LOG",
                     std::env::var("RUST_LOG").unwrap_or("info".into()),

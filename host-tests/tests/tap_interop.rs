@@ -35,6 +35,8 @@ mod class3;
 mod common;
 #[path = "tap_interop/concurrency.rs"]
 mod concurrency;
+#[path = "tap_interop/example_io_block.rs"]
+mod example_io_block;
 #[path = "tap_interop/explicit.rs"]
 mod explicit;
 #[path = "tap_interop/hostile_cip.rs"]

@@ -91,8 +91,9 @@ fn tap_interop() -> Result<Outcome> {
         ));
         return Ok(Outcome::Skipped);
     }
-    run(util::cargo().args(["build", "-p", "enip-host"]))?;
+    run(util::cargo().args(["build", "-p", "enip-host", "-p", "io-block-host"]))?;
     let host_bin = util::target_dir().join("debug/enip-host");
+    let example_bin = util::target_dir().join("debug/io-block-host");
     // The PositionServo scenarios also run on the emulated board: a copy of its ELF, since the
     // smoke run rebuilds the same path with the generic profile.
     let servo_elf = util::target_dir().join("qemu-position-servo.elf");
@@ -114,6 +115,7 @@ fn tap_interop() -> Result<Outcome> {
         ])
         .env("ENIP_PEER_PYTHON", &python)
         .env("ENIP_HOST_BIN", &host_bin)
+        .env("ENIP_EXAMPLE_BIN", &example_bin)
         .env("ENIP_PEER_NPM_DIR", setup::npm_dir())
         .env("ENIP_QEMU_POSITION_SERVO_ELF", &servo_elf))?;
     Ok(Outcome::Passed)
