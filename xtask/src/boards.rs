@@ -9,6 +9,8 @@ use crate::util::{self, run, Result};
 pub const NUCLEO: &str = "enip-nucleo-f767zi";
 /// The QEMU mps2-an386 board crate.
 pub const QEMU: &str = "enip-qemu-mps2";
+/// The example firmware: the I/O block on the NUCLEO-F767ZI through the board's library.
+pub const EXAMPLE_NUCLEO: &str = "io-block-nucleo";
 /// The profile a board runs unless told otherwise.
 pub const DEFAULT_PROFILE: &str = "generic";
 

@@ -45,7 +45,7 @@ impl Image {
 /// the NUCLEO-F767ZI image is over its budget.
 pub fn footprint() -> Result {
     let mut images = BTreeMap::new();
-    for board in [boards::NUCLEO, boards::QEMU] {
+    for board in [boards::NUCLEO, boards::QEMU, boards::EXAMPLE_NUCLEO] {
         let elf = boards::build(board, boards::DEFAULT_PROFILE)?;
         images.insert(board, measure(&elf.to_string_lossy())?);
     }

@@ -1,0 +1,152 @@
+//! `enip_nucleo_f767zi`: any [`stack::Device`] as an EtherNet/IP adapter on the STM32
+//! NUCLEO-F767ZI, with one call from the firmware's `main`:
+//!
+//! ```ignore
+//! #[embassy_executor::main]
+//! async fn main(spawner: embassy_executor::Spawner) {
+//!     let network = enip_nucleo_f767zi::static_ipv4([192, 168, 1, 10], 24, None);
+//!     enip_nucleo_f767zi::run(spawner, my_device::MyDevice::new(), network).await
+//! }
+//! ```
+//!
+//! [`run`] initialises the chip (216 MHz), builds the embassy-net stack over the on-chip
+//! Ethernet MAC (RMII to the LAN8742A PHY at address 0, `GenericPhy` over MDIO) with the MAC
+//! address derived from the chip's unique ID and the network seed from the RNG, runs the
+//! adapter and shows the ODVA Module and Network Status on the LEDs ([`leds`]). Logs are
+//! defmt over RTT; an Identity Reset restarts the chip. The firmware's build script links
+//! with `memory.x` (the STM32F767ZI map), cortex-m-rt's `link.x` and defmt's `defmt.x`.
+#![no_std]
+
+mod clocks;
+pub mod leds;
+
+use core::net::Ipv4Addr;
+
+use defmt::{info, panic, warn};
+use embassy_executor::Spawner;
+use embassy_net::{Runner, StackResources};
+use embassy_stm32::eth::{self, Ethernet, GenericPhy, PacketQueue, Sma};
+use embassy_stm32::gpio::{Level, Output, Speed};
+use embassy_stm32::peripherals::{ETH, ETH_SMA, RNG};
+use embassy_stm32::rng::{self, Rng};
+use embassy_stm32::{bind_interrupts, uid};
+use firmware::Resources;
+use leds::NucleoLeds;
+use stack::{Adapter, Device};
+use static_cell::{ConstStaticCell, StaticCell};
+use {defmt_rtt as _, panic_probe as _};
+
+bind_interrupts!(struct Irqs {
+    ETH => eth::InterruptHandler;
+    RNG => rng::InterruptHandler<RNG>;
+});
+
+/// The Ethernet driver: on-chip MAC, LAN8742A through the generic PHY driver.
+type Driver = Ethernet<'static, ETH, GenericPhy<Sma<'static, ETH_SMA>>>;
+
+/// Sockets of the embassy-net stack: what the runtime needs, and one for DHCP.
+const SOCKETS: usize = firmware::SOCKETS + 1;
+/// DMA descriptors and buffers of the MAC (1536 bytes each): transmit, receive.
+const TX_PACKETS: usize = 4;
+const RX_PACKETS: usize = 8;
+
+static PACKETS: ConstStaticCell<PacketQueue<TX_PACKETS, RX_PACKETS>> =
+    ConstStaticCell::new(PacketQueue::new());
+static NET_RESOURCES: ConstStaticCell<StackResources<SOCKETS>> =
+    ConstStaticCell::new(firmware::stack_resources());
+static FIRMWARE_RESOURCES: StaticCell<Resources> = StaticCell::new();
+
+/// A static IPv4 configuration: address, prefix length, optional gateway.
+pub fn static_ipv4(address: [u8; 4], prefix_len: u8, gateway: Option<[u8; 4]>) -> embassy_net::Config {
+    embassy_net::Config::ipv4_static(embassy_net::StaticConfigV4 {
+        address: embassy_net::Ipv4Cidr::new(Ipv4Addr::from(address), prefix_len),
+        gateway: gateway.map(Ipv4Addr::from),
+        dns_servers: Default::default(),
+    })
+}
+
+/// An address from DHCP (the `dhcp` feature).
+#[cfg(feature = "dhcp")]
+pub fn dhcp() -> embassy_net::Config {
+    embassy_net::Config::dhcpv4(Default::default())
+}
+
+/// Runs `device` on the board with the interface configuration `network`; never returns.
+/// Call it once, from the firmware's `main` task.
+pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::Config) -> ! {
+    let p = embassy_stm32::init(clocks::config());
+    let leds = NucleoLeds {
+        ld1_green: Output::new(p.PB0, Level::Low, Speed::Low),
+        ld2_blue: Output::new(p.PB7, Level::Low, Speed::Low),
+        ld3_red: Output::new(p.PB14, Level::Low, Speed::Low),
+    };
+    let seed = Rng::new(p.RNG, Irqs).next_u64();
+    let mac = mac_from_uid(uid::uid());
+    let phy = GenericPhy::new(Sma::new(p.ETH_SMA, p.PA2, p.PC1), 0);
+    let driver = Ethernet::new_with_phy(
+        PACKETS.take(),
+        p.ETH,
+        Irqs,
+        p.PA1,  // REF_CLK
+        p.PA7,  // CRS_DV
+        p.PC4,  // RXD0
+        p.PC5,  // RXD1
+        p.PG13, // TXD0
+        p.PB13, // TXD1
+        p.PG11, // TX_EN
+        mac,
+        phy,
+    );
+    let dhcp = is_dhcp(&network);
+    let (net, runner) = embassy_net::new(driver, network, NET_RESOURCES.take(), seed);
+    let mut interface = firmware::network_config(net);
+    interface.dhcp = dhcp;
+    let adapter = firmware::share(Adapter::new(device, interface, seed.rotate_left(32)));
+    match net_task(runner) {
+        Ok(net) => spawner.spawn(net),
+        Err(_) => panic!("cannot spawn the network task"),
+    }
+    info!("enip-nucleo-f767zi: MAC {=[u8]:02x}", mac);
+    let resources = FIRMWARE_RESOURCES.init_with(Resources::new);
+    let (never, _) = embassy_futures::join::join(
+        firmware::run(net, &adapter, resources, on_reset),
+        firmware::indicators::indicate(&adapter, leds),
+    )
+    .await;
+    never
+}
+
+/// True if `network` asks for DHCP.
+fn is_dhcp(network: &embassy_net::Config) -> bool {
+    #[cfg(feature = "dhcp")]
+    {
+        matches!(network.ipv4, embassy_net::ConfigV4::Dhcp(_))
+    }
+    #[cfg(not(feature = "dhcp"))]
+    {
+        let _ = network;
+        false
+    }
+}
+
+/// A locally administered unicast MAC address (02:xx:xx:xx:xx:xx) from the 96-bit unique
+/// ID: its FNV-1a hash, so boards of one wafer lot still differ in the five bytes kept.
+fn mac_from_uid(uid: [u8; 12]) -> [u8; 6] {
+    let hash = uid.iter().fold(0xCBF2_9CE4_8422_2325u64, |h, b| {
+        (h ^ u64::from(*b)).wrapping_mul(0x0000_0100_0000_01B3)
+    });
+    let h = hash.to_le_bytes();
+    [0x02, h[0], h[1], h[2], h[3], h[4]]
+}
+
+/// Moves frames between the Ethernet MAC and the network stack.
+#[embassy_executor::task]
+async fn net_task(mut runner: Runner<'static, Driver>) -> ! {
+    runner.run().await
+}
+
+/// Identity Reset: restart the microcontroller.
+fn on_reset(kind: u8) {
+    warn!("identity reset (type {}): restarting", kind);
+    cortex_m::peripheral::SCB::sys_reset();
+}
