@@ -10,6 +10,7 @@
 //! - [`device`]: the [`Device`] trait a device profile implements; [`guide`] walks through
 //!   writing one.
 //! - [`adapter`]: the [`Adapter`] the runtime drives.
+//! - [`eds`]: the EDS file of any device.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -21,6 +22,7 @@ pub mod adapter;
 pub mod cip;
 pub mod config;
 pub mod device;
+pub mod eds;
 pub mod encap;
 pub mod guide;
 pub mod io;

@@ -42,6 +42,8 @@ commands:
                       10 x 1 ms I/O on the host TAP
   footprint           the boards' release image sizes and the F767 budget (part of bench)
   smoke               the QEMU smoke run alone (part of test)
+  eds                 regenerate eds/<profile>.eds from every profile's own description
+                      (`cargo run -p enip-host -- --eds --profile NAME` prints one)
 ";
 
 fn main() -> ExitCode {
@@ -67,6 +69,12 @@ fn main() -> ExitCode {
         ["bench"] => bench::run_all(),
         ["footprint"] => footprint::footprint(),
         ["smoke"] => smoke::run_smoke().map(|_| ()),
+        // The firmware's EDS test knows every profile; asked to, it rewrites the files.
+        ["eds"] => util::run(
+            util::cargo()
+                .args(["test", "-p", "enip-firmware", "every_eds_file_is_current"])
+                .env("UPDATE_EDS", "1"),
+        ),
         ["help" | "-h" | "--help"] => {
             print!("{USAGE}");
             Ok(())

@@ -1,5 +1,8 @@
 //! `enip-host`: the EtherNet/IP adapter on a Linux host, attached to an existing TAP device,
-//! running one of the shipped device profiles.
+//! running one of the shipped device profiles; `enip-host --eds [--profile NAME]` prints the
+//! profile's EDS file instead.
+
+use std::process::exit;
 
 use firmware::Profile;
 
@@ -7,26 +10,56 @@ use firmware::Profile;
 fn usage() -> String {
     format!(
         "usage: enip-host --tap IFNAME --ip A.B.C.D/LEN [--gateway A.B.C.D] [--profile NAME] \
-         [--mac xx:xx:xx:xx:xx:xx] [--create-tap]\n\n\
-         \x20 --profile NAME     device profile: {} (default: generic)\n{}",
+         [--mac xx:xx:xx:xx:xx:xx] [--create-tap]\n       \
+         enip-host --eds [--profile NAME]\n\n\
+         \x20 --profile NAME     device profile: {} (default: generic)\n\
+         \x20 --eds              print the profile's EDS file and exit\n{}",
         Profile::NAMES.join(", "),
         enip_host::OPTIONS_USAGE
     )
 }
 
+/// The profile called `name`, or the error naming the known ones.
+fn profile(name: &str) -> Result<Profile, String> {
+    Profile::from_name(name).ok_or_else(|| {
+        format!(
+            "unknown profile {name:?} (known: {})",
+            Profile::NAMES.join(", ")
+        )
+    })
+}
+
+/// `--eds [--profile NAME]`: prints the EDS file.
+fn print_eds(args: &[String]) -> Result<(), String> {
+    let name = match args {
+        [_] => "generic",
+        [a, b, name] | [b, name, a] if a == "--eds" && b == "--profile" => name,
+        _ => return Err("--eds takes only --profile NAME".into()),
+    };
+    let mut eds = String::new();
+    profile(name)?
+        .write_eds(&mut eds)
+        .map_err(|e| e.to_string())?;
+    print!("{eds}");
+    Ok(())
+}
+
 fn main() {
-    let mut profile = Profile::default();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "--eds") {
+        if let Err(e) = print_eds(&args) {
+            eprintln!("enip-host: {e}\n\n{}", usage());
+            exit(2);
+        }
+        return;
+    }
+    let mut chosen = Profile::default();
     let options = enip_host::Options::from_env_args(&usage(), |flag, value| {
         if flag != "--profile" {
             return Ok(false);
         }
-        profile = Profile::from_name(&value).ok_or_else(|| {
-            format!(
-                "unknown profile {value:?} (known: {})",
-                Profile::NAMES.join(", ")
-            )
-        })?;
+        chosen = profile(&value)?;
         Ok(true)
     });
-    enip_host::run(profile, options)
+    enip_host::run(chosen, options)
 }

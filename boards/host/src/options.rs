@@ -3,8 +3,8 @@
 use core::net::Ipv4Addr;
 
 /// The options every host adapter understands, for a program's usage text.
-pub const OPTIONS_USAGE: &str = "\
-  --tap IFNAME       an existing TAP interface to attach to; create it first, typically
+pub const OPTIONS_USAGE: &str =
+    "  --tap IFNAME       an existing TAP interface to attach to; create it first, typically
                      inside a network namespace: `ip tuntap add dev IFNAME mode tap` and
                      `ip link set IFNAME up` (add `user $USER` to run unprivileged)
   --ip A.B.C.D/LEN   the adapter's static address and prefix length

@@ -57,7 +57,11 @@ static NET_RESOURCES: ConstStaticCell<StackResources<SOCKETS>> =
 static FIRMWARE_RESOURCES: StaticCell<Resources> = StaticCell::new();
 
 /// A static IPv4 configuration: address, prefix length, optional gateway.
-pub fn static_ipv4(address: [u8; 4], prefix_len: u8, gateway: Option<[u8; 4]>) -> embassy_net::Config {
+pub fn static_ipv4(
+    address: [u8; 4],
+    prefix_len: u8,
+    gateway: Option<[u8; 4]>,
+) -> embassy_net::Config {
     embassy_net::Config::ipv4_static(embassy_net::StaticConfigV4 {
         address: embassy_net::Ipv4Cidr::new(Ipv4Addr::from(address), prefix_len),
         gateway: gateway.map(Ipv4Addr::from),

@@ -6,6 +6,7 @@
 
 use stack::cip::{CipError, CipResult, General};
 use stack::device::InputChanges;
+use stack::eds::{EdsInfo, RpiRange, Triggers};
 use stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
 
 /// Identity of the generic profile: every value in one place.
@@ -17,6 +18,28 @@ pub const IDENTITY: IdentityInfo = IdentityInfo {
     revision: (1, 0),
     serial_number: 0x5255_5354,
     product_name: "enip-rs generic",
+};
+
+/// The EDS choices of the generic profile (`eds/generic.eds`).
+pub const EDS: EdsInfo<'static> = EdsInfo {
+    description: "enip-rs generic adapter (OpENer sample application assemblies)",
+    date: "12-01-2026",
+    vendor_name: "enip-rs",
+    product_type_name: "Communications Adapter",
+    catalog: "ENIP-RS-GENERIC",
+    rpi_us: RpiRange {
+        min: stack::config::MIN_RPI_US,
+        max: stack::config::MAX_RPI_US,
+        default: 10_000,
+    },
+    triggers: Triggers::ALL,
+    assembly_names: &[
+        (INPUT, "Input (echo of the outputs)"),
+        (OUTPUT, "Output"),
+        (CONFIG, "Configuration"),
+        (EXPLICIT, "Explicit messaging scratch"),
+    ],
+    member_bits: 0,
 };
 
 /// Input assembly (T->O data).

@@ -8,6 +8,7 @@ use stack::cip::object::{Access, ClassDef};
 use stack::cip::request::Request;
 use stack::cip::CipResult;
 use stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
+use stack::eds::EdsInfo;
 use stack::wire::Writer;
 use stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 
@@ -46,6 +47,19 @@ impl Profile {
             "position-servo" => Some(Profile::PositionServo(PositionServo::new())),
             _ => None,
         }
+    }
+
+    /// What the profile's EDS file says beyond the device's own description.
+    pub const fn eds_info(&self) -> &'static EdsInfo<'static> {
+        match self {
+            Profile::Generic(_) => &generic::EDS,
+            Profile::PositionServo(_) => &position_servo::eds::EDS,
+        }
+    }
+
+    /// The profile's EDS file.
+    pub fn write_eds(&self, w: &mut impl core::fmt::Write) -> core::fmt::Result {
+        stack::eds::write_eds(w, self, self.eds_info())
     }
 
     /// The profile's name, as [`Profile::from_name`] accepts it.
@@ -151,6 +165,31 @@ mod tests {
             assert_eq!(Profile::from_name(name).map(|p| p.name()), Some(*name));
         }
         assert_eq!(Profile::from_name("nope"), None);
+    }
+
+    /// Every profile's EDS in `eds/` is what the profile says today (`UPDATE_EDS=1`
+    /// rewrites them).
+    #[test]
+    fn every_eds_file_is_current() {
+        extern crate std;
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds");
+        for name in Profile::NAMES {
+            let mut eds = std::string::String::new();
+            Profile::from_name(name)
+                .unwrap()
+                .write_eds(&mut eds)
+                .unwrap();
+            let path = dir.join(std::format!("{name}.eds"));
+            if std::env::var_os("UPDATE_EDS").is_some() {
+                std::fs::write(&path, &eds).unwrap();
+            }
+            let committed = std::fs::read_to_string(&path).unwrap_or_default();
+            assert!(
+                committed == eds,
+                "{} is stale: UPDATE_EDS=1 cargo test -p enip-firmware eds",
+                path.display()
+            );
+        }
     }
 
     #[test]

@@ -100,3 +100,27 @@ pub fn assert_serving(ns: &Namespace, after: &str) {
     assert_eq!(&reply.data[1..], NAME.as_bytes(), "after {after}");
     assert!(elapsed <= SERVING_BOUND, "after {after}: took {elapsed:?}");
 }
+
+/// Parses `eds/<profile>.eds` with eds-pie; fails on any warning. Returns its summary
+/// (protocol, assemblies and sizes, connections).
+pub fn eds_check(profile: &str) -> serde_json::Value {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../eds/{profile}.eds"));
+    let mut cmd = std::process::Command::new(host_tests::peers::python());
+    cmd.arg(host_tests::peers::script("eds_check.py"));
+    let input = serde_json::json!({"path": path}).to_string();
+    let out =
+        host_tests::process::run_bounded(cmd, Some(input.as_bytes()), Duration::from_secs(60))
+            .expect("eds-pie runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let r: serde_json::Value = stdout
+        .lines()
+        .rev()
+        .find_map(|l| serde_json::from_str(l).ok())
+        .unwrap_or_else(|| panic!("no JSON from eds-pie: {stdout}"));
+    assert_eq!(
+        r["problems"],
+        serde_json::json!([]),
+        "{profile}: eds-pie warnings: {r}"
+    );
+    r
+}

@@ -282,3 +282,27 @@ fn get_attributes_all_of_every_object_dissects_cleanly() {
     );
     common::finish(rig);
 }
+
+/// Every shipped profile's EDS (`eds/`) parses with eds-pie without a warning; the generic
+/// one declares the generic profile's assemblies and connections.
+#[test]
+#[ignore = "needs the Python peers (eds-pie)"]
+fn every_eds_file_is_clean() {
+    for profile in firmware::Profile::NAMES {
+        let r = common::eds_check(profile);
+        assert_eq!(r["protocol"], "EtherNetIP", "{profile}");
+    }
+    let r = common::eds_check("generic");
+    for (instance, size) in [
+        (100, 32),
+        (150, 32),
+        (151, 10),
+        (152, 0),
+        (153, 0),
+        (154, 32),
+    ] {
+        assert_eq!(r["assemblies"][format!("Assem{instance}")], size, "{r}");
+    }
+    // Output 150 and the two heartbeat points, each with input 100.
+    assert_eq!(r["connections"].as_array().map_or(0, Vec::len), 3, "{r}");
+}

@@ -318,20 +318,7 @@ fn position_servo_on_qemu() {
 #[test]
 #[ignore = "needs the Python peers (eds-pie)"]
 fn position_servo_eds_is_clean() {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../firmware/src/profiles/position_servo/position_servo.eds");
-    let mut cmd = std::process::Command::new(peers::python());
-    cmd.arg(peers::script("position_servo_eds.py"));
-    let input = json!({"path": path}).to_string();
-    let out = host_tests::process::run_bounded(cmd, Some(input.as_bytes()), PEER_TIMEOUT)
-        .expect("eds-pie runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let r: Value = stdout
-        .lines()
-        .rev()
-        .find_map(|l| serde_json::from_str(l).ok())
-        .unwrap_or_else(|| panic!("no JSON from eds-pie: {stdout}"));
-    assert_eq!(r["problems"], json!([]), "eds-pie warnings: {r}");
+    let r = common::eds_check("position-servo");
     assert_eq!(r["protocol"], "EtherNetIP");
     let sizes = [(103, 0), (104, 8), (105, 36), (106, 8), (108, 24), (109, 4)];
     for (instance, size) in sizes {

@@ -6,6 +6,7 @@
 //! - [`system940`]: class 0x64, a variable per instance, attributes 0-5 (7.2).
 //! - [`assemblies`]: 103-109 (5.5) and the heartbeat points; [`datalinks`]: 5.4.
 //! - [`drive`]: the simulated drive, advanced by [`Device::poll`] every millisecond.
+//! - [`eds`]: the EDS file's choices (`eds/position-servo.eds`).
 //!
 //! Connections (5.1, table 9): cyclic and application-triggered, exclusive owner, input only
 //! and listen only; change-of-state is refused. An exclusive owner sets EXSTATUS bit 24
@@ -24,8 +25,7 @@ pub mod variables;
 
 #[cfg(test)]
 mod drive_tests;
-#[cfg(test)]
-mod eds;
+pub mod eds;
 #[cfg(test)]
 mod tests;
 

@@ -1,4 +1,4 @@
-"""Checks the PositionServo profile's EDS file with the PyPI `eds-pie` package, which logs
+"""Checks an EDS file with the PyPI `eds-pie` package, which logs
 warnings and errors instead of raising: every record at WARNING or above is collected.
 
 Reads {"path"} on stdin. Prints one JSON line: {"problems": [...], "protocol", "assemblies":

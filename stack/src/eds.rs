@@ -1,0 +1,267 @@
+//! Electronic Data Sheets: the EDS file of any [`Device`], from its own description
+//! (identity, assemblies with their roles and sizes, connection points) and the few choices
+//! only its vendor can make ([`EdsInfo`]: names, catalog number, RPI limits, triggers).
+//!
+//! Written through [`core::fmt::Write`], so it needs no allocation: a host tool writes into a
+//! `String`, a device could serve it from a buffer. The file declares every connection a
+//! scanner can open: each output assembly with each input assembly (exclusive owner), and
+//! each input-only and listen-only heartbeat point with each input assembly.
+
+use core::fmt::{self, Write};
+
+use crate::device::{AssemblyInfo, AssemblyRole, Device};
+
+/// The vendor's choices an EDS needs beyond the device itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EdsInfo<'a> {
+    /// `[File] DescText`.
+    pub description: &'a str,
+    /// `CreateDate` and `ModDate`, `MM-DD-YYYY`.
+    pub date: &'a str,
+    /// `[Device] VendName`.
+    pub vendor_name: &'a str,
+    /// `[Device] ProdTypeStr`, the device type in words (e.g. "Generic Device").
+    pub product_type_name: &'a str,
+    /// `[Device] Catalog`.
+    pub catalog: &'a str,
+    /// RPI range and default, microseconds.
+    pub rpi_us: RpiRange,
+    /// The production triggers the device accepts.
+    pub triggers: Triggers,
+    /// Names of assembly instances (others are named by their role).
+    pub assembly_names: &'a [(u16, &'a str)],
+    /// Bits of each member an assembly lists (e.g. 32 for a drive's 32-bit words); 0 lists
+    /// the whole assembly as one member.
+    pub member_bits: u16,
+}
+
+/// The RPI a scanner may choose, microseconds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RpiRange {
+    /// Smallest.
+    pub min: u32,
+    /// Largest.
+    pub max: u32,
+    /// Default.
+    pub default: u32,
+}
+
+/// Production triggers the device accepts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Triggers {
+    /// Cyclic.
+    pub cyclic: bool,
+    /// Change of state.
+    pub change_of_state: bool,
+    /// Application triggered.
+    pub application: bool,
+}
+
+impl Triggers {
+    /// Every trigger the stack implements.
+    pub const ALL: Triggers = Triggers {
+        cyclic: true,
+        change_of_state: true,
+        application: true,
+    };
+
+    /// Bits 16-18 of the EDS trigger and transport word.
+    const fn bits(self) -> u32 {
+        (self.cyclic as u32) << 16
+            | (self.change_of_state as u32) << 17
+            | (self.application as u32) << 18
+    }
+}
+
+/// Transport class 1, server (bit 1).
+const CLASS1: u32 = 0x0000_0002;
+/// Connection kinds (trigger and transport word, bits 24-26).
+const EXCLUSIVE_OWNER: u32 = 1 << 26;
+const INPUT_ONLY: u32 = 1 << 25;
+const LISTEN_ONLY: u32 = 1 << 24;
+/// Connection parameters: fixed sizes both ways (bits 0 and 2), O->T point-to-point (bit
+/// 18), scheduled priority both ways (bits 26 and 30).
+const FIXED_P2P_SCHEDULED: u32 = 0x4404_0005;
+/// T->O point-to-point and multicast (bits 21-22).
+const T_O_P2P_OR_MULTICAST: u32 = 0x0060_0000;
+/// T->O multicast only (bit 21).
+const T_O_MULTICAST: u32 = 0x0020_0000;
+/// O->T real-time format (bits 8-11): modeless, heartbeat, 32-bit run/idle header.
+const O_T_MODELESS: u32 = 0x0000;
+const O_T_HEARTBEAT: u32 = 0x0300;
+const O_T_RUN_IDLE: u32 = 0x0400;
+
+/// Writes the EDS file of `device` to `w`.
+pub fn write_eds<W: Write>(w: &mut W, device: &impl Device, info: &EdsInfo<'_>) -> fmt::Result {
+    let id = device.identity();
+    let assemblies = device.assemblies();
+    writeln!(
+        w,
+        "$ EDS of \"{}\" (enip-rs), generated from the device's own description.",
+        id.product_name
+    )?;
+    writeln!(w, "$ Regenerate it rather than edit it.\n")?;
+    writeln!(w, "[File]")?;
+    writeln!(w, "        DescText = \"{}\";", info.description)?;
+    writeln!(
+        w,
+        "        CreateDate = {};\n        CreateTime = 12:00:00;",
+        info.date
+    )?;
+    writeln!(
+        w,
+        "        ModDate = {};\n        ModTime = 12:00:00;",
+        info.date
+    )?;
+    writeln!(w, "        Revision = 1.0;\n")?;
+    writeln!(w, "[Device]")?;
+    writeln!(w, "        VendCode = {};", id.vendor_id)?;
+    writeln!(w, "        VendName = \"{}\";", info.vendor_name)?;
+    writeln!(w, "        ProdType = {};", id.device_type)?;
+    writeln!(w, "        ProdTypeStr = \"{}\";", info.product_type_name)?;
+    writeln!(w, "        ProdCode = {};", id.product_code)?;
+    writeln!(w, "        MajRev = {};", id.revision.0)?;
+    writeln!(w, "        MinRev = {};", id.revision.1)?;
+    writeln!(w, "        ProdName = \"{}\";", id.product_name)?;
+    writeln!(w, "        Catalog = \"{}\";\n", info.catalog)?;
+    writeln!(w, "[Device Classification]\n        Class1 = EtherNetIP;\n")?;
+    let rpi = info.rpi_us;
+    writeln!(w, "[Params]")?;
+    writeln!(
+        w,
+        "        Param1 = 0, , , 0x0000, 0xC8, 4, \"RPI\", \"microsecond\", \
+         \"Requested packet interval\", {}, {}, {}, , , , , , , , , ;\n",
+        rpi.min, rpi.max, rpi.default
+    )?;
+    writeln!(w, "[Assembly]\n        Object_Name = \"Assembly Object\";")?;
+    writeln!(w, "        Object_Class_Code = 0x04;")?;
+    for a in assemblies {
+        let n = a.instance;
+        write!(
+            w,
+            "        Assem{n} = \"{}\", \"20 04 {} 30 03\", {}, 0x0000, , ",
+            Name(info, a),
+            Point(0x24, n),
+            a.size
+        )?;
+        let bits = u32::from(a.size) * 8;
+        let member = match u32::from(info.member_bits) {
+            m if m == 0 || bits % m != 0 => bits,
+            m => m,
+        };
+        for _ in 0..bits.checked_div(member).unwrap_or(0) {
+            write!(w, ", {member}, ")?;
+        }
+        writeln!(w, ";")?;
+    }
+    writeln!(w, "\n[Connection Manager]")?;
+    writeln!(w, "        Object_Name = \"Connection Manager Object\";")?;
+    writeln!(w, "        Object_Class_Code = 0x06;")?;
+    let config = assemblies.iter().find(|a| a.role == AssemblyRole::Config);
+    let kinds = [
+        (
+            AssemblyRole::Output,
+            EXCLUSIVE_OWNER,
+            T_O_P2P_OR_MULTICAST,
+            "Exclusive owner",
+        ),
+        (
+            AssemblyRole::InputOnlyHeartbeat,
+            INPUT_ONLY,
+            T_O_P2P_OR_MULTICAST,
+            "Input only",
+        ),
+        (
+            AssemblyRole::ListenOnlyHeartbeat,
+            LISTEN_ONLY,
+            T_O_MULTICAST,
+            "Listen only",
+        ),
+    ];
+    let mut k = 0;
+    for (role, kind, t_o, label) in kinds {
+        for o in assemblies.iter().filter(|a| a.role == role) {
+            for t in assemblies.iter().filter(|a| a.role == AssemblyRole::Input) {
+                k += 1;
+                let format = match (o.size, o.run_idle_header) {
+                    (0, _) => O_T_HEARTBEAT,
+                    (_, true) => O_T_RUN_IDLE,
+                    (_, false) => O_T_MODELESS,
+                };
+                let params = FIXED_P2P_SCHEDULED | t_o | format;
+                write!(
+                    w,
+                    "        Connection{k} = 0x{:08X}, 0x{params:08X}, Param1, {}, Assem{}, \
+                     Param1, {}, Assem{}, , , , , \"{label} {}/{}\", \"\", \"20 04 ",
+                    kind | info.triggers.bits() | CLASS1,
+                    o.size,
+                    o.instance,
+                    t.size,
+                    t.instance,
+                    o.instance,
+                    t.instance
+                )?;
+                if let Some(c) = config {
+                    write!(w, "{} ", Point(0x24, c.instance))?;
+                }
+                writeln!(
+                    w,
+                    "{} {}\";",
+                    Point(0x2C, o.instance),
+                    Point(0x2C, t.instance)
+                )?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// An assembly's name: the vendor's, else its role and instance.
+struct Name<'a>(&'a EdsInfo<'a>, &'a AssemblyInfo);
+
+impl fmt::Display for Name<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let Name(info, a) = *self;
+        if let Some((_, name)) = info.assembly_names.iter().find(|(n, _)| *n == a.instance) {
+            return f.write_str(name);
+        }
+        let role = match a.role {
+            AssemblyRole::Input => "Input",
+            AssemblyRole::Output => "Output",
+            AssemblyRole::Config => "Configuration",
+            AssemblyRole::InputOnlyHeartbeat => "Input only heartbeat",
+            AssemblyRole::ListenOnlyHeartbeat => "Listen only heartbeat",
+            AssemblyRole::Explicit => "Explicit",
+        };
+        write!(f, "{role} {}", a.instance)
+    }
+}
+
+/// A logical segment as EDS path bytes: `format` 0x24 (instance) or 0x2C (connection
+/// point), 8- or 16-bit.
+struct Point(u8, u16);
+
+impl fmt::Display for Point {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let Point(format, n) = *self;
+        match u8::try_from(n) {
+            Ok(n) => write!(f, "{format:02X} {n:02X}"),
+            Err(_) => {
+                let [lo, hi] = n.to_le_bytes();
+                write!(f, "{:02X} 00 {lo:02X} {hi:02X}", format | 1)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn points_are_8_or_16_bit() {
+        let mut s = heapless::String::<32>::new();
+        write!(s, "{} {}", Point(0x24, 0x97), Point(0x2C, 0x1234)).unwrap();
+        assert_eq!(s, "24 97 2D 00 34 12");
+    }
+}
