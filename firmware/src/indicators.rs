@@ -172,13 +172,18 @@ mod tests {
         assert_eq!(module_status(0x0C00), Indicator::Red);
     }
 
+    #[cfg(feature = "profile-generic")]
     #[test]
     fn network_status_off_without_address_else_flashing_green() {
         use core::net::Ipv4Addr;
         let config =
             |ip| stack::NetworkConfig::new_static(ip, Ipv4Addr::new(255, 255, 255, 0), [2; 6]);
         let mut ns = NetworkStatus::default();
-        let mut adapter = Adapter::new(crate::Profile::default(), config(Ipv4Addr::UNSPECIFIED), 1);
+        let mut adapter = Adapter::new(
+            crate::profiles::Generic::new(),
+            config(Ipv4Addr::UNSPECIFIED),
+            1,
+        );
         assert_eq!(ns.update(&adapter), Indicator::Off);
         adapter.set_network(config(Ipv4Addr::new(198, 18, 0, 2)));
         assert_eq!(ns.update(&adapter), Indicator::FlashingGreen);

@@ -6,7 +6,8 @@
 //! - [`run`] serves the three encapsulation TCP sockets and the UDP socket on port 44818,
 //!   Class 1 I/O, keeps the adapter's view of the interface current, and runs the device's
 //!   own clock (`Device::poll`, e.g. a simulated drive's control tick);
-//! - [`profiles`] holds the device profiles and [`Profile`], which picks one by name;
+//! - [`profiles`] holds the shipped device profiles (each behind its `profile-NAME` feature)
+//!   and `Profile`, which picks one of them by name;
 //! - [`Resources`] are the socket buffers, which the board places (usually in a `static`),
 //!   and the embassy-net stack needs [`SOCKETS`] sockets (build its resources with
 //!   [`stack_resources`], which refuses fewer);
@@ -31,6 +32,7 @@ mod tcp;
 mod udp;
 
 pub use netif::network_config;
+#[cfg(any(feature = "profile-generic", feature = "profile-position-servo"))]
 pub use profiles::Profile;
 pub use resources::{stack_resources, Resources, SOCKETS};
 pub use runtime::run;

@@ -55,35 +55,38 @@ mod tests {
 
     use crate::util;
 
-    /// Every profile `firmware::Profile::NAMES` lists can be chosen on both boards.
+    /// Every profile the firmware has (its `profile-NAME` features) can be chosen on both
+    /// embedded boards and is compiled into `enip-host`.
     #[test]
     fn every_profile_has_a_board_feature() {
-        let profiles = fs::read_to_string(util::root().join("firmware/src/profiles/mod.rs"))
-            .expect("firmware/src/profiles/mod.rs");
-        let names = profiles
+        let manifest = |path: &str| {
+            fs::read_to_string(util::root().join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
+        };
+        let firmware = manifest("firmware/Cargo.toml");
+        let names: Vec<&str> = firmware
             .lines()
-            .find_map(|l| {
-                l.trim()
-                    .strip_prefix("pub const NAMES: &'static [&'static str] = &[")
-            })
-            .expect("Profile::NAMES on one line");
-        let names: Vec<&str> = names
-            .trim_end_matches("];")
-            .split(',')
-            .map(|n| n.trim().trim_matches('"'))
-            .filter(|n| !n.is_empty())
+            .filter_map(|l| l.strip_prefix("profile-"))
+            .filter_map(|l| l.split_once(" = []").map(|(name, _)| name))
             .collect();
         assert!(names.contains(&"generic"), "{names:?}");
-        for board in ["nucleo-f767zi", "qemu-mps2"] {
-            let manifest =
-                fs::read_to_string(util::root().join("boards").join(board).join("Cargo.toml"))
-                    .expect("board manifest");
+        for board in ["nucleo-f767zi", "qemu-mps2", "host"] {
+            let path = format!("boards/{board}/Cargo.toml");
+            let board_manifest = manifest(&path);
             for name in &names {
-                assert!(
-                    manifest.contains(&format!("\nprofile-{name} = []")),
-                    "boards/{board}/Cargo.toml lacks the feature profile-{name}"
-                );
+                let line = format!("\nprofile-{name} = [\"firmware/profile-{name}\"]");
+                assert!(board_manifest.contains(&line), "{path} lacks{line}");
             }
+        }
+        let host = manifest("boards/host/Cargo.toml");
+        let defaults = host
+            .lines()
+            .find(|l| l.starts_with("default = ["))
+            .unwrap_or("");
+        for name in &names {
+            assert!(
+                defaults.contains(&format!("\"profile-{name}\"")),
+                "enip-host's defaults lack {name}"
+            );
         }
     }
 }

@@ -72,7 +72,7 @@ fn main() -> ExitCode {
         // The firmware's EDS test knows every profile; asked to, it rewrites the files.
         ["eds"] => util::run(
             util::cargo()
-                .args(["test", "-p", "enip-firmware", "every_eds_file_is_current"])
+                .args(["test", "every_eds_file_is_current"])
                 .env("UPDATE_EDS", "1"),
         ),
         ["help" | "-h" | "--help"] => {

@@ -1,0 +1,222 @@
+//! [`Profile`]: one of the compiled-in profiles, chosen by name at run time, implementing
+//! [`Device`] by dispatch. Each profile is one line of [`profiles!`]'s invocation.
+
+use stack::cip::context::RequestContext;
+use stack::cip::object::{Access, ClassDef};
+use stack::cip::request::Request;
+use stack::cip::CipResult;
+use stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
+use stack::eds::EdsInfo;
+use stack::wire::Writer;
+use stack::{AssemblyInfo, Device, IdentityInfo, Instant};
+
+/// Defines [`Profile`] over `feature name Variant(Type) eds_info;` lines: a variant, a name
+/// and an EDS description per profile, each only with its feature.
+macro_rules! profiles {
+    ($($feature:literal $name:literal $variant:ident($ty:ty) $eds:path, $doc:literal;)*) => {
+        /// One of the device profiles, chosen at run time; implements [`Device`] by dispatch.
+        // Without a heap the profiles are held by value.
+        #[allow(clippy::large_enum_variant)]
+        #[derive(Debug, Clone, PartialEq, Eq)]
+        pub enum Profile {
+            $(
+                #[doc = $doc]
+                #[cfg(feature = $feature)]
+                $variant($ty),
+            )*
+        }
+
+        impl Profile {
+            /// The names [`Profile::from_name`] accepts (the profiles compiled in).
+            pub const NAMES: &'static [&'static str] = &[$(#[cfg(feature = $feature)] $name,)*];
+
+            /// The profile called `name` in its power-up state, if it is compiled in.
+            pub fn from_name(name: &str) -> Option<Self> {
+                match name {
+                    $(#[cfg(feature = $feature)] $name => Some(Profile::$variant(<$ty>::new())),)*
+                    _ => None,
+                }
+            }
+
+            /// The profile's name, as [`Profile::from_name`] accepts it.
+            pub const fn name(&self) -> &'static str {
+                match self {
+                    $(#[cfg(feature = $feature)] Profile::$variant(_) => $name,)*
+                }
+            }
+
+            /// What the profile's EDS file says beyond the device's own description.
+            pub const fn eds_info(&self) -> &'static EdsInfo<'static> {
+                match self {
+                    $(#[cfg(feature = $feature)] Profile::$variant(_) => &$eds,)*
+                }
+            }
+        }
+
+        /// The first profile compiled in (`generic` when it is).
+        impl Default for Profile {
+            // Each profile's block returns; the ones after the first compiled in are never
+            // reached.
+            #[allow(unreachable_code)]
+            fn default() -> Self {
+                $(#[cfg(feature = $feature)] {
+                    return Profile::$variant(<$ty>::new());
+                })*
+            }
+        }
+
+        /// Runs `$body` with `$dev` bound to the profile's device.
+        macro_rules! dispatch {
+            ($profile:expr, $dev:ident => $body:expr) => {
+                match $profile {
+                    $(#[cfg(feature = $feature)] Profile::$variant($dev) => $body,)*
+                }
+            };
+        }
+    };
+}
+
+profiles! {
+    "profile-generic" "generic" Generic(super::Generic) super::generic::EDS,
+        "The OpENer sample application's assemblies ([`super::Generic`]).";
+    "profile-position-servo" "position-servo" PositionServo(super::PositionServo)
+        super::position_servo::eds::EDS, "The Lenze PositionServo drive ([`super::PositionServo`]).";
+}
+
+impl Profile {
+    /// The profile's EDS file.
+    pub fn write_eds(&self, w: &mut impl core::fmt::Write) -> core::fmt::Result {
+        stack::eds::write_eds(w, self, self.eds_info())
+    }
+}
+
+impl Device for Profile {
+    fn identity(&self) -> &IdentityInfo {
+        dispatch!(self, d => d.identity())
+    }
+    fn status_bits(&self) -> u16 {
+        dispatch!(self, d => d.status_bits())
+    }
+    fn assemblies(&self) -> &[AssemblyInfo] {
+        dispatch!(self, d => d.assemblies())
+    }
+    fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
+        dispatch!(self, d => d.read_assembly(instance, out))
+    }
+    fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
+        dispatch!(self, d => d.write_assembly(instance, data))
+    }
+    fn classes(&self) -> &[ClassDef] {
+        dispatch!(self, d => d.classes())
+    }
+    fn has_instance(&self, class: &ClassDef, instance: u32) -> bool {
+        dispatch!(self, d => d.has_instance(class, instance))
+    }
+    fn instance_count(&self, class: &ClassDef) -> u32 {
+        dispatch!(self, d => d.instance_count(class))
+    }
+    fn attribute_access(&self, at: &AttributeRef<'_>) -> Access {
+        dispatch!(self, d => d.attribute_access(at))
+    }
+    fn attribute_size(&self, at: &AttributeRef<'_>) -> Option<usize> {
+        dispatch!(self, d => d.attribute_size(at))
+    }
+    fn get_attribute(
+        &mut self,
+        cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        w: &mut Writer<'_>,
+    ) -> CipResult {
+        dispatch!(self, d => d.get_attribute(cx, at, w))
+    }
+    fn set_attribute(
+        &mut self,
+        cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        value: &[u8],
+    ) -> CipResult {
+        dispatch!(self, d => d.set_attribute(cx, at, value))
+    }
+    fn handle_request(
+        &mut self,
+        cx: &RequestContext,
+        req: &Request<'_>,
+        reply: &mut Writer<'_>,
+    ) -> Option<CipResult> {
+        dispatch!(self, d => d.handle_request(cx, req, reply))
+    }
+    fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
+        dispatch!(self, d => d.admit(request))
+    }
+    fn input_changes(&mut self) -> Option<&mut InputChanges> {
+        dispatch!(self, d => d.input_changes())
+    }
+    fn reset(&mut self, kind: u8) -> CipResult {
+        dispatch!(self, d => d.reset(kind))
+    }
+    fn connection_event(&mut self, event: ConnectionEvent) {
+        dispatch!(self, d => d.connection_event(event))
+    }
+    fn poll(&mut self, now: Instant) -> Option<Instant> {
+        dispatch!(self, d => d.poll(now))
+    }
+    fn multicast(&self) -> Option<Multicast> {
+        dispatch!(self, d => d.multicast())
+    }
+    fn set_multicast(&mut self, multicast: Multicast) -> CipResult {
+        dispatch!(self, d => d.set_multicast(multicast))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_name_round_trips() {
+        for name in Profile::NAMES {
+            assert_eq!(Profile::from_name(name).map(|p| p.name()), Some(*name));
+        }
+        assert_eq!(Profile::from_name("nope"), None);
+    }
+
+    /// Every profile's EDS in `eds/` is what the profile says today (`UPDATE_EDS=1`
+    /// rewrites them).
+    #[test]
+    fn every_eds_file_is_current() {
+        extern crate std;
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds");
+        for name in Profile::NAMES {
+            let mut eds = std::string::String::new();
+            Profile::from_name(name)
+                .unwrap()
+                .write_eds(&mut eds)
+                .unwrap();
+            let path = dir.join(std::format!("{name}.eds"));
+            if std::env::var_os("UPDATE_EDS").is_some() {
+                std::fs::write(&path, &eds).unwrap();
+            }
+            let committed = std::fs::read_to_string(&path).unwrap_or_default();
+            assert!(
+                committed == eds,
+                "{} is stale: UPDATE_EDS=1 cargo test -p enip-firmware eds",
+                path.display()
+            );
+        }
+    }
+
+    #[cfg(feature = "profile-generic")]
+    #[test]
+    fn dispatches_to_the_profile() {
+        let mut p = Profile::from_name("generic").unwrap();
+        assert_eq!(p.identity().product_name, "enip-rs generic");
+        p.write_assembly(super::super::generic::OUTPUT, &[3; 32])
+            .unwrap();
+        let mut buf = [0u8; 32];
+        assert_eq!(
+            p.read_assembly(super::super::generic::INPUT, &mut buf),
+            Ok(32)
+        );
+        assert_eq!(buf, [3; 32]);
+    }
+}
