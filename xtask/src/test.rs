@@ -65,6 +65,30 @@ pub fn run_all() -> bool {
                 cargo(&["build", "-p", package, "--target", setup::THUMB_TARGET])
             });
     }
+    // The published crates: the rust-version they claim builds them, and they package.
+    ok = ok
+        && steps.run("rust-version and cargo publish --dry-run", || {
+            let toolchain = workspace::rust_version_toolchain()?;
+            let mut build = std::process::Command::new("rustup");
+            build.args([
+                "run",
+                &toolchain,
+                "cargo",
+                "build",
+                "--target",
+                setup::THUMB_TARGET,
+            ]);
+            run(build.args(["-p", "enip-stack", "-p", "enip-firmware"]))?;
+            cargo(&[
+                "publish",
+                "--dry-run",
+                "--allow-dirty",
+                "-p",
+                "enip-stack",
+                "-p",
+                "enip-firmware",
+            ])
+        });
     for board in &boards {
         ok = ok
             && steps.run(&format!("board: {board} (release build, clippy)"), || {

@@ -74,6 +74,21 @@ pub fn cross_only_packages() -> Result<Vec<String>> {
         .collect())
 }
 
+/// The workspace's `rust-version` (`[workspace.package]`), as a toolchain name
+/// (`1.95` -> `1.95.0`).
+pub fn rust_version_toolchain() -> Result<String> {
+    let toml = fs::read_to_string(util::root().join("Cargo.toml"))?;
+    let version = toml
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("rust-version = "))
+        .map(|v| v.trim_matches('"').to_string())
+        .ok_or_else(|| util::Error("no rust-version in Cargo.toml".into()))?;
+    Ok(match version.split('.').count() {
+        2 => format!("{version}.0"),
+        _ => version,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
