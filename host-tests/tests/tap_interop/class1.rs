@@ -35,6 +35,25 @@ fn ethernetip_exclusive_owner_echoes_and_frees_the_slot() {
         out["reopen"], 0,
         "the closed connection's slot and ownership are free: {out}"
     );
+    // The board's log at the default level tells a PLC engineer what happened.
+    let log = rig.board_log();
+    let lines = |what: &str| {
+        log.lines()
+            .filter(|l| l.contains("connection") && l.contains(what))
+            .count()
+    };
+    assert!(
+        lines("opened: ExclusiveOwner from 198.18.0.1") >= 2,
+        "opened lines: {log}"
+    );
+    assert!(
+        lines("closed (ExclusiveOwner from 198.18.0.1): Forward_Close") >= 1,
+        "closed line: {log}"
+    );
+    assert!(
+        log.contains("registered by 198.18.0.1"),
+        "session line: {log}"
+    );
     common::finish(rig);
 }
 
