@@ -1,9 +1,9 @@
-//! The device's own clock: calls [`stack::Device::poll`] (through
-//! [`stack::Adapter::poll_device`], which also produces the inputs the device says changed)
+//! The device's own clock: calls [`enip_stack::Device::poll`] (through
+//! [`enip_stack::Adapter::poll_device`], which also produces the inputs the device says changed)
 //! at the instant it asks for, e.g. a simulated drive's control tick.
 
 use embassy_time::Timer;
-use stack::Device;
+use enip_stack::Device;
 
 use crate::clock::{now, to_embassy};
 use crate::shared::{with_adapter, SharedAdapter};

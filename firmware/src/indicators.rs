@@ -20,7 +20,7 @@
 
 use embassy_time::{Duration, Ticker, Timer};
 use embedded_hal::digital::OutputPin;
-use stack::{Adapter, Device};
+use enip_stack::{Adapter, Device};
 
 use crate::shared::{with_adapter_quiet, SharedAdapter};
 
@@ -177,7 +177,7 @@ mod tests {
     fn network_status_off_without_address_else_flashing_green() {
         use core::net::Ipv4Addr;
         let config =
-            |ip| stack::NetworkConfig::new_static(ip, Ipv4Addr::new(255, 255, 255, 0), [2; 6]);
+            |ip| enip_stack::NetworkConfig::new_static(ip, Ipv4Addr::new(255, 255, 255, 0), [2; 6]);
         let mut ns = NetworkStatus::default();
         let mut adapter = Adapter::new(
             crate::profiles::Generic::new(),

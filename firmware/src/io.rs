@@ -11,8 +11,8 @@ use embassy_futures::select::select4;
 use embassy_net::udp::{UdpMetadata, UdpSocket};
 use embassy_net::Stack;
 use embassy_time::{with_timeout, Duration, Timer};
-use stack::config::IO_PORT;
-use stack::Device;
+use enip_stack::config::IO_PORT;
+use enip_stack::Device;
 
 use crate::clock::{now, to_embassy};
 use crate::netif::v4_endpoint;
@@ -86,7 +86,7 @@ async fn produce<D: Device>(
 ) {
     let at = now();
     // Bounded: each call either produces or returns None, and each producer is due once.
-    for _ in 0..stack::config::MAX_CONNECTIONS * 2 {
+    for _ in 0..enip_stack::config::MAX_CONNECTIONS * 2 {
         let Some((to, len)) = with_adapter(adapter, |a| a.poll_io(at, out)) else {
             return;
         };

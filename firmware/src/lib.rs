@@ -1,6 +1,6 @@
 //! The EtherNet/IP adapter runtime on embassy-net, and the device profiles.
 //!
-//! A board builds an [`embassy_net::Stack`], wraps a [`stack::Adapter`] over a device profile
+//! A board builds an [`embassy_net::Stack`], wraps a [`enip_stack::Adapter`] over a device profile
 //! with [`share`], and awaits [`run`] next to the stack's runner:
 //!
 //! - [`run`] serves the three encapsulation TCP sockets and the UDP socket on port 44818,

@@ -4,7 +4,7 @@ use core::net::{IpAddr, Ipv4Addr, SocketAddrV4};
 
 use embassy_futures::select::select;
 use embassy_net::{HardwareAddress, IpEndpoint, Stack};
-use stack::{Device, NetworkConfig};
+use enip_stack::{Device, NetworkConfig};
 
 use crate::shared::{with_adapter, SharedAdapter};
 

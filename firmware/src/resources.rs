@@ -3,7 +3,7 @@
 
 use embassy_net::udp::PacketMetadata;
 use embassy_net::StackResources;
-use stack::config::{MAX_ENCAP_FRAME, MAX_SESSIONS};
+use enip_stack::config::{MAX_ENCAP_FRAME, MAX_SESSIONS};
 
 /// Sockets [`crate::run`] opens on the embassy-net stack: a TCP socket per encapsulation
 /// session on port 44818 (3), a UDP socket on 44818, and two UDP sockets on 2222
@@ -17,7 +17,7 @@ pub const SOCKETS: usize = MAX_SESSIONS + 1 + 2;
 pub const fn stack_resources<const N: usize>() -> StackResources<N> {
     assert!(
         N >= SOCKETS,
-        "embassy-net StackResources too small: the EtherNet/IP runtime needs firmware::SOCKETS (6) sockets, plus one for DHCP"
+        "embassy-net StackResources too small: the EtherNet/IP runtime needs enip_firmware::SOCKETS (6) sockets, plus one for DHCP"
     );
     StackResources::new()
 }
@@ -53,7 +53,7 @@ pub const IO_PACKETS: usize = 16;
 pub const IO_BUFFER_LEN: usize = 4096;
 /// Largest T->O datagram: I/O header, sequence count and the largest assembly.
 pub const IO_DATAGRAM_LEN: usize =
-    stack::wire::io_datagram::HEADER_LEN + 2 + stack::config::MAX_ASSEMBLY_SIZE;
+    enip_stack::wire::io_datagram::HEADER_LEN + 2 + enip_stack::config::MAX_ASSEMBLY_SIZE;
 
 /// Buffers of one UDP 2222 socket.
 pub(crate) struct IoSocketBuffers {

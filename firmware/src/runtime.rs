@@ -2,7 +2,7 @@
 
 use embassy_futures::join::{join5, join_array};
 use embassy_net::Stack;
-use stack::{Device, SocketId};
+use enip_stack::{Device, SocketId};
 
 use crate::resources::Resources;
 use crate::shared::SharedAdapter;

@@ -6,7 +6,7 @@ use core::cell::RefCell;
 use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::signal::Signal;
-use stack::{Adapter, Device, Instant};
+use enip_stack::{Adapter, Device, Instant};
 
 /// An [`Adapter`] shared by the socket futures; never borrowed across an `.await`.
 pub struct SharedAdapter<D: Device> {

@@ -4,9 +4,9 @@
 use embassy_net::tcp::{State, TcpSocket};
 use embassy_net::Stack;
 use embassy_time::{with_deadline, with_timeout, Duration, Timer};
-use stack::config::ENCAP_PORT;
-use stack::device::CloseReason;
-use stack::{Device, SocketId};
+use enip_stack::config::ENCAP_PORT;
+use enip_stack::device::CloseReason;
+use enip_stack::{Device, SocketId};
 
 use crate::clock::{now, to_embassy};
 use crate::netif::v4_endpoint;

@@ -6,8 +6,8 @@ use embassy_futures::select::{select, Either};
 use embassy_net::udp::{UdpMetadata, UdpSocket};
 use embassy_net::Stack;
 use embassy_time::{with_timeout, Duration, Timer};
-use stack::config::ENCAP_PORT;
-use stack::Device;
+use enip_stack::config::ENCAP_PORT;
+use enip_stack::Device;
 
 use crate::clock::{now, to_embassy};
 use crate::netif::v4_endpoint;

@@ -1,8 +1,8 @@
 //! `cip::Request::parse` and `Path::parse` on arbitrary bytes.
 #![no_main]
 
+use enip_stack::cip::{Path, Request};
 use libfuzzer_sys::fuzz_target;
-use stack::cip::{Path, Request};
 
 fuzz_target!(|data: &[u8]| {
     match Request::parse(data) {

@@ -2,9 +2,9 @@
 //! re-emitting them reproduces it, socket address items round-trip.
 #![no_main]
 
+use enip_stack::wire::cpf::{self, item_type, Packet, SockAddr, SOCKADDR_LEN};
+use enip_stack::wire::{rr_data, Writer};
 use libfuzzer_sys::fuzz_target;
-use stack::wire::cpf::{self, item_type, Packet, SockAddr, SOCKADDR_LEN};
-use stack::wire::{rr_data, Writer};
 
 fn check(buf: &[u8]) {
     let Ok(p) = Packet::new_checked(buf) else {

@@ -1,8 +1,8 @@
 //! Encapsulation header: `Packet::new_checked` + `Repr::parse`, and emit reproduces the header.
 #![no_main]
 
+use enip_stack::wire::encap::{Packet, Repr, HEADER_LEN};
 use libfuzzer_sys::fuzz_target;
-use stack::wire::encap::{Packet, Repr, HEADER_LEN};
 
 fuzz_target!(|data: &[u8]| {
     let header = Repr::parse_header(data);

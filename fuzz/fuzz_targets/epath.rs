@@ -2,9 +2,9 @@
 //! (canonical) form must be a fixed point; `buffer_len` must match what `emit` writes.
 #![no_main]
 
+use enip_stack::wire::epath::{Segment, Segments};
+use enip_stack::wire::Writer;
 use libfuzzer_sys::fuzz_target;
-use stack::wire::epath::{Segment, Segments};
-use stack::wire::Writer;
 
 /// Emits every segment of `path` that parses; returns the canonical bytes and the segments.
 fn canonical(path: &[u8]) -> (Vec<u8>, Vec<Segment<'_>>) {

@@ -2,9 +2,9 @@
 //! parse, emit, re-parse must give the same value.
 #![no_main]
 
+use enip_stack::wire::forward_open::{ForwardClose, ForwardOpen, ForwardOpenReply};
+use enip_stack::wire::Writer;
 use libfuzzer_sys::fuzz_target;
-use stack::wire::forward_open::{ForwardClose, ForwardOpen, ForwardOpenReply};
-use stack::wire::Writer;
 
 fuzz_target!(|data: &[u8]| {
     let mut out = vec![0u8; data.len() + 16];

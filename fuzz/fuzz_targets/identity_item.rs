@@ -1,9 +1,9 @@
 //! ListIdentity identity item and ListServices item: parse, emit, re-parse.
 #![no_main]
 
+use enip_stack::wire::identity_item::{IdentityRepr, ServiceRepr};
+use enip_stack::wire::Writer;
 use libfuzzer_sys::fuzz_target;
-use stack::wire::identity_item::{IdentityRepr, ServiceRepr};
-use stack::wire::Writer;
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(id) = IdentityRepr::parse(data) {

@@ -2,8 +2,8 @@
 //! checked datagram's header.
 #![no_main]
 
+use enip_stack::wire::io_datagram::{emit_header, Packet, HEADER_LEN};
 use libfuzzer_sys::fuzz_target;
-use stack::wire::io_datagram::{emit_header, Packet, HEADER_LEN};
 
 fuzz_target!(|data: &[u8]| {
     let Ok(p) = Packet::new_checked(data) else {

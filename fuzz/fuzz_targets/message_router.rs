@@ -1,9 +1,9 @@
 //! Message Router request and response framing: parse, emit, re-parse.
 #![no_main]
 
+use enip_stack::wire::message_router::{RequestPacket, RequestRepr, ResponseRepr};
+use enip_stack::wire::Writer;
 use libfuzzer_sys::fuzz_target;
-use stack::wire::message_router::{RequestPacket, RequestRepr, ResponseRepr};
-use stack::wire::Writer;
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(p) = RequestPacket::new_checked(data) {

@@ -1,8 +1,8 @@
 //! RegisterSession data: parse, then emit reproduces the bytes.
 #![no_main]
 
+use enip_stack::wire::register_session::{Packet, Repr, LEN};
 use libfuzzer_sys::fuzz_target;
-use stack::wire::register_session::{Packet, Repr, LEN};
 
 fuzz_target!(|data: &[u8]| {
     let Ok(p) = Packet::new_checked(data) else {

@@ -1,12 +1,12 @@
 //! A small device profile for fuzzing: three assemblies and one declared vendor class with
 //! a settable number, a settable name and an echo service.
 
-use stack::cip::context::RequestContext;
-use stack::cip::object::{AttributeDef, ClassDef, DataType};
-use stack::cip::{CipError, CipResult, General, Request};
-use stack::device::{AttributeRef, InputChanges};
-use stack::wire::Writer;
-use stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
+use enip_stack::cip::context::RequestContext;
+use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
+use enip_stack::cip::{CipError, CipResult, General, Request};
+use enip_stack::device::{AttributeRef, InputChanges};
+use enip_stack::wire::Writer;
+use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
 
 /// Input assembly (T->O), 32 bytes.
 pub const INPUT: u16 = 100;

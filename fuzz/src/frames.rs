@@ -1,9 +1,9 @@
 //! Builders for valid frames, requests and scripts: the seed corpus and its self-check.
 
-use stack::wire::cpf::item_type;
-use stack::wire::encap::command;
-use stack::wire::forward_open::{ForwardClose, ForwardOpen, NetworkParams, Triad};
-use stack::wire::{io_datagram, Writer};
+use enip_stack::wire::cpf::item_type;
+use enip_stack::wire::encap::command;
+use enip_stack::wire::forward_open::{ForwardClose, ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::{io_datagram, Writer};
 
 use crate::io_script;
 use crate::script::{TCP_ACCEPT, TCP_CLOSE, TCP_DATA16, UDP_BROADCAST, UDP_TICK, UDP_UNICAST};

@@ -15,9 +15,9 @@
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
-use stack::config::{MAX_CONNECTIONS, MAX_ENCAP_FRAME};
-use stack::wire::io_datagram;
-use stack::{Adapter, Duration, Instant, SocketId};
+use enip_stack::config::{MAX_CONNECTIONS, MAX_ENCAP_FRAME};
+use enip_stack::wire::io_datagram;
+use enip_stack::{Adapter, Duration, Instant, SocketId};
 
 use crate::device::TestDevice;
 use crate::script::{adapter, check_frame, drain, feed_tcp, network, tcp_peer, Cursor};
@@ -83,7 +83,7 @@ pub fn run_io(script: &[u8], mut on_reply: impl FnMut(u8, &[u8])) -> IoStats {
                 let from = IO_SENDERS[usize::from(socket)];
                 if matches!(
                     adapter.io_receive(from, data, now),
-                    Ok(stack::io::consume::Accepted::NewData)
+                    Ok(enip_stack::io::consume::Accepted::NewData)
                 ) {
                     stats.accepted += 1;
                 }

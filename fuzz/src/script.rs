@@ -14,9 +14,9 @@
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
-use stack::config::{MAX_ENCAP_FRAME, MAX_PENDING_LIST_IDENTITY, MAX_SESSIONS};
-use stack::wire::encap::{Packet, HEADER_LEN};
-use stack::{Adapter, Duration, Instant, NetworkConfig, SocketId};
+use enip_stack::config::{MAX_ENCAP_FRAME, MAX_PENDING_LIST_IDENTITY, MAX_SESSIONS};
+use enip_stack::wire::encap::{Packet, HEADER_LEN};
+use enip_stack::{Adapter, Duration, Instant, NetworkConfig, SocketId};
 
 use crate::device::TestDevice;
 

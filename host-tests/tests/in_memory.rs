@@ -24,13 +24,13 @@ use embassy_net::tcp::{ConnectError, TcpSocket};
 use embassy_net::udp::{PacketMetadata, UdpSocket};
 use embassy_net::{Ipv4Cidr, Stack, StackResources, StaticConfigV4};
 use embassy_time::{with_timeout, Duration};
-use firmware::profiles::generic;
-use firmware::{Profile, Resources};
-use stack::wire::cpf::{self, item_type};
-use stack::wire::encap::{command, Packet, HEADER_LEN};
-use stack::wire::identity_item::IdentityRepr;
-use stack::wire::message_router::ResponseRepr;
-use stack::Adapter;
+use enip_firmware::profiles::generic;
+use enip_firmware::{Profile, Resources};
+use enip_stack::wire::cpf::{self, item_type};
+use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
+use enip_stack::wire::identity_item::IdentityRepr;
+use enip_stack::wire::message_router::ResponseRepr;
+use enip_stack::Adapter;
 
 const ADAPTER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
 const CLIENT_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
@@ -197,16 +197,16 @@ fn with_adapter(scenario: impl AsyncFnOnce(Stack<'_>)) {
         &mut client_sockets,
         0x89AB_CDEF,
     );
-    let adapter = firmware::share(Adapter::new(
+    let adapter = enip_firmware::share(Adapter::new(
         Profile::from_name("generic").expect("generic profile"),
-        firmware::network_config(adapter_net),
+        enip_firmware::network_config(adapter_net),
         42,
     ));
     let mut resources = Box::new(Resources::new());
     let background = join3(
         adapter_runner.run(),
         client_runner.run(),
-        firmware::run(adapter_net, &adapter, &mut resources, |_| {}),
+        enip_firmware::run(adapter_net, &adapter, &mut resources, |_| {}),
     );
     match block_on(select(background, scenario(client_net))) {
         Either::First(never) => match never.0 {},

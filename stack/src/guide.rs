@@ -9,8 +9,8 @@
 //! # 1. Identity and assemblies
 //!
 //! ```
-//! use stack::cip::{CipResult, General};
-//! use stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
+//! use enip_stack::cip::{CipResult, General};
+//! use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
 //!
 //! const IDENTITY: IdentityInfo = IdentityInfo {
 //!     vendor_id: 0xFFFF,
@@ -69,12 +69,12 @@
 //! [`crate::Device::handle_request`] once the stack found the instance.
 //!
 //! ```
-//! use stack::cip::context::RequestContext;
-//! use stack::cip::object::{AttributeDef, ClassDef, DataType};
-//! use stack::cip::{CipResult, General, Request};
-//! use stack::device::AttributeRef;
-//! use stack::wire::Writer;
-//! # use stack::{AssemblyInfo, Device, IdentityInfo};
+//! use enip_stack::cip::context::RequestContext;
+//! use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
+//! use enip_stack::cip::{CipResult, General, Request};
+//! use enip_stack::device::AttributeRef;
+//! use enip_stack::wire::Writer;
+//! # use enip_stack::{AssemblyInfo, Device, IdentityInfo};
 //!
 //! /// Class 0x70: one instance per channel, a debounce time (settable, 0-100 ms) and a
 //! /// counter of edges (read-only); service 0x4B clears the counter.
@@ -135,10 +135,10 @@
 //! exactly as given.
 //!
 //! ```
-//! use stack::cip::{CipError, CipResult};
-//! use stack::device::{ConnectionEvent, OpenRequest};
-//! use stack::io::status::{OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
-//! use stack::io::Kind;
+//! use enip_stack::cip::{CipError, CipResult};
+//! use enip_stack::device::{ConnectionEvent, OpenRequest};
+//! use enip_stack::io::status::{OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
+//! use enip_stack::io::Kind;
 //!
 //! /// One Class 1 connection at a time, RPI 2-100 ms, configuration byte 0 at most 100.
 //! #[derive(Default)]
@@ -188,7 +188,7 @@
 //! allows.
 //!
 //! ```
-//! use stack::device::InputChanges;
+//! use enip_stack::device::InputChanges;
 //!
 //! struct Block { inputs: [u8; 2], changes: InputChanges }
 //! impl Block {

@@ -6,19 +6,19 @@
 mod common;
 
 use common::*;
-use stack::cip::context::RequestContext;
-use stack::cip::object::{AttributeDef, ClassDef, DataType};
-use stack::cip::{CipError, CipResult, General};
-use stack::device::{
+use enip_stack::cip::context::RequestContext;
+use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
+use enip_stack::cip::{CipError, CipResult, General};
+use enip_stack::device::{
     AttributeRef, CloseReason, ConnectionEvent, ConnectionInfo, Device, InputChanges, OpenRequest,
 };
-use stack::io::status::{OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
-use stack::io::Kind;
-use stack::wire::epath::{LogicalType, Segment};
-use stack::wire::forward_open::{ForwardClose, ForwardOpenReply, NetworkParams};
-use stack::wire::io_datagram::Packet;
-use stack::wire::Writer;
-use stack::{AssemblyInfo, AssemblyRole, IdentityInfo, Instant, SocketId};
+use enip_stack::io::status::{OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
+use enip_stack::io::Kind;
+use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::forward_open::{ForwardClose, ForwardOpenReply, NetworkParams};
+use enip_stack::wire::io_datagram::Packet;
+use enip_stack::wire::Writer;
+use enip_stack::{AssemblyInfo, AssemblyRole, IdentityInfo, Instant, SocketId};
 
 const INPUT: u16 = 100;
 const OUTPUT: u16 = 150;

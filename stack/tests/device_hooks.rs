@@ -7,10 +7,10 @@ mod common;
 use std::net::Ipv4Addr;
 
 use common::*;
-use stack::cip::tcpip::MulticastConfig;
-use stack::device::Multicast;
-use stack::wire::epath::{LogicalType, Segment};
-use stack::wire::forward_open::NetworkParams;
+use enip_stack::cip::tcpip::MulticastConfig;
+use enip_stack::device::Multicast;
+use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::forward_open::NetworkParams;
 
 fn tcpip(attribute: u32) -> [Segment<'static>; 3] {
     [
@@ -64,7 +64,7 @@ fn forward_open_and_group_use_the_device_address() {
     let mut owner = fo(1, &path, 5_000);
     owner.t_o_params = NetworkParams::from_u16(0x2800 | 34);
     let frame = h.forward_open(&owner);
-    let reply = stack::originator::parse_reply(&frame).unwrap();
+    let reply = enip_stack::originator::parse_reply(&frame).unwrap();
     assert_eq!(reply.response.unwrap().general_status, 0);
     let group = reply.t_o_sockaddr.expect("T->O sockaddr item");
     assert_eq!(group.addr, Ipv4Addr::new(239, 192, 15, 32));

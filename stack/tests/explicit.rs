@@ -6,11 +6,11 @@ mod common;
 use std::net::{Ipv4Addr, SocketAddrV4};
 
 use common::*;
-use stack::config::MAX_ENCAP_FRAME;
-use stack::originator;
-use stack::wire::encap::{Repr, HEADER_LEN};
-use stack::wire::epath::{LogicalType, Segment};
-use stack::{Instant, SocketId};
+use enip_stack::config::MAX_ENCAP_FRAME;
+use enip_stack::originator;
+use enip_stack::wire::encap::{Repr, HEADER_LEN};
+use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::{Instant, SocketId};
 
 fn path(class: u32, instance: u32, attribute: Option<u32>) -> Vec<Segment<'static>> {
     let mut p = vec![

@@ -4,21 +4,24 @@
 mod common;
 
 use common::*;
-use stack::device::{CloseReason, ConnectionEvent};
-use stack::wire::epath::{ElectronicKey, LogicalType, Segment};
-use stack::wire::forward_open::{ForwardClose, ForwardOpenReply, NetworkParams};
-use stack::wire::Writer;
-use stack::{Instant, SocketId};
+use enip_stack::device::{CloseReason, ConnectionEvent};
+use enip_stack::wire::epath::{ElectronicKey, LogicalType, Segment};
+use enip_stack::wire::forward_open::{ForwardClose, ForwardOpenReply, NetworkParams};
+use enip_stack::wire::Writer;
+use enip_stack::{Instant, SocketId};
 
 /// Opens `fo` and returns (general, additional words, data).
 fn open(
     h: &mut Harness,
-    fo: &stack::wire::forward_open::ForwardOpen<'_>,
+    fo: &enip_stack::wire::forward_open::ForwardOpen<'_>,
 ) -> (u8, Vec<u16>, Vec<u8>) {
     status(&h.forward_open(fo))
 }
 
-fn ext_of(h: &mut Harness, fo: &stack::wire::forward_open::ForwardOpen<'_>) -> (u8, Option<u16>) {
+fn ext_of(
+    h: &mut Harness,
+    fo: &enip_stack::wire::forward_open::ForwardOpen<'_>,
+) -> (u8, Option<u16>) {
     let (g, words, _) = open(h, fo);
     (g, words.first().copied())
 }
@@ -109,7 +112,7 @@ fn multicast_reply_carries_group_and_listen_only_follows() {
     let mut owner = fo(1, &path, 5_000);
     owner.t_o_params = NetworkParams::from_u16(0x2800 | 34);
     let frame = h.forward_open(&owner);
-    let reply = stack::originator::parse_reply(&frame).unwrap();
+    let reply = enip_stack::originator::parse_reply(&frame).unwrap();
     assert_eq!(reply.response.unwrap().general_status, 0);
     let group = reply
         .t_o_sockaddr
@@ -392,7 +395,7 @@ fn error_multicast_off_subnet_with_ttl_1() {
     h.adapter
         .tcp_accept(SocketId(1), "198.19.0.9:50000".parse().unwrap(), Instant(0));
     let mut buf = [0u8; 64];
-    let n = stack::originator::register_session(&mut buf).unwrap();
+    let n = enip_stack::originator::register_session(&mut buf).unwrap();
     let mut reply = vec![0u8; 600];
     let out = h
         .adapter
@@ -407,8 +410,8 @@ fn error_multicast_off_subnet_with_ttl_1() {
     f.emit(&mut w).unwrap();
     let dn = w.len();
     let mut frame = vec![0u8; 600];
-    let fn_ = stack::originator::send_rr_data(&mut frame, session, None, |w| {
-        stack::originator::request(w, 0x54, &cm_path(), &data[..dn])
+    let fn_ = enip_stack::originator::send_rr_data(&mut frame, session, None, |w| {
+        enip_stack::originator::request(w, 0x54, &cm_path(), &data[..dn])
     })
     .unwrap();
     let out = h
@@ -431,8 +434,8 @@ fn class3_repeated_sequence_gets_cached_reply() {
     let set = |h: &mut Harness, seq: u16, value: u8| {
         let mut buf = vec![0u8; 600];
         let session = h.session;
-        let n = stack::originator::send_unit_data(&mut buf, session, id, seq, |w| {
-            stack::originator::request(
+        let n = enip_stack::originator::send_unit_data(&mut buf, session, id, seq, |w| {
+            enip_stack::originator::request(
                 w,
                 0x10,
                 &[
@@ -445,7 +448,7 @@ fn class3_repeated_sequence_gets_cached_reply() {
         })
         .unwrap();
         let reply = h.tcp(&buf[..n]);
-        let r = stack::originator::parse_reply(&reply).unwrap();
+        let r = enip_stack::originator::parse_reply(&reply).unwrap();
         assert_eq!(r.connected, Some((0x7000_0009, seq)));
         assert_eq!(r.response.unwrap().general_status, 0);
     };

@@ -7,14 +7,14 @@ mod common;
 use std::net::SocketAddrV4;
 
 use common::*;
-use stack::cip::context::{RequestContext, Via};
-use stack::cip::object::{AttributeDef, ClassDef, DataType};
-use stack::cip::{CipError, CipResult, General, Request};
-use stack::device::{AttributeRef, Device};
-use stack::wire::epath::{LogicalType, Segment};
-use stack::wire::forward_open::{ForwardOpenReply, NetworkParams};
-use stack::wire::Writer;
-use stack::{AssemblyInfo, AssemblyRole, IdentityInfo};
+use enip_stack::cip::context::{RequestContext, Via};
+use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
+use enip_stack::cip::{CipError, CipResult, General, Request};
+use enip_stack::device::{AttributeRef, Device};
+use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::forward_open::{ForwardOpenReply, NetworkParams};
+use enip_stack::wire::Writer;
+use enip_stack::{AssemblyInfo, AssemblyRole, IdentityInfo};
 
 const AXIS: u16 = 0x70;
 /// Instance whose Sets the object refuses for its own state (0x0C).
@@ -383,12 +383,12 @@ fn the_message_router_lists_the_class() {
 #[test]
 fn vendor_services_see_where_the_request_came_from() {
     let mut h = harness();
-    h.now = stack::Instant(1234);
+    h.now = enip_stack::Instant(1234);
     assert_eq!(ask(&mut h, 0x4B, 2, None, &[]), (0, vec![0x4B]));
     let cx = h.adapter.device().contexts[0];
     assert_eq!(cx.via, Via::Unconnected);
     assert_eq!(cx.peer, Some(SocketAddrV4::new(SCANNER_IP, 50000)));
-    assert_eq!(cx.now, stack::Instant(1234));
+    assert_eq!(cx.now, enip_stack::Instant(1234));
 
     // The same service over a Class 3 connection names its slot.
     let mr = [0x20, 0x02, 0x24, 0x01];
@@ -400,13 +400,13 @@ fn vendor_services_see_where_the_request_came_from() {
     assert_eq!(g, 0);
     let id = ForwardOpenReply::parse(&data).unwrap().o_t_connection_id;
     let mut buf = vec![0u8; 600];
-    let n = stack::originator::send_unit_data(&mut buf, h.session, id, 1, |w| {
-        stack::originator::request(w, 0x4B, &axis(1, None), &[])
+    let n = enip_stack::originator::send_unit_data(&mut buf, h.session, id, 1, |w| {
+        enip_stack::originator::request(w, 0x4B, &axis(1, None), &[])
     })
     .unwrap();
     let reply = h.tcp(&buf[..n]);
     assert_eq!(
-        stack::originator::parse_reply(&reply)
+        enip_stack::originator::parse_reply(&reply)
             .unwrap()
             .response
             .unwrap()

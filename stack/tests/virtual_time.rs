@@ -7,11 +7,11 @@ use std::collections::BTreeMap;
 use std::net::SocketAddrV4;
 
 use common::*;
-use stack::device::{CloseReason, ConnectionEvent};
-use stack::io::consume::{Accepted, Discard};
-use stack::wire::forward_open::ForwardOpenReply;
-use stack::wire::io_datagram::Packet;
-use stack::Instant;
+use enip_stack::device::{CloseReason, ConnectionEvent};
+use enip_stack::io::consume::{Accepted, Discard};
+use enip_stack::wire::forward_open::ForwardOpenReply;
+use enip_stack::wire::io_datagram::Packet;
+use enip_stack::Instant;
 
 const RPI: u64 = 1_000;
 const END: u64 = 10_000_000;
@@ -36,8 +36,9 @@ fn scanner() -> SocketAddrV4 {
 
 fn send(h: &mut Harness, o_t: u32, k: u32, now: u64) -> Result<Accepted, Discard> {
     let mut buf = [0u8; 64];
-    let n = stack::originator::io_datagram(&mut buf, o_t, k, k as u16, Some(true), &[k as u8; 32])
-        .unwrap();
+    let n =
+        enip_stack::originator::io_datagram(&mut buf, o_t, k, k as u16, Some(true), &[k as u8; 32])
+            .unwrap();
     h.adapter.io_receive(scanner(), &buf[..n], Instant(now))
 }
 
@@ -131,14 +132,16 @@ fn consumption_rules() {
     assert_eq!(send(&mut h, o_t, 4, 20), Err(Discard::Stale));
     // Newer encapsulation sequence but repeated CIP sequence count: watchdog only.
     let mut buf = [0u8; 64];
-    let n = stack::originator::io_datagram(&mut buf, o_t, 6, 5, Some(true), &[0xEE; 32]).unwrap();
+    let n =
+        enip_stack::originator::io_datagram(&mut buf, o_t, 6, 5, Some(true), &[0xEE; 32]).unwrap();
     assert_eq!(
         h.adapter.io_receive(scanner(), &buf[..n], Instant(30)),
         Ok(Accepted::NoNewData)
     );
     assert_eq!(h.adapter.device().data[&110], vec![5; 32]);
     // Idle: reported, data not applied.
-    let n = stack::originator::io_datagram(&mut buf, o_t, 7, 6, Some(false), &[0xEE; 32]).unwrap();
+    let n =
+        enip_stack::originator::io_datagram(&mut buf, o_t, 7, 6, Some(false), &[0xEE; 32]).unwrap();
     assert_eq!(
         h.adapter.io_receive(scanner(), &buf[..n], Instant(40)),
         Ok(Accepted::NoNewData)
@@ -149,18 +152,19 @@ fn consumption_rules() {
     );
     assert_eq!(h.adapter.device().data[&110], vec![5; 32]);
     // Wrong sender, wrong size, unknown connection, garbage.
-    let n = stack::originator::io_datagram(&mut buf, o_t, 8, 7, Some(true), &[1; 32]).unwrap();
+    let n = enip_stack::originator::io_datagram(&mut buf, o_t, 8, 7, Some(true), &[1; 32]).unwrap();
     assert_eq!(
         h.adapter
             .io_receive("198.18.0.9:2222".parse().unwrap(), &buf[..n], Instant(50)),
         Err(Discard::UnknownConnection)
     );
-    let n = stack::originator::io_datagram(&mut buf, o_t, 8, 7, Some(true), &[1; 31]).unwrap();
+    let n = enip_stack::originator::io_datagram(&mut buf, o_t, 8, 7, Some(true), &[1; 31]).unwrap();
     assert_eq!(
         h.adapter.io_receive(scanner(), &buf[..n], Instant(50)),
         Err(Discard::WrongSize)
     );
-    let n = stack::originator::io_datagram(&mut buf, o_t ^ 1, 8, 7, Some(true), &[1; 32]).unwrap();
+    let n =
+        enip_stack::originator::io_datagram(&mut buf, o_t ^ 1, 8, 7, Some(true), &[1; 32]).unwrap();
     assert_eq!(
         h.adapter.io_receive(scanner(), &buf[..n], Instant(50)),
         Err(Discard::UnknownConnection)
@@ -216,13 +220,22 @@ fn io_traffic_keeps_its_session_alive_and_outlives_it() {
     let (o_t, _) = open_ten(&mut h)[0];
     // Encapsulation inactivity timeout of 1 s.
     let tcpip = [
-        stack::wire::epath::Segment::Logical(stack::wire::epath::LogicalType::Class, 0xF5),
-        stack::wire::epath::Segment::Logical(stack::wire::epath::LogicalType::Instance, 1),
-        stack::wire::epath::Segment::Logical(stack::wire::epath::LogicalType::Attribute, 13),
+        enip_stack::wire::epath::Segment::Logical(
+            enip_stack::wire::epath::LogicalType::Class,
+            0xF5,
+        ),
+        enip_stack::wire::epath::Segment::Logical(
+            enip_stack::wire::epath::LogicalType::Instance,
+            1,
+        ),
+        enip_stack::wire::epath::Segment::Logical(
+            enip_stack::wire::epath::LogicalType::Attribute,
+            13,
+        ),
     ];
     assert_eq!(status(&h.request(0x10, &tcpip, &[1, 0])).0, 0);
     assert_eq!(
-        h.adapter.tcp_deadline(stack::SocketId(0)),
+        h.adapter.tcp_deadline(enip_stack::SocketId(0)),
         Some(Instant(1_000_000))
     );
     for k in 1..=30u32 {
@@ -233,20 +246,21 @@ fn io_traffic_keeps_its_session_alive_and_outlives_it() {
     }
     // The last O->T came at 3 s: the session may idle until 4 s.
     assert_eq!(
-        h.adapter.tcp_deadline(stack::SocketId(0)),
+        h.adapter.tcp_deadline(enip_stack::SocketId(0)),
         Some(Instant(4_000_000))
     );
     // The session ends; the I/O goes on and keeps no new session on that socket alive.
-    h.adapter.tcp_close(stack::SocketId(0), Instant(3_000_000));
+    h.adapter
+        .tcp_close(enip_stack::SocketId(0), Instant(3_000_000));
     assert_eq!(h.adapter.connections().len(), usize::from(CONNECTIONS));
     h.adapter.tcp_accept(
-        stack::SocketId(0),
+        enip_stack::SocketId(0),
         SocketAddrV4::new(SCANNER_IP, 50002),
         Instant(3_500_000),
     );
     assert_eq!(send(&mut h, o_t, 31, 3_600_000), Ok(Accepted::NewData));
     assert_eq!(
-        h.adapter.tcp_deadline(stack::SocketId(0)),
+        h.adapter.tcp_deadline(enip_stack::SocketId(0)),
         Some(Instant(4_500_000))
     );
 }

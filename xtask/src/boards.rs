@@ -73,7 +73,7 @@ mod tests {
             let path = format!("boards/{board}/Cargo.toml");
             let board_manifest = manifest(&path);
             for name in &names {
-                let line = format!("\nprofile-{name} = [\"firmware/profile-{name}\"]");
+                let line = format!("\nprofile-{name} = [\"enip-firmware/profile-{name}\"]");
                 assert!(board_manifest.contains(&line), "{path} lacks{line}");
             }
         }

@@ -134,7 +134,7 @@ fn measure(elf: &str) -> Result<Image> {
 }
 
 /// Who a code or constant symbol belongs to: the stack, the firmware, embassy-net with
-/// smoltcp, the task futures (where `firmware::run` and the network runner are inlined),
+/// smoltcp, the task futures (where `enip_firmware::run` and the network runner are inlined),
 /// the HAL and runtime crates, `core` with the compiler builtins, or the rest (the board's
 /// own code and anonymous constants).
 fn owner(symbol: &str) -> String {
@@ -144,8 +144,8 @@ fn owner(symbol: &str) -> String {
     let path = symbol.trim_start_matches(['<', '&', '_']);
     let krate = path.split("::").next().unwrap_or("");
     match krate {
-        "stack" => "stack",
-        "firmware" => "firmware",
+        "enip_stack" => "stack",
+        "enip_firmware" => "firmware",
         "embassy_net" | "smoltcp" => "embassy-net+smoltcp",
         "core" | "compiler_builtins" => "core+builtins",
         k if k.starts_with("embassy_")
@@ -221,12 +221,15 @@ mod tests {
 
     #[test]
     fn symbols_are_attributed_to_their_crate() {
-        assert_eq!(owner("stack::io::table::ConnectionTable::expire"), "stack");
         assert_eq!(
-            owner("<stack::cip::identity::Instance<D> as stack::cip::attributes::Attributes>::get"),
+            owner("enip_stack::io::table::ConnectionTable::expire"),
             "stack"
         );
-        assert_eq!(owner("firmware::tcp::serve::{{closure}}"), "firmware");
+        assert_eq!(
+            owner("<enip_stack::cip::identity::Instance<D> as enip_stack::cip::attributes::Attributes>::get"),
+            "stack"
+        );
+        assert_eq!(owner("enip_firmware::tcp::serve::{{closure}}"), "firmware");
         assert_eq!(
             owner("smoltcp::iface::interface::Interface::poll"),
             "embassy-net+smoltcp"

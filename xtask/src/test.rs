@@ -79,6 +79,7 @@ pub fn run_all() -> bool {
                 setup::THUMB_TARGET,
             ]);
             run(build.args(["-p", "enip-stack", "-p", "enip-firmware"]))?;
+            forget_packaged_crates();
             cargo(&[
                 "publish",
                 "--dry-run",
@@ -143,4 +144,37 @@ fn tap_interop() -> Result<Outcome> {
         .env("ENIP_PEER_NPM_DIR", setup::npm_dir())
         .env("ENIP_QEMU_POSITION_SERVO_ELF", &servo_elf))?;
     Ok(Outcome::Passed)
+}
+
+/// Removes what an earlier `cargo publish --dry-run` left in cargo's registry cache: the
+/// packaged enip crates unpacked from its local registry, which cargo would otherwise reuse
+/// (same name and version) instead of today's sources.
+fn forget_packaged_crates() {
+    let home = std::env::var_os("CARGO_HOME")
+        .map(std::path::PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| std::path::Path::new(&h).join(".cargo")));
+    let Some(registry) = home.map(|h| h.join("registry")) else {
+        return;
+    };
+    for kind in ["src", "cache"] {
+        let Ok(indexes) = std::fs::read_dir(registry.join(kind)) else {
+            continue;
+        };
+        for entry in indexes
+            .flatten()
+            .flat_map(|i| std::fs::read_dir(i.path()).into_iter().flatten().flatten())
+        {
+            let name = entry.file_name();
+            let name = name.to_string_lossy();
+            if name.starts_with("enip-stack-") || name.starts_with("enip-firmware-") {
+                let path = entry.path();
+                let _ = if path.is_dir() {
+                    std::fs::remove_dir_all(&path)
+                } else {
+                    std::fs::remove_file(&path)
+                };
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(util::target_dir().join("package"));
 }

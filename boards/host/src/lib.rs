@@ -1,16 +1,16 @@
-//! `enip_host`: any [`stack::Device`] as an EtherNet/IP adapter on a Linux TAP device, with
+//! `enip_host`: any [`enip_stack::Device`] as an EtherNet/IP adapter on a Linux TAP device, with
 //! one call.
 //!
 //! ```no_run
-//! # use stack::Device;
-//! # fn my_device() -> firmware::profiles::Generic { firmware::profiles::Generic::new() }
+//! # use enip_stack::Device;
+//! # fn my_device() -> enip_firmware::profiles::Generic { enip_firmware::profiles::Generic::new() }
 //! let options = enip_host::Options::from_env_args("usage: my-device --tap IFNAME --ip A.B.C.D/LEN", |_, _| Ok(false));
 //! enip_host::run(my_device(), options)
 //! ```
 //!
 //! [`run`] opens the TAP (refusing one that does not exist, unless
 //! [`Options::create_tap`]), builds the embassy-net stack with
-//! [`firmware::SOCKETS`] sockets, wraps the device in a [`stack::Adapter`], logs to stderr
+//! [`enip_firmware::SOCKETS`] sockets, wraps the device in a [`enip_stack::Adapter`], logs to stderr
 //! (`RUST_LOG`, default `info`), exits 0 on SIGINT or SIGTERM and 1 on any start-up error.
 
 mod options;

@@ -4,7 +4,7 @@
 
 use std::process::exit;
 
-use firmware::Profile;
+use enip_firmware::Profile;
 
 /// How to invoke the program.
 fn usage() -> String {

@@ -7,13 +7,13 @@ use std::process::exit;
 use embassy_executor::{Executor, Spawner};
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
 use embassy_net_tuntap::TunTapDevice;
-use firmware::Resources;
-use stack::{Adapter, Device};
+use enip_firmware::Resources;
+use enip_stack::{Adapter, Device};
 
 use crate::{program_name, signals, tap, Options};
 
 /// Sockets of the embassy-net stack: what the adapter needs, and none to spare.
-const SOCKETS: usize = firmware::SOCKETS;
+const SOCKETS: usize = enip_firmware::SOCKETS;
 
 /// The adapter's whole run, type-erased so that one (non-generic) task can drive it.
 type AdapterRun = Pin<&'static mut dyn Future<Output = ()>>;
@@ -64,11 +64,15 @@ fn start<D: Device + 'static>(
     });
     let seed = seed();
     let resources: &'static mut StackResources<SOCKETS> =
-        Box::leak(Box::new(firmware::stack_resources()));
+        Box::leak(Box::new(enip_firmware::stack_resources()));
     let (net, runner) = embassy_net::new(tap, config, resources, seed);
     let name = device.identity().product_name;
-    let adapter = Adapter::new(device, firmware::network_config(net), seed.rotate_left(32));
-    let adapter = Box::leak(Box::new(firmware::share(adapter)));
+    let adapter = Adapter::new(
+        device,
+        enip_firmware::network_config(net),
+        seed.rotate_left(32),
+    );
+    let adapter = Box::leak(Box::new(enip_firmware::share(adapter)));
     let buffers: &'static mut Resources = Box::leak(Box::new(Resources::new()));
     let tap_name = options.tap;
     let run = async move {
@@ -81,7 +85,11 @@ fn start<D: Device + 'static>(
                 ip.map_or_else(|| "?".into(), |ip| ip.to_string())
             );
         };
-        embassy_futures::join::join(firmware::run(net, adapter, buffers, on_reset), announce).await;
+        embassy_futures::join::join(
+            enip_firmware::run(net, adapter, buffers, on_reset),
+            announce,
+        )
+        .await;
     };
     let run: &'static mut dyn Future<Output = ()> = Box::leak(Box::new(run));
     (runner, Pin::static_mut(run))

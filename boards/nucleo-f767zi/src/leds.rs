@@ -4,7 +4,7 @@
 //! PB7) is Network Status green, and LD3 (red, PB14) is lit when either indicator is red.
 
 use embassy_stm32::gpio::Output;
-use firmware::indicators::{set, Color, Leds};
+use enip_firmware::indicators::{set, Color, Leds};
 
 /// LD1, LD2 and LD3.
 pub struct NucleoLeds {

@@ -1,4 +1,4 @@
-//! `enip_nucleo_f767zi`: any [`stack::Device`] as an EtherNet/IP adapter on the STM32
+//! `enip_nucleo_f767zi`: any [`enip_stack::Device`] as an EtherNet/IP adapter on the STM32
 //! NUCLEO-F767ZI, with one call from the firmware's `main`:
 //!
 //! ```ignore
@@ -30,9 +30,9 @@ use embassy_stm32::gpio::{Level, Output, Speed};
 use embassy_stm32::peripherals::{ETH, ETH_SMA, RNG};
 use embassy_stm32::rng::{self, Rng};
 use embassy_stm32::{bind_interrupts, uid};
-use firmware::Resources;
+use enip_firmware::Resources;
+use enip_stack::{Adapter, Device};
 use leds::NucleoLeds;
-use stack::{Adapter, Device};
 use static_cell::{ConstStaticCell, StaticCell};
 use {defmt_rtt as _, panic_probe as _};
 
@@ -45,7 +45,7 @@ bind_interrupts!(struct Irqs {
 type Driver = Ethernet<'static, ETH, GenericPhy<Sma<'static, ETH_SMA>>>;
 
 /// Sockets of the embassy-net stack: what the runtime needs, and one for DHCP.
-const SOCKETS: usize = firmware::SOCKETS + 1;
+const SOCKETS: usize = enip_firmware::SOCKETS + 1;
 /// DMA descriptors and buffers of the MAC (1536 bytes each): transmit, receive.
 const TX_PACKETS: usize = 4;
 const RX_PACKETS: usize = 8;
@@ -53,7 +53,7 @@ const RX_PACKETS: usize = 8;
 static PACKETS: ConstStaticCell<PacketQueue<TX_PACKETS, RX_PACKETS>> =
     ConstStaticCell::new(PacketQueue::new());
 static NET_RESOURCES: ConstStaticCell<StackResources<SOCKETS>> =
-    ConstStaticCell::new(firmware::stack_resources());
+    ConstStaticCell::new(enip_firmware::stack_resources());
 static FIRMWARE_RESOURCES: StaticCell<Resources> = StaticCell::new();
 
 /// A static IPv4 configuration: address, prefix length, optional gateway.
@@ -103,9 +103,9 @@ pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::C
     );
     let dhcp = is_dhcp(&network);
     let (net, runner) = embassy_net::new(driver, network, NET_RESOURCES.take(), seed);
-    let mut interface = firmware::network_config(net);
+    let mut interface = enip_firmware::network_config(net);
     interface.dhcp = dhcp;
-    let adapter = firmware::share(Adapter::new(device, interface, seed.rotate_left(32)));
+    let adapter = enip_firmware::share(Adapter::new(device, interface, seed.rotate_left(32)));
     match net_task(runner) {
         Ok(net) => spawner.spawn(net),
         Err(_) => panic!("cannot spawn the network task"),
@@ -113,8 +113,8 @@ pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::C
     info!("enip-nucleo-f767zi: MAC {=[u8]:02x}", mac);
     let resources = FIRMWARE_RESOURCES.init_with(Resources::new);
     let (never, _) = embassy_futures::join::join(
-        firmware::run(net, &adapter, resources, on_reset),
-        firmware::indicators::indicate(&adapter, leds),
+        enip_firmware::run(net, &adapter, resources, on_reset),
+        enip_firmware::indicators::indicate(&adapter, leds),
     )
     .await;
     never

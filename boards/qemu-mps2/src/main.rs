@@ -29,13 +29,13 @@ use core::net::Ipv4Addr;
 
 use embassy_executor::Spawner;
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
-use firmware::{Resources, SharedAdapter};
+use enip_firmware::{Resources, SharedAdapter};
+use enip_stack::Adapter;
 use lan9118::Lan9118;
-use stack::Adapter;
 use static_cell::StaticCell;
 
 /// Sockets of the embassy-net stack: what the runtime needs (3 TCP and 1 UDP on 44818, 2 UDP on 2222).
-const SOCKETS: usize = firmware::SOCKETS;
+const SOCKETS: usize = enip_firmware::SOCKETS;
 
 static NET_RESOURCES: StaticCell<StackResources<SOCKETS>> = StaticCell::new();
 static ADAPTER: StaticCell<SharedAdapter<profile::Chosen>> = StaticCell::new();
@@ -62,15 +62,15 @@ async fn main(spawner: Spawner) {
     let (net, runner) = embassy_net::new(
         device,
         config,
-        NET_RESOURCES.init(firmware::stack_resources()),
+        NET_RESOURCES.init(enip_firmware::stack_resources()),
         seed,
     );
     let adapter = Adapter::new(
         profile::Chosen::new(),
-        firmware::network_config(net),
+        enip_firmware::network_config(net),
         seed.rotate_left(32),
     );
-    let adapter = ADAPTER.init(firmware::share(adapter));
+    let adapter = ADAPTER.init(enip_firmware::share(adapter));
     match net_task(runner) {
         Ok(task) => spawner.spawn(task),
         Err(e) => panic!("cannot spawn the network task: {e:?}"),
@@ -80,7 +80,7 @@ async fn main(spawner: Spawner) {
         mac,
         network::PREFIX_LEN
     );
-    firmware::run(
+    enip_firmware::run(
         net,
         adapter,
         FIRMWARE_RESOURCES.init_with(Resources::new),

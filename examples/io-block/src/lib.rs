@@ -1,5 +1,5 @@
 //! Example device: a 16-channel digital I/O block, written against the `enip-stack` device
-//! API only (see `stack::guide`). It runs unchanged on the host (`io-block-host`, one call to
+//! API only (see `enip_stack::guide`). It runs unchanged on the host (`io-block-host`, one call to
 //! `enip_host::run`) and on a board.
 //!
 //! - Assemblies: inputs 100 (2 bytes, channel 0 = bit 0), outputs 150 (2 bytes, with the
@@ -12,7 +12,7 @@
 //!   2 edges counted (UDINT, read-only), 3 name (SHORT_STRING, up to 16); service 0x4B
 //!   clears the edge counter.
 //! - Wiring of the simulation: each input follows its output (a loop-back plug), except
-//!   channel 15, a 1 Hz pulse from [`stack::Device::poll`]. Inputs that change are marked, so
+//!   channel 15, a 1 Hz pulse from [`enip_stack::Device::poll`]. Inputs that change are marked, so
 //!   change-of-state and application-triggered connections produce them at once.
 //! - Safe state: when the last exclusive owner goes, or its data turns Idle, the outputs take
 //!   the configured safe state.
@@ -20,12 +20,12 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
-use stack::cip::context::RequestContext;
-use stack::cip::object::{AttributeDef, ClassDef, DataType};
-use stack::cip::{CipError, CipResult, General, Request};
-use stack::device::{AttributeRef, ConnectionEvent, InputChanges, OpenRequest};
-use stack::wire::Writer;
-use stack::{AssemblyInfo, AssemblyRole, Device, Duration, IdentityInfo, Instant};
+use enip_stack::cip::context::RequestContext;
+use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
+use enip_stack::cip::{CipError, CipResult, General, Request};
+use enip_stack::device::{AttributeRef, ConnectionEvent, InputChanges, OpenRequest};
+use enip_stack::wire::Writer;
+use enip_stack::{AssemblyInfo, AssemblyRole, Device, Duration, IdentityInfo, Instant};
 
 /// Who the block is (vendor 0xFFFF: no ODVA vendor ID of its own).
 pub const IDENTITY: IdentityInfo = IdentityInfo {
@@ -359,7 +359,7 @@ impl Device for IoBlock {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use stack::device::CloseReason;
+    use enip_stack::device::CloseReason;
 
     #[test]
     fn configuration_check_names_the_byte_at_fault() {

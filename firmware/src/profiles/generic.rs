@@ -4,10 +4,10 @@
 //! its own outputs come back (an application-triggered connection produces it at once); 154
 //! is a scratch assembly for explicit messaging.
 
-use stack::cip::{CipError, CipResult, General};
-use stack::device::InputChanges;
-use stack::eds::{EdsInfo, RpiRange, Triggers};
-use stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
+use enip_stack::cip::{CipError, CipResult, General};
+use enip_stack::device::InputChanges;
+use enip_stack::eds::{EdsInfo, RpiRange, Triggers};
+use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
 
 /// Identity of the generic profile: every value in one place.
 pub const IDENTITY: IdentityInfo = IdentityInfo {
@@ -28,8 +28,8 @@ pub const EDS: EdsInfo<'static> = EdsInfo {
     product_type_name: "Communications Adapter",
     catalog: "ENIP-RS-GENERIC",
     rpi_us: RpiRange {
-        min: stack::config::MIN_RPI_US,
-        max: stack::config::MAX_RPI_US,
+        min: enip_stack::config::MIN_RPI_US,
+        max: enip_stack::config::MAX_RPI_US,
         default: 10_000,
     },
     triggers: Triggers::ALL,

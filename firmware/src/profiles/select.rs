@@ -1,14 +1,14 @@
 //! [`Profile`]: one of the compiled-in profiles, chosen by name at run time, implementing
 //! [`Device`] by dispatch. Each profile is one line of [`profiles!`]'s invocation.
 
-use stack::cip::context::RequestContext;
-use stack::cip::object::{Access, ClassDef};
-use stack::cip::request::Request;
-use stack::cip::CipResult;
-use stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
-use stack::eds::EdsInfo;
-use stack::wire::Writer;
-use stack::{AssemblyInfo, Device, IdentityInfo, Instant};
+use enip_stack::cip::context::RequestContext;
+use enip_stack::cip::object::{Access, ClassDef};
+use enip_stack::cip::request::Request;
+use enip_stack::cip::CipResult;
+use enip_stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
+use enip_stack::eds::EdsInfo;
+use enip_stack::wire::Writer;
+use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 
 /// Defines [`Profile`] over `feature name Variant(Type) eds_info;` lines: a variant, a name
 /// and an EDS description per profile, each only with its feature.
@@ -86,7 +86,7 @@ profiles! {
 impl Profile {
     /// The profile's EDS file.
     pub fn write_eds(&self, w: &mut impl core::fmt::Write) -> core::fmt::Result {
-        stack::eds::write_eds(w, self, self.eds_info())
+        enip_stack::eds::write_eds(w, self, self.eds_info())
     }
 }
 

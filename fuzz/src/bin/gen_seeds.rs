@@ -10,11 +10,11 @@ use std::path::{Path, PathBuf};
 
 use enip_fuzz::frames::{self, IoScript, TcpScript, UdpScript};
 use enip_fuzz::{io_script, script};
-use stack::wire::cpf;
-use stack::wire::encap::{command, Packet, HEADER_LEN};
-use stack::wire::forward_open::ForwardOpenReply;
-use stack::wire::message_router::ResponseRepr;
-use stack::wire::rr_data;
+use enip_stack::wire::cpf;
+use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
+use enip_stack::wire::forward_open::ForwardOpenReply;
+use enip_stack::wire::message_router::ResponseRepr;
+use enip_stack::wire::rr_data;
 
 fn main() {
     let check_only = match std::env::args().nth(1).as_deref() {

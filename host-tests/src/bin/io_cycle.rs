@@ -7,13 +7,13 @@ use std::hint::black_box;
 use std::net::{Ipv4Addr, SocketAddrV4};
 use std::time::Instant as WallClock;
 
-use firmware::profiles::generic::Generic;
-use stack::config::MAX_ENCAP_FRAME;
-use stack::originator;
-use stack::wire::epath::{LogicalType, Segment};
-use stack::wire::forward_open::{ForwardOpen, ForwardOpenReply, NetworkParams, Triad};
-use stack::wire::Writer;
-use stack::{Adapter, Instant, NetworkConfig, SocketId};
+use enip_firmware::profiles::generic::Generic;
+use enip_stack::config::MAX_ENCAP_FRAME;
+use enip_stack::originator;
+use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::forward_open::{ForwardOpen, ForwardOpenReply, NetworkParams, Triad};
+use enip_stack::wire::Writer;
+use enip_stack::{Adapter, Instant, NetworkConfig, SocketId};
 
 const RPI_US: u64 = 1_000;
 

@@ -7,12 +7,12 @@ use std::net::{Ipv4Addr, SocketAddrV4, UdpSocket};
 use std::thread;
 use std::time::{Duration, Instant};
 
-use stack::config::IO_PORT;
-use stack::originator;
-use stack::wire::epath::{LogicalType, Segment};
-use stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
-use stack::wire::io_datagram::Packet;
-use stack::wire::Writer;
+use enip_stack::config::IO_PORT;
+use enip_stack::originator;
+use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::io_datagram::Packet;
+use enip_stack::wire::Writer;
 
 use super::session::Session;
 use super::stats::{connection_stats, Summary};

@@ -1,6 +1,6 @@
 //! A scanner (originator) of our own, usable as a library and through the `scanner` CLI:
 //! explicit requests, N connections at a given RPI, I/O exchange with every received packet's
-//! arrival time recorded, and interval statistics. Frames come from `stack::originator`.
+//! arrival time recorded, and interval statistics. Frames come from `enip_stack::originator`.
 
 pub mod exchange;
 pub mod session;

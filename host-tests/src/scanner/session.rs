@@ -5,12 +5,12 @@ use std::io::{self, Read, Write};
 use std::net::{Ipv4Addr, SocketAddrV4, TcpStream};
 use std::time::Duration;
 
-use stack::config::{ENCAP_PORT, MAX_ENCAP_FRAME};
-use stack::originator;
-use stack::wire::encap::{Repr, HEADER_LEN};
-use stack::wire::epath::{LogicalType, Segment};
-use stack::wire::forward_open::{ForwardClose, ForwardOpen, ForwardOpenReply, Triad};
-use stack::wire::Writer;
+use enip_stack::config::{ENCAP_PORT, MAX_ENCAP_FRAME};
+use enip_stack::originator;
+use enip_stack::wire::encap::{Repr, HEADER_LEN};
+use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::forward_open::{ForwardClose, ForwardOpen, ForwardOpenReply, Triad};
+use enip_stack::wire::Writer;
 
 /// A Message Router response, owned.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -35,7 +35,7 @@ fn invalid(msg: &str) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidData, msg.to_string())
 }
 
-fn wire(e: stack::wire::Error) -> io::Error {
+fn wire(e: enip_stack::wire::Error) -> io::Error {
     invalid(&format!("{e:?}"))
 }
 

@@ -9,11 +9,11 @@ use std::time::{Duration, Instant};
 use serde_json::json;
 
 use crate::common;
+use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::io_datagram::Packet;
 use host_tests::peers;
 use host_tests::rig::{BOARD_IP, HOST_IP};
 use host_tests::scanner::Session;
-use stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
-use stack::wire::io_datagram::Packet;
 
 /// Bound for one peer program run.
 const PEER_TIMEOUT: Duration = Duration::from_secs(60);
@@ -177,16 +177,16 @@ fn forward_open(serial: u16, path: &[u8], multicast: bool, o_t_size: u16) -> For
     }
 }
 
-fn seg_class(c: u32) -> stack::wire::epath::Segment<'static> {
-    stack::wire::epath::Segment::Logical(stack::wire::epath::LogicalType::Class, c)
+fn seg_class(c: u32) -> enip_stack::wire::epath::Segment<'static> {
+    enip_stack::wire::epath::Segment::Logical(enip_stack::wire::epath::LogicalType::Class, c)
 }
 
-fn seg_instance(i: u32) -> stack::wire::epath::Segment<'static> {
-    stack::wire::epath::Segment::Logical(stack::wire::epath::LogicalType::Instance, i)
+fn seg_instance(i: u32) -> enip_stack::wire::epath::Segment<'static> {
+    enip_stack::wire::epath::Segment::Logical(enip_stack::wire::epath::LogicalType::Instance, i)
 }
 
-fn seg_attribute(a: u32) -> stack::wire::epath::Segment<'static> {
-    stack::wire::epath::Segment::Logical(stack::wire::epath::LogicalType::Attribute, a)
+fn seg_attribute(a: u32) -> enip_stack::wire::epath::Segment<'static> {
+    enip_stack::wire::epath::Segment::Logical(enip_stack::wire::epath::LogicalType::Attribute, a)
 }
 
 /// Garbage aimed at UDP 2222 and malformed Forward_Opens on a second session while an
@@ -222,7 +222,7 @@ fn io_survives_hostile_datagrams_and_forward_opens() {
                         0 => (0..(k % 40) as u8).collect(),
                         // The owner's connection ID, a stale sequence number (0 never advances).
                         1 => {
-                            let n = stack::originator::io_datagram(
+                            let n = enip_stack::originator::io_datagram(
                                 &mut buf,
                                 o_t,
                                 0,
@@ -235,7 +235,7 @@ fn io_survives_hostile_datagrams_and_forward_opens() {
                         }
                         // The owner's connection ID, a wrong size.
                         2 => {
-                            let n = stack::originator::io_datagram(
+                            let n = enip_stack::originator::io_datagram(
                                 &mut buf,
                                 o_t,
                                 k + 1_000_000,
@@ -248,7 +248,7 @@ fn io_survives_hostile_datagrams_and_forward_opens() {
                         }
                         // An unknown connection ID.
                         3 => {
-                            let n = stack::originator::io_datagram(
+                            let n = enip_stack::originator::io_datagram(
                                 &mut buf,
                                 o_t ^ 0xFFFF,
                                 k,
@@ -271,12 +271,12 @@ fn io_survives_hostile_datagrams_and_forward_opens() {
                 let mut statuses = Vec::new();
                 for data in [&[1u8, 2, 3][..], &[0u8; 36][..], &[0xFF; 60][..]] {
                     let cm = [
-                        stack::wire::epath::Segment::Logical(
-                            stack::wire::epath::LogicalType::Class,
+                        enip_stack::wire::epath::Segment::Logical(
+                            enip_stack::wire::epath::LogicalType::Class,
                             6,
                         ),
-                        stack::wire::epath::Segment::Logical(
-                            stack::wire::epath::LogicalType::Instance,
+                        enip_stack::wire::epath::Segment::Logical(
+                            enip_stack::wire::epath::LogicalType::Instance,
                             1,
                         ),
                     ];

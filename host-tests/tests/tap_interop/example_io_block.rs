@@ -5,11 +5,11 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
 use host_tests::peers;
 use host_tests::rig::{Rig, BOARD_IP};
 use host_tests::scanner::Session;
 use serde_json::json;
-use stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
 
 use crate::common;
 

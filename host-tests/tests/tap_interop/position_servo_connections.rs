@@ -9,11 +9,11 @@ use std::time::{Duration, Instant};
 
 use crate::common;
 use crate::position_servo::{pcap, start, Target, MULTIPLIER, RPI_MS};
+use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::io_datagram::Packet;
 use host_tests::rig::{BOARD_IP, HOST_IP};
 use host_tests::scanner::{Response, Session};
-use stack::wire::epath::{LogicalType, Segment};
-use stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
-use stack::wire::io_datagram::Packet;
 
 /// The default multicast group (manual 2.2.1).
 const DEFAULT_GROUP: Ipv4Addr = Ipv4Addr::new(239, 192, 15, 32);

@@ -216,7 +216,7 @@ impl AttributeDef {
 /// Get_Attributes_All and the class attributes 1-7 (instance 0) from it.
 ///
 /// ```
-/// use stack::cip::object::{AttributeDef, ClassDef, DataType};
+/// use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
 ///
 /// /// A vendor class with two instances: a read-only counter and a settable limit each.
 /// const COUNTERS: ClassDef = ClassDef {

@@ -10,7 +10,7 @@ use crate::config::MAX_CHANGED_INPUTS;
 /// A device keeps one, marks it where its inputs change and lends it when asked:
 ///
 /// ```
-/// use stack::device::InputChanges;
+/// use enip_stack::device::InputChanges;
 ///
 /// let mut changes = InputChanges::new();
 /// changes.mark(100);

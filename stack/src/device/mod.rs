@@ -92,8 +92,8 @@ pub struct Multicast {
 ///
 /// ```
 /// use core::net::{Ipv4Addr, SocketAddrV4};
-/// use stack::cip::CipResult;
-/// use stack::{Adapter, AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant, NetworkConfig, SocketId};
+/// use enip_stack::cip::CipResult;
+/// use enip_stack::{Adapter, AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant, NetworkConfig, SocketId};
 ///
 /// const IDENTITY: IdentityInfo = IdentityInfo {
 ///     vendor_id: 0xFFFF,
@@ -129,8 +129,8 @@ pub struct Multicast {
 /// // A scanner connects and registers a session; the reply goes back on the same socket.
 /// adapter.tcp_accept(SocketId(0), SocketAddrV4::new(Ipv4Addr::new(198, 18, 0, 1), 50000), Instant(0));
 /// let mut frame = [0u8; 64];
-/// let n = stack::originator::register_session(&mut frame).unwrap();
-/// let mut reply = [0u8; stack::config::MAX_ENCAP_FRAME];
+/// let n = enip_stack::originator::register_session(&mut frame).unwrap();
+/// let mut reply = [0u8; enip_stack::config::MAX_ENCAP_FRAME];
 /// let out = adapter.tcp_receive(SocketId(0), &frame[..n], Instant(0), &mut reply);
 /// assert_eq!((out.consumed, out.reply_len, out.close), (n, 28, false));
 /// // Nothing is due until a connection opens.

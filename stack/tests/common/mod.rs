@@ -4,17 +4,17 @@
 
 use std::net::{Ipv4Addr, SocketAddrV4};
 
-use stack::cip::{CipError, CipResult};
-use stack::config::MAX_ENCAP_FRAME;
-use stack::device::{
+use enip_stack::cip::{CipError, CipResult};
+use enip_stack::config::MAX_ENCAP_FRAME;
+use enip_stack::device::{
     AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo, Multicast, OpenRequest,
 };
-use stack::io::Trigger;
-use stack::originator::{self, Reply};
-use stack::wire::epath::{LogicalType, Segment};
-use stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
-use stack::wire::Writer;
-use stack::{Adapter, Instant, NetworkConfig, SocketId};
+use enip_stack::io::Trigger;
+use enip_stack::originator::{self, Reply};
+use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::Writer;
+use enip_stack::{Adapter, Instant, NetworkConfig, SocketId};
 
 pub const IDENTITY: IdentityInfo = IdentityInfo {
     vendor_id: 1,
@@ -128,7 +128,7 @@ impl Device for TestDevice {
     }
     fn set_multicast(&mut self, m: Multicast) -> CipResult {
         if m.config.num_mcast > 1 {
-            return Err(stack::cip::General::InvalidAttributeValue.into());
+            return Err(enip_stack::cip::General::InvalidAttributeValue.into());
         }
         self.multicast = Some(m);
         Ok(())

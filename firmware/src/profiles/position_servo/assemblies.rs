@@ -6,8 +6,8 @@
 //! [`INPUT_ONLY_HEARTBEAT`] and [`LISTEN_ONLY_HEARTBEAT`] here, outside the manual's range
 //! so no assembly of the manual changes meaning.
 
-use stack::cip::{CipError, CipResult, General};
-use stack::{AssemblyInfo, AssemblyRole};
+use enip_stack::cip::{CipError, CipResult, General};
+use enip_stack::{AssemblyInfo, AssemblyRole};
 
 use super::datalinks::{self, LINKS};
 use super::storage::EpmStorage;

@@ -129,7 +129,7 @@ mod tests {
             .write(id::DRIVE_MODE, Value::Integer(1), false)
             .unwrap();
         servo.write(id::ENABLE, Value::Integer(1), false).unwrap();
-        stack::Device::poll(&mut servo, stack::Instant(0));
+        enip_stack::Device::poll(&mut servo, enip_stack::Instant(0));
         let current = servo.variables().real(id::PHASE_CURRENT);
         assert!(current > 0.0);
         assert_eq!(read(servo.variables(), input(1)), current.to_le_bytes());

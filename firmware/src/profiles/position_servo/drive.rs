@@ -19,8 +19,8 @@
 //! Phase current = idle + per-velocity + per-acceleration terms, clipped at VAR_CURRENTLIMIT
 //! (status bit 13 while clipped). Disabling stops the shaft at once (no coasting model).
 
-use stack::cip::{CipResult, General};
-use stack::{Duration, Instant};
+use enip_stack::cip::{CipResult, General};
+use enip_stack::{Duration, Instant};
 
 use super::variables::{id, Variables};
 

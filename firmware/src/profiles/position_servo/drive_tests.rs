@@ -1,8 +1,8 @@
 //! The simulated drive in virtual time: velocity ramps, indexing moves, status bits, faults.
 
-use stack::cip::{CipError, General};
-use stack::device::{CloseReason, ConnectionEvent};
-use stack::{Device, Instant};
+use enip_stack::cip::{CipError, General};
+use enip_stack::device::{CloseReason, ConnectionEvent};
+use enip_stack::{Device, Instant};
 
 use super::drive::status;
 use super::variables::{id, Value};

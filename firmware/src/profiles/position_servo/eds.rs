@@ -1,8 +1,8 @@
 //! What the PositionServo's EDS says beyond its tables: names, catalog number, RPI range and
 //! triggers (table 9: cyclic and application triggered). The file itself is
-//! `eds/position-servo.eds`, written by `stack::eds` from the profile's own description.
+//! `eds/position-servo.eds`, written by `enip_stack::eds` from the profile's own description.
 
-use stack::eds::{EdsInfo, RpiRange, Triggers};
+use enip_stack::eds::{EdsInfo, RpiRange, Triggers};
 
 /// The EDS choices of the profile.
 pub const EDS: EdsInfo<'static> = EdsInfo {

@@ -4,7 +4,7 @@
 //! device type, product code and revision without values. The numbers below are therefore
 //! this project's choices, made so that a scanner's electronic key and the EDS file agree.
 
-use stack::IdentityInfo;
+use enip_stack::IdentityInfo;
 
 /// Product name (7.1).
 pub const PRODUCT_NAME: &str = "EnetIP 940";

@@ -31,15 +31,15 @@ mod tests;
 
 use core::net::Ipv4Addr;
 
-use stack::cip::context::RequestContext;
-use stack::cip::object::{Access, ClassDef};
-use stack::cip::tcpip::MulticastConfig;
-use stack::cip::{CipError, CipResult, General};
-use stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
-use stack::io::status::TRANSPORT_NOT_SUPPORTED;
-use stack::io::Trigger;
-use stack::wire::Writer;
-use stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant};
+use enip_stack::cip::context::RequestContext;
+use enip_stack::cip::object::{Access, ClassDef};
+use enip_stack::cip::tcpip::MulticastConfig;
+use enip_stack::cip::{CipError, CipResult, General};
+use enip_stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
+use enip_stack::io::status::TRANSPORT_NOT_SUPPORTED;
+use enip_stack::io::Trigger;
+use enip_stack::wire::Writer;
+use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant};
 
 use drive::{Drive, MoveKind, Settings};
 use storage::{EpmStorage, RamEpm};

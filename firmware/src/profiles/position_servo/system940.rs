@@ -18,10 +18,10 @@
 
 use core::fmt::Write as _;
 
-use stack::cip::object::{Access, AttributeDef, ClassDef, DataType};
-use stack::cip::{CipError, CipResult, General};
-use stack::device::AttributeRef;
-use stack::wire::Writer;
+use enip_stack::cip::object::{Access, AttributeDef, ClassDef, DataType};
+use enip_stack::cip::{CipError, CipResult, General};
+use enip_stack::device::AttributeRef;
+use enip_stack::wire::Writer;
 
 use super::variables::{self, Format, Value, Variable, Variables};
 

@@ -6,10 +6,10 @@ use core::net::Ipv4Addr;
 use std::vec;
 use std::vec::Vec;
 
-use stack::cip::tcpip::MulticastConfig;
-use stack::cip::{CipError, CipResult, General};
-use stack::device::Multicast;
-use stack::{Adapter, AssemblyRole, Device, Instant, NetworkConfig};
+use enip_stack::cip::tcpip::MulticastConfig;
+use enip_stack::cip::{CipError, CipResult, General};
+use enip_stack::device::Multicast;
+use enip_stack::{Adapter, AssemblyRole, Device, Instant, NetworkConfig};
 
 use super::assemblies::{self, status2};
 use super::drive::status;
@@ -423,9 +423,9 @@ fn selectable_by_name() {
 }
 
 /// An exclusive owner of 106/104 with a change-of-state trigger, as the stack admits it.
-fn change_of_state_request() -> stack::device::OpenRequest<'static> {
-    use stack::device::{ConnectionPoints, Direction, OpenRequest};
-    use stack::wire::forward_open::{ConnectionType, NetworkParams, Triad};
+fn change_of_state_request() -> enip_stack::device::OpenRequest<'static> {
+    use enip_stack::device::{ConnectionPoints, Direction, OpenRequest};
+    use enip_stack::wire::forward_open::{ConnectionType, NetworkParams, Triad};
     let params = |size| NetworkParams {
         redundant_owner: false,
         connection_type: ConnectionType::PointToPoint,
@@ -434,10 +434,10 @@ fn change_of_state_request() -> stack::device::OpenRequest<'static> {
         size,
     };
     OpenRequest {
-        kind: stack::io::Kind::ExclusiveOwner,
+        kind: enip_stack::io::Kind::ExclusiveOwner,
         transport_class: 1,
-        trigger: stack::io::Trigger::ChangeOfState,
-        inhibit: stack::Duration::from_millis(0),
+        trigger: enip_stack::io::Trigger::ChangeOfState,
+        inhibit: enip_stack::Duration::from_millis(0),
         points: ConnectionPoints {
             config: Some(103),
             consumed: Some(106),

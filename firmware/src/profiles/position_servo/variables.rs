@@ -14,7 +14,7 @@
 //! PID 83. Table 18 is taken as authoritative: STATUS is 54 and EXSTATUS is 83; 53 reads the
 //! same STATUS word, so a program written against either place works.
 
-use stack::cip::{CipError, CipResult, General};
+use enip_stack::cip::{CipError, CipResult, General};
 
 use super::datalinks::Link;
 use super::storage::EpmStorage;
