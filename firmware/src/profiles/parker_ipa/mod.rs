@@ -27,6 +27,8 @@ pub mod status;
 pub mod tags;
 
 #[cfg(test)]
+mod class1_tests;
+#[cfg(test)]
 mod tests;
 
 use stack::cip::context::RequestContext;
