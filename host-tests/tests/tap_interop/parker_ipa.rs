@@ -186,3 +186,29 @@ fn parker_ipa_class1_with_ethernetip() {
     assert_eq!(r["multicast_status"], json!([1]), "{r}");
     common::finish(rig);
 }
+
+/// The EDS parses with eds-pie without a warning and declares the RSLogix set-up (p.11).
+/// The checker script is the PositionServo's (it reads any EDS path).
+#[test]
+#[ignore = "needs the Python peers (eds-pie)"]
+fn parker_ipa_eds_is_clean() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../firmware/src/profiles/parker_ipa/parker_ipa.eds");
+    let mut cmd = std::process::Command::new(peers::python());
+    cmd.arg(peers::script("position_servo_eds.py"));
+    let input = json!({"path": path}).to_string();
+    let out = host_tests::process::run_bounded(cmd, Some(input.as_bytes()), PEER_TIMEOUT)
+        .expect("eds-pie runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let r: Value = stdout
+        .lines()
+        .rev()
+        .find_map(|l| serde_json::from_str(l).ok())
+        .unwrap_or_else(|| panic!("no JSON from eds-pie: {stdout}"));
+    assert_eq!(r["problems"], json!([]), "eds-pie warnings: {r}");
+    assert_eq!(r["protocol"], "EtherNetIP");
+    for (instance, size) in [(3, 0), (101, 400), (102, 400)] {
+        assert_eq!(r["assemblies"][format!("Assem{instance}")], size, "{r}");
+    }
+    assert_eq!(r["connections"].as_array().map_or(0, Vec::len), 1, "{r}");
+}

@@ -29,6 +29,8 @@ pub mod tags;
 #[cfg(test)]
 mod class1_tests;
 #[cfg(test)]
+mod eds;
+#[cfg(test)]
 mod tests;
 
 use stack::cip::context::RequestContext;
