@@ -7,7 +7,8 @@ explicit write to a produced parameter shows in the T->O data (delay measured); 
 parameters report the connection; a second Class 1 Forward_Open is refused while the first
 keeps running; after Forward_Close P37433 = 0. Then the configuration errors 2, 3, 4, 5 and 7
 (each Forward_Open refused, P37433-P37437 read back, the manual's example 2 among them),
-RPI 0.5 ms refused either way and 1 ms accepted, and a multicast T->O.
+RPI 0.5 ms refused either way and 1 ms accepted, a multicast T->O, and the loss of O->T
+(the watchdog closes the connection, P37433 = 0, a new Forward_Open succeeds).
 
 Reads {"host", "rpi_ms"} on stdin. Prints one JSON line of named results.
 """
@@ -188,6 +189,23 @@ def scenario(enip, host, rpi, res):
         m.close()
         m.done()
         time.sleep(0.05)
+        # Loss of O->T without Forward_Close: the watchdog (16 x RPI) closes the connection.
+        lost = Owner(enip, host)
+        res["timeout_open"] = lost.open(rpi)
+        time.sleep(0.1)
+        lost.conn.stopProduce()
+        lost.producing = False
+        stopped = time.monotonic()
+        deadline = stopped + 3.0
+        while time.monotonic() < deadline and ipa.read_longs(d, 37433, 1) != [0]:
+            time.sleep(0.005)
+        res["timeout_closed_ms"] = (time.monotonic() - stopped) * 1000.0
+        res["timeout_status"] = ipa.read_longs(d, 37433, 1)
+        lost.done()
+        again = Owner(enip, host)
+        res["timeout_reopen"] = again.open(rpi)
+        again.close()
+        again.done()
         res["counters"] = ipa.read_longs(d, 37424, 4)
 
 

@@ -184,6 +184,11 @@ fn parker_ipa_class1_with_ethernetip() {
     assert_eq!(r["status_1ms"], json!([1, 1, 1]), "{r}");
     assert_eq!(r["multicast_open"], json!(0), "{r}");
     assert_eq!(r["multicast_status"], json!([1]), "{r}");
+    assert_eq!(r["timeout_open"], json!(0), "{r}");
+    assert_eq!(r["timeout_status"], json!([0]), "{r}");
+    let closed = r["timeout_closed_ms"].as_f64().unwrap_or(f64::MAX);
+    assert!(closed < 3000.0, "watchdog after {closed} ms: {r}");
+    assert_eq!(r["timeout_reopen"], json!(0), "{r}");
     common::finish(rig);
 }
 

@@ -235,7 +235,7 @@ fn the_attribute_is_ignored() {
     let with = |attr: Option<u8>, eight_bit: bool| {
         let mut v = vec![0x53, 0, 0x20, 0x64];
         if eight_bit {
-            v.extend_from_slice(&[0x24, 0x10]); // P16? no: 8-bit instance 0x10 below
+            v.extend_from_slice(&[0x24, 0x10]); // 8-bit instance segment: P16
         } else {
             v.extend_from_slice(&[0x25, 0x00, 0x08, 0x11]);
         }
@@ -527,6 +527,32 @@ fn positions_move_while_a_jog_velocity_is_set() {
     ipa.set(12348, Value::Float(0.0));
     ipa.poll(Instant(t + 50_000));
     assert_eq!(ipa.get(12290), Some(Value::Long(100)));
+}
+
+#[test]
+fn assembly_data_by_get_attribute_single() {
+    let mut ipa = ParkerIpa::new();
+    run(&mut ipa, &req(0x52, 0x64, 38912, &longs(&[5, 6])));
+    let (g, _, d) = run(&mut ipa, &[0x0E, 3, 0x20, 0x04, 0x24, 101, 0x30, 3]);
+    assert_eq!(g, 0);
+    assert_eq!(d.len(), 400);
+    // The AOI layout: group 2 (P4360) at 36, group 10 (P38912..) at 160, zeros from 192.
+    assert_eq!(d[36..40], 1630535712i32.to_le_bytes());
+    assert_eq!(d[160..168], longs(&[5, 6])[..]);
+    assert!(d[192..].iter().all(|&b| b == 0));
+    // 102 reads the consumed parameters in their layout; 3 is empty.
+    assert_eq!(
+        run(&mut ipa, &[0x0E, 3, 0x20, 0x04, 0x24, 102, 0x30, 3])
+            .2
+            .len(),
+        400
+    );
+    assert_eq!(
+        run(&mut ipa, &[0x0E, 3, 0x20, 0x04, 0x24, 3, 0x30, 3])
+            .2
+            .len(),
+        0
+    );
 }
 
 #[test]
