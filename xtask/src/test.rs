@@ -93,12 +93,17 @@ fn tap_interop() -> Result<Outcome> {
     }
     run(util::cargo().args(["build", "-p", "enip-host"]))?;
     let host_bin = util::target_dir().join("debug/enip-host");
-    // The PositionServo scenarios also run on the emulated board: a copy of its ELF, since the
-    // smoke run rebuilds the same path with the generic profile.
+    // The PositionServo and Parker IPA scenarios also run on the emulated board: a copy of
+    // each ELF, since the smoke run rebuilds the same path with the generic profile.
     let servo_elf = util::target_dir().join("qemu-position-servo.elf");
     std::fs::copy(
         crate::boards::build(crate::boards::QEMU, "position-servo")?,
         &servo_elf,
+    )?;
+    let parker_elf = util::target_dir().join("qemu-parker-ipa.elf");
+    std::fs::copy(
+        crate::boards::build(crate::boards::QEMU, "parker-ipa")?,
+        &parker_elf,
     )?;
     let python = setup::venv_python();
     run(util::cargo()
@@ -115,6 +120,7 @@ fn tap_interop() -> Result<Outcome> {
         .env("ENIP_PEER_PYTHON", &python)
         .env("ENIP_HOST_BIN", &host_bin)
         .env("ENIP_PEER_NPM_DIR", setup::npm_dir())
-        .env("ENIP_QEMU_POSITION_SERVO_ELF", &servo_elf))?;
+        .env("ENIP_QEMU_POSITION_SERVO_ELF", &servo_elf)
+        .env("ENIP_QEMU_PARKER_IPA_ELF", &parker_elf))?;
     Ok(Outcome::Passed)
 }
