@@ -561,3 +561,80 @@ fn selectable_by_name() {
     assert_eq!(p.name(), "parker-ipa");
     assert_eq!(p.identity().product_name, "IPA Controller");
 }
+
+/// A small deterministic generator (xorshift) for the robustness test.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn below(&mut self, n: u64) -> usize {
+        (self.next() % n) as usize
+    }
+}
+
+#[test]
+fn random_requests_never_panic_and_always_answer() {
+    let mut ipa = ParkerIpa::new();
+    let mut rng = Rng(0x5EED_1234_ABCD_0001);
+    let services = [
+        0x34, 0x48, 0x4C, 0x4D, 0x4E, 0x50, 0x51, 0x52, 0x53, 0x54, 0x0E, 0x01,
+    ];
+    let names = [
+        "P4096", "P39200", "p12348", "P37424", "P0", "P99999", "P", "Q1", "P4607",
+    ];
+    for round in 0..3000 {
+        let service = services[rng.below(services.len() as u64)];
+        let mut data = vec![0u8; rng.below(80)];
+        data.iter_mut().for_each(|b| *b = rng.next() as u8);
+        // Small counts and known types often enough to reach the deep paths.
+        if data.len() >= 4 && rng.below(2) == 0 {
+            data[0] = rng.below(20) as u8;
+            data[1] = 0;
+            data[2] = if rng.below(2) == 0 {
+                0
+            } else {
+                rng.below(20) as u8
+            };
+            data[3] = 0;
+        }
+        if service == 0x4D && data.len() >= 2 && rng.below(2) == 0 {
+            data[0] = if rng.below(2) == 0 { 0xC4 } else { 0xCA };
+            data[1] = 0;
+        }
+        let bytes = match rng.below(3) {
+            0 => req(service, 0x64, rng.next() as u16, &data),
+            1 => req(service, 0x65, rng.next() as u16, &data),
+            _ => tag(service, names[rng.below(names.len() as u64)], &data),
+        };
+        let reply = raw(&mut ipa, &bytes);
+        assert!(reply.len() >= 4, "round {round}: {bytes:02x?}");
+        assert_eq!(reply[0], service | 0x80, "round {round}");
+    }
+    // Random configurations and O->T data: validation never panics, data always applies.
+    for _ in 0..2000 {
+        let mut config = [0i32; super::params::CONFIG_COUNT];
+        for (k, c) in config.iter_mut().enumerate() {
+            *c = match k % 4 {
+                0 => {
+                    [4096, 12288, 38912, 39168, 37424, 10, -1][rng.below(7)] + rng.below(300) as i32
+                }
+                1 => rng.below(11) as i32 - 1,
+                _ => rng.below(4) as i32 - 1,
+            };
+        }
+        let groups = rng.below(19) as i32 - 1;
+        if let Ok(layout) = super::ioconfig::validate(groups, &config) {
+            assert!(layout.longs(super::ioconfig::Direction::Produce) <= 100);
+            ipa.layout = layout;
+            let mut out = [0u8; 400];
+            assert_eq!(ipa.read_assembly(101, &mut out), Ok(400));
+            let data: Vec<u8> = (0..400).map(|_| rng.next() as u8).collect();
+            assert_eq!(ipa.write_assembly(102, &data), Ok(()));
+        }
+    }
+}
