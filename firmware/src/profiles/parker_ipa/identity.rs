@@ -9,12 +9,12 @@ use stack::IdentityInfo;
 pub const PRODUCT_NAME: &str = "IPA Controller";
 /// Vendor ID 620 (0x026C), "Parker Hannifin/Compumotor Division" in the ODVA vendor list
 /// (Wireshark's `cip_vendor_vals`); the manual's support address (Rohnert Park) is the
-/// former Compumotor site. Digest section 2 [R].
+/// former Compumotor site. Digest section 2 \[R\].
 pub const VENDOR_ID: u16 = 620;
 /// Device type 0x2B, Generic Device (keyable): "there is no such profile for the IPA
 /// controllers" (p.2).
 pub const DEVICE_TYPE: u16 = 0x2B;
-/// Product code: invented by this project (the manual has none). Digest section 2 [R].
+/// Product code: invented by this project (the manual has none). Digest section 2 \[R\].
 pub const PRODUCT_CODE: u16 = 0x0001;
 /// Revision 4.40: the minimum IPA firmware for the adapter function (Table 1, p.1).
 pub const REVISION: (u8, u8) = (4, 40);

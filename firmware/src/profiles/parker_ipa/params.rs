@@ -1,13 +1,13 @@
 //! The simulated ACR controller's P parameters: which exist, their native type (long or
 //! float), their storage (one static table, no heap) and the conversion between the types.
 //!
-//! Map (digest section 11, [KB] Parker "User Variables"):
+//! Map (digest section 11, \[KB\] Parker "User Variables"):
 //! - P0-P4095: floats that exist only once dimensioned (`DIM`); the simulated controller
 //!   boots with [`DIMENSIONED_FLOATS`] of them (0: P10 does not exist, as in example 2, p.5).
 //! - P4096-P4607: longs, the flags (the manual writes P4100 and masks P4111).
 //! - P12288-P14335: axis parameters, axis `a` at 12288 + 256a; indexes 0-15 long (0
 //!   current position, 2 actual position), 16-255 float (16 PGAIN, 27-31 monitor, 60-63
-//!   jog VEL/ACC/DEC/JRK, 82-87 scaling) [R].
+//!   jog VEL/ACC/DEC/JRK, 82-87 scaling) \[R\].
 //! - P37424-P37439: the CIP status parameters (computed, [`super::status`]); P37434 is the
 //!   number of I/O groups in use, read and written.
 //! - P37440-P37503: the I/O group configuration, longs.
@@ -84,7 +84,7 @@ pub const AXIS_FIRST: u32 = 12288;
 pub const AXIS_STRIDE: u32 = 256;
 /// Axes of the simulated controller.
 pub const AXES: usize = 8;
-/// Axis parameter indexes below this are longs, the others floats [R].
+/// Axis parameter indexes below this are longs, the others floats \[R\].
 pub const AXIS_LONGS: u32 = 16;
 /// First CIP status parameter (Table 2, p.5).
 pub const STATUS_FIRST: u32 = 37424;
@@ -94,11 +94,11 @@ pub const STATUS_COUNT: usize = 16;
 pub const CONFIG_FIRST: u32 = 37440;
 /// Number of I/O group configuration parameters (16 groups x 4, P37440-P37503).
 pub const CONFIG_COUNT: usize = 64;
-/// First user long [KB].
+/// First user long \[KB\].
 pub const USER_LONGS_FIRST: u32 = 38912;
 /// Number of user longs (P38912-P39167).
 pub const USER_LONGS_COUNT: usize = 256;
-/// First user float [KB].
+/// First user float \[KB\].
 pub const USER_FLOATS_FIRST: u32 = 39168;
 /// Number of user floats (P39168-P39423).
 pub const USER_FLOATS_COUNT: usize = 256;

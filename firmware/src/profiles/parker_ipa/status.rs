@@ -1,7 +1,7 @@
 //! The CIP status parameters P37424-P37439 (Table 2, p.5; the CIP report, p.4-5), kept
 //! live from the connection events, the Forward_Open admission and the requests.
 //!
-//! Semantics where the manual is terse (digest section 7, [R]): P37424 is the command
+//! Semantics where the manual is terse (digest section 7, \[R\]): P37424 is the command
 //! stream of an open Class 3 connection ([`CLASS3_STREAM`], 0 without one); P37425 counts
 //! Class 1 O->T packets applied, P37426 explicit requests to the controller (A4: "Received"
 //! in the report); P37427 is always 0 (requests are handled at once); P37428 counts open
