@@ -492,3 +492,13 @@ fn class3_connection_write_binary_and_status() {
     assert_eq!(io.general, 0);
     assert_eq!(rig.longs(37428, 1), [2]);
 }
+
+#[test]
+fn intervals_are_reported_per_direction() {
+    let mut rig = Rig::new();
+    // O->T 20 ms, T->O 10 ms (R7.1): P37431 producing = 10, P37432 consuming = 20.
+    let open = rig.forward_open(&fo(1, 400, 400, 20_000, 10_000));
+    assert_eq!(open.general, 0);
+    assert_eq!(rig.longs(37431, 3), [10, 20, 1]);
+    assert_eq!(rig.longs(37429, 1), [0xC612_0001u32 as i32]);
+}
