@@ -32,7 +32,11 @@ mod tcp;
 mod udp;
 
 pub use netif::network_config;
-#[cfg(any(feature = "profile-generic", feature = "profile-position-servo"))]
+#[cfg(any(
+    feature = "profile-generic",
+    feature = "profile-position-servo",
+    feature = "profile-parker-ipa"
+))]
 pub use profiles::Profile;
 pub use resources::{stack_resources, Resources, SOCKETS};
 pub use runtime::run;

@@ -5,6 +5,8 @@ use crate::{footprint, fuzz, setup, smoke, workspace};
 
 /// Seconds per fuzz target in the test run.
 const FUZZ_SECONDS: u64 = 5;
+/// The profiles whose TAP scenarios also run on the QEMU board.
+const QEMU_PROFILES: [&str; 2] = ["position-servo", "parker-ipa"];
 /// The TAP interop test file (written by the host-tests owners).
 const TAP_INTEROP: &str = "host-tests/tests/tap_interop.rs";
 
@@ -119,13 +121,16 @@ fn tap_interop() -> Result<Outcome> {
     run(util::cargo().args(["build", "-p", "enip-host", "-p", "io-block-host"]))?;
     let host_bin = util::target_dir().join("debug/enip-host");
     let example_bin = util::target_dir().join("debug/io-block-host");
-    // The PositionServo scenarios also run on the emulated board: a copy of its ELF, since the
-    // smoke run rebuilds the same path with the generic profile.
-    let servo_elf = util::target_dir().join("qemu-position-servo.elf");
-    std::fs::copy(
-        crate::boards::build(crate::boards::QEMU, "position-servo")?,
-        &servo_elf,
-    )?;
+    // The profiles' scenarios also run on the emulated board: a copy of its ELF per profile
+    // (ENIP_QEMU_<PROFILE>_ELF), since the smoke run rebuilds the same path with the
+    // generic profile.
+    let mut elves = Vec::new();
+    for profile in QEMU_PROFILES {
+        let elf = util::target_dir().join(format!("qemu-{profile}.elf"));
+        std::fs::copy(crate::boards::build(crate::boards::QEMU, profile)?, &elf)?;
+        let var = format!("ENIP_QEMU_{}_ELF", profile.to_uppercase().replace('-', "_"));
+        elves.push((var, elf));
+    }
     let python = setup::venv_python();
     run(util::cargo()
         .args([
@@ -142,7 +147,7 @@ fn tap_interop() -> Result<Outcome> {
         .env("ENIP_HOST_BIN", &host_bin)
         .env("ENIP_EXAMPLE_BIN", &example_bin)
         .env("ENIP_PEER_NPM_DIR", setup::npm_dir())
-        .env("ENIP_QEMU_POSITION_SERVO_ELF", &servo_elf))?;
+        .envs(elves))?;
     Ok(Outcome::Passed)
 }
 

@@ -5,15 +5,27 @@
 
 #[cfg(feature = "profile-generic")]
 pub mod generic;
+#[cfg(feature = "profile-parker-ipa")]
+pub mod parker_ipa;
 #[cfg(feature = "profile-position-servo")]
 pub mod position_servo;
 
-#[cfg(any(feature = "profile-generic", feature = "profile-position-servo"))]
+#[cfg(any(
+    feature = "profile-generic",
+    feature = "profile-position-servo",
+    feature = "profile-parker-ipa"
+))]
 mod select;
 
 #[cfg(feature = "profile-generic")]
 pub use generic::Generic;
+#[cfg(feature = "profile-parker-ipa")]
+pub use parker_ipa::ParkerIpa;
 #[cfg(feature = "profile-position-servo")]
 pub use position_servo::PositionServo;
-#[cfg(any(feature = "profile-generic", feature = "profile-position-servo"))]
+#[cfg(any(
+    feature = "profile-generic",
+    feature = "profile-position-servo",
+    feature = "profile-parker-ipa"
+))]
 pub use select::Profile;

@@ -81,6 +81,8 @@ profiles! {
         "The OpENer sample application's assemblies ([`super::Generic`]).";
     "profile-position-servo" "position-servo" PositionServo(super::PositionServo)
         super::position_servo::eds::EDS, "The Lenze PositionServo drive ([`super::PositionServo`]).";
+    "profile-parker-ipa" "parker-ipa" ParkerIpa(super::ParkerIpa) super::parker_ipa::eds::EDS,
+        "The Parker IPA / ACR9000 controller ([`super::ParkerIpa`]).";
 }
 
 impl Profile {

@@ -1,0 +1,301 @@
+//! The Parker IPA / ACR9000 controller, as its EtherNet/IP Programmer's Guide
+//! (88-032525-01 A, February 2015) describes it, with a simulated ACR controller behind it.
+//!
+//! - [`identity`]: the Identity object (the manual has none; digest section 2).
+//! - [`params`]: the P parameters (float, long and flag ranges, axes, user banks), typed,
+//!   with conversion; [`axes`]: positions that move while a jog velocity is set.
+//! - [`class64`]: class 0x64 "ACR Parameter", services 0x50-0x54; [`class65`]: class 0x65
+//!   "ACR Group", 0x53 Read Group and 0x34 Write Binary; [`tags`]: the tag services
+//!   0x4C/0x4D/0x48/0x4E on "P4012" symbolic paths.
+//! - [`ioconfig`]: the I/O groups P37434, P37440-P37503 and their validation (Table 3);
+//!   [`assemblies`]: 101/102/3; [`status`]: the CIP status parameters P37424-P37439.
+//!
+//! Connections: one Class 1 connection at a time (p.3), exclusive owner of 102/101 with
+//! configuration point 3, RPI at least 1 ms (Table 4), T->O point-to-point or multicast;
+//! Class 3 connections alongside. The group configuration is validated at each Class 1
+//! Forward_Open and latched while the connection runs (R5.5). Run/idle: O->T data is applied
+//! in Run only (the stack never hands Idle data over, R6.4).
+
+pub mod assemblies;
+pub mod axes;
+pub mod class64;
+pub mod class65;
+pub mod eds;
+pub mod identity;
+pub mod ioconfig;
+pub mod params;
+pub mod status;
+pub mod tags;
+
+#[cfg(test)]
+mod class1_tests;
+#[cfg(test)]
+mod tests;
+
+use enip_stack::cip::context::RequestContext;
+use enip_stack::cip::object::ClassDef;
+use enip_stack::cip::{CipError, CipResult, General, Request};
+use enip_stack::config::MAX_RPI_US;
+use enip_stack::device::{ConnectionEvent, InputChanges, OpenRequest};
+use enip_stack::io::status::{NOT_CONFIGURED, OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
+use enip_stack::io::Kind as ConnectionKind;
+use enip_stack::wire::Writer;
+use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
+
+use axes::Axes;
+use ioconfig::{Direction, Layout};
+use params::{Kind, Slot, Store, Value};
+use status::CipStatus;
+
+/// Minimum RPI, both directions (Table 4: 1 ms).
+pub const MIN_RPI_US: u32 = 1_000;
+
+/// The IPA controller: its parameters, the latched I/O layout, the CIP status and the axes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ParkerIpa {
+    store: Store,
+    status: CipStatus,
+    /// The I/O layout validated at the last accepted Class 1 Forward_Open.
+    layout: Layout,
+    axes: Axes,
+    changes: InputChanges,
+    /// Bytes of binary commands received (class 0x65 service 0x34), discarded.
+    pub binary_bytes: u32,
+}
+
+impl Default for ParkerIpa {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl ParkerIpa {
+    /// The controller at power-up: Program1 has loaded the AOI I/O configuration (p.9).
+    pub fn new() -> Self {
+        let store = Store::power_up();
+        let layout = ioconfig::validate(store.groups_in_use(), &store.config())
+            .unwrap_or_else(|_| Layout::empty());
+        ParkerIpa {
+            store,
+            status: CipStatus::default(),
+            layout,
+            axes: Axes::default(),
+            changes: InputChanges::new(),
+            binary_bytes: 0,
+        }
+    }
+
+    /// The value of parameter `p` in its native type, or `None` if it does not exist.
+    pub fn get(&self, p: u32) -> Option<Value> {
+        let slot = Slot::of(p)?;
+        match slot {
+            Slot::Status(i) => Some(Value::Long(
+                self.status.param(i, self.store.groups_in_use()),
+            )),
+            _ => self.store.load(slot),
+        }
+    }
+
+    /// Writes `value` to parameter `p`, converted to its type; `None` if it does not exist.
+    /// Computed status parameters ignore the write (R7.2).
+    pub fn set(&mut self, p: u32, value: Value) -> Option<()> {
+        let slot = Slot::of(p)?;
+        self.store.store(slot, value);
+        self.changes.mark(assemblies::INPUT);
+        Some(())
+    }
+
+    /// 0x05 unless every parameter of P(first)..P(first+n-1) exists.
+    pub fn check(&self, first: u32, n: usize) -> CipResult {
+        let all = (0..n as u32).all(|k| first.checked_add(k).and_then(params::kind).is_some());
+        if all {
+            Ok(())
+        } else {
+            Err(CipError::new(General::PathDestinationUnknown))
+        }
+    }
+
+    /// Writes `n` values from P(first) as `kind` into the reply (0x05 if one is missing).
+    pub fn read_block(&self, first: u32, n: usize, kind: Kind, w: &mut Writer<'_>) -> CipResult {
+        self.check(first, n)?;
+        for k in 0..n as u32 {
+            let value = self
+                .get(first + k)
+                .ok_or(CipError::new(General::PathDestinationUnknown))?;
+            class64::put(w, value, kind)?;
+        }
+        Ok(())
+    }
+
+    /// Writes the 4-byte values of `data` (as `kind`) to P(first)..., all or nothing.
+    pub fn write_block(&mut self, first: u32, data: &[u8], kind: Kind) -> CipResult {
+        self.check(first, data.len() / 4)?;
+        for (k, chunk) in data.chunks_exact(4).enumerate() {
+            if let Ok(bytes) = <[u8; 4]>::try_from(chunk) {
+                self.set(first + k as u32, Value::from_le_bytes(kind, bytes));
+            }
+        }
+        Ok(())
+    }
+
+    /// P = (P AND `and`) OR `or`, on the value as a long, stored back in P's type.
+    pub fn and_or(&mut self, p: u32, and: i32, or: i32) -> CipResult {
+        let old = self
+            .get(p)
+            .ok_or(CipError::new(General::PathDestinationUnknown))?;
+        self.set(p, Value::Long((old.as_long() & and) | or));
+        Ok(())
+    }
+
+    /// The CIP status behind P37424-P37439.
+    pub fn cip_status(&self) -> &CipStatus {
+        &self.status
+    }
+
+    /// The I/O layout latched at the last accepted Class 1 Forward_Open.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// Validates the current group configuration for a Class 1 Forward_Open: latches it, or
+    /// reports the Table 3 status in P37433-P37437 and refuses with 0x01/0x0110 (R5.8).
+    fn configure(&mut self) -> CipResult {
+        match ioconfig::validate(self.store.groups_in_use(), &self.store.config()) {
+            Ok(layout) => {
+                self.status.entry = layout.last;
+                self.layout = layout;
+                Ok(())
+            }
+            Err(e) => {
+                self.status.status = e.status;
+                self.status.entry = e.entry;
+                Err(CipError::connection(NOT_CONFIGURED))
+            }
+        }
+    }
+}
+
+impl Device for ParkerIpa {
+    fn identity(&self) -> &IdentityInfo {
+        &identity::IDENTITY
+    }
+
+    fn assemblies(&self) -> &[AssemblyInfo] {
+        &assemblies::INFOS
+    }
+
+    fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
+        let direction = match instance {
+            assemblies::INPUT => Direction::Produce,
+            assemblies::OUTPUT => Direction::Consume,
+            _ => return Ok(0),
+        };
+        Ok(assemblies::image(self, &self.layout, direction, out))
+    }
+
+    fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
+        if instance != assemblies::OUTPUT {
+            return Ok(());
+        }
+        if self.status.class1_slot.is_some() {
+            self.status.class1_messages = self.status.class1_messages.wrapping_add(1);
+        }
+        let layout = self.layout.clone();
+        assemblies::consume(self, &layout, data)
+    }
+
+    fn classes(&self) -> &[ClassDef] {
+        &[class64::CLASS_DEF, class65::CLASS_DEF]
+    }
+
+    /// Every P number is an instance: whether the parameters exist is each service's
+    /// answer (0x05, Table 8), not the stack's 0x16.
+    fn has_instance(&self, class: &ClassDef, instance: u32) -> bool {
+        instance <= class.max_instance
+    }
+
+    fn instance_count(&self, class: &ClassDef) -> u32 {
+        match class.id {
+            class64::CLASS => class64::INSTANCES,
+            _ => class.max_instance,
+        }
+    }
+
+    fn handle_request(
+        &mut self,
+        cx: &RequestContext,
+        req: &Request<'_>,
+        reply: &mut Writer<'_>,
+    ) -> Option<CipResult> {
+        let class = req.path.class.and_then(|c| u16::try_from(c).ok());
+        let ours = match class {
+            Some(c) => c == class64::CLASS || c == class65::CLASS,
+            None => req.path.symbol.is_some(),
+        };
+        if ours {
+            self.status.class3_messages = self.status.class3_messages.wrapping_add(1);
+        }
+        match class {
+            Some(class64::CLASS) => class64::handle(self, req, reply),
+            Some(class65::CLASS) => class65::handle(self, cx, req, reply),
+            None => tags::handle(self, req, reply),
+            Some(_) => None,
+        }
+    }
+
+    /// Class 1 admission in the order of R5.10 (the stack has already refused duplicates,
+    /// bad paths, sizes and RPIs below its own minimum): note the attempt (P37429, P37430);
+    /// a second Class 1 connection 0x0106 (exclusive owner) or 0x0113; RPI below 1 ms
+    /// 0x0112; the group configuration (statuses 2-7, 0x0110).
+    fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
+        if !request.is_class1() {
+            return Ok(());
+        }
+        self.status.attempt(request.originator);
+        if self.status.class1_slot.is_some() {
+            let ext = match request.kind {
+                ConnectionKind::ExclusiveOwner => OWNERSHIP_CONFLICT,
+                _ => OUT_OF_CONNECTIONS,
+            };
+            return Err(CipError::connection(ext));
+        }
+        request.refuse_rpi(MIN_RPI_US, MAX_RPI_US)?;
+        self.configure()
+    }
+
+    fn connection_event(&mut self, event: ConnectionEvent) {
+        match event {
+            ConnectionEvent::Opened(c) if c.kind == ConnectionKind::Explicit => {
+                self.status.class3_open += 1;
+            }
+            ConnectionEvent::Opened(c) => self.status.opened(c.slot, c.t_o_rpi_us, c.o_t_rpi_us),
+            ConnectionEvent::Closed(c, _) if c.kind == ConnectionKind::Explicit => {
+                self.status.class3_open = self.status.class3_open.saturating_sub(1);
+            }
+            ConnectionEvent::Closed(c, _) => self.status.closed(c.slot),
+            _ => {}
+        }
+    }
+
+    fn input_changes(&mut self) -> Option<&mut InputChanges> {
+        Some(&mut self.changes)
+    }
+
+    fn poll(&mut self, now: Instant) -> Option<Instant> {
+        let (changed, next) = self.axes.poll(now, &mut self.store);
+        if changed {
+            self.changes.mark(assemblies::INPUT);
+        }
+        Some(next)
+    }
+
+    /// Either reset is a power cycle: parameters back to their power-up values (Program1
+    /// reloads the I/O configuration); the counters and connection state stay, the stack
+    /// closes every connection and reports it.
+    fn reset(&mut self, _kind: u8) -> CipResult {
+        let status = self.status.clone();
+        *self = ParkerIpa::new();
+        self.status = status;
+        Ok(())
+    }
+}
