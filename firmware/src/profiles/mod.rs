@@ -1,5 +1,6 @@
 //! Device profiles, and [`Profile`] to choose one by name at run time.
 
+pub mod ametek_pls;
 pub mod generic;
 pub mod position_servo;
 
@@ -11,6 +12,7 @@ use stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, Open
 use stack::wire::Writer;
 use stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 
+pub use ametek_pls::AmetekPls;
 pub use generic::Generic;
 pub use position_servo::PositionServo;
 
@@ -23,6 +25,8 @@ pub enum Profile {
     Generic(Generic),
     /// The Lenze PositionServo drive ([`PositionServo`]).
     PositionServo(PositionServo),
+    /// The Ametek 7500 PLS programmable limit switch ([`AmetekPls`]).
+    AmetekPls(AmetekPls),
 }
 
 /// Runs `$body` with `$dev` bound to the profile's device.
@@ -31,19 +35,21 @@ macro_rules! dispatch {
         match $profile {
             Profile::Generic($dev) => $body,
             Profile::PositionServo($dev) => $body,
+            Profile::AmetekPls($dev) => $body,
         }
     };
 }
 
 impl Profile {
     /// The names [`Profile::from_name`] accepts.
-    pub const NAMES: &'static [&'static str] = &["generic", "position-servo"];
+    pub const NAMES: &'static [&'static str] = &["generic", "position-servo", "ametek-pls"];
 
     /// The profile called `name` in its power-up state, if there is one.
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "generic" => Some(Profile::Generic(Generic::new())),
             "position-servo" => Some(Profile::PositionServo(PositionServo::new())),
+            "ametek-pls" => Some(Profile::AmetekPls(AmetekPls::new())),
             _ => None,
         }
     }
@@ -53,6 +59,7 @@ impl Profile {
         match self {
             Profile::Generic(_) => "generic",
             Profile::PositionServo(_) => "position-servo",
+            Profile::AmetekPls(_) => "ametek-pls",
         }
     }
 }
