@@ -1,12 +1,14 @@
 //! Command-line parsing for `enip-host`.
 
 use core::net::Ipv4Addr;
+use std::path::PathBuf;
 
 use firmware::Profile;
 
 /// How to invoke the program.
 pub const USAGE: &str = "\
 usage: enip-host --tap IFNAME --ip A.B.C.D/LEN [--gateway A.B.C.D] [--profile NAME] [--mac xx:xx:xx:xx:xx:xx] [--create-tap]
+                 [--nvram FILE] [--pls-rpm RPM]
 
   --tap IFNAME       an existing TAP interface to attach to; create it first, typically
                      inside a network namespace: `ip tuntap add dev IFNAME mode tap` and
@@ -17,6 +19,9 @@ usage: enip-host --tap IFNAME --ip A.B.C.D/LEN [--gateway A.B.C.D] [--profile NA
   --mac MAC          the adapter's MAC address (default: 02:45:4e:49:50:01)
   --create-tap       create IFNAME if there is none (needs root or CAP_NET_ADMIN); it is
                      down, has no host address and disappears when enip-host exits
+  --nvram FILE       the profile's non-volatile memory (ametek-pls: the program saved by
+                     program control), read at start and rewritten at every save
+  --pls-rpm RPM      ametek-pls: speed of the simulated resolver (default 0, stationary)
 
 Logs go to stderr; set RUST_LOG to change the level (default: info).";
 
@@ -50,6 +55,10 @@ pub struct Args {
     pub mac: [u8; 6],
     /// Create the TAP interface if there is none.
     pub create_tap: bool,
+    /// The profile's non-volatile memory file.
+    pub nvram: Option<PathBuf>,
+    /// Speed of the ametek-pls profile's simulated resolver, RPM.
+    pub pls_rpm: u16,
 }
 
 /// Parses the arguments after the program name.
@@ -60,6 +69,8 @@ pub fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> 
     let mut profile = Profile::default();
     let mut mac = DEFAULT_MAC;
     let mut create_tap = false;
+    let mut nvram = None;
+    let mut pls_rpm = 0;
     while let Some(flag) = args.next() {
         match flag.as_str() {
             "-h" | "--help" => return Ok(Command::Help),
@@ -83,6 +94,12 @@ pub fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> 
                 })?
             }
             "--mac" => mac = parse_mac(&value)?,
+            "--nvram" => nvram = Some(PathBuf::from(value)),
+            "--pls-rpm" => {
+                pls_rpm = value
+                    .parse()
+                    .map_err(|_| format!("bad --pls-rpm {value:?} (0 to 65535)"))?
+            }
             _ => return Err(format!("unknown option {flag:?}")),
         }
     }
@@ -95,6 +112,8 @@ pub fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> 
         profile,
         mac,
         create_tap,
+        nvram,
+        pls_rpm,
     })))
 }
 
@@ -184,6 +203,20 @@ mod tests {
         assert!(!a.create_tap);
         let a = run(&["--create-tap", "--tap", "tap0", "--ip", "198.18.0.2/24"]).unwrap();
         assert!(a.create_tap);
+        assert_eq!((a.nvram, a.pls_rpm), (None, 0));
+        let a = run(&[
+            "--tap",
+            "t",
+            "--ip",
+            "198.18.0.2/24",
+            "--nvram",
+            "/tmp/x",
+            "--pls-rpm",
+            "600",
+        ])
+        .unwrap();
+        assert_eq!((a.nvram, a.pls_rpm), (Some(PathBuf::from("/tmp/x")), 600));
+        assert!(run(&["--tap", "t", "--ip", "198.18.0.2/24", "--pls-rpm", "-1"]).is_err());
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! `enip-host`: the EtherNet/IP adapter on a Linux host, attached to an existing TAP device.
 
 mod args;
+mod nvram;
 mod signals;
 mod tap;
 
@@ -25,7 +26,7 @@ static FIRMWARE_RESOURCES: ConstStaticCell<Resources> = ConstStaticCell::new(Res
 
 fn main() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info")).init();
-    let args = match args::parse(std::env::args().skip(1)) {
+    let mut args = match args::parse(std::env::args().skip(1)) {
         Ok(Command::Run(a)) => a,
         Ok(Command::Help) => {
             println!("{}", args::USAGE);
@@ -36,6 +37,10 @@ fn main() {
             exit(2);
         }
     };
+    if let Err(e) = nvram::set_up(&mut args) {
+        eprintln!("enip-host: {e}");
+        exit(1);
+    }
     if let Err(e) = signals::exit_on_termination() {
         eprintln!("enip-host: cannot install signal handlers: {e}");
         exit(1);

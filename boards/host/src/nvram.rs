@@ -1,0 +1,52 @@
+//! The profile options of the host board: `--nvram FILE` as the profile's non-volatile
+//! memory (read at start, rewritten at every save) and `--pls-rpm` for the ametek-pls
+//! profile's simulated resolver.
+
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+use firmware::profiles::ametek_pls::nvram::RamNvram;
+use firmware::profiles::AmetekPls;
+use firmware::Profile;
+
+use crate::args::Args;
+
+/// The file the store hook writes.
+static NVRAM_FILE: OnceLock<PathBuf> = OnceLock::new();
+
+/// Applies the profile options to `args.profile`.
+pub fn set_up(args: &mut Args) -> Result<(), String> {
+    let Profile::AmetekPls(pls) = &mut args.profile else {
+        return Ok(());
+    };
+    if let Some(path) = &args.nvram {
+        let image = match std::fs::read(path) {
+            Ok(bytes) => Some(bytes),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+            Err(e) => return Err(format!("--nvram {}: {e}", path.display())),
+        };
+        let _ = NVRAM_FILE.set(path.clone());
+        let nvram = RamNvram::with_image(image.as_deref(), Some(store));
+        *pls = AmetekPls::with_nvram(nvram);
+        log::info!(
+            "ametek-pls: NVRAM in {} ({})",
+            path.display(),
+            if image.is_some() { "loaded" } else { "empty" }
+        );
+    }
+    pls.set_resolver(args.pls_rpm, false);
+    Ok(())
+}
+
+/// Writes the image to the `--nvram` file (through a temporary file, then a rename).
+fn store(image: &[u8]) -> bool {
+    let Some(path) = NVRAM_FILE.get() else {
+        return false;
+    };
+    let tmp = path.with_extension("tmp");
+    let ok = std::fs::write(&tmp, image).and_then(|()| std::fs::rename(&tmp, path));
+    if let Err(e) = &ok {
+        log::error!("NVRAM {}: {e}", path.display());
+    }
+    ok.is_ok()
+}
