@@ -320,3 +320,57 @@ fn time_based_and_motion_detect_setpoints() {
     assert_eq!(set(&mut pls, 2, &w), 0);
     assert_eq!(outputs(&mut pls) & 1, 0);
 }
+
+#[test]
+fn output_enable_single_shot_window_and_warning_map() {
+    let mut pls = programmed();
+    // Input 9: output enable group single shot, window 100..200.
+    input_9(&mut pls, [1, 0, 0, 131, 100, 200, 0]);
+    home(&mut pls, 150);
+    run(&mut pls);
+    assert_eq!(outputs(&mut pls) & 1, 0, "not enabled before an input");
+    soft(&mut pls, true);
+    assert_eq!(outputs(&mut pls) & 1, 1, "input inside the window");
+    soft(&mut pls, false);
+    home(&mut pls, 250);
+    soft(&mut pls, true);
+    home(&mut pls, 150);
+    assert_eq!(
+        outputs(&mut pls) & 1,
+        0,
+        "input outside the window: forced off"
+    );
+    // Moving: a revolution without an input in the window sets warning bit 8 (input 9).
+    soft(&mut pls, false);
+    pls.set_resolver(600, false);
+    sample(&mut pls, 0, 120);
+    assert_eq!(input(&mut pls)[13], 1 << 8);
+    // An input inside the window clears it at the window's end.
+    let mut t = 120;
+    while !(110..190).contains(&input(&mut pls)[0]) && t < 1000 {
+        pls.poll(Instant::from_micros(t * 1000));
+        t += 1;
+    }
+    soft(&mut pls, true);
+    sample(&mut pls, t, 30);
+    assert_eq!(input(&mut pls)[13], 0);
+}
+
+#[test]
+fn reset_to_preset_single_shot_expires_after_a_revolution() {
+    let mut pls = programmed();
+    input_9(&mut pls, [1, 0, 0, 121, 150, 0, 0]);
+    run(&mut pls);
+    pls.set_resolver(60, false);
+    pls.poll(Instant(0));
+    soft(&mut pls, true);
+    assert_eq!(input(&mut pls)[0], 150);
+    let first = sample(&mut pls, 1, 900);
+    assert!(first.iter().any(|on| *on), "fires during the revolution");
+    let after = sample(&mut pls, 1100, 1000);
+    assert!(after.iter().all(|on| !on), "forced off with no new input");
+    soft(&mut pls, false);
+    soft(&mut pls, true);
+    let again = sample(&mut pls, 2100, 900);
+    assert!(again.iter().any(|on| *on), "a new input fires again");
+}

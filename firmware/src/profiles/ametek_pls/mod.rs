@@ -23,6 +23,8 @@ pub mod nvram;
 pub mod validate;
 
 #[cfg(test)]
+mod class1_tests;
+#[cfg(test)]
 mod eds;
 #[cfg(test)]
 mod engine_tests;
