@@ -236,13 +236,20 @@ fn cases() -> Vec<Case> {
 #[ignore = "needs root: network namespace and TAP"]
 fn ametek_pls_attributes_and_validation() {
     let rig = start("ametek_pls_explicit", &[]);
+    attributes_and_validation(&rig);
+    common::finish(rig);
+}
+
+/// Sizes, a valid configuration read back, every rule broken once (status and words 15-17
+/// over Class 1, latched until the Acknowledge edge).
+fn attributes_and_validation(rig: &Rig) {
     let cases = cases();
     let input = json!({
         "host": BOARD_IP.to_string(), "rpi_ms": RPI_MS, "multiplier": MULTIPLIER,
         "cases": cases.iter().map(|(n, a, w, _, _)| json!({"name": n, "attribute": a, "words": w}))
             .collect::<Vec<_>>(),
     });
-    let r = peer(&rig, "explicit", input);
+    let r = peer(rig, "explicit", input);
     for (a, size) in [(1, 4), (2, 96), (3, 48)] {
         assert_eq!(r["sizes"][format!("C0/{a}")], json!([0, size]), "{r}");
     }
@@ -285,7 +292,6 @@ fn ametek_pls_attributes_and_validation() {
         );
     }
     assert_eq!(r["forward_close"], 0, "{r}");
-    common::finish(rig);
 }
 
 /// Output 1 changed state at these times (ms) inside `from..to`.
@@ -303,8 +309,14 @@ fn changes_between(v: &Value, from: f64, to: f64) -> usize {
 #[ignore = "needs root: network namespace and TAP"]
 fn ametek_pls_class1_outputs_forces_add_on_and_inputs() {
     let rig = start("ametek_pls_io", &[]);
+    outputs_forces_add_on_and_inputs(&rig);
+    common::finish(rig);
+}
+
+/// The limit switch over Class 1 at 10 ms.
+fn outputs_forces_add_on_and_inputs(rig: &Rig) {
     let r = peer(
-        &rig,
+        rig,
         "io",
         json!({"host": BOARD_IP.to_string(), "rpi_ms": RPI_MS, "multiplier": MULTIPLIER}),
     );
@@ -361,6 +373,22 @@ fn ametek_pls_class1_outputs_forces_add_on_and_inputs() {
         "input 9's offset is group 1's: {r}"
     );
     assert_eq!(r["forward_close"], 0, "{r}");
+}
+
+/// Both scenarios on the QEMU board, one boot (skipped, loudly, without the ELF).
+#[test]
+#[ignore = "needs root and ENIP_QEMU_AMETEK_PLS_ELF"]
+fn ametek_pls_on_qemu() {
+    let Some(elf) = std::env::var_os("ENIP_QEMU_AMETEK_PLS_ELF") else {
+        eprintln!("SKIPPED: set ENIP_QEMU_AMETEK_PLS_ELF to an enip-qemu-mps2 ELF built with the ametek-pls profile");
+        return;
+    };
+    let rig = Rig::start_qemu(&PathBuf::from(elf), Some(&pcap("ametek_pls_qemu")))
+        .unwrap_or_else(|e| panic!("{e}"));
+    attributes_and_validation(&rig);
+    outputs_forces_add_on_and_inputs(&rig);
+    let log = rig.board_log();
+    assert!(!log.contains("PANIC"), "the board panicked:\n{log}");
     common::finish(rig);
 }
 
