@@ -375,6 +375,62 @@ fn outputs_forces_add_on_and_inputs(rig: &Rig) {
     assert_eq!(r["forward_close"], 0, "{r}");
 }
 
+/// True inside on (inclusive) .. off (exclusive).
+fn inside(pos: u64, on: u64, off: u64) -> bool {
+    (on..off).contains(&pos)
+}
+
+/// A moving resolver (`--pls-rpm 60`): every T->O sample is consistent with the windows of
+/// outputs 1 (100-200, 300-330) and 17 (50-60), and the positions advance at 60 RPM.
+#[test]
+#[ignore = "needs root: network namespace and TAP"]
+fn ametek_pls_moving_resolver() {
+    let rig = start("ametek_pls_moving", &["--pls-rpm", "60"]);
+    let input = json!({"host": BOARD_IP.to_string(), "rpi_ms": RPI_MS,
+                       "multiplier": MULTIPLIER, "seconds": 3.0});
+    let r = peer(&rig, "moving", input);
+    assert_eq!(r["writes"], json!([0, 0, 0]), "{r}");
+    assert_eq!(r["forward_open"], 0, "{r}");
+    let samples = r["samples"].as_array().unwrap();
+    // 3 s at 10 ms: about 300 datagrams, each with a new position.
+    assert!(samples.len() >= 200, "{} samples", samples.len());
+    let (mut on1, mut on17) = (0, 0);
+    for s in samples {
+        let v: Vec<u64> = s.as_array().unwrap()[1..]
+            .iter()
+            .map(|x| x.as_u64().unwrap())
+            .collect();
+        let (pos, rpm, low, high) = (v[0], v[1], v[2], v[3]);
+        assert_eq!(rpm, 60, "{s}");
+        assert!(pos < 360, "{s}");
+        assert_eq!(
+            low & 1 == 1,
+            inside(pos, 100, 200) || inside(pos, 300, 330),
+            "{s}"
+        );
+        assert_eq!(high & 1 == 1, inside(pos, 50, 60), "{s}");
+        on1 += usize::from(low & 1 == 1);
+        on17 += usize::from(high & 1 == 1);
+    }
+    // 130 and 10 of 360 counts: about 36 % and 3 % of the samples.
+    let n = samples.len() as f64;
+    assert!(
+        (0.30..0.42).contains(&(on1 as f64 / n)),
+        "output 1 on in {on1} of {n}"
+    );
+    assert!(
+        (0.01..0.06).contains(&(on17 as f64 / n)),
+        "output 17 on in {on17} of {n}"
+    );
+    // The position advances 3.6 counts per 10 ms (6 revolutions in 3 s).
+    let first = &samples[0];
+    let last = &samples[samples.len() - 1];
+    let dt = last[0].as_f64().unwrap() - first[0].as_f64().unwrap();
+    assert!(dt > 2500.0, "{dt}");
+    assert_eq!(r["forward_close"], 0, "{r}");
+    common::finish(rig);
+}
+
 /// Both scenarios on the QEMU board, one boot (skipped, loudly, without the ELF).
 #[test]
 #[ignore = "needs root and ENIP_QEMU_AMETEK_PLS_ELF"]

@@ -468,8 +468,10 @@ impl Engine {
         for (g, b) in before.iter().enumerate() {
             let sf = u32::from(cfg.scale(g));
             let after = u32::from(self.raw(cfg, g));
-            let full = (step >> 32) as u32 * sf;
-            self.travel[g] = (after + sf - u32::from(*b)) % sf + full;
+            let full = u32::try_from(step >> 32)
+                .unwrap_or(u32::MAX)
+                .saturating_mul(sf);
+            self.travel[g] = ((after + sf - u32::from(*b)) % sf).saturating_add(full);
         }
         self.refresh_positions(cfg);
         if self.addon.active {
