@@ -15,6 +15,7 @@ use stack::wire::forward_open::{ForwardOpen, ForwardOpenReply, NetworkParams, Tr
 use stack::wire::Writer;
 use stack::{Adapter, Instant, NetworkConfig, SocketId};
 
+use super::leds::NetworkStatus;
 use super::tests::{execute, le, pls_object, programmed, request, words};
 use super::AmetekPls;
 
@@ -167,6 +168,8 @@ fn class1_exclusive_owner_at_10_ms() {
     assert_eq!(status, 0);
     s.send(true, [1, 0, 0, 0, 0, 0, 0]);
     let t_o = s.advance(25).expect("T->O data every 10 ms");
+    let ns = || s.adapter.device().leds().network_status();
+    assert_eq!(ns(), NetworkStatus::Connected);
     assert_eq!(t_o.len(), 17);
     assert_eq!(t_o[14..17], [0, 0, 0]);
     // An invalid Set while connected: the error is in the next T->O datagram.
@@ -199,6 +202,10 @@ fn class1_exclusive_owner_at_10_ms() {
     s.cyclic = None;
     s.advance(100);
     assert!(s.adapter.connections().is_empty());
+    assert_eq!(
+        s.adapter.device().leds().network_status(),
+        NetworkStatus::TimedOut
+    );
     let mut pls = s.adapter.into_device();
     let w = words(&execute(&mut pls, &request(0x0E, 0x04, 100, Some(3), &[])).1);
     assert_eq!(w[10], 0);

@@ -374,3 +374,16 @@ fn reset_to_preset_single_shot_expires_after_a_revolution() {
     let again = sample(&mut pls, 2100, 900);
     assert!(again.iter().any(|on| *on), "a new input fires again");
 }
+
+#[test]
+fn leds_follow_configuration_fault_and_connections() {
+    use super::leds::{ModuleStatus, NetworkStatus};
+    let mut pls = AmetekPls::new();
+    assert_eq!(pls.leds().module_status(), ModuleStatus::Standby);
+    assert_eq!(set(&mut pls, 1, &pls_object()), 0);
+    assert_eq!(pls.leds().module_status(), ModuleStatus::Operating);
+    pls.set_resolver(0, true);
+    pls.poll(Instant(0));
+    assert_eq!(pls.leds().module_status(), ModuleStatus::RecoverableFault);
+    assert_eq!(pls.leds().network_status(), NetworkStatus::NoConnection);
+}

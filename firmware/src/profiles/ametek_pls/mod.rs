@@ -7,6 +7,7 @@
 //! - [`config`]: the stored configuration words; [`validate`]: the manual's rules.
 //! - [`engine`]: the resolver, offsets, inputs and outputs, advanced by [`Device::poll`].
 //! - [`nvram`]: the program saved by program control (attribute 37).
+//! - [`leds`]: the MS and NS LEDs of Figure 1, logged at each transition.
 //!
 //! A Set of 0xC1 is validated whole; a broken rule leaves everything as it was, answers
 //! 0x09 (codes 1, 2), 0x10 (code 3), 0x19 (code 4) or 0x0C (the encoder object on this
@@ -19,6 +20,7 @@ pub mod classes;
 pub mod config;
 pub mod engine;
 pub mod identity;
+pub mod leds;
 pub mod nvram;
 pub mod validate;
 
@@ -79,6 +81,7 @@ pub struct AmetekPls<N: Nvram = RamNvram> {
     /// The last input data produced, to tell the stack when it changed.
     last_input: [u8; INPUT_BYTES],
     changes: InputChanges,
+    leds: leds::Leds,
 }
 
 impl AmetekPls<RamNvram> {
@@ -108,6 +111,7 @@ impl<N: Nvram> AmetekPls<N> {
             configured: false,
             last_input: [0; INPUT_BYTES],
             changes: InputChanges::new(),
+            leds: leds::Leds::new(),
         };
         pls.power_up();
         pls
@@ -126,6 +130,11 @@ impl<N: Nvram> AmetekPls<N> {
     /// The NVRAM.
     pub fn nvram(&self) -> &N {
         &self.nvram
+    }
+
+    /// The MS and NS LEDs.
+    pub fn leds(&self) -> &leds::Leds {
+        &self.leds
     }
 
     /// Input words 15-17: (error code, attribute, word).
@@ -296,6 +305,7 @@ impl<N: Nvram> AmetekPls<N> {
 
     /// Marks the input assembly changed if its data did (application-triggered production).
     fn mark_changed(&mut self) {
+        self.leds.module(self.configured, self.engine.fault());
         let now = self.input_data();
         if now != self.last_input {
             self.last_input = now;
@@ -422,6 +432,7 @@ impl<N: Nvram> Device for AmetekPls<N> {
 
     /// Idle data and the loss of the owner act as all-zero output data ([R] AM-IO-6).
     fn connection_event(&mut self, event: ConnectionEvent) {
+        self.leds.connection_event(&event);
         match event {
             ConnectionEvent::RunIdle(false) | ConnectionEvent::OwnershipLost(_) => {
                 info!("PLS: output data released (idle or owner gone): outputs disabled");
