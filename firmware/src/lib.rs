@@ -32,11 +32,7 @@ mod tcp;
 mod udp;
 
 pub use netif::network_config;
-#[cfg(any(
-    feature = "profile-generic",
-    feature = "profile-position-servo",
-    feature = "profile-parker-ipa"
-))]
+#[cfg(feature = "_any-profile")]
 pub use profiles::Profile;
 pub use resources::{stack_resources, Resources, SOCKETS};
 pub use runtime::run;

@@ -58,10 +58,21 @@ pub struct Rig {
 impl Rig {
     /// Starts the host board `bin` with `--profile profile`, capturing into `capture` if given.
     pub fn start(bin: &Path, profile: &str, capture: Option<&Path>) -> io::Result<Self> {
+        Self::start_with_args(bin, profile, &[], capture)
+    }
+
+    /// Like [`Rig::start`], with `extra` arguments for the board (e.g. `--nvram FILE`).
+    pub fn start_with_args(
+        bin: &Path,
+        profile: &str,
+        extra: &[&str],
+        capture: Option<&Path>,
+    ) -> io::Result<Self> {
         Self::launch(capture, "enip-host", LISTENING, BOARD_START, |ns| {
             let mut cmd = ns.command(bin);
             cmd.args(["--tap", TAP, "--ip", &format!("{BOARD_IP}/{PREFIX}")])
                 .args(["--profile", profile])
+                .args(extra)
                 .env(
                     "RUST_LOG",
                     std::env::var("RUST_LOG").unwrap_or("info".into()),

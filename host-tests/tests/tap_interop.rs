@@ -27,6 +27,8 @@
 //!   with its request's path, so a reply to a request with a reserved logical segment format
 //!   is flagged "Unsupported Logical Segment Format" although the reply bytes are fine.
 
+#[path = "tap_interop/ametek_pls.rs"]
+mod ametek_pls;
 #[path = "tap_interop/class1.rs"]
 mod class1;
 #[path = "tap_interop/class3.rs"]

@@ -66,7 +66,7 @@ mod tests {
         let names: Vec<&str> = firmware
             .lines()
             .filter_map(|l| l.strip_prefix("profile-"))
-            .filter_map(|l| l.split_once(" = []").map(|(name, _)| name))
+            .filter_map(|l| l.split_once(" = ").map(|(name, _)| name))
             .collect();
         assert!(names.contains(&"generic"), "{names:?}");
         for board in ["nucleo-f767zi", "qemu-mps2", "host"] {

@@ -2,9 +2,12 @@
 //! running one of the shipped device profiles; `enip-host --eds [--profile NAME]` prints the
 //! profile's EDS file instead.
 
+mod nvram;
+
 use std::process::exit;
 
 use enip_firmware::Profile;
+use nvram::ProfileOptions;
 
 /// How to invoke the program.
 fn usage() -> String {
@@ -13,7 +16,10 @@ fn usage() -> String {
          [--mac xx:xx:xx:xx:xx:xx] [--create-tap]\n       \
          enip-host --eds [--profile NAME]\n\n\
          \x20 --profile NAME     device profile: {} (default: generic)\n\
-         \x20 --eds              print the profile's EDS file and exit\n{}",
+         \x20 --eds              print the profile's EDS file and exit\n\
+         \x20 --nvram FILE       the profile's non-volatile memory (ametek-pls: the program saved\n\
+         \x20                    by program control), read at start and rewritten at every save\n\
+         \x20 --pls-rpm RPM      ametek-pls: speed of the simulated resolver (default 0)\n{}",
         Profile::NAMES.join(", "),
         enip_host::OPTIONS_USAGE
     )
@@ -54,12 +60,17 @@ fn main() {
         return;
     }
     let mut chosen = Profile::default();
+    let mut profile_options = ProfileOptions::default();
     let options = enip_host::Options::from_env_args(&usage(), |flag, value| {
         if flag != "--profile" {
-            return Ok(false);
+            return profile_options.take(flag, &value);
         }
         chosen = profile(&value)?;
         Ok(true)
     });
+    if let Err(e) = nvram::set_up(&mut chosen, &profile_options) {
+        eprintln!("enip-host: {e}");
+        exit(1);
+    }
     enip_host::run(chosen, options)
 }

@@ -3,6 +3,8 @@
 //!
 //! A firmware of its own device enables none of them and compiles none of them.
 
+#[cfg(feature = "profile-ametek-pls")]
+pub mod ametek_pls;
 #[cfg(feature = "profile-generic")]
 pub mod generic;
 #[cfg(feature = "profile-parker-ipa")]
@@ -10,22 +12,16 @@ pub mod parker_ipa;
 #[cfg(feature = "profile-position-servo")]
 pub mod position_servo;
 
-#[cfg(any(
-    feature = "profile-generic",
-    feature = "profile-position-servo",
-    feature = "profile-parker-ipa"
-))]
+#[cfg(feature = "_any-profile")]
 mod select;
 
+#[cfg(feature = "profile-ametek-pls")]
+pub use ametek_pls::AmetekPls;
 #[cfg(feature = "profile-generic")]
 pub use generic::Generic;
 #[cfg(feature = "profile-parker-ipa")]
 pub use parker_ipa::ParkerIpa;
 #[cfg(feature = "profile-position-servo")]
 pub use position_servo::PositionServo;
-#[cfg(any(
-    feature = "profile-generic",
-    feature = "profile-position-servo",
-    feature = "profile-parker-ipa"
-))]
+#[cfg(feature = "_any-profile")]
 pub use select::Profile;

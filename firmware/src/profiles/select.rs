@@ -83,6 +83,8 @@ profiles! {
         super::position_servo::eds::EDS, "The Lenze PositionServo drive ([`super::PositionServo`]).";
     "profile-parker-ipa" "parker-ipa" ParkerIpa(super::ParkerIpa) super::parker_ipa::eds::EDS,
         "The Parker IPA / ACR9000 controller ([`super::ParkerIpa`]).";
+    "profile-ametek-pls" "ametek-pls" AmetekPls(super::AmetekPls) super::ametek_pls::eds::EDS,
+        "The Ametek 7500 programmable limit switch ([`super::AmetekPls`]).";
 }
 
 impl Profile {
