@@ -78,14 +78,12 @@ mod tests {
             }
         }
         let host = manifest("boards/host/Cargo.toml");
-        let defaults = host
-            .lines()
-            .find(|l| l.starts_with("default = ["))
-            .unwrap_or("");
+        let defaults = crate::workspace::string_array(&host, "default");
         for name in &names {
+            let feature = format!("profile-{name}");
             assert!(
-                defaults.contains(&format!("\"profile-{name}\"")),
-                "enip-host's defaults lack {name}"
+                defaults.contains(&feature),
+                "enip-host's defaults lack {feature}"
             );
         }
     }
