@@ -1,6 +1,7 @@
 //! Device profiles, and [`Profile`] to choose one by name at run time.
 
 pub mod generic;
+pub mod kollmorgen_akd;
 pub mod position_servo;
 
 use stack::cip::context::RequestContext;
@@ -12,6 +13,7 @@ use stack::wire::Writer;
 use stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 
 pub use generic::Generic;
+pub use kollmorgen_akd::KollmorgenAkd;
 pub use position_servo::PositionServo;
 
 /// One of the device profiles, chosen at run time; implements [`Device`] by dispatch.
@@ -23,6 +25,8 @@ pub enum Profile {
     Generic(Generic),
     /// The Lenze PositionServo drive ([`PositionServo`]).
     PositionServo(PositionServo),
+    /// The Kollmorgen AKD servo drive ([`KollmorgenAkd`]).
+    KollmorgenAkd(KollmorgenAkd),
 }
 
 /// Runs `$body` with `$dev` bound to the profile's device.
@@ -31,19 +35,21 @@ macro_rules! dispatch {
         match $profile {
             Profile::Generic($dev) => $body,
             Profile::PositionServo($dev) => $body,
+            Profile::KollmorgenAkd($dev) => $body,
         }
     };
 }
 
 impl Profile {
     /// The names [`Profile::from_name`] accepts.
-    pub const NAMES: &'static [&'static str] = &["generic", "position-servo"];
+    pub const NAMES: &'static [&'static str] = &["generic", "position-servo", "kollmorgen-akd"];
 
     /// The profile called `name` in its power-up state, if there is one.
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "generic" => Some(Profile::Generic(Generic::new())),
             "position-servo" => Some(Profile::PositionServo(PositionServo::new())),
+            "kollmorgen-akd" => Some(Profile::KollmorgenAkd(KollmorgenAkd::new())),
             _ => None,
         }
     }
@@ -53,6 +59,7 @@ impl Profile {
         match self {
             Profile::Generic(_) => "generic",
             Profile::PositionServo(_) => "position-servo",
+            Profile::KollmorgenAkd(_) => "kollmorgen-akd",
         }
     }
 }
