@@ -100,6 +100,12 @@ fn tap_interop() -> Result<Outcome> {
         crate::boards::build(crate::boards::QEMU, "position-servo")?,
         &servo_elf,
     )?;
+    // And the Kollmorgen AKD scenarios.
+    let akd_elf = util::target_dir().join("qemu-kollmorgen-akd.elf");
+    std::fs::copy(
+        crate::boards::build(crate::boards::QEMU, "kollmorgen-akd")?,
+        &akd_elf,
+    )?;
     let python = setup::venv_python();
     run(util::cargo()
         .args([
@@ -115,6 +121,7 @@ fn tap_interop() -> Result<Outcome> {
         .env("ENIP_PEER_PYTHON", &python)
         .env("ENIP_HOST_BIN", &host_bin)
         .env("ENIP_PEER_NPM_DIR", setup::npm_dir())
-        .env("ENIP_QEMU_POSITION_SERVO_ELF", &servo_elf))?;
+        .env("ENIP_QEMU_POSITION_SERVO_ELF", &servo_elf)
+        .env("ENIP_QEMU_KOLLMORGEN_AKD_ELF", &akd_elf))?;
     Ok(Outcome::Passed)
 }

@@ -65,12 +65,10 @@ const IN_POSITION: u8 = 0x04;
 const IN_MOTION: u8 = 0x01;
 const LOAD_COMPLETE: u8 = 0x80;
 
-#[test]
-#[ignore = "needs root: network namespace and TAP"]
-fn kollmorgen_akd_class1_handshake_and_motion() {
-    let rig = start("kollmorgen_akd_io");
+/// The Class 1 scenario on a board fresh from power-up (not homed).
+fn class1_scenario(rig: &Rig) {
     let r = peer(
-        &rig,
+        rig,
         "kollmorgen_akd_io.py",
         json!({"host": BOARD_IP.to_string(), "rpi_ms": RPI_MS, "multiplier": MULTIPLIER}),
     );
@@ -149,15 +147,20 @@ fn kollmorgen_akd_class1_handshake_and_motion() {
     // Admission: below the minimum RPI refused (0x0112); multicast T->O accepted.
     assert_eq!(r["rpi_5ms"], 0x0112, "{r}");
     assert_eq!(r["multicast_open"], 0, "{r}");
-    common::finish(rig);
 }
 
 #[test]
 #[ignore = "needs root: network namespace and TAP"]
-fn kollmorgen_akd_explicit_objects() {
-    let rig = start("kollmorgen_akd_explicit");
+fn kollmorgen_akd_class1_handshake_and_motion() {
+    let rig = start("kollmorgen_akd_io");
+    class1_scenario(&rig);
+    common::finish(rig);
+}
+
+/// The explicit scenario (position mode, units at their defaults, drive disabled).
+fn explicit_scenario(rig: &Rig) {
     let r = peer(
-        &rig,
+        rig,
         "kollmorgen_akd_explicit.py",
         json!({"host": BOARD_IP.to_string()}),
     );
@@ -192,7 +195,11 @@ fn kollmorgen_akd_explicit_objects() {
     ok("p6_value", &hex(&(-9i32).to_le_bytes()));
     ok("set_enable", "");
     ok("home_move", "");
-    ok("motionstat", "06000000");
+    // DRV.MOTIONSTAT: home found and home finished (bits 1 and 2).
+    let motionstat = u32::from_str_radix(r["motionstat"]["data"].as_str().unwrap_or(""), 16)
+        .map(u32::swap_bytes)
+        .unwrap_or(0);
+    assert_eq!(motionstat & 0b110, 0b110, "{r}");
     ok("set_disable", "");
     ok("enable_after", "00");
     for (k, status) in [
@@ -212,6 +219,39 @@ fn kollmorgen_akd_explicit_objects() {
     ] {
         assert_eq!(r[k]["status"].as_u64(), Some(status), "{k}: {r}");
     }
+}
+
+#[test]
+#[ignore = "needs root: network namespace and TAP"]
+fn kollmorgen_akd_explicit_objects() {
+    let rig = start("kollmorgen_akd_explicit");
+    explicit_scenario(&rig);
+    common::finish(rig);
+}
+
+/// Both scenarios on the QEMU board, one boot (skipped, loudly, without the ELF).
+#[test]
+#[ignore = "needs root and ENIP_QEMU_KOLLMORGEN_AKD_ELF"]
+fn kollmorgen_akd_on_qemu() {
+    let Some(elf) = std::env::var_os("ENIP_QEMU_KOLLMORGEN_AKD_ELF") else {
+        eprintln!("SKIPPED: set ENIP_QEMU_KOLLMORGEN_AKD_ELF to an enip-qemu-mps2 ELF built with the kollmorgen-akd profile");
+        return;
+    };
+    let pcap = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("tap_interop")
+        .join("kollmorgen_akd_qemu.pcapng");
+    let rig = Rig::start_qemu(&PathBuf::from(elf), Some(&pcap))
+        .unwrap_or_else(|e| panic!("QEMU rig: {e}"));
+    for (name, scenario) in [
+        ("class 1", class1_scenario as fn(&Rig)),
+        ("explicit", explicit_scenario),
+    ] {
+        let t = std::time::Instant::now();
+        scenario(&rig);
+        println!("QEMU: {name} passed in {:?}", t.elapsed());
+    }
+    let log = rig.board_log();
+    assert!(!log.contains("PANIC"), "the board panicked:\n{log}");
     common::finish(rig);
 }
 
