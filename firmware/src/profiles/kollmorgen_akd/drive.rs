@@ -477,7 +477,7 @@ impl Drive {
         };
         self.velocity = next * dir;
         let travel = (next + self.position_rem * dir) / TICKS_PER_S;
-        if next > 0 && travel >= remaining.abs() {
+        if next > 0 && i128::from(travel) >= i128::from(remaining).abs() {
             self.position = target;
             self.position_rem = 0;
             self.velocity = 0;
@@ -567,7 +567,7 @@ impl Drive {
     /// The commanded velocity, counts/s: the velocity the motion aims for.
     pub fn commanded_velocity(&self) -> i64 {
         match self.motion {
-            Motion::Move { target, v, .. } => v * (target - self.position).signum(),
+            Motion::Move { target, v, .. } => v * target.saturating_sub(self.position).signum(),
             Motion::Jog { v, .. } => v,
             Motion::Torque => self.velocity,
             _ => 0,

@@ -619,6 +619,43 @@ fn units_scale_position_and_velocity() {
     assert_eq!(b.akd.state().drive.position(), 100 << 20);
 }
 
+#[test]
+fn arbitrary_commands_never_panic() {
+    // A fixed xorshift sequence: every command byte, extreme values, unit changes.
+    let mut b = Bench::new();
+    let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut next = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x
+    };
+    b.send(cmd(EN, 0x21, 0x20, 0));
+    b.explicit(0x10, 0x0F, id::HOME_MOVE, Some(1), &[1])
+        .0
+        .unwrap();
+    b.run_ms(50);
+    for i in 0..3_000 {
+        let mut c = [0u8; 64];
+        for chunk in c.chunks_mut(8) {
+            let v = next().to_le_bytes();
+            chunk.copy_from_slice(&v[..chunk.len()]);
+        }
+        c[2] = [0x21, 0x22, 0x23, 0x24, 0x25, 0x26, 0x27, 0x3B, 0x3F, c[2]][i % 10];
+        if i % 7 == 0 {
+            c[12..16].copy_from_slice(&i32::MAX.to_le_bytes());
+            c[8..12].copy_from_slice(&i32::MIN.to_le_bytes());
+        }
+        if i % 97 == 0 {
+            let units = [1u32, u32::MAX, 65_536][i % 3];
+            let _ = b.explicit(0x10, 0x25, 1, Some(4), &units.to_le_bytes());
+            let _ = b.explicit(0x10, 0x25, 1, Some(3), &[(i % 3) as u8]);
+        }
+        b.send(c);
+        b.run_ms(3);
+    }
+}
+
 /// The Class 1 path through the adapter: admission, sizes and the datagrams.
 mod class1 {
     use super::*;
@@ -763,5 +800,29 @@ mod class1 {
         let last = seen.last().unwrap();
         assert_ne!(last[0] & status1::FAULT, 0);
         assert_eq!(last[3], 0x34);
+    }
+
+    #[test]
+    fn losing_the_owner_disables_the_drive() {
+        let mut s = Scanner::new();
+        let (g, _, data) = s.open(10_000, 0x4800, 0x01);
+        assert_eq!(g, 0);
+        let reply = ForwardOpenReply::parse(&data).unwrap();
+        let from = SocketAddrV4::new(SCANNER, 2222);
+        let mut dg = [0u8; 128];
+        let c = cmd(EN, 0x21, 0x20, 0);
+        let n = originator::io_datagram(&mut dg, reply.o_t_connection_id, 1, 1, Some(true), &c)
+            .unwrap();
+        s.adapter
+            .io_receive(from, &dg[..n], Instant(10_000))
+            .unwrap();
+        assert!(s.adapter.device().state().drive.enabled());
+        // Multiplier code 1: x8, so 80 ms without data closes the connection.
+        let mut out = [0u8; 256];
+        for t in (20..=200).step_by(10) {
+            while s.adapter.poll_io(Instant(t * 1_000), &mut out).is_some() {}
+        }
+        assert!(s.adapter.connections().is_empty());
+        assert!(!s.adapter.device().state().drive.enabled());
     }
 }
