@@ -217,6 +217,10 @@ pub fn status_word_1(state: &State) -> u8 {
         (d.positive(), status1::DIRECTION),
         (d.fault().is_some(), status1::FAULT),
         (d.in_position(), status1::IN_POSITION),
+        (
+            super::motion_tasks::executing(state).is_some(),
+            status1::BLOCK,
+        ),
         (d.in_motion(), status1::IN_MOTION),
     ] {
         if on {
@@ -276,6 +280,7 @@ pub fn encode(state: &State, io: &Handshake, out: &mut [u8]) -> usize {
     let cmd = Command(io.command());
     let mut r = [0u8; SIZE];
     r[0] = status_word_1(state);
+    r[1] = super::motion_tasks::executing(state).unwrap_or(0);
     r[2] = status_word_2(state);
     match io.error() {
         Some(e) => {

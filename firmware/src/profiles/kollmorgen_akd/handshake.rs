@@ -8,13 +8,15 @@
 //!   error response in the response assembly: type 0x14, byte 4 the CIP general status,
 //!   byte 5 the additional code 0xFF, bytes 6-7 the command's bytes 2-3. It stays until the
 //!   next successful load ([R] item 9); Load Complete stays 0.
-//! - Start Block (0 -> 1 with Load/Start 0): motion tasks are not modelled, so it answers
-//!   the error response with 0x16 (object does not exist).
+//! - Start Block (0 -> 1 with Load/Start 0) runs motion task byte 1 ([`motion_tasks`]); an
+//!   undefined task answers the error response with 0x16 (object does not exist), a task
+//!   the drive refuses (not homed) 0x10. A successful start clears an error response.
 
 use stack::cip::{CipError, General};
 
 use super::assemblies::{command_type as ty, control, Command, SIZE};
 use super::drive::{Mode, Refusal};
+use super::motion_tasks::{self, StartError};
 use super::params;
 use super::position_controller;
 use super::state::State;
@@ -119,8 +121,13 @@ pub fn consume<S: NvStorage>(akd: &mut KollmorgenAkd<S>, data: &[u8]) {
         akd.state.load_complete = false;
     }
     if rising & control::START_BLOCK != 0 && now & control::LOAD_START == 0 {
-        akd.io.error = Some(LoadError {
-            code: general(General::ObjectDoesNotExist),
+        let code = match motion_tasks::start(&mut akd.state, cmd.byte(1)) {
+            Ok(_) => None,
+            Err(StartError::Undefined) => Some(General::ObjectDoesNotExist),
+            Err(StartError::Drive(_)) => Some(General::DeviceStateConflict),
+        };
+        akd.io.error = code.map(|g| LoadError {
+            code: general(g),
             additional: ADDITIONAL,
             echo: [cmd.byte(2), cmd.byte(3)],
         });
@@ -156,6 +163,8 @@ fn load<S: NvStorage>(akd: &mut KollmorgenAkd<S>, cmd: &Command<'_>) -> Result<(
     let positive = ctrl & control::DIRECTION != 0;
     let relative = ctrl & control::RELATIVE != 0;
     let s: &mut State = &mut akd.state;
+    // A new load replaces a running motion task.
+    s.tasks.running = None;
     let mode = s.drive.config.mode;
     match kind {
         ty::TARGET_POSITION => {

@@ -18,6 +18,7 @@ pub mod assemblies;
 pub mod drive;
 pub mod handshake;
 pub mod identity;
+pub mod motion_tasks;
 pub mod parameter;
 pub mod params;
 pub mod position_controller;
@@ -115,6 +116,14 @@ impl<S: NvStorage> KollmorgenAkd<S> {
                 self.nv
                     .save(&image)
                     .map_err(|_| CipError::new(General::ResourceUnavailable))
+            }
+            id::MT_SET => {
+                self.state.tasks.set();
+                Ok(())
+            }
+            id::MT_LOAD => {
+                self.state.tasks.load();
+                Ok(())
             }
             // AIN.ZERO: the simulated analog input is always 0; nothing to zero.
             _ => Ok(()),

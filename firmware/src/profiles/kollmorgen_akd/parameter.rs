@@ -28,7 +28,7 @@ pub const CLASS_DEF: ClassDef = ClassDef {
     id: CLASS,
     name: "Parameter",
     revision: 1,
-    max_instance: params::id::SWLS_LIMIT1 as u32 + 1,
+    max_instance: params::id::MT_LOAD as u32,
     attributes: &[
         AttributeDef::get_set(VALUE, DataType::Unsized, "Parameter Value"),
         AttributeDef::get(DATA_TYPE, DataType::Usint, "Data Type"),

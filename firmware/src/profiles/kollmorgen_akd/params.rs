@@ -123,10 +123,26 @@ pub mod id {
     pub const SWLS_LIMIT0: u16 = 1023;
     /// SWLS.LIMIT1 (project instance).
     pub const SWLS_LIMIT1: u16 = 1025;
+    /// MT.NUM: the motion task being edited (project instance).
+    pub const MT_NUM: u16 = 1030;
+    /// MT.P (project instance).
+    pub const MT_P: u16 = 1031;
+    /// MT.V (project instance).
+    pub const MT_V: u16 = 1033;
+    /// MT.ACC (project instance).
+    pub const MT_ACC: u16 = 1035;
+    /// MT.DEC (project instance).
+    pub const MT_DEC: u16 = 1037;
+    /// MT.CNTL (project instance).
+    pub const MT_CNTL: u16 = 1039;
+    /// MT.SET: store the edited task (command; project instance).
+    pub const MT_SET: u16 = 1040;
+    /// MT.LOAD: read task MT.NUM for editing (command; project instance).
+    pub const MT_LOAD: u16 = 1041;
 }
 
 /// The table, by instance.
-pub const TABLE: [Param; 28] = [
+pub const TABLE: [Param; 36] = [
     p(1, "AIN.CUTOFF", 4, false, Milli, ReadWrite, 5_000_000),
     p(2, "AIN.DEADBAND", 4, false, Milli, ReadWrite, 0),
     p(3, "AIN.ISCALE", 4, false, Milli, ReadWrite, 1_000),
@@ -219,6 +235,14 @@ pub const TABLE: [Param; 28] = [
         ReadWrite,
         0,
     ),
+    p(id::MT_NUM, "MT.NUM", 1, false, Integer, ReadWrite, 0),
+    p(id::MT_P, "MT.P", 8, true, Position, ReadWrite, 0),
+    p(id::MT_V, "MT.V", 8, false, Profile, ReadWrite, 0),
+    p(id::MT_ACC, "MT.ACC", 8, false, Profile, ReadWrite, 0),
+    p(id::MT_DEC, "MT.DEC", 8, false, Profile, ReadWrite, 0),
+    p(id::MT_CNTL, "MT.CNTL", 4, false, Integer, ReadWrite, 0),
+    p(id::MT_SET, "MT.SET", 1, false, Integer, Command, 0),
+    p(id::MT_LOAD, "MT.LOAD", 1, false, Integer, Command, 0),
 ];
 
 /// Parameters that only store their value, in table order (their index in
@@ -327,6 +351,12 @@ pub fn read(state: &State, param: &Param) -> i64 {
         id::SWLS_EN => i64::from(d.config.swls_enabled),
         id::SWLS_LIMIT0 => state.pos_units64(d.config.limit0),
         id::SWLS_LIMIT1 => state.pos_units64(d.config.limit1),
+        id::MT_NUM => i64::from(state.tasks.number),
+        id::MT_P => state.tasks.edit.position,
+        id::MT_V => state.tasks.edit.velocity,
+        id::MT_ACC => state.tasks.edit.acceleration,
+        id::MT_DEC => state.tasks.edit.deceleration,
+        id::MT_CNTL => state.tasks.edit.control,
         other => stored_index(other)
             .and_then(|i| state.stored.get(i).copied())
             .unwrap_or(0),
@@ -353,6 +383,17 @@ pub fn write(state: &mut State, param: &Param, value: i64) -> CipResult {
         id::SWLS_EN if (0..=1).contains(&value) => state.drive.config.swls_enabled = value == 1,
         id::SWLS_LIMIT0 => state.drive.config.limit0 = state.pos_counts(value),
         id::SWLS_LIMIT1 => state.drive.config.limit1 = state.pos_counts(value),
+        id::MT_NUM => {
+            state.tasks.number = u8::try_from(value)
+                .ok()
+                .filter(|&n| usize::from(n) < super::motion_tasks::TASKS)
+                .ok_or(range())?
+        }
+        id::MT_P => state.tasks.edit.position = value,
+        id::MT_V if value >= 0 => state.tasks.edit.velocity = value,
+        id::MT_ACC if value >= 0 => state.tasks.edit.acceleration = value,
+        id::MT_DEC if value >= 0 => state.tasks.edit.deceleration = value,
+        id::MT_CNTL if (0..=1).contains(&value) => state.tasks.edit.control = value,
         other => {
             let fits = match param.len {
                 1 | 2 | 4 if param.signed => {

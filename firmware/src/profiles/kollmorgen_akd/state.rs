@@ -5,6 +5,7 @@
 use stack::cip::{CipError, CipResult, General};
 
 use super::drive::{Drive, Mode, Refusal, COUNTS_PER_REV};
+use super::motion_tasks::MotionTasks;
 use super::params::STORED;
 
 /// EIP.POSUNIT / EIP.PROFUNIT default: 2^16, so 2^16 units per revolution (parameter
@@ -63,6 +64,8 @@ pub struct State {
     pub stored: [i64; STORED],
     /// Load Complete: Status Word 2 bit 7 and Position Controller attribute 58.
     pub load_complete: bool,
+    /// The motion task table.
+    pub tasks: MotionTasks,
 }
 
 fn clamp32(v: i64) -> i32 {
@@ -81,6 +84,7 @@ impl State {
             pc: Settings::new(),
             stored: super::params::stored_defaults(),
             load_complete: false,
+            tasks: MotionTasks::default(),
         }
     }
 

@@ -388,6 +388,43 @@ fn after_homing_an_absolute_move_ends_in_position_at_the_target() {
 }
 
 #[test]
+fn start_block_runs_a_stored_motion_task() {
+    let mut b = Bench::new();
+    b.enable_and_home();
+    let set = |b: &mut Bench, i: u16, d: &[u8]| b.explicit(0x10, 0x0F, i, Some(1), d).0.unwrap();
+    // Task 3: absolute 2000 at 2000 units/s, 20000 units/s² (MT.NUM, MT.P..., MT.SET).
+    set(&mut b, id::MT_NUM, &[3]);
+    set(&mut b, id::MT_P, &2000i64.to_le_bytes());
+    set(&mut b, id::MT_V, &2000i64.to_le_bytes());
+    set(&mut b, id::MT_ACC, &20_000i64.to_le_bytes());
+    set(&mut b, id::MT_DEC, &20_000i64.to_le_bytes());
+    set(&mut b, id::MT_SET, &[1]);
+    set(&mut b, id::MT_P, &0i64.to_le_bytes());
+    set(&mut b, id::MT_LOAD, &[1]);
+    assert_eq!(
+        b.explicit(0x0E, 0x0F, id::MT_P, Some(1), &[]).1,
+        2000i64.to_le_bytes()
+    );
+    let mut c = cmd(EN, 0x21, 0x20, 0);
+    c[1] = 3;
+    b.send(c);
+    c[0] |= control::START_BLOCK;
+    b.send(c);
+    let r = b.run_ms(100);
+    assert_eq!((r[1], r[0] & status1::BLOCK), (3, status1::BLOCK));
+    assert_eq!(r[3], 0x20, "no error response");
+    b.until(5_000, |r| r[0] & status1::IN_MOTION == 0).unwrap();
+    let r = b.response();
+    assert_eq!((r[1], r[0] & status1::BLOCK, dint(&r, 8)), (0, 0, 2000));
+    // An undefined task: the error response with 0x16.
+    c[1] = 4;
+    c[0] = EN;
+    b.send(c);
+    c[0] |= control::START_BLOCK;
+    assert_eq!(b.send(c)[4..8], [0x16, 0xFF, 0x21, 0x20]);
+}
+
+#[test]
 fn torque_mode_and_the_torque_response() {
     let mut b = Bench::new();
     b.explicit(0x10, 0x25, 1, Some(3), &[2]).0.unwrap();
