@@ -20,7 +20,8 @@ GET, SET = 0x0E, 0x10
 ENABLE, HARD_STOP, SMOOTH_STOP, DIRECTION, RELATIVE, START_BLOCK, LOAD = (
     0x80, 0x20, 0x10, 0x08, 0x04, 0x02, 0x01)
 # Status Word 1 (seed page) and 2 (p.15).
-ENABLED, HOMED, CUR_DIR, FAULT, IN_POSITION, IN_MOTION = 0x80, 0x20, 0x10, 0x08, 0x04, 0x01
+ENABLED, HOMED, CUR_DIR, FAULT, IN_POSITION, BLOCK, IN_MOTION = (
+    0x80, 0x20, 0x10, 0x08, 0x04, 0x02, 0x01)
 LOAD_COMPLETE = 0x80
 
 
@@ -38,10 +39,10 @@ def raw(driver, service, cls, instance, attribute, data=b""):
 
 
 def command(control=0, ctype=0x00, rtype=0x20, data=0, position=0, velocity=0, accel=0,
-            decel=0, attribute=0, map_type=0, param=b""):
+            decel=0, attribute=0, map_type=0, param=b"", block=0):
     """A 64-byte command assembly (axis 1 in bits 5-7 of bytes 2-3 when given so)."""
     c = bytearray(64)
-    c[0], c[2], c[3] = control, ctype, rtype
+    c[0], c[1], c[2], c[3] = control, block, ctype, rtype
     c[4:24] = struct.pack("<iiiii", data, position, velocity, accel, decel)
     c[24:24 + len(param)] = param
     c[32], c[33] = attribute, map_type

@@ -2,13 +2,14 @@
 command 101 / response 102 (configuration 100) at the manual's minimum RPI (10 ms), and
 pycomm3 for the explicit side: the handshake example, Load/Start edges, the error
 response, jog and stops in velocity mode, the not-homed fault, homing through HOME.MOVE
-(parameter 205) and an absolute move in position mode, Attribute to Get, the torque
-response; then the admission rules (5 ms refused, multicast accepted).
+(parameter 205) and an absolute move in position mode, a motion task run by Start Block,
+Attribute to Get, the torque response; then the admission rules (5 ms refused, multicast accepted).
 
 Reads {"host", "rpi_ms", "multiplier"} on stdin. Prints one JSON line of named results
 (responses in hex, times in ms).
 """
 import json
+import struct
 import sys
 import time
 
@@ -17,6 +18,7 @@ from ethernetip.ethernetip import EtherNetIP
 
 import kollmorgen_akd_common as akd
 from kollmorgen_akd_common import (ENABLE, LOAD, DIRECTION, SMOOTH_STOP, HARD_STOP, RELATIVE,
+                                   START_BLOCK, BLOCK,
                                    ENABLED, HOMED, CUR_DIR, FAULT, IN_POSITION, IN_MOTION,
                                    LOAD_COMPLETE, command, dint)
 
@@ -125,6 +127,19 @@ def main():
         owner.wait_for(lambda r: r[0] & IN_MOTION == 0, 10.0)
         time.sleep(0.05)
         out["after_relative"] = owner.read().hex()
+        # Motion task 3 (MT.NUM, MT.P, MT.V, MT.ACC, MT.DEC, then MT.SET), run by Start Block.
+        task = [(1030, b"\x03"), (1031, struct.pack("<q", 1000)), (1033, struct.pack("<q", 2000)),
+                (1035, struct.pack("<q", 20000)), (1037, struct.pack("<q", 20000)),
+                (1040, b"\x01")]
+        out["task_writes"] = [akd.raw(d, akd.SET, akd.PARAMETER, i, 1, v)["status"]
+                              for i, v in task]
+        owner.exchange(command(ENABLE, 0x21, 0x20, block=3))
+        owner.send(command(ENABLE | START_BLOCK, 0x21, 0x20, block=3))
+        owner.wait_for(lambda r: r[0] & BLOCK, 1.0)
+        out["block_running"] = owner.read().hex()
+        owner.wait_for(lambda r: r[0] & IN_MOTION == 0, 10.0)
+        time.sleep(0.05)
+        out["after_task"] = owner.read().hex()
         # Disable at the end.
         out["disabled"] = owner.exchange(command(0, 0x21, 0x20)).hex()
     finally:

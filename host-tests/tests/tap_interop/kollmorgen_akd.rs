@@ -142,6 +142,16 @@ fn class1_scenario(rig: &Rig) {
     assert_eq!(r["attr6_after_move"], target);
     assert_eq!(r["pl_fb"]["data"], hex(&5000i64.to_le_bytes()));
     assert_eq!(dint(&bytes(&r["after_relative"]), 8), 3500, "{r}");
+    // Motion task 3 by Start Block: executing block # 3 and Block in Execution, then 1000.
+    assert_eq!(r["task_writes"], json!([0, 0, 0, 0, 0, 0]), "{r}");
+    let running = bytes(&r["block_running"]);
+    assert_eq!((running[1], running[0] & 0x02), (3, 0x02), "{r}");
+    let done = bytes(&r["after_task"]);
+    assert_eq!(
+        (done[1], done[0] & 0x02, dint(&done, 8)),
+        (0, 0, 1000),
+        "{r}"
+    );
     assert_eq!(bytes(&r["disabled"])[0] & ENABLED, 0, "{r}");
     assert_eq!(r["forward_close"], 0, "{r}");
     // Admission: below the minimum RPI refused (0x0112); multicast T->O accepted.
