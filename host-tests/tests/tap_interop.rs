@@ -45,6 +45,8 @@ mod explicit;
 mod hostile_cip;
 #[path = "tap_interop/hostile_framing.rs"]
 mod hostile_framing;
+#[path = "tap_interop/kollmorgen_akd.rs"]
+mod kollmorgen_akd;
 #[path = "tap_interop/parker_ipa.rs"]
 mod parker_ipa;
 #[path = "tap_interop/position_servo.rs"]

@@ -6,7 +6,12 @@ use crate::{footprint, fuzz, setup, smoke, workspace};
 /// Seconds per fuzz target in the test run.
 const FUZZ_SECONDS: u64 = 5;
 /// The profiles whose TAP scenarios also run on the QEMU board.
-const QEMU_PROFILES: [&str; 3] = ["position-servo", "parker-ipa", "ametek-pls"];
+const QEMU_PROFILES: [&str; 4] = [
+    "position-servo",
+    "parker-ipa",
+    "ametek-pls",
+    "kollmorgen-akd",
+];
 /// The TAP interop test file (written by the host-tests owners).
 const TAP_INTEROP: &str = "host-tests/tests/tap_interop.rs";
 

@@ -7,6 +7,8 @@
 pub mod ametek_pls;
 #[cfg(feature = "profile-generic")]
 pub mod generic;
+#[cfg(feature = "profile-kollmorgen-akd")]
+pub mod kollmorgen_akd;
 #[cfg(feature = "profile-parker-ipa")]
 pub mod parker_ipa;
 #[cfg(feature = "profile-position-servo")]
@@ -19,6 +21,8 @@ mod select;
 pub use ametek_pls::AmetekPls;
 #[cfg(feature = "profile-generic")]
 pub use generic::Generic;
+#[cfg(feature = "profile-kollmorgen-akd")]
+pub use kollmorgen_akd::KollmorgenAkd;
 #[cfg(feature = "profile-parker-ipa")]
 pub use parker_ipa::ParkerIpa;
 #[cfg(feature = "profile-position-servo")]

@@ -85,6 +85,8 @@ profiles! {
         "The Parker IPA / ACR9000 controller ([`super::ParkerIpa`]).";
     "profile-ametek-pls" "ametek-pls" AmetekPls(super::AmetekPls) super::ametek_pls::eds::EDS,
         "The Ametek 7500 programmable limit switch ([`super::AmetekPls`]).";
+    "profile-kollmorgen-akd" "kollmorgen-akd" KollmorgenAkd(super::KollmorgenAkd)
+        super::kollmorgen_akd::eds::EDS, "The Kollmorgen AKD servo drive ([`super::KollmorgenAkd`]).";
 }
 
 impl Profile {

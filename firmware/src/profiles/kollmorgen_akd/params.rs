@@ -1,0 +1,422 @@
+//! The drive parameters the Parameter object (class 0x0F) serves: instance = the parameter's
+//! index in Appendix B, its size and type, scaling, and how a value is read and written.
+//!
+//! Scaling (Appendix B): positions in position units (EIP.POSUNIT), velocities and
+//! accelerations in profile units (EIP.PROFUNIT), other fractional values x1000 (1.001 is
+//! 1001). An 8-byte parameter at instance N has its lower 32 bits at N + 1 (4 bytes). A
+//! "command" parameter (HOME.MOVE, DRV.CLRFAULTS, DRV.NVSAVE) executes on a write of one byte
+//! (any value); reading it gives 0 and executes nothing.
+//!
+//! Instances 1-11 and 205 are Appendix B's (RSLogix guide, November 2018, p.74; HOME.MOVE 205
+//! from the communication manual's own example); 797 EIP.PROFUNIT is the parameter
+//! reference's; 796 EIP.POSUNIT is inferred (it precedes EIP.PROFUNIT in Modbus, 1590 and
+//! 1592). The other parameters the simulation needs are not in any retrieved copy of
+//! Appendix B, so they take project instances from 1001 up (see the profile's README).
+
+use enip_stack::cip::{CipError, CipResult, General};
+
+use super::state::State;
+
+/// How a parameter's value is scaled on the network.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scale {
+    /// An integer as it is.
+    Integer,
+    /// A fractional value x1000.
+    Milli,
+    /// Position units.
+    Position,
+    /// Profile units (velocity, acceleration).
+    Profile,
+}
+
+/// Who may read and write a parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rule {
+    /// Read and written.
+    ReadWrite,
+    /// Read only.
+    ReadOnly,
+    /// A command: executes on a write, reads 0.
+    Command,
+}
+
+/// One parameter of the table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Param {
+    /// Parameter object instance.
+    pub instance: u16,
+    /// AKD parameter name.
+    pub name: &'static str,
+    /// Data length in bytes (attribute 6).
+    pub len: u8,
+    /// Signed data type.
+    pub signed: bool,
+    /// Scaling.
+    pub scale: Scale,
+    /// Access.
+    pub rule: Rule,
+    /// Power-up value (network scaling, default units), for parameters that only store.
+    pub default: i64,
+}
+
+const fn p(
+    instance: u16,
+    name: &'static str,
+    len: u8,
+    signed: bool,
+    scale: Scale,
+    rule: Rule,
+    default: i64,
+) -> Param {
+    Param {
+        instance,
+        name,
+        len,
+        signed,
+        scale,
+        rule,
+        default,
+    }
+}
+
+use Rule::{Command, ReadOnly, ReadWrite};
+use Scale::{Integer, Milli, Position, Profile};
+
+/// Instance numbers the code acts on.
+pub mod id {
+    /// AIN.ZERO (command).
+    pub const AIN_ZERO: u16 = 9;
+    /// HOME.MOVE (command; the manual's example instance).
+    pub const HOME_MOVE: u16 = 205;
+    /// EIP.POSUNIT (inferred instance).
+    pub const EIP_POSUNIT: u16 = 796;
+    /// EIP.PROFUNIT.
+    pub const EIP_PROFUNIT: u16 = 797;
+    /// DRV.CLRFAULTS (command; project instance).
+    pub const DRV_CLRFAULTS: u16 = 1001;
+    /// DRV.NVSAVE (command; project instance).
+    pub const DRV_NVSAVE: u16 = 1002;
+    /// DRV.ACC (project instance).
+    pub const DRV_ACC: u16 = 1004;
+    /// DRV.DEC (project instance).
+    pub const DRV_DEC: u16 = 1006;
+    /// DRV.DECSTOP (project instance).
+    pub const DRV_DECSTOP: u16 = 1008;
+    /// DRV.MOTIONSTAT (project instance).
+    pub const DRV_MOTIONSTAT: u16 = 1010;
+    /// HOME.MODE (project instance).
+    pub const HOME_MODE: u16 = 1012;
+    /// HOME.P (project instance).
+    pub const HOME_P: u16 = 1013;
+    /// MT.TPOSWND (project instance).
+    pub const MT_TPOSWND: u16 = 1015;
+    /// PL.FB (project instance).
+    pub const PL_FB: u16 = 1017;
+    /// VL.FB (project instance).
+    pub const VL_FB: u16 = 1019;
+    /// IL.FB (project instance).
+    pub const IL_FB: u16 = 1021;
+    /// SWLS.EN (project instance).
+    pub const SWLS_EN: u16 = 1022;
+    /// SWLS.LIMIT0 (project instance).
+    pub const SWLS_LIMIT0: u16 = 1023;
+    /// SWLS.LIMIT1 (project instance).
+    pub const SWLS_LIMIT1: u16 = 1025;
+    /// MT.NUM: the motion task being edited (project instance).
+    pub const MT_NUM: u16 = 1030;
+    /// MT.P (project instance).
+    pub const MT_P: u16 = 1031;
+    /// MT.V (project instance).
+    pub const MT_V: u16 = 1033;
+    /// MT.ACC (project instance).
+    pub const MT_ACC: u16 = 1035;
+    /// MT.DEC (project instance).
+    pub const MT_DEC: u16 = 1037;
+    /// MT.CNTL (project instance).
+    pub const MT_CNTL: u16 = 1039;
+    /// MT.SET: store the edited task (command; project instance).
+    pub const MT_SET: u16 = 1040;
+    /// MT.LOAD: read task MT.NUM for editing (command; project instance).
+    pub const MT_LOAD: u16 = 1041;
+}
+
+/// The table, by instance.
+pub const TABLE: [Param; 36] = [
+    p(1, "AIN.CUTOFF", 4, false, Milli, ReadWrite, 5_000_000),
+    p(2, "AIN.DEADBAND", 4, false, Milli, ReadWrite, 0),
+    p(3, "AIN.ISCALE", 4, false, Milli, ReadWrite, 1_000),
+    p(4, "AIN.OFFSET", 2, true, Milli, ReadWrite, 0),
+    p(5, "AIN.PSCALE", 8, true, Position, ReadWrite, 1),
+    p(7, "AIN.VALUE", 4, false, Milli, ReadOnly, 0),
+    p(8, "AIN.VSCALE", 4, false, Profile, ReadWrite, 1),
+    p(id::AIN_ZERO, "AIN.ZERO", 1, false, Integer, Command, 0),
+    p(10, "AOUT.ISCALE", 4, false, Milli, ReadWrite, 1_000),
+    p(11, "AOUT.MODE", 2, false, Integer, ReadWrite, 0),
+    p(id::HOME_MOVE, "HOME.MOVE", 1, false, Integer, Command, 0),
+    p(
+        id::EIP_POSUNIT,
+        "EIP.POSUNIT",
+        4,
+        false,
+        Integer,
+        ReadWrite,
+        0,
+    ),
+    p(
+        id::EIP_PROFUNIT,
+        "EIP.PROFUNIT",
+        4,
+        false,
+        Integer,
+        ReadWrite,
+        0,
+    ),
+    p(
+        id::DRV_CLRFAULTS,
+        "DRV.CLRFAULTS",
+        1,
+        false,
+        Integer,
+        Command,
+        0,
+    ),
+    p(id::DRV_NVSAVE, "DRV.NVSAVE", 1, false, Integer, Command, 0),
+    p(id::DRV_ACC, "DRV.ACC", 8, false, Profile, ReadWrite, 0),
+    p(id::DRV_DEC, "DRV.DEC", 8, false, Profile, ReadWrite, 0),
+    p(
+        id::DRV_DECSTOP,
+        "DRV.DECSTOP",
+        8,
+        false,
+        Profile,
+        ReadWrite,
+        0,
+    ),
+    p(
+        id::DRV_MOTIONSTAT,
+        "DRV.MOTIONSTAT",
+        4,
+        false,
+        Integer,
+        ReadOnly,
+        0,
+    ),
+    p(id::HOME_MODE, "HOME.MODE", 2, true, Integer, ReadWrite, 0),
+    p(id::HOME_P, "HOME.P", 8, true, Position, ReadWrite, 0),
+    p(
+        id::MT_TPOSWND,
+        "MT.TPOSWND",
+        8,
+        false,
+        Position,
+        ReadWrite,
+        0,
+    ),
+    p(id::PL_FB, "PL.FB", 8, true, Position, ReadOnly, 0),
+    p(id::VL_FB, "VL.FB", 8, true, Profile, ReadOnly, 0),
+    p(id::IL_FB, "IL.FB", 4, true, Milli, ReadOnly, 0),
+    p(id::SWLS_EN, "SWLS.EN", 1, false, Integer, ReadWrite, 0),
+    p(
+        id::SWLS_LIMIT0,
+        "SWLS.LIMIT0",
+        8,
+        true,
+        Position,
+        ReadWrite,
+        0,
+    ),
+    p(
+        id::SWLS_LIMIT1,
+        "SWLS.LIMIT1",
+        8,
+        true,
+        Position,
+        ReadWrite,
+        0,
+    ),
+    p(id::MT_NUM, "MT.NUM", 1, false, Integer, ReadWrite, 0),
+    p(id::MT_P, "MT.P", 8, true, Position, ReadWrite, 0),
+    p(id::MT_V, "MT.V", 8, false, Profile, ReadWrite, 0),
+    p(id::MT_ACC, "MT.ACC", 8, false, Profile, ReadWrite, 0),
+    p(id::MT_DEC, "MT.DEC", 8, false, Profile, ReadWrite, 0),
+    p(id::MT_CNTL, "MT.CNTL", 4, false, Integer, ReadWrite, 0),
+    p(id::MT_SET, "MT.SET", 1, false, Integer, Command, 0),
+    p(id::MT_LOAD, "MT.LOAD", 1, false, Integer, Command, 0),
+];
+
+/// Parameters that only store their value, in table order (their index in
+/// [`State::stored`]).
+const STORED_IDS: [u16; 8] = [1, 2, 3, 4, 5, 7, 8, 10];
+/// How many parameters only store.
+pub const STORED: usize = STORED_IDS.len() + 1;
+
+/// Power-up values of the stored parameters (AOUT.MODE last).
+pub fn stored_defaults() -> [i64; STORED] {
+    let mut out = [0; STORED];
+    for (slot, id) in out.iter_mut().zip(STORED_IDS.iter().chain([11].iter())) {
+        *slot = find(*id).map_or(0, |(_, p)| p.default);
+    }
+    out
+}
+
+fn stored_index(id: u16) -> Option<usize> {
+    STORED_IDS.iter().chain([11].iter()).position(|&i| i == id)
+}
+
+/// What an instance addresses: a parameter, and whether it is the lower-32-bit view of an
+/// 8-byte one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct View {
+    /// The parameter.
+    pub param: &'static Param,
+    /// True for instance N + 1 of an 8-byte parameter N.
+    pub low_word: bool,
+}
+
+impl View {
+    /// Attribute 6: the data length the instance reads and writes.
+    pub fn data_len(&self) -> u8 {
+        if self.low_word {
+            4
+        } else {
+            self.param.len
+        }
+    }
+    /// Attribute 5: the data type code (0xC6 for commands).
+    pub fn type_code(&self) -> u8 {
+        match (self.data_len(), self.param.signed) {
+            (1, true) => 0xC2,
+            (1, false) => 0xC6,
+            (2, true) => 0xC3,
+            (2, false) => 0xC7,
+            (4, true) => 0xC4,
+            (4, false) => 0xC8,
+            (_, true) => 0xC5,
+            (_, false) => 0xC9,
+        }
+    }
+}
+
+fn find(id: u16) -> Option<(usize, &'static Param)> {
+    TABLE.iter().enumerate().find(|(_, p)| p.instance == id)
+}
+
+/// The parameter instance `instance` addresses, if any.
+pub fn view(instance: u32) -> Option<View> {
+    let id = u16::try_from(instance).ok()?;
+    if let Some((_, param)) = find(id) {
+        return Some(View {
+            param,
+            low_word: false,
+        });
+    }
+    let (_, param) = find(id.checked_sub(1)?)?;
+    (param.len == 8).then_some(View {
+        param,
+        low_word: true,
+    })
+}
+
+/// Every instance that exists, in order.
+pub fn instances() -> impl Iterator<Item = u16> {
+    TABLE.iter().flat_map(|p| {
+        let low = (p.len == 8).then_some(p.instance + 1);
+        core::iter::once(p.instance).chain(low)
+    })
+}
+
+fn range() -> CipError {
+    CipError::new(General::InvalidAttributeValue)
+}
+
+/// The value of `param` in network scaling.
+pub fn read(state: &State, param: &Param) -> i64 {
+    let d = &state.drive;
+    let pc = &state.pc;
+    match param.instance {
+        id::EIP_POSUNIT => i64::from(pc.position_units),
+        id::EIP_PROFUNIT => i64::from(pc.profile_units),
+        id::DRV_ACC => i64::from(pc.acceleration),
+        id::DRV_DEC => i64::from(pc.deceleration),
+        id::DRV_DECSTOP => state.prof_units64(d.config.decstop),
+        id::DRV_MOTIONSTAT => i64::from(d.motionstat()),
+        id::HOME_MODE => i64::from(d.config.home_mode),
+        id::HOME_P => state.pos_units64(d.config.home_position),
+        id::MT_TPOSWND => state.pos_units64(d.config.window),
+        id::PL_FB => state.pos_units64(d.position()),
+        id::VL_FB => state.prof_units64(d.velocity()),
+        // IL.FB is in amperes: x1000 gives milliamps.
+        id::IL_FB => i64::from(d.torque()),
+        id::SWLS_EN => i64::from(d.config.swls_enabled),
+        id::SWLS_LIMIT0 => state.pos_units64(d.config.limit0),
+        id::SWLS_LIMIT1 => state.pos_units64(d.config.limit1),
+        id::MT_NUM => i64::from(state.tasks.number),
+        id::MT_P => state.tasks.edit.position,
+        id::MT_V => state.tasks.edit.velocity,
+        id::MT_ACC => state.tasks.edit.acceleration,
+        id::MT_DEC => state.tasks.edit.deceleration,
+        id::MT_CNTL => state.tasks.edit.control,
+        other => stored_index(other)
+            .and_then(|i| state.stored.get(i).copied())
+            .unwrap_or(0),
+    }
+}
+
+/// Writes `value` (network scaling) to `param`, or refuses it with 0x09 and changes
+/// nothing. Commands are the caller's (they reach the drive and the NV copy).
+pub fn write(state: &mut State, param: &Param, value: i64) -> CipResult {
+    let positive = |v: i64| u32::try_from(v).ok().filter(|&v| v > 0).ok_or(range());
+    let profile32 = |s: &State, v: i64| {
+        s.check_profile(v, true)?;
+        i32::try_from(v).map_err(|_| range())
+    };
+    match param.instance {
+        id::EIP_POSUNIT => state.pc.position_units = positive(value)?,
+        id::EIP_PROFUNIT => state.pc.profile_units = positive(value)?,
+        id::DRV_ACC => state.pc.acceleration = profile32(state, value)?,
+        id::DRV_DEC => state.pc.deceleration = profile32(state, value)?,
+        id::DRV_DECSTOP => state.drive.config.decstop = state.check_profile(value, true)?,
+        id::HOME_MODE => state.drive.config.home_mode = home_mode(value)?,
+        id::HOME_P => state.drive.config.home_position = state.pos_counts(value),
+        id::MT_TPOSWND if value >= 0 => state.drive.config.window = state.pos_counts(value),
+        id::SWLS_EN if (0..=1).contains(&value) => state.drive.config.swls_enabled = value == 1,
+        id::SWLS_LIMIT0 => state.drive.config.limit0 = state.pos_counts(value),
+        id::SWLS_LIMIT1 => state.drive.config.limit1 = state.pos_counts(value),
+        id::MT_NUM => {
+            state.tasks.number = u8::try_from(value)
+                .ok()
+                .filter(|&n| usize::from(n) < super::motion_tasks::TASKS)
+                .ok_or(range())?
+        }
+        id::MT_P => state.tasks.edit.position = value,
+        id::MT_V if value >= 0 => state.tasks.edit.velocity = value,
+        id::MT_ACC if value >= 0 => state.tasks.edit.acceleration = value,
+        id::MT_DEC if value >= 0 => state.tasks.edit.deceleration = value,
+        id::MT_CNTL if (0..=1).contains(&value) => state.tasks.edit.control = value,
+        other => {
+            let fits = match param.len {
+                1 | 2 | 4 if param.signed => {
+                    let bits = 8 * u32::from(param.len) - 1;
+                    (-(1i64 << bits)..(1i64 << bits)).contains(&value)
+                }
+                1 | 2 | 4 => (0..(1i64 << (8 * u32::from(param.len)))).contains(&value),
+                _ => true,
+            };
+            let slot = stored_index(other)
+                .filter(|_| fits)
+                .and_then(|i| state.stored.get_mut(i))
+                .ok_or(range())?;
+            *slot = value;
+        }
+    }
+    Ok(())
+}
+
+/// HOME.MODE values the simulation implements: 0, "home using the current position".
+pub fn home_mode(value: i64) -> CipResult<i16> {
+    match value {
+        0 => Ok(0),
+        _ => Err(range()),
+    }
+}
