@@ -1,4 +1,4 @@
-//! The assembly instances (§2.1, §3.1; instance numbers [R] AM-IO-4): input 100 (17 words,
+//! The assembly instances (§2.1, §3.1; instance numbers \[R\] AM-IO-4): input 100 (17 words,
 //! T->O, no header), output 150 (7 words, O->T with the run/idle header), configuration 1
 //! (the ":C" tag "is not used": 0 bytes), and the heartbeat points 198/199 of input-only and
 //! listen-only connections.

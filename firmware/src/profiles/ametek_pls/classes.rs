@@ -37,8 +37,8 @@ pub const STATUS_CLASS: ClassDef = ClassDef {
 };
 
 /// Class 0xC1 (§2.3-2.10). 36 (offset) and 37 (program control) are commands: a Get returns
-/// the last accepted data ([R] AM-EX-3). 38 is settable in the class but refused by the
-/// resolver version ([R] 12).
+/// the last accepted data (\[R\] AM-EX-3). 38 is settable in the class but refused by the
+/// resolver version (\[R\] 12).
 pub const CONFIG_CLASS: ClassDef = ClassDef {
     id: CONFIG,
     name: "PLS Configuration",

@@ -70,7 +70,7 @@ pub const fn attribute_words(a: u16) -> usize {
     }
 }
 
-/// Default scale factor of every group after power-up with an empty NVRAM ([R] 19).
+/// Default scale factor of every group after power-up with an empty NVRAM (\[R\] 19).
 pub const DEFAULT_SCALE: u16 = 360;
 
 /// Setpoint types (§2.4, word 8 / §2.5, word 2).
@@ -130,7 +130,7 @@ pub struct Program {
 }
 
 impl Config {
-    /// Power-up defaults: scale factor 360 in every group, everything else 0 ([R] 19).
+    /// Power-up defaults: scale factor 360 in every group, everything else 0 (\[R\] 19).
     pub const fn new() -> Self {
         let mut pls = [0; PLS_WORDS];
         let mut g = 0;

@@ -62,7 +62,7 @@ impl OutputData {
     }
 }
 
-/// A 2-bit force code, reserved (3) read as unforce ([R]).
+/// A 2-bit force code, reserved (3) read as unforce (\[R\]).
 fn code(c: u16) -> u16 {
     if c == 3 {
         0
@@ -333,7 +333,7 @@ impl Engine {
         };
     }
 
-    /// The enable bit went low: a test without a time ends; a timed one runs on ([R]).
+    /// The enable bit went low: a test without a time ends; a timed one runs on (\[R\]).
     pub fn release_addon(&mut self) {
         if self.addon.until.is_none() {
             self.addon.active = false;
@@ -747,7 +747,7 @@ fn shift(p: u16, counts: i32, sf: u16) -> u16 {
 }
 
 /// True inside the window on (inclusive) .. off (exclusive), wrapping when on > off; an
-/// empty window when on = off ([R] 14).
+/// empty window when on = off (\[R\] 14).
 pub fn window(pos: u16, on: u16, off: u16) -> bool {
     match on.cmp(&off) {
         core::cmp::Ordering::Less => (on..off).contains(&pos),
@@ -766,7 +766,7 @@ fn crossed(pos: u16, travel: u32, x: u16, sf: u16) -> bool {
 }
 
 /// Linear speed compensation: `start` counts at `rpm_start` and below, `end` at `rpm_end`
-/// and above, linear between ([R] 14: clamped).
+/// and above, linear between (\[R\] 14: clamped).
 fn interpolate(rpm: u16, rpm_start: u16, rpm_end: u16, start: u16, end: u16) -> i32 {
     let (s, e) = (i32::from(start), i32::from(end));
     if rpm <= rpm_start || rpm_end <= rpm_start {

@@ -47,7 +47,7 @@ use validate::Violation;
 
 /// Program control codes (§2.9).
 pub mod control {
-    /// "No offset": clears every offset ([R] 8).
+    /// "No offset": clears every offset (\[R\] 8).
     pub const NO_OFFSET: u16 = 1;
     /// Save the current settings to NVRAM.
     pub const SAVE: u16 = 2;
@@ -313,7 +313,7 @@ impl<N: Nvram> AmetekPls<N> {
     }
 }
 
-/// General status 0x19: store operation failure (error code 4, [R] AM-EX-5).
+/// General status 0x19: store operation failure (error code 4, \[R\] AM-EX-5).
 const STORE_OPERATION_FAILURE: u8 = 0x19;
 
 impl<N: Nvram> Device for AmetekPls<N> {
@@ -350,7 +350,7 @@ impl<N: Nvram> Device for AmetekPls<N> {
         Ok(n)
     }
 
-    /// Output data (O->T in Run, or a Set without an owner, [R] AM-IO-7); the empty
+    /// Output data (O->T in Run, or a Set without an owner, \[R\] AM-IO-7); the empty
     /// configuration assembly accepts its 0 bytes.
     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
         match instance {
@@ -429,7 +429,7 @@ impl<N: Nvram> Device for AmetekPls<N> {
         Ok(())
     }
 
-    /// Idle data and the loss of the owner act as all-zero output data ([R] AM-IO-6).
+    /// Idle data and the loss of the owner act as all-zero output data (\[R\] AM-IO-6).
     fn connection_event(&mut self, event: ConnectionEvent) {
         self.leds.connection_event(&event);
         match event {

@@ -2,7 +2,7 @@
 //! per attribute. A rule broken gives `(code, word)`: code 1 invalid data value, 2 conflict
 //! in data values, 3 resolver error, 4 memory error; the word is 1-based as in the manual's
 //! tables. All range checks (code 1) come before the conflict checks (code 2); within each
-//! pass the lowest word wins ([R] AM-EX-6).
+//! pass the lowest word wins (\[R\] AM-EX-6).
 
 use super::config::{attr, setpoint, Config, GROUPS, HIGH_SPEED, INPUTS, INPUT_STRIDE};
 
@@ -203,7 +203,7 @@ fn inputs(cfg: &Config, w: &[u16]) -> Result<(), Violation> {
     Ok(())
 }
 
-/// Attribute 36 (§2.8): a home value must be a position of its group ([R]); nothing can be
+/// Attribute 36 (§2.8): a home value must be a position of its group (\[R\]); nothing can be
 /// offset while the resolver has a fault (code 3).
 fn offset(cfg: &Config, w: &[u16], resolver_fault: bool) -> Result<(), Violation> {
     if resolver_fault {

@@ -14,7 +14,7 @@ use super::state::State;
 /// Configuration assembly: 0 bytes (p.11).
 pub const CONFIG: u16 = 100;
 /// Command assembly, O->T with the run/idle header: the instance is on a page break no
-/// copy shows; 101 ([R] item 1), next to 100 and 102.
+/// copy shows; 101 (\[R\] item 1), next to 100 and 102.
 pub const COMMAND: u16 = 101;
 /// Response assembly, T->O without header (p.10).
 pub const RESPONSE: u16 = 102;
@@ -97,11 +97,11 @@ pub mod status2 {
 pub mod command_type {
     /// Target position (data bytes 4-7).
     pub const TARGET_POSITION: u8 = 0x01;
-    /// Target velocity (data bytes 4-7; [R] item 5, ODVA numbering).
+    /// Target velocity (data bytes 4-7; \[R\] item 5, ODVA numbering).
     pub const TARGET_VELOCITY: u8 = 0x02;
-    /// Acceleration (data bytes 4-7; [R] item 5).
+    /// Acceleration (data bytes 4-7; \[R\] item 5).
     pub const ACCELERATION: u8 = 0x03;
-    /// Deceleration (data bytes 4-7; [R] item 5).
+    /// Deceleration (data bytes 4-7; \[R\] item 5).
     pub const DECELERATION: u8 = 0x04;
     /// Torque, mA (data bytes 4-7).
     pub const TORQUE: u8 = 0x05;
@@ -109,9 +109,9 @@ pub mod command_type {
     pub const POSITION_MOVE: u8 = 0x06;
     /// Jog move (bytes 12-23).
     pub const JOG: u8 = 0x07;
-    /// Set an attribute of the Position Controller object ([R] item 6 layout).
+    /// Set an attribute of the Position Controller object (\[R\] item 6 layout).
     pub const SET_ATTRIBUTE: u8 = 0x1B;
-    /// Read or write a parameter value ([R] item 6 layout).
+    /// Read or write a parameter value (\[R\] item 6 layout).
     pub const PARAMETER: u8 = 0x1F;
 }
 
@@ -119,13 +119,13 @@ pub mod command_type {
 pub mod response_type {
     /// No data.
     pub const NONE: u8 = 0x00;
-    /// Actual position ([R] item 5).
+    /// Actual position (\[R\] item 5).
     pub const ACTUAL_POSITION: u8 = 0x01;
-    /// Commanded position ([R] item 5).
+    /// Commanded position (\[R\] item 5).
     pub const COMMANDED_POSITION: u8 = 0x02;
-    /// Actual velocity ([R] item 5).
+    /// Actual velocity (\[R\] item 5).
     pub const ACTUAL_VELOCITY: u8 = 0x03;
-    /// Commanded velocity ([R] item 5).
+    /// Commanded velocity (\[R\] item 5).
     pub const COMMANDED_VELOCITY: u8 = 0x04;
     /// Actual torque, mA (p.15).
     pub const TORQUE: u8 = 0x05;

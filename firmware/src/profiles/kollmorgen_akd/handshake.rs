@@ -2,12 +2,12 @@
 //!
 //! - Enable, Hard Stop and Smooth Stop are levels; Enable acts when it changes (so an
 //!   explicit write of attribute 17 is not undone by the next datagram), and the first
-//!   command after a connection opens compares with a control word of 0 ([R]).
+//!   command after a connection opens compares with a control word of 0 (\[R\]).
 //! - Load/Start: the command data is taken only on its 0 -> 1 transition. Success sets Load
 //!   Complete; Load Complete clears once Load/Start is 0 again. A load that fails puts the
 //!   error response in the response assembly: type 0x14, byte 4 the CIP general status,
 //!   byte 5 the additional code 0xFF, bytes 6-7 the command's bytes 2-3. It stays until the
-//!   next successful load ([R] item 9); Load Complete stays 0.
+//!   next successful load (\[R\] item 9); Load Complete stays 0.
 //! - Start Block (0 -> 1 with Load/Start 0) runs motion task byte 1 ([`motion_tasks`]); an
 //!   undefined task answers the error response with 0x16 (object does not exist), a task
 //!   the drive refuses (not homed) 0x10. A successful start clears an error response.

@@ -1,17 +1,17 @@
 //! Identity object values: every value in one place, with where it comes from.
 //!
 //! The manual (December 2014, p.9) lists the Identity object among the supported objects but
-//! gives none of its values, so the numbers below are this project's choices ([R] "Identity"
+//! gives none of its values, so the numbers below are this project's choices (\[R\] "Identity"
 //! of the requirement digest), kept consistent with the EDS file.
 
 use enip_stack::IdentityInfo;
 
-/// Product name: contains "AKD" ([R] Identity); the drive family of the manual.
+/// Product name: contains "AKD" (\[R\] Identity); the drive family of the manual.
 pub const PRODUCT_NAME: &str = "AKD EtherNet/IP servo drive";
 /// Vendor ID: not in the manual. 0xFFFF is a placeholder; a real drive reports the ID ODVA
 /// assigned to Kollmorgen.
 pub const VENDOR_ID: u16 = 0xFFFF;
-/// Device type 0x2B, "Generic Device (keyable)" ([R] Identity): the drive exposes the
+/// Device type 0x2B, "Generic Device (keyable)" (\[R\] Identity): the drive exposes the
 /// Position Controller objects 0x24/0x25 but not the ODVA position controller assemblies,
 /// so it does not claim device type 0x10.
 pub const DEVICE_TYPE: u16 = 0x2B;

@@ -255,7 +255,7 @@ impl<S: NvStorage> Device for KollmorgenAkd<S> {
     }
 
     /// A class the drive does not have: 0x16, the manual's "Class Not Supported" (p.10,
-    /// [R] item 11); symbolic paths stay the stack's (0x05).
+    /// \[R\] item 11); symbolic paths stay the stack's (0x05).
     fn handle_request(
         &mut self,
         _cx: &RequestContext,

@@ -10,7 +10,7 @@ use super::params::STORED;
 
 /// EIP.POSUNIT / EIP.PROFUNIT default: 2^16, so 2^16 units per revolution (parameter
 /// reference, "EIP.POSUNIT": "The default value is 2^16 = 65536"). Appendix A says
-/// "default 1"; the parameter pages are the more specific text ([R] item 7).
+/// "default 1"; the parameter pages are the more specific text (\[R\] item 7).
 pub const DEFAULT_UNITS: u32 = 65_536;
 
 /// Position Controller settings (object 0x25 attributes 4-10 and the torque command).
