@@ -377,6 +377,8 @@ fn inputs_changed_by_a_write_are_produced_within_the_inhibit_time() {
 struct Resizable {
     assemblies: [AssemblyInfo; 2],
     events: Vec<ConnectionEvent>,
+    /// Accept the input carried from 2 bytes up to its size (else exactly its size).
+    ranged_input: bool,
 }
 
 impl Device for Resizable {
@@ -417,6 +419,39 @@ impl Device for Resizable {
     fn connection_event(&mut self, event: ConnectionEvent) {
         self.events.push(event);
     }
+    fn accepts_connection_size(&self, assembly: &AssemblyInfo, data: usize) -> bool {
+        match assembly.instance {
+            INPUT if self.ranged_input => data >= 2,
+            _ => data == usize::from(assembly.size),
+        }
+    }
+}
+
+#[test]
+fn a_device_may_accept_a_range_of_connection_sizes() {
+    let mut h = Harness::with_device(Resizable {
+        assemblies: [ASSEMBLIES[0], ASSEMBLIES[1]],
+        events: Vec::new(),
+        ranged_input: true,
+    });
+    let path = io_path(None, OUTPUT.into(), INPUT.into(), None);
+    let mut f = fo(1, &path, 10_000);
+    f.o_t_params = NetworkParams::from_u16(0x4800 | (2 + 4 + 4));
+    for (t_o, expected) in [(2 + 1, 0x01), (2 + 5, 0x01), (2 + 3, 0)] {
+        f.t_o_params = NetworkParams::from_u16(0x4800 | t_o);
+        let (g, words, _) = status(&h.forward_open(&f));
+        assert_eq!(g, expected, "T->O {t_o}");
+        if g != 0 {
+            assert_eq!(words, [0x0128, 2 + 4], "the assembly's size is acceptable");
+        }
+    }
+    // Production carries the 3 bytes the connection asked for.
+    let mut out = [0u8; 64];
+    let (_, len) = h.adapter.poll_io(h.now, &mut out).unwrap();
+    assert_eq!(
+        Packet::new_checked(&out[..len]).unwrap().connected_data(),
+        [1, 0, 7, 7, 7]
+    );
 }
 
 #[test]
@@ -424,6 +459,7 @@ fn an_assembly_resized_under_a_connection_closes_it() {
     let mut h = Harness::with_device(Resizable {
         assemblies: [ASSEMBLIES[0], ASSEMBLIES[1]],
         events: Vec::new(),
+        ranged_input: false,
     });
     let path = io_path(None, OUTPUT.into(), INPUT.into(), None);
     let mut f = fo(1, &path, 10_000);

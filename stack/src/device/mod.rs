@@ -154,6 +154,16 @@ pub trait Device {
     /// Run, an explicit Set, or a Forward_Open's configuration data. An error refuses it.
     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult;
 
+    /// True if a Class 1 connection may carry `data` bytes of `assembly` (the size its
+    /// Forward_Open asks for, without the sequence count or run/idle header); by default
+    /// exactly the assembly's current size. A device whose sizes follow its configuration
+    /// may accept a range up to the assembly's size: production then sends that many bytes
+    /// and consumption hands `write_assembly` that many. Refused sizes get 0x0127/0x0128
+    /// with the assembly's size as the acceptable one.
+    fn accepts_connection_size(&self, assembly: &AssemblyInfo, data: usize) -> bool {
+        data == usize::from(assembly.size)
+    }
+
     /// The vendor classes the device declares; the stack serves their attribute services,
     /// class attributes and status rules, and lists them in the Message Router.
     fn classes(&self) -> &[ClassDef] {

@@ -129,6 +129,25 @@ fn check_rpis(fo: &ForwardOpen<'_>) -> CipResult {
     )
 }
 
+/// The data bytes a connection to `assembly` carries, given its network parameters and
+/// the `overhead` before the data (sequence count, run/idle header); `None` if refused.
+/// Fixed: what the device accepts ([`Device::accepts_connection_size`], by default exactly
+/// the assembly's size), never more than the assembly; variable: the assembly's size, which
+/// the requested size must hold.
+fn data_size<D: Device>(
+    device: &D,
+    assembly: &AssemblyInfo,
+    params: &NetworkParams,
+    overhead: usize,
+) -> Option<u16> {
+    let full = usize::from(assembly.size);
+    if params.variable {
+        return size_ok(params, overhead + full).then_some(assembly.size);
+    }
+    let data = usize::from(params.size).checked_sub(overhead)?;
+    (data <= full && device.accepts_connection_size(assembly, data)).then(|| data as u16)
+}
+
 fn size_error(code: u16, expected: usize) -> CipError {
     CipError::connection(code).with_additional(code, expected as u16)
 }
@@ -343,32 +362,39 @@ fn class1<D: Device>(
         .filter(|a| a.role == AssemblyRole::Input)
         .ok_or(CipError::connection(ext::BAD_PRODUCING_PATH))?;
 
-    let data = usize::from(consumer_info.size);
     let o_t_size = usize::from(fo.o_t_params.size);
-    let run_idle = if data == 0 {
+    let (run_idle, consumed) = if consumer_info.size == 0 {
         // Heartbeat: sequence count alone, or with a run/idle header.
         match o_t_size {
-            0 | SEQUENCE_LEN => false,
-            6 => true,
+            0 | SEQUENCE_LEN => (false, 0),
+            6 => (true, 0),
             _ => return Err(size_error(ext::BAD_O_T_SIZE, SEQUENCE_LEN)),
         }
     } else {
-        let expected = SEQUENCE_LEN
-            + if consumer_info.run_idle_header {
-                RUN_IDLE_LEN
-            } else {
-                0
-            }
-            + data;
-        if !size_ok(&fo.o_t_params, expected) {
-            return Err(size_error(ext::BAD_O_T_SIZE, expected));
-        }
-        consumer_info.run_idle_header
+        let header = if consumer_info.run_idle_header {
+            RUN_IDLE_LEN
+        } else {
+            0
+        };
+        let data = data_size(
+            device,
+            &consumer_info,
+            &fo.o_t_params,
+            SEQUENCE_LEN + header,
+        )
+        .ok_or_else(|| {
+            let expected = SEQUENCE_LEN + header + usize::from(consumer_info.size);
+            size_error(ext::BAD_O_T_SIZE, expected)
+        })?;
+        (consumer_info.run_idle_header, data)
     };
-    let t_o_expected = SEQUENCE_LEN + usize::from(producer_info.size);
-    if !size_ok(&fo.t_o_params, t_o_expected) {
-        return Err(size_error(ext::BAD_T_O_SIZE, t_o_expected));
-    }
+    let produced =
+        data_size(device, &producer_info, &fo.t_o_params, SEQUENCE_LEN).ok_or_else(|| {
+            size_error(
+                ext::BAD_T_O_SIZE,
+                SEQUENCE_LEN + usize::from(producer_info.size),
+            )
+        })?;
 
     let multicast = fo.t_o_params.connection_type == ConnectionType::Multicast;
     let mask = u32::from(net.netmask);
@@ -387,7 +413,7 @@ fn class1<D: Device>(
     };
     let consumer = Consumer {
         instance: consumer_info.instance,
-        size: consumer_info.size,
+        size: consumed,
         run_idle,
         last_sequence: None,
         last_encap_sequence: None,
@@ -427,7 +453,7 @@ fn class1<D: Device>(
     };
     let producer = Producer {
         instance: producer_info.instance,
-        size: producer_info.size,
+        size: produced,
         destination,
         next: now,
         inhibit_until: now,

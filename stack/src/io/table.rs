@@ -206,8 +206,8 @@ impl ConnectionTable {
             self.close(slot, reason, device);
         }
     }
-    /// Closes the Class 1 connections whose consumed or produced assembly no longer has the
-    /// size it had when they opened ([`CloseReason::Reconfigured`]).
+    /// Closes the Class 1 connections whose consumed or produced assembly can no longer carry
+    /// the size they opened with ([`CloseReason::Reconfigured`]).
     pub fn close_resized<D: Device>(&mut self, device: &mut D) {
         for slot in 0..MAX_CONNECTIONS {
             let resized = self.get(slot).is_some_and(|c| {
@@ -216,7 +216,9 @@ impl ConnectionTable {
                         .assemblies()
                         .iter()
                         .find(|a| a.instance == instance)
-                        .is_none_or(|a| a.size != size)
+                        .is_none_or(|a| {
+                            size > a.size || !device.accepts_connection_size(a, usize::from(size))
+                        })
                 };
                 c.consumer()
                     .is_some_and(|k| k.size > 0 && differs(k.instance, k.size))

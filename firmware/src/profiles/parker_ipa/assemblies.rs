@@ -2,12 +2,11 @@
 //! T->O), output 102 (consumed, O->T, with the 32-bit run/idle header of the Logix generic
 //! module, R3.3) and configuration 3 (no data, R3.7).
 //!
-//! Sizes: 400 bytes each way, fixed. The manual gives "Input 101 size 100, Output 102 size
-//! 100, Configuration 3 size 0" as the values "specific to an IPA" whatever the groups
-//! (the AOI layout uses 48/32 longs), and 100 DINTs = 3200 bits is Table 4's limit. The
-//! groups fill the data from byte 0 in ascending group order; produced bytes after them
-//! are zero, consumed bytes after them are ignored (R5.4, R5.6). See the README for why
-//! the exact-size alternative of the digest is not offered.
+//! Sizes: the assemblies are 400 bytes each way (p.11's "size 100" DINTs, Table 4's 3200
+//! bits); a connection may carry from the configured groups' size up to 400 (R5.6,
+//! `ParkerIpa::accepts_connection_size`). The groups fill the data from byte 0 in ascending
+//! group order; produced bytes after them are zero, consumed bytes after them are ignored
+//! (R5.4, R5.6).
 
 use enip_stack::cip::CipResult;
 use enip_stack::{AssemblyInfo, AssemblyRole};

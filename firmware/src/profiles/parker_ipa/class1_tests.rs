@@ -502,3 +502,32 @@ fn intervals_are_reported_per_direction() {
     assert_eq!(rig.longs(37431, 3), [10, 20, 1]);
     assert_eq!(rig.longs(37429, 1), [0xC612_0001u32 as i32]);
 }
+
+/// R5.6's default: with a 4-group configuration (P = 16, C = 20 bytes) the exact sizes
+/// connect (101/18, 102/26 on the wire) and T->O carries 16 bytes; below them is refused
+/// with the 400-byte assembly as the acceptable size.
+#[test]
+fn exact_configured_sizes_connect() {
+    let mut rig = Rig::new();
+    rig.configure(&[
+        [38912, 2, 0, 1],
+        [39168, 2, 0, 2],
+        [39000, 3, 1, 1],
+        [39300, 2, 1, 2],
+    ]);
+    let short = rig.forward_open(&fo(1, 16, 16, 10_000, 10_000));
+    assert_eq!((short.general, short.extended), (0x01, Some(0x0127)));
+    let short = rig.forward_open(&fo(2, 20, 12, 10_000, 10_000));
+    assert_eq!((short.general, short.extended), (0x01, Some(0x0128)));
+    let open = rig.forward_open(&fo(3, 20, 16, 10_000, 10_000));
+    assert_eq!(open.general, 0);
+    rig.write_longs(38913, &[77]);
+    let sent = rig.advance(10_000);
+    let data = &sent.last().unwrap().1;
+    assert_eq!(data.len(), 16);
+    assert_eq!(i32s(&data[0..8]), [0, 77]);
+    let mut out = [0u8; 20];
+    out[0..4].copy_from_slice(&5i32.to_le_bytes());
+    rig.o_t(open.o_t_id, 1, true, &out);
+    assert_eq!(rig.longs(39000, 1), [5]);
+}

@@ -184,6 +184,25 @@ impl Device for ParkerIpa {
         &assemblies::INFOS
     }
 
+    /// R5.6: a connection may carry from the configured groups' bytes (4 per parameter going
+    /// that way) up to 400. While a Class 1 connection is open, or the configuration is
+    /// invalid, any size up to 400 passes here, so that the admission answers first with
+    /// 0x0106/0x0113 or the configuration status (R5.10: steps 2 and 5 before step 6).
+    fn accepts_connection_size(&self, assembly: &AssemblyInfo, data: usize) -> bool {
+        let direction = match assembly.instance {
+            assemblies::INPUT => Direction::Produce,
+            assemblies::OUTPUT => Direction::Consume,
+            _ => return data == usize::from(assembly.size),
+        };
+        if self.status.class1_slot.is_some() {
+            return true;
+        }
+        match ioconfig::validate(self.store.groups_in_use(), &self.store.config()) {
+            Ok(layout) => layout.longs(direction) * 4 <= data,
+            Err(_) => true,
+        }
+    }
+
     fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
         let direction = match instance {
             assemblies::INPUT => Direction::Produce,
