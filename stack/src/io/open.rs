@@ -145,7 +145,9 @@ fn data_size<D: Device>(
         return size_ok(params, overhead + full).then_some(assembly.size);
     }
     let data = usize::from(params.size).checked_sub(overhead)?;
-    (data <= full && device.accepts_connection_size(assembly, data)).then(|| data as u16)
+    u16::try_from(data)
+        .ok()
+        .filter(|_| data <= full && device.accepts_connection_size(assembly, data))
 }
 
 fn size_error(code: u16, expected: usize) -> CipError {
