@@ -74,6 +74,18 @@ pub struct Producer {
     pub sequence: u16,
 }
 
+impl Producer {
+    /// When it wants to send next: its RPI deadline, or earlier once triggered (not before
+    /// the inhibit time).
+    pub fn due_at(&self) -> Instant {
+        if self.triggered {
+            self.inhibit_until.min(self.next)
+        } else {
+            self.next
+        }
+    }
+}
+
 /// Direction-specific state.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Transport {

@@ -256,9 +256,9 @@ pub fn forward_open<D: Device>(
         .free_slot()
         .ok_or(CipError::connection(ext::OUT_OF_CONNECTIONS))?;
     let mut conn = conn;
-    conn.o_t_id = table.new_id();
+    conn.o_t_id = table.new_id(slot);
     if conn.produces_multicast() {
-        conn.t_o_id = table.new_id();
+        conn.t_o_id = table.new_id(slot);
     }
     let gained = conn.kind == Kind::ExclusiveOwner && table.owned_outputs().is_empty();
     if let (Some(data), Some(config)) = (path.config_data, conn.points.config) {

@@ -10,16 +10,6 @@ use crate::time::{Duration, Instant};
 use crate::wire::bytes::put_u16;
 use crate::wire::io_datagram::{emit_header, HEADER_LEN, SEQUENCE_LEN};
 
-/// When `p` wants to send, if that is no later than `now`.
-fn due(p: &Producer, now: Instant) -> Option<Instant> {
-    let at = if p.triggered {
-        p.inhibit_until.min(p.next)
-    } else {
-        p.next
-    };
-    (at <= now).then_some(at)
-}
-
 /// The first deadline on the grid `previous + k * rpi` that is after `now` (k >= 1).
 fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
     let rpi = u64::from(rpi.max(1));
@@ -39,11 +29,30 @@ pub fn produce_due<D: Device>(
     now: Instant,
     out: &mut [u8],
 ) -> Option<(SocketAddrV4, usize)> {
-    let slot = table
+    if now < table.production_bound {
+        return None;
+    }
+    // The most overdue producer, and when the next of the others is due.
+    let mut first: Option<(usize, Instant)> = None;
+    let mut others = Instant(u64::MAX);
+    for (i, at) in table
         .iter()
-        .filter_map(|(i, c)| c.producer().and_then(|p| due(p, now)).map(|at| (i, at)))
-        .min_by_key(|&(_, at)| at)
-        .map(|(i, _)| i)?;
+        .filter_map(|(i, c)| c.producer().map(|p| (i, p.due_at())))
+    {
+        match first {
+            Some((_, best)) if best <= at => others = others.min(at),
+            _ => {
+                if let Some((_, best)) = first {
+                    others = others.min(best);
+                }
+                first = Some((i, at));
+            }
+        }
+    }
+    let Some((slot, _)) = first.filter(|&(_, at)| at <= now) else {
+        table.production_bound = first.map_or(Instant(u64::MAX), |(_, at)| at);
+        return None;
+    };
     let conn = table.get_mut(slot)?;
     let (t_o_id, rpi) = (conn.t_o_id, conn.t_o_rpi);
     let Transport::Class1 {
@@ -77,7 +86,9 @@ pub fn produce_due<D: Device>(
     } else {
         p.next = advance(p.next, rpi, now);
     }
-    Some((p.destination, data_at + size))
+    let (to, due) = (p.destination, p.due_at());
+    table.production_bound = others.min(due);
+    Some((to, data_at + size))
 }
 
 /// Marks the producers of assembly `instance` with a change-of-state or application trigger
@@ -99,6 +110,8 @@ fn trigger_where(table: &mut ConnectionTable, pick: impl Fn(&Producer) -> bool) 
         {
             if p.trigger != Trigger::Cyclic && pick(p) {
                 p.triggered = true;
+                let due = p.due_at();
+                table.production_bound = table.production_bound.min(due);
             }
         }
     }

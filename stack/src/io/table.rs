@@ -6,6 +6,14 @@ use crate::device::{CloseReason, ConnectionEvent, ConnectionInfo, Device};
 use crate::time::Instant;
 use crate::wire::forward_open::Triad;
 
+/// Low bits of the connection IDs the adapter chooses: the table slot.
+const SLOT_BITS: u32 = 4;
+const SLOT_MASK: u32 = (1 << SLOT_BITS) - 1;
+const _: () = assert!(
+    MAX_CONNECTIONS <= 1 << SLOT_BITS,
+    "slots must fit in the ID's low bits"
+);
+
 /// Socket index of a connection whose opening session has ended.
 const NO_SESSION: u8 = u8::MAX;
 
@@ -29,6 +37,9 @@ pub struct ConnectionTable {
     /// Exclusive-owner connections closed by their watchdog so far (wrapping).
     owner_timeouts: u32,
     timeouts: u16,
+    /// No producer is due before this instant: exact after each production scan, lowered
+    /// when a connection opens or a producer is triggered.
+    pub(crate) production_bound: Instant,
     /// No watchdog expires before this instant. Traffic only moves an expiry later, so it
     /// stays a lower bound until a connection is inserted; [`ConnectionTable::expire`]
     /// rescans only once it is reached.
@@ -46,6 +57,7 @@ impl ConnectionTable {
             owner_timeouts: 0,
             timeouts: 0,
             expiry_bound: Instant(u64::MAX),
+            production_bound: Instant(u64::MAX),
         }
     }
     /// Open connections with their slot numbers.
@@ -75,15 +87,18 @@ impl ConnectionTable {
     pub fn find_triad(&self, triad: &Triad) -> Option<usize> {
         self.iter().find(|(_, c)| c.triad == *triad).map(|(i, _)| i)
     }
-    /// The slot of the connection consuming O->T connection ID `id`.
+    /// The slot of the connection consuming O->T connection ID `id`: the ID names its slot
+    /// in its low bits ([`ConnectionTable::new_id`]), so no search.
     pub fn find_o_t(&self, id: u32) -> Option<usize> {
-        self.iter().find(|(_, c)| c.o_t_id == id).map(|(i, _)| i)
+        let slot = (id & SLOT_MASK) as usize;
+        self.get(slot).filter(|c| c.o_t_id == id).map(|_| slot)
     }
-    /// A fresh non-zero connection ID that no open connection uses.
-    pub fn new_id(&mut self) -> u32 {
+    /// A fresh non-zero connection ID for the connection going into `slot`, that no open
+    /// connection uses; its low bits are the slot.
+    pub fn new_id(&mut self, slot: usize) -> u32 {
         loop {
-            self.next_id = self.next_id.wrapping_add(1);
-            let id = self.next_id;
+            self.next_id = self.next_id.wrapping_add(1 << SLOT_BITS);
+            let id = (self.next_id & !SLOT_MASK) | (slot as u32 & SLOT_MASK);
             if id != 0 && !self.iter().any(|(_, c)| c.o_t_id == id || c.t_o_id == id) {
                 return id;
             }
@@ -102,6 +117,9 @@ impl ConnectionTable {
     pub fn insert(&mut self, conn: Connection) -> Option<usize> {
         let slot = self.free_slot()?;
         self.expiry_bound = self.expiry_bound.min(conn.expires);
+        if let Some(p) = conn.producer() {
+            self.production_bound = self.production_bound.min(p.due_at());
+        }
         if let Some(s) = self.slots.get_mut(slot) {
             *s = Some(conn);
         }
@@ -148,16 +166,7 @@ impl ConnectionTable {
     /// The earliest watchdog expiry or production deadline.
     pub fn next_deadline(&self) -> Option<Instant> {
         self.iter()
-            .flat_map(|(_, c)| {
-                let produce = c.producer().map(|p| {
-                    if p.triggered {
-                        p.inhibit_until.min(p.next)
-                    } else {
-                        p.next
-                    }
-                });
-                [Some(c.expires), produce]
-            })
+            .flat_map(|(_, c)| [Some(c.expires), c.producer().map(|p| p.due_at())])
             .flatten()
             .min()
     }
