@@ -65,6 +65,17 @@ fn the_lists_are_parameters_with_the_documented_statuses() {
         b.explicit(0x0E, 0x0F, RSPMAP + 1, Some(1), &[]).0,
         err(General::ObjectDoesNotExist)
     );
+    // Class attribute 2, the highest instance, is EIP.RSPMAP's.
+    assert_eq!(
+        b.explicit(0x0E, 0x0F, 0, Some(2), &[]),
+        (Ok(()), RSPMAP.to_le_bytes().to_vec())
+    );
+    // Not through command type 0x1F: 14 bytes do not fit bytes 24-31 (unknown instance).
+    b.send(cmd(EN, 0x1F, 0x20, i32::from(RSPMAP)));
+    assert_eq!(
+        b.send(cmd(EN | LOAD, 0x1F, 0x20, i32::from(RSPMAP)))[4],
+        0x16
+    );
     // Read-only and read-write parameters in the response list, low words of 8-byte ones.
     let rsp = [id::PL_FB, 4, id::DRV_MOTIONSTAT, 0, id::HOME_P + 1, 0, 1];
     b.set_list(RSPMAP, &rsp).unwrap();
