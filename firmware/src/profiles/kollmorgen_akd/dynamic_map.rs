@@ -42,7 +42,9 @@ pub fn response(state: &State) -> [u8; LEN] {
     out
 }
 
-/// Writes command bytes 36-63 to the EIP.CMDMAP parameters; all of them or none.
+/// Writes command bytes 36-63 to the EIP.CMDMAP parameters; all of them or none (the
+/// writes go to a copy of the state, kept only when every slot is accepted: about 1.1 KB of
+/// stack, on a Load/Start edge with map type 2 only).
 pub fn apply_command(state: &mut State, data: &[u8; LEN]) -> CipResult {
     let list = state.maps.command;
     let mut trial = state.clone();
