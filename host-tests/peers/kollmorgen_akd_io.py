@@ -140,6 +140,24 @@ def main():
         owner.wait_for(lambda r: r[0] & IN_MOTION == 0, 10.0)
         time.sleep(0.05)
         out["after_task"] = owner.read().hex()
+        # Map type 2: EIP.RSPMAP (1043) lists PL.FB, DRV.MOTIONSTAT, EIP.PROFUNIT; the
+        # response's bytes 36-63 carry them. EIP.CMDMAP (1042) lists MT.TPOSWND, written on
+        # a Load/Start edge (command type 0x1F reading MT.TPOSWND carries the load).
+        rspmap = struct.pack("<7H", 1017, 1010, 797, 0, 0, 0, 0)
+        out["set_rspmap"] = akd.raw(d, akd.SET, akd.PARAMETER, 1043, 1, rspmap)["status"]
+        out["rspmap"] = akd.raw(d, akd.GET, akd.PARAMETER, 1043, 1)
+        out["rspmap_unknown"] = akd.raw(d, akd.SET, akd.PARAMETER, 1043, 1,
+                                        struct.pack("<7H", 1017, 12, 0, 0, 0, 0, 0))["status"]
+        out["dynamic_response"] = owner.exchange(command(ENABLE, 0x21, 0x20, map_type=2)).hex()
+        out["set_cmdmap"] = akd.raw(d, akd.SET, akd.PARAMETER, 1042, 1,
+                                    struct.pack("<7H", 1015, 0, 0, 0, 0, 0, 0))["status"]
+        load_map = bytearray(command(ENABLE, 0x1F, 0x20, data=1015, map_type=2))
+        load_map[36:40] = struct.pack("<i", 7)
+        owner.exchange(bytes(load_map))
+        load_map[0] |= LOAD
+        r = owner.exchange(bytes(load_map))
+        out["cmdmap_load_complete"] = r[2] & LOAD_COMPLETE
+        out["tposwnd_after_map"] = akd.raw(d, akd.GET, akd.PARAMETER, 1015, 1)
         # Disable at the end.
         out["disabled"] = owner.exchange(command(0, 0x21, 0x20)).hex()
     finally:

@@ -152,6 +152,24 @@ fn class1_scenario(rig: &Rig) {
         (0, 0, 1000),
         "{r}"
     );
+    // Map type 2: EIP.RSPMAP set with pycomm3, its values in the Class 1 response.
+    assert_eq!(r["set_rspmap"], 0, "{r}");
+    let rspmap = [1017u16, 1010, 797, 0, 0, 0, 0];
+    let list: Vec<u8> = rspmap.iter().flat_map(|e| e.to_le_bytes()).collect();
+    assert_eq!(r["rspmap"], json!({"status": 0, "data": hex(&list)}));
+    assert_eq!(r["rspmap_unknown"], 0x09, "{r}");
+    let dynamic = bytes(&r["dynamic_response"]);
+    assert_eq!(dynamic[33], 2, "{r}");
+    assert_eq!(dint(&dynamic, 36), dint(&dynamic, 8), "{r}"); // PL.FB
+    assert_eq!(dint(&dynamic, 36), 1000, "{r}");
+    assert_eq!(dint(&dynamic, 40), dint(&dynamic, 16), "{r}"); // DRV.MOTIONSTAT
+    assert_eq!(dint(&dynamic, 44), 65_536, "{r}"); // EIP.PROFUNIT
+    assert_eq!(dynamic[48..64], [0; 16], "{r}");
+    // EIP.CMDMAP: MT.TPOSWND from command bytes 36-39 on the Load/Start edge.
+    assert_eq!(r["set_cmdmap"], 0, "{r}");
+    assert_eq!(r["cmdmap_load_complete"], 0x80, "{r}");
+    let window = json!({"status": 0, "data": hex(&7i64.to_le_bytes())});
+    assert_eq!(r["tposwnd_after_map"], window, "{r}");
     assert_eq!(bytes(&r["disabled"])[0] & ENABLED, 0, "{r}");
     assert_eq!(r["forward_close"], 0, "{r}");
     // Admission: below the minimum RPI refused (0x0112); multicast T->O accepted.

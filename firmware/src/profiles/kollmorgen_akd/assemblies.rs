@@ -7,6 +7,7 @@
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole};
 
+use super::dynamic_map;
 use super::handshake::Handshake;
 use super::position_controller;
 use super::state::State;
@@ -139,7 +140,7 @@ pub mod map_type {
     pub const STATIC: u8 = 0;
     /// Custom map 1: the project's fixed map (see [`super::custom_map`]).
     pub const CUSTOM_1: u8 = 1;
-    /// Dynamic map (EIP.RSPMAP / EIP.CMDMAP; not modelled: bytes 36-63 are 0).
+    /// Dynamic map: bytes 36-63 per EIP.RSPMAP / EIP.CMDMAP (see [`super::super::dynamic_map`]).
     pub const DYNAMIC: u8 = 2;
 }
 
@@ -204,6 +205,10 @@ impl Command<'_> {
     /// Byte 33: the map type.
     pub fn map_type(&self) -> u8 {
         self.byte(33)
+    }
+    /// Bytes 36-63: the command dynamic map.
+    pub fn dynamic_map(&self) -> [u8; dynamic_map::LEN] {
+        core::array::from_fn(|i| self.byte(dynamic_map::START + i))
     }
 }
 
@@ -310,10 +315,15 @@ pub fn encode(state: &State, io: &Handshake, out: &mut [u8]) -> usize {
     }
     r[32] = attribute;
     r[33] = cmd.map_type();
-    if cmd.map_type() == map_type::CUSTOM_1 {
-        for (chunk, v) in r[36..64].chunks_exact_mut(4).zip(custom_map(state)) {
-            chunk.copy_from_slice(&v.to_le_bytes());
+    match cmd.map_type() {
+        map_type::CUSTOM_1 => {
+            for (chunk, v) in r[36..64].chunks_exact_mut(4).zip(custom_map(state)) {
+                chunk.copy_from_slice(&v.to_le_bytes());
+            }
         }
+        map_type::DYNAMIC => r[36..64].copy_from_slice(&dynamic_map::response(state)),
+        // Static map (and any other value): bytes 36-63 stay 0.
+        _ => {}
     }
     let n = out.len().min(SIZE);
     out[..n].copy_from_slice(&r[..n]);

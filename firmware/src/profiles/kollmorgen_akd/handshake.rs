@@ -11,11 +11,15 @@
 //! - Start Block (0 -> 1 with Load/Start 0) runs motion task byte 1 ([`motion_tasks`]); an
 //!   undefined task answers the error response with 0x16 (object does not exist), a task
 //!   the drive refuses (not homed) 0x10. A successful start clears an error response.
+//! - Map type 2: the command dynamic map (bytes 36-63) is command data like the rest, taken
+//!   on the Load/Start edge before the command type runs ([`dynamic_map`]); a value a
+//!   parameter refuses refuses the load (0x09).
 
 use enip_stack::cip::{CipError, General};
 
-use super::assemblies::{command_type as ty, control, Command, SIZE};
+use super::assemblies::{command_type as ty, control, map_type, Command, SIZE};
 use super::drive::{Mode, Refusal};
+use super::dynamic_map;
 use super::motion_tasks::{self, StartError};
 use super::params;
 use super::position_controller;
@@ -158,6 +162,10 @@ fn load<S: NvStorage>(akd: &mut KollmorgenAkd<S>, cmd: &Command<'_>) -> Result<(
     let (axis, kind) = cmd.command_type();
     if axis > 1 {
         return Err(invalid());
+    }
+    // Map type 2: the command dynamic map is command data, loaded first (all slots or none).
+    if cmd.map_type() == map_type::DYNAMIC {
+        dynamic_map::apply_command(&mut akd.state, &cmd.dynamic_map())?;
     }
     let ctrl = cmd.control();
     let positive = ctrl & control::DIRECTION != 0;

@@ -5,7 +5,8 @@
 //! - [`assemblies`]: 100 (configuration, 0 bytes), 101 (command, 64 bytes with run/idle),
 //!   102 (response, 64 bytes), their layouts and the response encoder.
 //! - [`handshake`]: the control word and the Load/Start handshake.
-//! - [`position_controller`]: class 0x25; [`parameter`] and [`params`]: class 0x0F.
+//! - [`position_controller`]: class 0x25; [`parameter`] and [`params`]: class 0x0F, with
+//!   [`maps`] (EIP.CMDMAP, EIP.RSPMAP) for [`dynamic_map`], map type 2.
 //! - [`drive`]: the simulation, advanced by [`Device::poll`] every millisecond;
 //!   [`state`]: the settings and unit conversions; [`storage`]: DRV.NVSAVE's copy.
 //!
@@ -16,9 +17,11 @@
 
 pub mod assemblies;
 pub mod drive;
+pub mod dynamic_map;
 pub mod eds;
 pub mod handshake;
 pub mod identity;
+pub mod maps;
 pub mod motion_tasks;
 pub mod parameter;
 pub mod params;
@@ -202,14 +205,14 @@ impl<S: NvStorage> Device for KollmorgenAkd<S> {
 
     fn has_instance(&self, class: &ClassDef, instance: u32) -> bool {
         match class.id {
-            parameter::CLASS => params::view(instance).is_some(),
+            parameter::CLASS => params::view(instance).is_some() || maps::which(instance).is_some(),
             _ => instance == 1,
         }
     }
 
     fn instance_count(&self, class: &ClassDef) -> u32 {
         match class.id {
-            parameter::CLASS => params::instances().count() as u32,
+            parameter::CLASS => params::instances().count() as u32 + maps::INSTANCES,
             _ => 1,
         }
     }
@@ -231,6 +234,9 @@ impl<S: NvStorage> Device for KollmorgenAkd<S> {
     ) -> CipResult {
         match at.class.id {
             parameter::CLASS => {
+                if let Some(which) = maps::which(at.instance) {
+                    return maps::get(&self.state, which, at.attribute.id, w);
+                }
                 let view = params::view(at.instance).ok_or(General::ObjectDoesNotExist)?;
                 parameter::get(&self.state, &view, at.attribute.id, w)
             }
@@ -246,6 +252,9 @@ impl<S: NvStorage> Device for KollmorgenAkd<S> {
     ) -> CipResult {
         match at.class.id {
             parameter::CLASS => {
+                if let Some(which) = maps::which(at.instance) {
+                    return maps::set(&mut self.state, which, value);
+                }
                 let view = params::view(at.instance).ok_or(General::ObjectDoesNotExist)?;
                 let v = parameter::decode(&view, value)?;
                 self.write_parameter(&view, v)

@@ -6,6 +6,9 @@
 //! (shorter 0x13, longer 0x15), except that a 64-bit parameter also takes a 32-bit value
 //! (sign-extended for a signed one). Read-only parameters answer 0x0E to a write; a value a
 //! parameter refuses 0x09; an unknown instance 0x16.
+//!
+//! Instances 1042 (EIP.CMDMAP) and 1043 (EIP.RSPMAP) are lists, not values of the table:
+//! [`super::maps`] serves them.
 
 use enip_stack::cip::object::{Access, AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General};
@@ -28,7 +31,7 @@ pub const CLASS_DEF: ClassDef = ClassDef {
     id: CLASS,
     name: "Parameter",
     revision: 1,
-    max_instance: params::id::MT_LOAD as u32,
+    max_instance: params::id::EIP_RSPMAP as u32,
     attributes: &[
         AttributeDef::get_set(VALUE, DataType::Unsized, "Parameter Value"),
         AttributeDef::get(DATA_TYPE, DataType::Usint, "Data Type"),

@@ -139,6 +139,10 @@ pub mod id {
     pub const MT_SET: u16 = 1040;
     /// MT.LOAD: read task MT.NUM for editing (command; project instance).
     pub const MT_LOAD: u16 = 1041;
+    /// EIP.CMDMAP: the command dynamic map's list (project instance; [`super::super::maps`]).
+    pub const EIP_CMDMAP: u16 = 1042;
+    /// EIP.RSPMAP: the response dynamic map's list (project instance).
+    pub const EIP_RSPMAP: u16 = 1043;
 }
 
 /// The table, by instance.

@@ -5,6 +5,7 @@
 use enip_stack::cip::{CipError, CipResult, General};
 
 use super::drive::{Drive, Mode, Refusal, COUNTS_PER_REV};
+use super::maps::Maps;
 use super::motion_tasks::MotionTasks;
 use super::params::STORED;
 
@@ -66,6 +67,8 @@ pub struct State {
     pub load_complete: bool,
     /// The motion task table.
     pub tasks: MotionTasks,
+    /// EIP.CMDMAP and EIP.RSPMAP, the dynamic map's lists.
+    pub maps: Maps,
 }
 
 fn clamp32(v: i64) -> i32 {
@@ -85,6 +88,7 @@ impl State {
             stored: super::params::stored_defaults(),
             load_complete: false,
             tasks: MotionTasks::default(),
+            maps: Maps::new(),
         }
     }
 

@@ -672,6 +672,36 @@ fn arbitrary_commands_never_panic() {
         .0
         .unwrap();
     b.run_ms(50);
+    let lists: [(u16, [u16; 7]); 2] = [
+        (
+            id::EIP_CMDMAP,
+            [
+                id::EIP_POSUNIT,
+                id::MT_NUM,
+                id::HOME_P,
+                id::SWLS_EN,
+                4,
+                0,
+                id::DRV_ACC + 1,
+            ],
+        ),
+        (
+            id::EIP_RSPMAP,
+            [
+                id::PL_FB,
+                id::VL_FB + 1,
+                id::IL_FB,
+                id::HOME_P,
+                4,
+                0,
+                id::MT_NUM,
+            ],
+        ),
+    ];
+    for (instance, entries) in lists {
+        let data: Vec<u8> = entries.iter().flat_map(|e| e.to_le_bytes()).collect();
+        b.explicit(0x10, 0x0F, instance, Some(1), &data).0.unwrap();
+    }
     for i in 0..3_000 {
         let mut c = [0u8; 64];
         for chunk in c.chunks_mut(8) {
@@ -679,6 +709,9 @@ fn arbitrary_commands_never_panic() {
             chunk.copy_from_slice(&v[..chunk.len()]);
         }
         c[2] = [0x21, 0x22, 0x23, 0x24, 0x25, 0x26, 0x27, 0x3B, 0x3F, c[2]][i % 10];
+        if i % 5 == 0 {
+            c[33] = 2;
+        }
         if i % 7 == 0 {
             c[12..16].copy_from_slice(&i32::MAX.to_le_bytes());
             c[8..12].copy_from_slice(&i32::MIN.to_le_bytes());
@@ -692,6 +725,8 @@ fn arbitrary_commands_never_panic() {
         b.run_ms(3);
     }
 }
+
+mod dynamic_map;
 
 /// The Class 1 path through the adapter: admission, sizes and the datagrams.
 mod class1 {
