@@ -191,3 +191,46 @@ fn ram_flash_and_full_store() {
     assert_eq!(store.read(1, &mut buf), Ok(Some(4)));
     assert_eq!(&buf[..4], b"kept");
 }
+
+#[test]
+fn every_power_cut_boots_the_old_or_the_new_tcpip_settings() {
+    use crate::cip::tcpip::TcpIpState;
+    use crate::cip::tcpip_nv::InterfaceConfig;
+    use core::net::Ipv4Addr;
+    let settings = |last: u8, timeout: u16| {
+        let mut st = TcpIpState::new();
+        st.interface = InterfaceConfig {
+            ip: Ipv4Addr::new(198, 18, 0, last),
+            netmask: Ipv4Addr::new(255, 255, 255, 0),
+            ..InterfaceConfig::NONE
+        };
+        st.inactivity_timeout_s = timeout;
+        st
+    };
+    let (old, new) = (settings(7, 30), settings(9, 60));
+    let mut store = AbStore::mount(CutFlash::new());
+    old.save(&mut store).unwrap();
+    let before = store.into_flash();
+    let mut cut = 0;
+    loop {
+        let mut flash = before.clone();
+        flash.budget = Some(cut);
+        let mut store = AbStore::mount(flash);
+        let done = new.save(&mut store).is_ok();
+        let mut flash = store.into_flash();
+        flash.restore();
+        let booted = TcpIpState::stored(&mut AbStore::mount(flash)).unwrap();
+        let expected = if done { &new } else { &old };
+        // Old or new as a whole; never defaults, never a mix.
+        assert!(
+            booted.as_ref() == Some(&old) || booted.as_ref() == Some(&new),
+            "cut after {cut}"
+        );
+        if done {
+            assert_eq!(booted.as_ref(), Some(expected));
+            break;
+        }
+        cut += 1;
+    }
+    assert!(cut > 10);
+}
