@@ -68,17 +68,36 @@ impl Rig {
         extra: &[&str],
         capture: Option<&Path>,
     ) -> io::Result<Self> {
-        Self::launch(capture, "enip-host", LISTENING, BOARD_START, |ns| {
-            let mut cmd = ns.command(bin);
-            cmd.args(["--tap", TAP, "--ip", &format!("{BOARD_IP}/{PREFIX}")])
-                .args(["--profile", profile])
-                .args(extra)
-                .env(
-                    "RUST_LOG",
-                    std::env::var("RUST_LOG").unwrap_or("info".into()),
-                );
-            cmd
-        })
+        Self::start_at(bin, profile, extra, capture, BOARD_IP)
+    }
+
+    /// Like [`Rig::start_with_args`], for a board that comes up at `board_ip` (in
+    /// 198.18.0.0/24) instead of its `--ip` (e.g. from its `--nv-file`).
+    pub fn start_at(
+        bin: &Path,
+        profile: &str,
+        extra: &[&str],
+        capture: Option<&Path>,
+        board_ip: Ipv4Addr,
+    ) -> io::Result<Self> {
+        Self::launch_at(
+            capture,
+            "enip-host",
+            LISTENING,
+            BOARD_START,
+            board_ip,
+            |ns| {
+                let mut cmd = ns.command(bin);
+                cmd.args(["--tap", TAP, "--ip", &format!("{BOARD_IP}/{PREFIX}")])
+                    .args(["--profile", profile])
+                    .args(extra)
+                    .env(
+                        "RUST_LOG",
+                        std::env::var("RUST_LOG").unwrap_or("info".into()),
+                    );
+                cmd
+            },
+        )
     }
 
     /// Starts `bin`, a program built on `enip_host::run` (its own device, no `--profile`),
@@ -117,6 +136,18 @@ impl Rig {
         start: Duration,
         board: impl FnOnce(&Namespace) -> Command,
     ) -> io::Result<Self> {
+        Self::launch_at(capture, name, ready, start, BOARD_IP, board)
+    }
+
+    /// [`Rig::launch`] for a board that answers at `board_ip`.
+    fn launch_at(
+        capture: Option<&Path>,
+        name: &str,
+        ready: &str,
+        start: Duration,
+        board_ip: Ipv4Addr,
+        board: impl FnOnce(&Namespace) -> Command,
+    ) -> io::Result<Self> {
         let ns = Namespace::create()?;
         ns.exec_checked("ip", &["tuntap", "add", "dev", TAP, "mode", "tap"])?;
         ns.exec_checked(
@@ -128,20 +159,21 @@ impl Rig {
         let mut board = LoggedChild::spawn(name, board(&ns))?;
         board.wait_for_line(ready, start)?;
         let rig = Rig { board, capture, ns };
-        rig.wait_reachable()?;
+        rig.wait_reachable(board_ip)?;
         Ok(rig)
     }
 
     /// Waits (bounded) until the board answers a unicast ListIdentity, so that address
     /// resolution and start-up are over before a test measures anything.
-    fn wait_reachable(&self) -> io::Result<()> {
+    fn wait_reachable(&self, board_ip: Ipv4Addr) -> io::Result<()> {
+        let board = SocketAddrV4::new(board_ip, ENCAP_PORT);
         let probe = Header::new(command::LIST_IDENTITY).frame(&[]);
         let answered = self.ns.inside(|| -> io::Result<bool> {
             let s = UdpSocket::bind(SocketAddrV4::new(HOST_IP, 0))?;
             s.set_read_timeout(Some(PROBE_WAIT))?;
             let mut buf = [0u8; 512];
             for _ in 0..PROBES {
-                s.send_to(&probe, board_addr())?;
+                s.send_to(&probe, board)?;
                 if s.recv_from(&mut buf).is_ok() {
                     return Ok(true);
                 }

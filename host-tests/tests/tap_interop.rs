@@ -55,5 +55,7 @@ mod position_servo;
 mod position_servo_connections;
 #[path = "tap_interop/position_servo_qemu.rs"]
 mod position_servo_qemu;
+#[path = "tap_interop/tcpip_nv.rs"]
+mod tcpip_nv;
 #[path = "tap_interop/udp.rs"]
 mod udp;

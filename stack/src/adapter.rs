@@ -12,6 +12,7 @@ use crate::io::consume::{self, Accepted, Discard};
 use crate::io::open::Origin;
 use crate::io::{produce, ConnectionTable};
 use crate::net::NetworkConfig;
+use crate::nv::{NvError, NvStore};
 use crate::rng::Rng;
 use crate::time::{Duration, Instant};
 use crate::wire::encap::{status, Repr, HEADER_LEN};
@@ -40,6 +41,8 @@ pub struct Adapter<D: Device> {
     pub(crate) delayed: DelayedReplies,
     pub(crate) connections: ConnectionTable,
     pub(crate) rng: Rng,
+    /// Where the TCP/IP settings are saved (none: they last until power-off).
+    pub(crate) store: Option<&'static mut dyn NvStore>,
 }
 
 impl<D: Device> Adapter<D> {
@@ -56,7 +59,27 @@ impl<D: Device> Adapter<D> {
             delayed: DelayedReplies::new(),
             connections: ConnectionTable::new(id_seed),
             rng,
+            store: None,
         }
+    }
+
+    /// Keeps the TCP/IP settings (attributes 3, 5, 6 and 13) in `store` from now on: loads
+    /// those it holds (see [`crate::cip::tcpip::TcpIpState`] for when they apply) and saves
+    /// every Set before answering it (0x19 if that fails). Returns whether settings were
+    /// loaded; on a read error the factory defaults hold and the store is still used.
+    pub fn attach_store(&mut self, store: &'static mut dyn NvStore) -> Result<bool, NvError> {
+        let loaded = crate::cip::tcpip::TcpIpState::stored(store);
+        self.store = Some(store);
+        let stored = loaded?;
+        let found = stored.is_some();
+        if let Some(st) = stored {
+            let tcpip = &mut self.objects.tcpip;
+            tcpip.config_control = st.config_control;
+            tcpip.interface = st.interface;
+            tcpip.host_name = st.host_name;
+            tcpip.inactivity_timeout_s = st.inactivity_timeout_s;
+        }
+        Ok(found)
     }
 
     /// The device profile.
@@ -350,6 +373,7 @@ impl<D: Device> Adapter<D> {
             origin,
             reply_t_o_sockaddr: None,
             request,
+            store: self.store.as_deref_mut(),
         }
     }
 

@@ -14,8 +14,10 @@ pub const MAX_ASSEMBLY_SIZE: usize = 500;
 pub const MAX_PENDING_LIST_IDENTITY: usize = 4;
 /// Services inside one Multiple_Service_Packet request.
 pub const MAX_MULTIPLE_SERVICES: usize = 32;
-/// Longest host name (TCP/IP attribute 6) and domain name (attribute 5).
+/// Longest host name (TCP/IP attribute 6).
 pub const MAX_HOST_NAME: usize = 64;
+/// Longest domain name (TCP/IP attribute 5), as CIP allows.
+pub const MAX_DOMAIN_NAME: usize = 48;
 /// TCP port of the encapsulation protocol.
 pub const ENCAP_PORT: u16 = 44818;
 /// UDP port of Class 0/1 implicit I/O.

@@ -11,6 +11,7 @@
 //!   writing one.
 //! - [`adapter`]: the [`Adapter`] the runtime drives.
 //! - [`eds`]: the EDS file of any device.
+//! - [`nv`]: non-volatile storage (A/B copies with sequence numbers and CRC) over any flash.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -27,6 +28,7 @@ pub mod encap;
 pub mod guide;
 pub mod io;
 pub mod net;
+pub mod nv;
 pub mod originator;
 pub mod rng;
 pub mod time;

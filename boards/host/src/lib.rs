@@ -12,7 +12,10 @@
 //! [`Options::create_tap`]), builds the embassy-net stack with
 //! [`enip_firmware::SOCKETS`] sockets, wraps the device in a [`enip_stack::Adapter`], logs to stderr
 //! (`RUST_LOG`, default `info`), exits 0 on SIGINT or SIGTERM and 1 on any start-up error.
+//! The TCP/IP settings a scanner sets are kept in the non-volatile store, a file with
+//! [`Options::nv_file`] (`--nv-file`), so that a restart comes up at the address set.
 
+mod nv_file;
 mod options;
 mod runner;
 mod signals;

@@ -13,7 +13,7 @@ use nvram::ProfileOptions;
 fn usage() -> String {
     format!(
         "usage: enip-host --tap IFNAME --ip A.B.C.D/LEN [--gateway A.B.C.D] [--profile NAME] \
-         [--mac xx:xx:xx:xx:xx:xx] [--create-tap]\n       \
+         [--mac xx:xx:xx:xx:xx:xx] [--nv-file PATH] [--create-tap]\n       \
          enip-host --eds [--profile NAME]\n\n\
          \x20 --profile NAME     device profile: {} (default: generic)\n\
          \x20 --eds              print the profile's EDS file and exit\n\

@@ -1,6 +1,7 @@
 //! [`Options`]: the settings of a host adapter, and their command line.
 
 use core::net::Ipv4Addr;
+use std::path::PathBuf;
 
 /// The options every host adapter understands, for a program's usage text.
 pub const OPTIONS_USAGE: &str =
@@ -10,6 +11,10 @@ pub const OPTIONS_USAGE: &str =
   --ip A.B.C.D/LEN   the adapter's static address and prefix length
   --gateway A.B.C.D  default gateway (none by default)
   --mac MAC          the adapter's MAC address (default: 02:45:4e:49:50:01)
+  --nv-file PATH     keep the settings that survive a power cycle (TCP/IP attributes 3, 5,
+                     6 and 13) in PATH (created if absent); a static interface configuration
+                     stored there replaces --ip and --gateway at start (default: in RAM,
+                     lost at exit)
   --create-tap       create IFNAME if there is none (needs root or CAP_NET_ADMIN); it is
                      down, has no host address and disappears when the program exits
 
@@ -45,6 +50,8 @@ pub struct Options {
     pub mac: [u8; 6],
     /// Create the TAP interface if there is none.
     pub create_tap: bool,
+    /// `--nv-file`: the file of the non-volatile store (none: in RAM).
+    pub nv_file: Option<PathBuf>,
 }
 
 impl Options {
@@ -57,6 +64,7 @@ impl Options {
             gateway: None,
             mac: DEFAULT_MAC,
             create_tap: false,
+            nv_file: None,
         }
     }
 
@@ -71,6 +79,7 @@ impl Options {
         let mut gateway = None;
         let mut mac = DEFAULT_MAC;
         let mut create_tap = false;
+        let mut nv_file = None;
         while let Some(flag) = args.next() {
             match flag.as_str() {
                 "-h" | "--help" => return Ok(Parsed::Help),
@@ -86,6 +95,7 @@ impl Options {
                 "--ip" => ip = Some(parse_cidr(&value)?),
                 "--gateway" => gateway = Some(parse_ip(&value)?),
                 "--mac" => mac = parse_mac(&value)?,
+                "--nv-file" => nv_file = Some(PathBuf::from(value)),
                 _ if extra(&flag, value)? => {}
                 _ => return Err(format!("unknown option {flag:?}")),
             }
@@ -98,6 +108,7 @@ impl Options {
             gateway,
             mac,
             create_tap,
+            nv_file,
         }))
     }
 
@@ -210,8 +221,11 @@ mod tests {
         assert_eq!(a.gateway, Some(Ipv4Addr::new(198, 18, 0, 1)));
         assert_eq!(a.mac, [2, 0, 0, 0, 0, 0x2a]);
         assert!(!a.create_tap);
+        assert_eq!(a.nv_file, None);
         let a = run(&["--create-tap", "--tap", "tap0", "--ip", "198.18.0.2/24"]).unwrap();
         assert!(a.create_tap);
+        let a = run(&["--tap", "t", "--ip", "198.18.0.2/24", "--nv-file", "/x/nv"]).unwrap();
+        assert_eq!(a.nv_file, Some(PathBuf::from("/x/nv")));
     }
 
     #[test]

@@ -8,8 +8,10 @@ use embassy_executor::{Executor, Spawner};
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
 use embassy_net_tuntap::TunTapDevice;
 use enip_firmware::Resources;
+use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::{Adapter, Device};
 
+use crate::nv_file::{self, HostStore};
 use crate::{program_name, signals, tap, Options};
 
 /// Sockets of the embassy-net stack: what the adapter needs, and none to spare.
@@ -32,7 +34,11 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
         eprintln!("{program}: {e}");
         exit(1);
     });
-    let adapter_run = start(device, tap, options, program);
+    let store = nv_file::open(options.nv_file.as_deref()).unwrap_or_else(|e| {
+        eprintln!("{program}: {e}");
+        exit(1);
+    });
+    let adapter_run = start(device, tap, store, options, program);
     let executor: &'static mut Executor = Box::leak(Box::new(Executor::new()));
     executor.run(|spawner: Spawner| {
         let (net, adapter) = adapter_run;
@@ -53,25 +59,25 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
 fn start<D: Device + 'static>(
     device: D,
     mut tap: TunTapDevice,
+    mut store: HostStore,
     options: Options,
     program: String,
 ) -> (Runner<'static, TunTapDevice>, AdapterRun) {
     tap.set_hardware_address(options.mac);
-    let config = embassy_net::Config::ipv4_static(StaticConfigV4 {
-        address: Ipv4Cidr::new(options.ip, options.prefix_len),
-        gateway: options.gateway,
-        dns_servers: Default::default(),
-    });
+    let config = embassy_net::Config::ipv4_static(interface(&mut store, &options));
     let seed = seed();
     let resources: &'static mut StackResources<SOCKETS> =
         Box::leak(Box::new(enip_firmware::stack_resources()));
     let (net, runner) = embassy_net::new(tap, config, resources, seed);
     let name = device.identity().product_name;
-    let adapter = Adapter::new(
+    let mut adapter = Adapter::new(
         device,
         enip_firmware::network_config(net),
         seed.rotate_left(32),
     );
+    if let Err(e) = adapter.attach_store(Box::leak(Box::new(store))) {
+        log::error!("non-volatile store unreadable ({e:?}): factory TCP/IP settings");
+    }
     let adapter = Box::leak(Box::new(enip_firmware::share(adapter)));
     let buffers: &'static mut Resources = Box::leak(Box::new(Resources::new()));
     let tap_name = options.tap;
@@ -93,6 +99,56 @@ fn start<D: Device + 'static>(
     };
     let run: &'static mut dyn Future<Output = ()> = Box::leak(Box::new(run));
     (runner, Pin::static_mut(run))
+}
+
+/// The address to start with: the static interface configuration in the store, else
+/// `--ip` and `--gateway`; says which in the log.
+fn interface(store: &mut HostStore, options: &Options) -> StaticConfigV4 {
+    let from = options
+        .nv_file
+        .as_deref()
+        .map_or_else(|| "RAM".into(), |p| p.display().to_string());
+    let stored = TcpIpState::stored(store).unwrap_or_else(|e| {
+        log::error!("non-volatile store {from}: {e:?}");
+        None
+    });
+    if let Some(st) = stored.as_ref().filter(|st| st.config_control & 0x0F != 0) {
+        log::warn!(
+            "stored configuration control {:#x} asks for DHCP; this host adapter has none",
+            st.config_control
+        );
+    }
+    let Some(i) = stored.as_ref().and_then(|st| st.static_interface()) else {
+        log::info!(
+            "interface {}/{} from --ip (nothing stored in {from})",
+            options.ip,
+            options.prefix_len
+        );
+        return StaticConfigV4 {
+            address: Ipv4Cidr::new(options.ip, options.prefix_len),
+            gateway: options.gateway,
+            dns_servers: Default::default(),
+        };
+    };
+    let prefix = u32::from(i.netmask).count_ones() as u8;
+    log::info!(
+        "interface {}/{prefix} gateway {} from the stored TCP/IP configuration in {from} \
+         (--ip {}/{} not used)",
+        i.ip,
+        i.gateway,
+        options.ip,
+        options.prefix_len
+    );
+    StaticConfigV4 {
+        address: Ipv4Cidr::new(i.ip, prefix),
+        gateway: (!i.gateway.is_unspecified()).then_some(i.gateway),
+        dns_servers: i
+            .dns
+            .iter()
+            .copied()
+            .filter(|d| !d.is_unspecified())
+            .collect(),
+    }
 }
 
 /// A random seed for the network stack and the adapter, from the OS or else the clock.

@@ -19,6 +19,7 @@
 
 mod clocks;
 pub mod leds;
+pub mod nv_flash;
 
 use core::net::Ipv4Addr;
 
@@ -31,8 +32,11 @@ use embassy_stm32::peripherals::{ETH, ETH_SMA, RNG};
 use embassy_stm32::rng::{self, Rng};
 use embassy_stm32::{bind_interrupts, uid};
 use enip_firmware::Resources;
+use enip_stack::cip::tcpip::TcpIpState;
+use enip_stack::nv::AbStore;
 use enip_stack::{Adapter, Device};
 use leds::NucleoLeds;
+use nv_flash::OnChipFlash;
 use static_cell::{ConstStaticCell, StaticCell};
 use {defmt_rtt as _, panic_probe as _};
 
@@ -55,6 +59,8 @@ static PACKETS: ConstStaticCell<PacketQueue<TX_PACKETS, RX_PACKETS>> =
 static NET_RESOURCES: ConstStaticCell<StackResources<SOCKETS>> =
     ConstStaticCell::new(enip_firmware::stack_resources());
 static FIRMWARE_RESOURCES: StaticCell<Resources> = StaticCell::new();
+/// The non-volatile store (TCP/IP settings) on the on-chip flash.
+static NV_STORE: StaticCell<AbStore<OnChipFlash>> = StaticCell::new();
 
 /// A static IPv4 configuration: address, prefix length, optional gateway.
 pub fn static_ipv4(
@@ -101,11 +107,19 @@ pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::C
         mac,
         phy,
     );
+    let mut store = nv_flash::store(p.FLASH);
+    let network = stored_network(&mut store).unwrap_or(network);
     let dhcp = is_dhcp(&network);
     let (net, runner) = embassy_net::new(driver, network, NET_RESOURCES.take(), seed);
     let mut interface = enip_firmware::network_config(net);
     interface.dhcp = dhcp;
-    let adapter = enip_firmware::share(Adapter::new(device, interface, seed.rotate_left(32)));
+    let mut adapter = Adapter::new(device, interface, seed.rotate_left(32));
+    match adapter.attach_store(NV_STORE.init(store)) {
+        Ok(true) => info!("TCP/IP settings loaded from flash"),
+        Ok(false) => info!("no TCP/IP settings in flash: factory defaults"),
+        Err(e) => warn!("flash store unreadable ({}): factory defaults", e),
+    }
+    let adapter = enip_firmware::share(adapter);
     match net_task(runner) {
         Ok(net) => spawner.spawn(net),
         Err(_) => panic!("cannot spawn the network task"),
@@ -118,6 +132,30 @@ pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::C
     )
     .await;
     never
+}
+
+/// The static interface configuration stored in flash (TCP/IP attribute 5, set by a
+/// scanner and applied here, at the next boot), if configuration control says static.
+fn stored_network(store: &mut AbStore<OnChipFlash>) -> Option<embassy_net::Config> {
+    let stored = match TcpIpState::stored(store) {
+        Ok(s) => s?,
+        Err(e) => {
+            warn!("flash store unreadable ({}): built-in network settings", e);
+            return None;
+        }
+    };
+    let Some(i) = stored.static_interface() else {
+        info!("no static interface configuration stored: built-in network settings");
+        return None;
+    };
+    let prefix = u32::from(i.netmask).count_ones() as u8;
+    info!(
+        "interface {=[u8]}/{} from the stored TCP/IP configuration",
+        i.ip.octets(),
+        prefix
+    );
+    let gateway = (!i.gateway.is_unspecified()).then_some(i.gateway.octets());
+    Some(static_ipv4(i.ip.octets(), prefix, gateway))
 }
 
 /// True if `network` asks for DHCP.

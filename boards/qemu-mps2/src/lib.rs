@@ -26,6 +26,7 @@ use core::net::Ipv4Addr;
 use embassy_executor::Spawner;
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
 use enip_firmware::Resources;
+use enip_stack::nv::{AbStore, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE};
 use enip_stack::{Adapter, Device};
 use lan9118::Lan9118;
 use static_cell::{ConstStaticCell, StaticCell};
@@ -36,6 +37,10 @@ const SOCKETS: usize = enip_firmware::SOCKETS;
 static NET_RESOURCES: ConstStaticCell<StackResources<SOCKETS>> =
     ConstStaticCell::new(enip_firmware::stack_resources());
 static FIRMWARE_RESOURCES: StaticCell<Resources> = StaticCell::new();
+/// The non-volatile store, in RAM: TCP/IP settings last until QEMU exits.
+static NV_STORE: StaticCell<AbStore<RamFlash<NV_SECTOR>>> = StaticCell::new();
+/// Bytes of a sector of the store's RAM flash: what one copy needs.
+const NV_SECTOR: usize = MAX_WRITE_SIZE + IMAGE_SIZE;
 
 /// Runs `device` (profile `name` in the log) at the static address `address`/`prefix_len`
 /// (gateway optional); never returns. Call it once, from the firmware's `main` task.
@@ -63,11 +68,15 @@ pub async fn run<D: Device>(
     });
     let seed = seed(mac);
     let (net, runner) = embassy_net::new(driver, config, NET_RESOURCES.take(), seed);
-    let adapter = enip_firmware::share(Adapter::new(
+    let mut adapter = Adapter::new(
         device,
         enip_firmware::network_config(net),
         seed.rotate_left(32),
-    ));
+    );
+    if let Err(e) = adapter.attach_store(NV_STORE.init(AbStore::mount(RamFlash::new()))) {
+        log::warn!("non-volatile store: {e:?}");
+    }
+    let adapter = enip_firmware::share(adapter);
     match net_task(runner) {
         Ok(task) => spawner.spawn(task),
         Err(e) => panic!("cannot spawn the network task: {e:?}"),

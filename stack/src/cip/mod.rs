@@ -15,12 +15,14 @@ pub(crate) mod serve;
 pub mod service;
 pub mod status;
 pub mod tcpip;
+pub mod tcpip_nv;
 pub(crate) mod vendor;
 
 use crate::device::Device;
 use crate::io::open::Origin;
 use crate::io::ConnectionTable;
 use crate::net::NetworkConfig;
+use crate::nv::NvStore;
 use crate::wire::cpf::SockAddr;
 use context::RequestContext;
 
@@ -71,6 +73,8 @@ pub(crate) struct Ctx<'a, D: Device> {
     pub reply_t_o_sockaddr: Option<SockAddr>,
     /// Unconnected or connected, the session's peer, the time.
     pub request: RequestContext,
+    /// Where settings that survive a power cycle go (none: they last until power-off).
+    pub store: Option<&'a mut (dyn NvStore + 'static)>,
 }
 
 impl<D: Device> Ctx<'_, D> {

@@ -88,6 +88,14 @@ pub enum DataType {
     },
     /// A structure or array of exactly this many bytes.
     Bytes(u16),
+    /// A structure of `bytes` fixed bytes, then a STRING padded to an even length of at
+    /// most `max` characters (the TCP/IP object's interface configuration).
+    BytesThenPaddedString {
+        /// Bytes before the STRING.
+        bytes: u16,
+        /// Most characters of the STRING.
+        max: u16,
+    },
     /// A size the object knows only at run time (the Assembly data attribute; for a vendor
     /// class, [`crate::Device::attribute_size`]).
     RunTime,
@@ -154,6 +162,11 @@ impl DataType {
             DataType::String { max } => counted(2, usize::from(max), false)?,
             DataType::PaddedString { max } => counted(2, usize::from(max), true)?,
             DataType::CountedBytes { max } => counted(4, usize::from(max), false)?,
+            DataType::BytesThenPaddedString { bytes, max } => {
+                let fixed = usize::from(bytes);
+                let rest = data.get(fixed..).ok_or(not_enough())?;
+                fixed + DataType::PaddedString { max }.value_len(rest, None)?
+            }
             DataType::RunTime => run_time.ok_or(CipError::new(General::AttributeNotSupported))?,
             DataType::Unsized => data.len(),
             fixed => fixed.fixed_size().unwrap_or(0),
@@ -294,6 +307,12 @@ mod tests {
         assert_eq!(len(DataType::RunTime, &[0; 5]), Ok(3));
         assert_eq!(len(DataType::Unsized, &[0; 5]), Ok(5));
         assert_eq!(len(DataType::Bytes(6), &[0; 6]), Ok(6));
+        let iface = DataType::BytesThenPaddedString { bytes: 4, max: 4 };
+        assert_eq!(len(iface, &[0, 0, 0, 0, 1, 0, b'a', 0, 9]), Ok(8));
+        assert_eq!(len(iface, &[0, 0, 0, 0, 0, 0]), Ok(6));
+        assert_eq!(len(iface, &[0, 0, 0, 0, 1, 0, b'a']), Err(0x13));
+        assert_eq!(len(iface, &[0, 0, 0]), Err(0x13));
+        assert_eq!(len(iface, &[0, 0, 0, 0, 5, 0]), Err(0x09));
     }
 
     #[test]

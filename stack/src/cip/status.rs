@@ -47,6 +47,8 @@ pub enum General {
     TooMuchData = 0x15,
     /// Object does not exist.
     ObjectDoesNotExist = 0x16,
+    /// Store operation failure: non-volatile storage could not be written.
+    StoreOperationFailure = 0x19,
     /// Vendor specific error.
     VendorSpecific = 0x1F,
     /// Invalid parameter.

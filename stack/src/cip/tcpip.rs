@@ -7,8 +7,9 @@ use super::encoding::{ip, padded_string};
 use super::object::{AttributeDef, ClassDef, DataType};
 use super::serve::{serve, Object};
 use super::status::{CipResult, General};
+use super::tcpip_nv::{valid_name, InterfaceConfig, INTERFACE_FIXED};
 use super::{class_id, Ctx, Request};
-use crate::config::MAX_HOST_NAME;
+use crate::config::{MAX_DOMAIN_NAME, MAX_HOST_NAME};
 use crate::device::{Device, Multicast};
 use crate::net::NetworkConfig;
 use crate::wire::bytes::{get_u16, get_u32};
@@ -16,8 +17,16 @@ use crate::wire::Writer;
 
 /// Configuration capability: DHCP client (bit 2).
 const CAPABILITY_DHCP: u32 = 1 << 2;
+/// Configuration capability: attributes 3 and 5 are settable (bit 4).
+const CAPABILITY_SETTABLE: u32 = 1 << 4;
 /// Configuration capability: interface configuration changes need a reset (bit 6).
 const CAPABILITY_CHANGE_NEEDS_RESET: u32 = 1 << 6;
+/// Status: the interface configuration is valid (bits 0-3 = 1: from DHCP or storage).
+const STATUS_CONFIGURED: u32 = 1;
+/// Status: a set interface configuration waits for the next reset (bit 5).
+const STATUS_CONFIG_PENDING: u32 = 1 << 5;
+/// Longest encapsulation inactivity timeout in seconds (attribute 13).
+pub const MAX_INACTIVITY_TIMEOUT_S: u16 = 3600;
 /// Configuration control value: static address.
 const CONTROL_STATIC: u32 = 0;
 /// Configuration control value: DHCP.
@@ -39,10 +48,19 @@ pub struct MulticastConfig {
 }
 
 /// Settable TCP/IP object state.
+///
+/// Attributes 3, 5, 6 and 13 are saved to the adapter's [`crate::nv::NvStore`] (when it has
+/// one) before a Set is answered. Attributes 3 and 5 apply at the next reset (capability bit
+/// 6): the runtime reads them at start with [`TcpIpState::stored`] and
+/// [`TcpIpState::static_interface`]; until then status bit 5 says a change is pending.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TcpIpState {
     /// Attribute 3, as last set (applies at the next reset).
     pub config_control: u32,
+    /// Attribute 5 as set or stored (applies at the next reset; all zero: none configured).
+    pub interface: InterfaceConfig,
+    /// Attribute 3 or 5 was set since start: the change waits for a reset (status bit 5).
+    pub interface_pending: bool,
     /// Attribute 6.
     pub host_name: heapless::Vec<u8, MAX_HOST_NAME>,
     /// Attribute 8: multicast TTL.
@@ -58,6 +76,8 @@ impl TcpIpState {
     pub fn new() -> Self {
         TcpIpState {
             config_control: CONTROL_STATIC,
+            interface: InterfaceConfig::NONE,
+            interface_pending: false,
             host_name: heapless::Vec::new(),
             ttl: 1,
             mcast: MulticastConfig {
@@ -104,7 +124,7 @@ impl Default for TcpIpState {
     }
 }
 
-/// The TCP/IP Interface class: one instance, attributes 1-13; 3, 6, 8, 9 and 13 settable.
+/// The TCP/IP Interface class: one instance, attributes 1-13; 3, 5, 6, 8, 9 and 13 settable.
 pub const CLASS: ClassDef = ClassDef {
     id: class_id::TCP_IP_INTERFACE,
     name: "TCP/IP Interface",
@@ -115,7 +135,14 @@ pub const CLASS: ClassDef = ClassDef {
         AttributeDef::get(2, DataType::Dword, "Configuration Capability"),
         AttributeDef::get_set(3, DataType::Dword, "Configuration Control"),
         AttributeDef::get(4, DataType::Bytes(6), "Physical Link Object"),
-        AttributeDef::get(5, DataType::Unsized, "Interface Configuration"),
+        AttributeDef::get_set(
+            5,
+            DataType::BytesThenPaddedString {
+                bytes: INTERFACE_FIXED,
+                max: MAX_DOMAIN_NAME as u16,
+            },
+            "Interface Configuration",
+        ),
         AttributeDef::get_set(
             6,
             DataType::PaddedString {
@@ -145,17 +172,23 @@ impl<D: Device> Object for TcpIp<'_, '_, D> {
         let net = self.0.net;
         let st = &self.0.state.tcpip;
         match attr.id {
-            1 => w.u32(1)?,
-            2 => w.u32(CAPABILITY_DHCP | CAPABILITY_CHANGE_NEEDS_RESET)?,
+            1 => w.u32(if st.interface_pending {
+                STATUS_CONFIGURED | STATUS_CONFIG_PENDING
+            } else {
+                STATUS_CONFIGURED
+            })?,
+            2 => w.u32(CAPABILITY_DHCP | CAPABILITY_SETTABLE | CAPABILITY_CHANGE_NEEDS_RESET)?,
             3 => w.u32(st.config_control)?,
             4 => w.bytes(&[2, 0, 0x20, 0xF6, 0x24, 0x01])?,
+            // The values set and waiting for a reset, else those in use.
+            5 if st.interface_pending && !st.interface.is_none() => st.interface.write(w)?,
             5 => {
                 ip(w, net.ip)?;
                 ip(w, net.netmask)?;
                 ip(w, net.gateway)?;
                 ip(w, net.dns[0])?;
                 ip(w, net.dns[1])?;
-                padded_string(w, b"")?;
+                padded_string(w, &st.interface.domain)?;
             }
             6 => padded_string(w, &st.host_name)?,
             7 => w.zeros(6)?,
@@ -182,6 +215,26 @@ impl<D: Device> Object for TcpIp<'_, '_, D> {
     }
 
     fn set(&mut self, _instance: u32, attr: &AttributeDef, value: &[u8]) -> CipResult {
+        if !matches!(attr.id, 3 | 5 | 6 | 13) {
+            return self.set_volatile(attr, value);
+        }
+        let before = self.0.state.tcpip.clone();
+        self.set_stored(attr, value)?;
+        let ctx = &mut *self.0;
+        if let Some(store) = ctx.store.as_deref_mut() {
+            if ctx.state.tcpip.save(store).is_err() {
+                warn!("TCP/IP attribute {}: storing failed", attr.id);
+                ctx.state.tcpip = before;
+                return Err(General::StoreOperationFailure.into());
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<D: Device> TcpIp<'_, '_, D> {
+    /// Sets attribute 3, 5, 6 or 13 (the stored ones) in RAM.
+    fn set_stored(&mut self, attr: &AttributeDef, value: &[u8]) -> CipResult {
         let st = &mut self.0.state.tcpip;
         match attr.id {
             3 => {
@@ -189,22 +242,45 @@ impl<D: Device> Object for TcpIp<'_, '_, D> {
                 if v & 0x0F != CONTROL_STATIC && v & 0x0F != CONTROL_DHCP || v & !0x1F != 0 {
                     return Err(General::InvalidAttributeValue.into());
                 }
+                st.interface_pending |= v != st.config_control;
                 st.config_control = v;
+                Ok(())
+            }
+            5 => {
+                // Only a static configuration takes an address (Vol 2, 5-4.3.2.5).
+                if st.config_control & 0x0F != CONTROL_STATIC {
+                    return Err(General::ObjectStateConflict.into());
+                }
+                let config = InterfaceConfig::parse(value)?;
+                st.interface_pending |= config != st.interface;
+                st.interface = config;
                 Ok(())
             }
             6 => {
                 let len = usize::from(get_u16(value, 0));
                 let name = value.get(2..2 + len).unwrap_or(&[]);
-                if !name
-                    .iter()
-                    .all(|c| c.is_ascii_alphanumeric() || matches!(c, b'-' | b'.'))
-                {
+                if !valid_name(name) {
                     return Err(General::InvalidAttributeValue.into());
                 }
                 st.host_name =
                     heapless::Vec::from_slice(name).map_err(|_| General::InvalidAttributeValue)?;
                 Ok(())
             }
+            _ => {
+                let v = get_u16(value, 0);
+                if v > MAX_INACTIVITY_TIMEOUT_S {
+                    return Err(General::InvalidAttributeValue.into());
+                }
+                st.inactivity_timeout_s = v;
+                Ok(())
+            }
+        }
+    }
+
+    /// Sets attribute 8 or 9 (kept in RAM, or by the device).
+    fn set_volatile(&mut self, attr: &AttributeDef, value: &[u8]) -> CipResult {
+        let st = &mut self.0.state.tcpip;
+        match attr.id {
             8 => match value.first().copied().unwrap_or(0) {
                 0 => Err(General::InvalidAttributeValue.into()),
                 ttl => {
@@ -235,14 +311,7 @@ impl<D: Device> Object for TcpIp<'_, '_, D> {
                 }
                 Ok(())
             }
-            _ => {
-                let v = get_u16(value, 0);
-                if v > 3600 {
-                    return Err(General::InvalidAttributeValue.into());
-                }
-                st.inactivity_timeout_s = v;
-                Ok(())
-            }
+            _ => Err(General::AttributeNotSettable.into()),
         }
     }
 }

@@ -1,0 +1,57 @@
+//! Non-volatile storage: the one abstraction for everything that must survive a power cycle.
+//!
+//! [`NvStore`] keeps small numbered records (the TCP/IP object's settings, a profile's saved
+//! configuration); writing one replaces it as a whole or not at all. [`AbStore`] implements it
+//! over any [`Flash`] with two sectors used in turn (A/B): a write programs a complete new
+//! copy (sequence number and CRC) into the other sector and commits it last, so a power cut at
+//! any point leaves the previous complete copy readable, and erases alternate between the two.
+//! [`RamFlash`] is the flash of the host and QEMU builds (and of the tests).
+
+mod ab;
+mod crc;
+mod flash;
+mod records;
+
+pub use ab::{AbStore, IMAGE_SIZE};
+pub use crc::crc32;
+pub use flash::{Flash, FlashError, RamFlash, MAX_WRITE_SIZE};
+
+/// Why a store operation failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum NvError {
+    /// The flash refused a read, erase or program.
+    Flash,
+    /// The records do not fit in one copy ([`IMAGE_SIZE`]).
+    NoSpace,
+    /// The caller's buffer is smaller than the record.
+    BufferTooSmall,
+}
+
+impl From<FlashError> for NvError {
+    fn from(_: FlashError) -> Self {
+        NvError::Flash
+    }
+}
+
+/// Record keys: who owns which record. The stack's are below 0x100; a device profile uses
+/// [`key::PROFILE_BASE`] and up.
+pub mod key {
+    /// The TCP/IP Interface object's settings (attributes 3, 5, 6 and 13).
+    pub const TCP_IP: u16 = 0x0001;
+    /// First key of the device profile's records.
+    pub const PROFILE_BASE: u16 = 0x0100;
+}
+
+/// Small numbered records that survive a power cycle; each write or removal is atomic.
+pub trait NvStore {
+    /// Copies record `key` into `buf`; its length, or `None` if there is no such record.
+    fn read(&mut self, key: u16, buf: &mut [u8]) -> Result<Option<usize>, NvError>;
+    /// Stores `value` as record `key`, replacing any previous value, all or nothing.
+    fn write(&mut self, key: u16, value: &[u8]) -> Result<(), NvError>;
+    /// Removes record `key` (nothing if there is none).
+    fn remove(&mut self, key: u16) -> Result<(), NvError>;
+}
+
+#[cfg(test)]
+mod power_cut;

@@ -1,0 +1,236 @@
+//! The power-cut test: a simulated flash that loses power at every erase and program step,
+//! and a check that the store then boots with either the old or the new records.
+
+use super::*;
+
+/// Bytes of a simulated sector.
+const SECTOR: usize = MAX_WRITE_SIZE + IMAGE_SIZE;
+
+/// Flash whose power goes after `budget` more steps (an erase, or one program unit): the
+/// step in progress is left half done and every later operation fails.
+#[derive(Clone)]
+pub(crate) struct CutFlash {
+    pub(crate) cells: [[u8; SECTOR]; 2],
+    pub(crate) budget: Option<usize>,
+    pub(crate) steps: usize,
+    off: bool,
+}
+
+impl CutFlash {
+    pub(crate) fn new() -> Self {
+        CutFlash {
+            cells: [[0xFF; SECTOR]; 2],
+            budget: None,
+            steps: 0,
+            off: false,
+        }
+    }
+    /// One step more; false (power gone) once the budget is spent.
+    fn step(&mut self) -> bool {
+        self.steps += 1;
+        match &mut self.budget {
+            Some(0) => {
+                self.off = true;
+                false
+            }
+            Some(n) => {
+                *n -= 1;
+                true
+            }
+            None => true,
+        }
+    }
+    fn dead(&self) -> bool {
+        self.off
+    }
+    /// Power back on, with no cut to come.
+    pub(crate) fn restore(&mut self) {
+        self.budget = None;
+        self.off = false;
+    }
+}
+
+impl Flash for CutFlash {
+    const SECTOR_SIZE: usize = SECTOR;
+    const WRITE_SIZE: usize = 4;
+    fn read(&mut self, sector: u8, offset: usize, buf: &mut [u8]) -> Result<(), FlashError> {
+        if self.dead() {
+            return Err(FlashError);
+        }
+        let s = &self.cells[usize::from(sector)];
+        buf.copy_from_slice(&s[offset..offset + buf.len()]);
+        Ok(())
+    }
+    fn erase(&mut self, sector: u8) -> Result<(), FlashError> {
+        let alive = !self.dead() && self.step();
+        let s = &mut self.cells[usize::from(sector)];
+        if !alive {
+            // Half erased: the first half of the sector only.
+            s[..SECTOR / 2].fill(0xFF);
+            return Err(FlashError);
+        }
+        s.fill(0xFF);
+        Ok(())
+    }
+    fn program(&mut self, sector: u8, offset: usize, data: &[u8]) -> Result<(), FlashError> {
+        assert_eq!((offset % 4, data.len() % 4), (0, 0));
+        for (i, unit) in data.chunks(4).enumerate() {
+            let alive = !self.dead() && self.step();
+            let at = offset + 4 * i;
+            let cells = &mut self.cells[usize::from(sector)][at..at + 4];
+            // A cut unit gets its first two bytes only.
+            let n = if alive { 4 } else { 2 };
+            for (c, b) in cells.iter_mut().zip(unit).take(n) {
+                *c &= *b;
+            }
+            if !alive {
+                return Err(FlashError);
+            }
+        }
+        Ok(())
+    }
+}
+
+fn value(store: &mut AbStore<CutFlash>, key: u16) -> Option<Vec<u8>> {
+    let mut buf = [0u8; IMAGE_SIZE];
+    let n = store.read(key, &mut buf).unwrap()?;
+    Some(buf[..n].to_vec())
+}
+
+extern crate std;
+use std::vec::Vec;
+
+/// Saves `new` as record 1 from the state in `before`, cutting the power after every
+/// possible number of steps; each boot after a cut must see record 1 old or new and
+/// record 2 untouched.
+fn cut_everywhere(before: &CutFlash, new: &[u8]) -> usize {
+    let mut probe = AbStore::mount(before.clone());
+    let old = value(&mut probe, 1);
+    let other = value(&mut probe, 2);
+    let start = probe.flash().steps;
+    probe.write(1, new).unwrap();
+    let steps = probe.flash().steps - start;
+    for cut in 0..steps {
+        let mut flash = before.clone();
+        flash.budget = Some(cut);
+        let mut store = AbStore::mount(flash);
+        assert!(store.write(1, new).is_err(), "cut after {cut} of {steps}");
+        let mut flash = store.into_flash();
+        flash.restore();
+        let mut booted = AbStore::mount(flash);
+        let got = value(&mut booted, 1);
+        assert!(
+            got == old || got.as_deref() == Some(new),
+            "cut after {cut} of {steps}: {got:?}"
+        );
+        assert_eq!(value(&mut booted, 2), other, "cut after {cut}");
+        // And the store keeps working after the cut.
+        booted.write(1, b"after").unwrap();
+        let mut again = AbStore::mount(booted.into_flash());
+        assert_eq!(value(&mut again, 1).as_deref(), Some(&b"after"[..]));
+        assert_eq!(value(&mut again, 2), other);
+    }
+    steps
+}
+
+#[test]
+fn every_power_cut_leaves_the_old_or_the_new_records() {
+    let mut flash = CutFlash::new();
+    // The first save ever: nothing before it.
+    assert!(cut_everywhere(&flash, b"first") > 2);
+    let mut store = AbStore::mount(flash);
+    store.write(2, b"untouched").unwrap();
+    for generation in 0..4u8 {
+        flash = store.into_flash();
+        let long = [generation; 200];
+        cut_everywhere(&flash, &long);
+        cut_everywhere(&flash, &[generation]);
+        store = AbStore::mount(flash);
+        store.write(1, &long).unwrap();
+    }
+    assert_eq!(store.sequence(), 5);
+}
+
+#[test]
+fn saves_alternate_between_the_sectors() {
+    let mut store = AbStore::mount(CutFlash::new());
+    for i in 0..6u8 {
+        store.write(1, &[i]).unwrap();
+        let mut again = AbStore::mount(store.flash().clone());
+        assert_eq!(value(&mut again, 1), Some(std::vec![i]));
+    }
+    // Three erases each.
+    assert_eq!(store.sequence(), 6);
+    assert_eq!(store.remove(1), Ok(()));
+    assert_eq!(value(&mut AbStore::mount(store.into_flash()), 1), None);
+}
+
+#[test]
+fn a_corrupted_current_copy_falls_back_to_the_previous_one() {
+    let mut store = AbStore::mount(CutFlash::new());
+    store.write(1, b"old").unwrap();
+    store.write(1, b"new").unwrap();
+    let mut flash = store.into_flash();
+    // The newer copy (sector 1) loses a bit of its records.
+    flash.cells[1][MAX_WRITE_SIZE + 12] ^= 0x01;
+    assert_eq!(
+        value(&mut AbStore::mount(flash), 1).as_deref(),
+        Some(&b"old"[..])
+    );
+}
+
+#[test]
+fn ram_flash_and_full_store() {
+    let mut store = AbStore::mount(RamFlash::<{ MAX_WRITE_SIZE + IMAGE_SIZE }>::new());
+    assert_eq!(store.write(1, &[0; IMAGE_SIZE]), Err(NvError::NoSpace));
+    store.write(1, b"kept").unwrap();
+    let mut small = [0u8; 2];
+    assert_eq!(store.read(1, &mut small), Err(NvError::BufferTooSmall));
+    let mut store = AbStore::mount(store.into_flash());
+    let mut buf = [0u8; 8];
+    assert_eq!(store.read(1, &mut buf), Ok(Some(4)));
+    assert_eq!(&buf[..4], b"kept");
+}
+
+#[test]
+fn every_power_cut_boots_the_old_or_the_new_tcpip_settings() {
+    use crate::cip::tcpip::TcpIpState;
+    use crate::cip::tcpip_nv::InterfaceConfig;
+    use core::net::Ipv4Addr;
+    let settings = |last: u8, timeout: u16| {
+        let mut st = TcpIpState::new();
+        st.interface = InterfaceConfig {
+            ip: Ipv4Addr::new(198, 18, 0, last),
+            netmask: Ipv4Addr::new(255, 255, 255, 0),
+            ..InterfaceConfig::NONE
+        };
+        st.inactivity_timeout_s = timeout;
+        st
+    };
+    let (old, new) = (settings(7, 30), settings(9, 60));
+    let mut store = AbStore::mount(CutFlash::new());
+    old.save(&mut store).unwrap();
+    let before = store.into_flash();
+    let mut cut = 0;
+    loop {
+        let mut flash = before.clone();
+        flash.budget = Some(cut);
+        let mut store = AbStore::mount(flash);
+        let done = new.save(&mut store).is_ok();
+        let mut flash = store.into_flash();
+        flash.restore();
+        let booted = TcpIpState::stored(&mut AbStore::mount(flash)).unwrap();
+        let expected = if done { &new } else { &old };
+        // Old or new as a whole; never defaults, never a mix.
+        assert!(
+            booted.as_ref() == Some(&old) || booted.as_ref() == Some(&new),
+            "cut after {cut}"
+        );
+        if done {
+            assert_eq!(booted.as_ref(), Some(expected));
+            break;
+        }
+        cut += 1;
+    }
+    assert!(cut > 10);
+}
