@@ -113,13 +113,11 @@ pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::C
     let (net, runner) = embassy_net::new(driver, network, NET_RESOURCES.take(), seed);
     let mut interface = enip_firmware::network_config(net);
     interface.dhcp = dhcp;
-    let mut adapter = Adapter::new(device, interface, seed.rotate_left(32));
-    match adapter.attach_store(NV_STORE.init(store)) {
-        Ok(true) => info!("TCP/IP settings loaded from flash"),
-        Ok(false) => info!("no TCP/IP settings in flash: factory defaults"),
-        Err(e) => warn!("flash store unreadable ({}): factory defaults", e),
-    }
-    let adapter = enip_firmware::share(adapter);
+    // Built inside the call, so the main task's future holds one adapter, not two.
+    let adapter = enip_firmware::share(with_store(
+        Adapter::new(device, interface, seed.rotate_left(32)),
+        NV_STORE.init(store),
+    ));
     match net_task(runner) {
         Ok(net) => spawner.spawn(net),
         Err(_) => panic!("cannot spawn the network task"),
@@ -132,6 +130,19 @@ pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::C
     )
     .await;
     never
+}
+
+/// `adapter` with the flash store attached (its TCP/IP settings loaded from it).
+fn with_store<D: Device>(
+    mut adapter: Adapter<D>,
+    store: &'static mut AbStore<OnChipFlash>,
+) -> Adapter<D> {
+    match adapter.attach_store(store) {
+        Ok(true) => info!("TCP/IP settings loaded from flash"),
+        Ok(false) => info!("no TCP/IP settings in flash: factory defaults"),
+        Err(e) => warn!("flash store unreadable ({}): factory defaults", e),
+    }
+    adapter
 }
 
 /// The static interface configuration stored in flash (TCP/IP attribute 5, set by a

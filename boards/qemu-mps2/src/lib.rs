@@ -68,15 +68,12 @@ pub async fn run<D: Device>(
     });
     let seed = seed(mac);
     let (net, runner) = embassy_net::new(driver, config, NET_RESOURCES.take(), seed);
-    let mut adapter = Adapter::new(
+    // Built inside the call, so the main task's future holds one adapter, not two.
+    let adapter = enip_firmware::share(with_store(Adapter::new(
         device,
         enip_firmware::network_config(net),
         seed.rotate_left(32),
-    );
-    if let Err(e) = adapter.attach_store(NV_STORE.init(AbStore::mount(RamFlash::new()))) {
-        log::warn!("non-volatile store: {e:?}");
-    }
-    let adapter = enip_firmware::share(adapter);
+    )));
     match net_task(runner) {
         Ok(task) => spawner.spawn(task),
         Err(e) => panic!("cannot spawn the network task: {e:?}"),
@@ -89,6 +86,14 @@ pub async fn run<D: Device>(
         on_reset,
     )
     .await
+}
+
+/// `adapter` with the RAM store attached (settings kept until power-off).
+fn with_store<D: Device>(mut adapter: Adapter<D>) -> Adapter<D> {
+    if let Err(e) = adapter.attach_store(NV_STORE.init(AbStore::mount(RamFlash::new()))) {
+        log::warn!("non-volatile store: {e:?}");
+    }
+    adapter
 }
 
 /// Seeds for the network stack and the adapter. The machine has no random number
