@@ -1,6 +1,8 @@
 //! The power-cut test: a simulated flash that loses power at every erase and program step,
 //! and a check that the store then boots with either the old or the new records.
+//! (Test code only: `nv` declares it `#[cfg(test)]`.)
 
+#[cfg(test)]
 use super::*;
 
 /// Bytes of a simulated sector.
@@ -91,14 +93,13 @@ impl Flash for CutFlash {
     }
 }
 
-fn value(store: &mut AbStore<CutFlash>, key: u16) -> Option<Vec<u8>> {
+fn value(store: &mut AbStore<CutFlash>, key: u16) -> Option<Vec<u8, IMAGE_SIZE>> {
     let mut buf = [0u8; IMAGE_SIZE];
     let n = store.read(key, &mut buf).unwrap()?;
-    Some(buf[..n].to_vec())
+    Vec::from_slice(&buf[..n]).ok()
 }
 
-extern crate std;
-use std::vec::Vec;
+use heapless::Vec;
 
 /// Saves `new` as record 1 from the state in `before`, cutting the power after every
 /// possible number of steps; each boot after a cut must see record 1 old or new and
@@ -157,7 +158,7 @@ fn saves_alternate_between_the_sectors() {
     for i in 0..6u8 {
         store.write(1, &[i]).unwrap();
         let mut again = AbStore::mount(store.flash().clone());
-        assert_eq!(value(&mut again, 1), Some(std::vec![i]));
+        assert_eq!(value(&mut again, 1), Vec::from_slice(&[i]).ok());
     }
     // Three erases each.
     assert_eq!(store.sequence(), 6);
