@@ -5,6 +5,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, LazyLock};
 use std::time::{Duration, Instant};
 
 /// Why a command or step failed.
@@ -220,26 +221,15 @@ impl Steps {
     }
 }
 
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
-
-extern "C" fn on_signal(_signum: i32) {
-    INTERRUPTED.store(true, Ordering::SeqCst);
-}
-
-extern "C" {
-    /// `signal(2)` from the C library std already links.
-    fn signal(signum: i32, handler: extern "C" fn(i32)) -> usize;
-}
+/// Set by SIGINT or SIGTERM once [`catch_interrupts`] ran.
+static INTERRUPTED: LazyLock<Arc<AtomicBool>> = LazyLock::new(|| Arc::new(AtomicBool::new(false)));
 
 /// Makes Ctrl-C (SIGINT) and SIGTERM set a flag instead of killing the xtask, so it can
 /// clean up; children in the foreground process group still get the signal themselves.
 pub fn catch_interrupts() {
-    const SIGINT: i32 = 2;
-    const SIGTERM: i32 = 15;
-    for s in [SIGINT, SIGTERM] {
-        // SAFETY: the handler only stores to an atomic, which is async-signal-safe.
-        unsafe {
-            signal(s, on_signal);
+    for s in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        if let Err(e) = signal_hook::flag::register(s, Arc::clone(&INTERRUPTED)) {
+            loud(&format!("cannot catch signal {s}: {e}"));
         }
     }
 }
