@@ -64,13 +64,19 @@ pub fn run_all() -> Result {
 
     let dir = util::target_dir().join("bench");
     fs::create_dir_all(&dir).map_err(|e| util::Error(format!("{}: {e}", dir.display())))?;
-    let report = format!(
-        "{{\"class1_cycle\":{{\"instructions_per_cycle\":{per_cycle:.1},\"callgrind_runs\":[[{},{short}],[{},{long}]],\"ns_per_cycle_median\":{ns_median:.1},\"ns_per_cycle_runs\":{ns:?}}},\"timer_baseline\":{},\"tap\":{}}}",
-        CALLGRIND_CYCLES.0,
-        CALLGRIND_CYCLES.1,
-        baseline.trim(),
-        tap.trim()
-    );
+    let parsed =
+        |doc: &str| serde_json::from_str::<serde_json::Value>(doc.trim()).unwrap_or_default();
+    let report = serde_json::json!({
+        "class1_cycle": {
+            "instructions_per_cycle": (per_cycle * 10.0).round() / 10.0,
+            "callgrind_runs": [[CALLGRIND_CYCLES.0, short], [CALLGRIND_CYCLES.1, long]],
+            "ns_per_cycle_median": (ns_median * 10.0).round() / 10.0,
+            "ns_per_cycle_runs": ns,
+        },
+        "timer_baseline": parsed(&baseline),
+        "tap": parsed(&tap),
+    })
+    .to_string();
     let path = dir.join("report.json");
     fs::write(&path, &report).map_err(|e| util::Error(format!("{}: {e}", path.display())))?;
     println!();

@@ -1,22 +1,37 @@
-//! Just enough JSON reading for the one-line reports of peers and the scanner: the raw value
-//! of the first `"key":` (the reports are flat, or have unique keys).
+//! Reading the one-line JSON reports of peers and the scanner (with serde_json): the first
+//! value of a key, depth first (the reports are flat, or have unique keys).
 
-/// The value of the first `"key":` in `json`: a number, `true`/`false`/`null`, or a string
-/// (without its quotes; escapes are not undone).
-pub fn value<'a>(json: &'a str, key: &str) -> Option<&'a str> {
-    let pattern = format!("\"{key}\"");
-    let at = json.find(&pattern)? + pattern.len();
-    let rest = json[at..].trim_start().strip_prefix(':')?.trim_start();
-    if let Some(s) = rest.strip_prefix('"') {
-        return s.find('"').map(|end| &s[..end]);
+use serde_json::Value;
+
+/// The first value of `key` in the JSON document `json` (or, for a program's output, its
+/// last line that is one), depth first.
+pub fn find(json: &str, key: &str) -> Option<Value> {
+    let doc: Value = serde_json::from_str(json.trim()).ok().or_else(|| {
+        json.lines()
+            .rev()
+            .find_map(|l| serde_json::from_str(l.trim()).ok())
+    })?;
+    first(&doc, key).cloned()
+}
+
+fn first<'a>(v: &'a Value, key: &str) -> Option<&'a Value> {
+    match v {
+        Value::Object(map) => map
+            .get(key)
+            .or_else(|| map.values().find_map(|child| first(child, key))),
+        Value::Array(items) => items.iter().find_map(|child| first(child, key)),
+        _ => None,
     }
-    let end = rest.find([',', '}', ']']).unwrap_or(rest.len());
-    Some(rest[..end].trim())
 }
 
 /// The value of `key` as an unsigned number.
 pub fn number(json: &str, key: &str) -> Option<u64> {
-    value(json, key)?.parse().ok()
+    find(json, key)?.as_u64()
+}
+
+/// The value of `key` as a string.
+pub fn string(json: &str, key: &str) -> Option<String> {
+    find(json, key)?.as_str().map(str::to_string)
 }
 
 /// One line of the scanner's single-connection figures from its `--json` report: packets
@@ -45,8 +60,9 @@ mod tests {
         let j = r#"{"connections":[{"lost":0,"p50_us":1000}],"sent": 10000, "ok": true, "name": "enip-rs generic"}"#;
         assert_eq!(number(j, "p50_us"), Some(1000));
         assert_eq!(number(j, "sent"), Some(10000));
-        assert_eq!(value(j, "ok"), Some("true"));
-        assert_eq!(value(j, "name"), Some("enip-rs generic"));
-        assert_eq!(value(j, "missing"), None);
+        assert_eq!(find(j, "ok"), Some(Value::Bool(true)));
+        assert_eq!(string(j, "name").as_deref(), Some("enip-rs generic"));
+        assert_eq!(find(j, "missing"), None);
+        assert_eq!(number(&format!("a warning\n{j}\n"), "sent"), Some(10000));
     }
 }

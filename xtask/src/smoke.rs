@@ -100,7 +100,7 @@ fn explicit(lab: &Lab) -> Result<String> {
         None,
         60,
     )?;
-    let name = json::value(&out, "product_name").unwrap_or_default();
+    let name = json::string(&out, "product_name").unwrap_or_default();
     println!("pycomm3: Identity of {BOARD_IP}: {out}");
     if name.is_empty() {
         return err("pycomm3 read no product name");
@@ -135,7 +135,7 @@ fn ethernetip(lab: &Lab) -> Result<String> {
     if !(zero("forward_open") && zero("forward_close") && zero("reopen")) {
         return err("ethernetip: Forward_Open, Forward_Close or the reopen failed");
     }
-    if json::value(&out, "echoed") != Some("true") {
+    if json::find(&out, "echoed") != Some(serde_json::Value::Bool(true)) {
         return err("ethernetip: its output data never came back in the input");
     }
     Ok(out)
