@@ -13,7 +13,9 @@
 //!
 //! Invariants: nothing panics; every reply is a well-formed Message Router reply (service
 //! with bit 7 set, reserved byte 0, the additional status inside the reply); a refused
-//! Set_Attribute_Single leaves the attribute reading as before; a refused `write_assembly`
+//! Set_Attribute_Single leaves the attribute reading as before; an accepted one of a
+//! converting attribute (PositionServo System940, AKD parameter values) is a fixed point:
+//! what it reads back, written again, is accepted and reads the same; a refused `write_assembly`
 //! leaves the whole device as it was; reads fit their buffer. An Identity Reset the stack
 //! accepted is performed as a runtime does (connections closed, `Device::reset`).
 
@@ -121,11 +123,54 @@ fn execute(adapter: &mut Adapter<Profile>, req: &[u8], now: Instant, limit: usiz
             );
         }
     }
+    if status == 0 {
+        if let (Some(g), Ok(r)) = (&get, Request::parse(req)) {
+            if round_trips(adapter.device().name(), &r) {
+                check_round_trip(adapter, g, now);
+            }
+        }
+    }
     if let Some(kind) = adapter.take_reset() {
         adapter.close_all(CloseReason::Reset);
         let _ = adapter.device_mut().reset(kind);
     }
     status
+}
+
+/// Whether a Set the profile accepted must be a fixed point of its conversion: the value
+/// read back, written again, is accepted and reads back the same. PositionServo System940
+/// (class 0x64: integer, REAL and text forms of one variable) and the AKD parameter values
+/// (class 0x0F attribute 1).
+fn round_trips(profile: &str, r: &Request<'_>) -> bool {
+    match (profile, r.path.class, r.path.attribute) {
+        ("position-servo", Some(0x64), Some(_)) => true,
+        ("kollmorgen-akd", Some(0x0F), Some(1)) => true,
+        _ => false,
+    }
+}
+
+/// Reads the attribute with Get request `get`, writes what it read back with
+/// Set_Attribute_Single, and checks that is accepted and reads the same.
+fn check_round_trip(adapter: &mut Adapter<Profile>, get: &[u8], now: Instant) {
+    let Some(first) = read(adapter, get, now) else {
+        return;
+    };
+    let mut set = vec![0x10];
+    set.extend_from_slice(&get[1..]);
+    set.extend_from_slice(&first);
+    let mut reply = [0u8; REPLY];
+    let len = adapter.execute(&set, now, &mut reply);
+    let status = check_reply(&set, &reply[..len], REPLY);
+    assert_eq!(
+        status, 0,
+        "writing back what {get:02x?} read ({first:02x?}) was refused"
+    );
+    let again = read(adapter, get, now);
+    assert_eq!(
+        again.as_deref(),
+        Some(&first[..]),
+        "writing back what {get:02x?} read changed it"
+    );
 }
 
 /// The reply data of a successful request, or `None`.
