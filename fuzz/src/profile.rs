@@ -13,10 +13,12 @@
 //!
 //! Invariants: nothing panics; every reply is a well-formed Message Router reply (service
 //! with bit 7 set, reserved byte 0, the additional status inside the reply); a refused
-//! Set_Attribute_Single leaves the attribute reading as before; an accepted one of a
+//! Set_Attribute_Single leaves the attribute reading as before; where the profile promises
+//! more, a refused Parker request to its classes or tags writes nothing at all and a refused
+//! Ametek configuration Set changes no configuration attribute; an accepted Set of a
 //! converting attribute (PositionServo System940, AKD parameter values) is a fixed point:
-//! what it reads back, written again, is accepted and reads the same; a refused `write_assembly`
-//! leaves the whole device as it was; reads fit their buffer. An Identity Reset the stack
+//! what it reads back, written again, is accepted and reads the same; a refused
+//! `write_assembly` leaves the whole device as it was; reads fit their buffer. An Identity Reset the stack
 //! accepted is performed as a runtime does (connections closed, `Device::reset`).
 
 use enip_firmware::Profile;
@@ -112,9 +114,13 @@ fn execute(adapter: &mut Adapter<Profile>, req: &[u8], now: Instant, limit: usiz
         _ => None,
     };
     let before = get.as_ref().and_then(|g| read(adapter, g, now));
+    let promise = Promise::of(adapter.device().name(), req);
+    let snapshot = promise.snapshot(adapter, now);
     let len = adapter.execute(req, now, &mut reply[..limit]);
     let status = check_reply(req, &reply[..len], limit);
     if status != 0 {
+        // First, before the Get below counts as a request.
+        promise.check(snapshot, adapter, now, status);
         if let (Some(g), Some(before)) = (&get, &before) {
             assert_eq!(
                 read(adapter, g, now).as_ref(),
@@ -137,16 +143,112 @@ fn execute(adapter: &mut Adapter<Profile>, req: &[u8], now: Instant, limit: usiz
     status
 }
 
+/// What a profile promises of a refused request beyond its target attribute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Promise {
+    /// Nothing more.
+    None,
+    /// Parker IPA, class 0x64/0x65 and tags: "a refused request writes nothing" (the whole
+    /// device as before, but for the Class 3 message counter every request to them counts).
+    ParkerNothingWritten,
+    /// Ametek PLS, a Set of class 0xC1: "validated whole; a broken rule leaves everything as
+    /// it was" (every configuration attribute; the error latched in the inputs is the point).
+    AmetekConfigurationUnchanged,
+}
+
+/// What a snapshot holds: the device, or the Ametek configuration attributes.
+enum Snapshot {
+    None,
+    Device(Box<Profile>),
+    Attributes(Vec<Option<Vec<u8>>>),
+}
+
+/// Parker: a read every request to its classes could be, to count it like the refused one.
+const PARKER_REFERENCE_READ: [u8; 12] = [
+    0x53, 0x03, 0x20, 0x64, 0x25, 0x00, 0x00, 0x10, 0x01, 0x00, 0x00, 0x00,
+];
+
+impl Promise {
+    fn of(profile: &str, req: &[u8]) -> Self {
+        let Ok(r) = Request::parse(req) else {
+            return Promise::None;
+        };
+        match (profile, r.path.class) {
+            ("parker-ipa", Some(0x64 | 0x65) | None) => Promise::ParkerNothingWritten,
+            ("ametek-pls", Some(0xC1)) if r.service == 0x10 => {
+                Promise::AmetekConfigurationUnchanged
+            }
+            _ => Promise::None,
+        }
+    }
+
+    fn snapshot(self, adapter: &mut Adapter<Profile>, now: Instant) -> Snapshot {
+        match self {
+            Promise::None => Snapshot::None,
+            Promise::ParkerNothingWritten => Snapshot::Device(Box::new(adapter.device().clone())),
+            Promise::AmetekConfigurationUnchanged => Snapshot::Attributes(
+                (1..=38)
+                    .map(|a| read(adapter, &req(0x0E, 0xC1, 1, Some(a), &[]), now))
+                    .collect(),
+            ),
+        }
+    }
+
+    fn check(self, snapshot: Snapshot, adapter: &mut Adapter<Profile>, now: Instant, status: u8) {
+        match snapshot {
+            Snapshot::None => {}
+            Snapshot::Device(mut before) => {
+                // Which inputs changed is the stack's bookkeeping (it drains the marks after
+                // each request), not something the request wrote.
+                let mut after = adapter.device().clone();
+                for d in [&mut *before, &mut after] {
+                    if let Some(c) = d.input_changes() {
+                        c.clear();
+                    }
+                }
+                // Refused by the stack (never reached the device), or by the device (counted).
+                if *before == after {
+                    return;
+                }
+                let mut shadow = crate::script::adapter(*before);
+                let mut reply = [0u8; REPLY];
+                let len = shadow.execute(&PARKER_REFERENCE_READ, now, &mut reply);
+                assert_eq!(
+                    check_reply(&PARKER_REFERENCE_READ, &reply[..len], REPLY),
+                    0,
+                    "the reference read failed"
+                );
+                let mut counted = shadow.into_device();
+                if let Some(c) = counted.input_changes() {
+                    c.clear();
+                }
+                assert!(
+                    counted == after,
+                    "a refused request (status {status:#04x}) wrote something"
+                );
+            }
+            Snapshot::Attributes(before) => {
+                let after: Vec<_> = (1..=38)
+                    .map(|a| read(adapter, &req(0x0E, 0xC1, 1, Some(a), &[]), now))
+                    .collect();
+                assert_eq!(
+                    after, before,
+                    "a refused Set of 0xC1 (status {status:#04x}) changed the configuration"
+                );
+            }
+        }
+    }
+}
+
 /// Whether a Set the profile accepted must be a fixed point of its conversion: the value
 /// read back, written again, is accepted and reads back the same. PositionServo System940
 /// (class 0x64: integer, REAL and text forms of one variable) and the AKD parameter values
 /// (class 0x0F attribute 1).
 fn round_trips(profile: &str, r: &Request<'_>) -> bool {
-    match (profile, r.path.class, r.path.attribute) {
-        ("position-servo", Some(0x64), Some(_)) => true,
-        ("kollmorgen-akd", Some(0x0F), Some(1)) => true,
-        _ => false,
-    }
+    matches!(
+        (profile, r.path.class, r.path.attribute),
+        ("position-servo", Some(0x64), Some(_)) | ("kollmorgen-akd", Some(0x0F), Some(1))
+    )
 }
 
 /// Reads the attribute with Get request `get`, writes what it read back with
