@@ -18,7 +18,10 @@ use core::net::{Ipv4Addr, SocketAddrV4};
 
 use enip_firmware::Profile;
 use enip_stack::config::{MAX_ENCAP_FRAME, MAX_PENDING_LIST_IDENTITY, MAX_SESSIONS};
-use enip_stack::wire::encap::{Packet, HEADER_LEN};
+use enip_stack::wire::cpf::{self, item_type};
+use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
+use enip_stack::wire::message_router::ResponseRepr;
+use enip_stack::wire::rr_data;
 use enip_stack::{Adapter, Device, Duration, Instant, NetworkConfig, SocketId};
 
 /// Seed of the adapter's generator in every target (session handles depend on it).
@@ -139,9 +142,37 @@ pub fn check_frame(reply: &[u8]) {
     assert_eq!(p.options(), 0, "reply options must be zero");
 }
 
+/// Asserts that the Message Router reply a successful SendRRData or SendUnitData reply
+/// carries is well formed: a data item (after the sequence count when connected) holding a
+/// reply service with bit 7 set, a reserved byte 0, the general status and the additional
+/// status inside the item.
+pub fn check_cip(frame: &[u8]) {
+    let Ok(p) = Packet::new_checked(frame) else {
+        return;
+    };
+    let (kind, skip) = match p.command() {
+        command::SEND_RR_DATA => (item_type::UNCONNECTED_DATA, 0),
+        command::SEND_UNIT_DATA => (item_type::CONNECTED_DATA, 2),
+        _ => return,
+    };
+    if p.status() != 0 {
+        return;
+    }
+    let rr = rr_data::Packet::new_checked(p.data()).expect("reply interface handle, timeout");
+    let c = cpf::Packet::new_checked(rr.cpf()).expect("reply CPF");
+    let item = c.find(kind).expect("reply data item");
+    let body = item.data.get(skip..).expect("sequence count");
+    let r = ResponseRepr::parse(body).expect("a Message Router reply in the data item");
+    assert!(
+        r.service & 0x80 != 0,
+        "reply service without bit 7: {body:02x?}"
+    );
+    assert_eq!(body[1], 0, "reply reserved byte: {body:02x?}");
+}
+
 /// Plays a TCP script; `on_reply(socket, frame)` sees every reply. Panics on a broken
-/// invariant: a reply longer than its buffer or malformed, no progress on non-empty data,
-/// more consumed than given.
+/// invariant: a reply longer than its buffer or malformed (down to the Message Router reply,
+/// [`check_cip`]), no progress on non-empty data, more consumed than given.
 pub fn run_tcp(script: &[u8], on_reply: impl FnMut(u8, &[u8])) {
     with_device!(script, |adapter, rest| run_tcp_on(adapter, rest, on_reply))
 }
@@ -210,6 +241,7 @@ pub fn feed_tcp<D: Device>(
         if out.reply_len > 0 {
             let frame = &reply[..out.reply_len];
             check_frame(frame);
+            check_cip(frame);
             on_reply(socket, frame);
         }
         if out.close {
