@@ -18,8 +18,9 @@
 //! Ametek configuration Set changes no configuration attribute; an accepted Set of a
 //! converting attribute (PositionServo System940, AKD parameter values) is a fixed point:
 //! what it reads back, written again, is accepted and reads the same; a refused
-//! `write_assembly` leaves the whole device as it was; reads fit their buffer. An Identity Reset the stack
-//! accepted is performed as a runtime does (connections closed, `Device::reset`).
+//! `write_assembly` leaves the whole device as it was; reads fit their buffer. An Identity
+//! Reset the stack accepted is performed as a runtime does (connections closed,
+//! `Device::reset`).
 
 use enip_firmware::Profile;
 use enip_stack::cip::Request;
