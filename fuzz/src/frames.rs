@@ -4,9 +4,10 @@ use enip_stack::wire::cpf::item_type;
 use enip_stack::wire::encap::command;
 use enip_stack::wire::forward_open::{ForwardClose, ForwardOpen, NetworkParams, Triad};
 use enip_stack::wire::{io_datagram, Writer};
+use enip_stack::{AssemblyRole, Device};
 
-use crate::io_script;
 use crate::script::{TCP_ACCEPT, TCP_CLOSE, TCP_DATA16, UDP_BROADCAST, UDP_TICK, UDP_UNICAST};
+use crate::{io_script, script};
 
 /// The sender context every seed uses (bytes 0-1: ListIdentity maximum delay, 250 ms).
 pub const CONTEXT: [u8; 8] = [0xFA, 0x00, b'f', b'u', b'z', b'z', 0, 1];
@@ -165,10 +166,21 @@ pub fn requests() -> Vec<(&'static str, Vec<u8>)> {
 }
 
 /// Builds a TCP script (see [`crate::script`]).
-#[derive(Debug, Default, Clone)]
+#[derive(Debug, Clone)]
 pub struct TcpScript(pub Vec<u8>);
 
+/// A script for the test device.
+impl Default for TcpScript {
+    fn default() -> Self {
+        Self::for_device("test")
+    }
+}
+
 impl TcpScript {
+    /// An empty script for the device called `name` ("test" or a profile name).
+    pub fn for_device(name: &str) -> Self {
+        Self(vec![script::device_byte(name)])
+    }
     /// Accepts a connection on `socket`.
     pub fn accept(mut self, socket: u8) -> Self {
         self.0.push(TCP_ACCEPT | socket);
@@ -189,10 +201,21 @@ impl TcpScript {
 }
 
 /// Builds a UDP script (see [`crate::script`]).
-#[derive(Debug, Default, Clone)]
+#[derive(Debug, Clone)]
 pub struct UdpScript(pub Vec<u8>);
 
+/// A script for the test device.
+impl Default for UdpScript {
+    fn default() -> Self {
+        Self::for_device("test")
+    }
+}
+
 impl UdpScript {
+    /// An empty script for the device called `name` ("test" or a profile name).
+    pub fn for_device(name: &str) -> Self {
+        Self(vec![script::device_byte(name)])
+    }
     fn datagram(mut self, kind: u8, data: &[u8]) -> Self {
         self.0.push(kind);
         if data.len() < 0xFF {
@@ -231,65 +254,152 @@ pub const TRIAD: Triad = Triad {
 /// Connection path of an exclusive owner: configuration 151, output 150, input 100.
 pub const CONNECTION_PATH: [u8; 8] = [0x20, 0x04, 0x24, 151, 0x2C, 150, 0x2C, 100];
 
-/// Forward_Open (exclusive owner, cyclic, 10 ms both ways, point-to-point) as a Message
-/// Router request to the Connection Manager.
+/// The exclusive-owner connection a seed opens to a device: its connection path and data
+/// sizes (from the device's first configuration, output and input assemblies).
+#[derive(Debug, Clone)]
+pub struct Connection {
+    /// Configuration point (if the device has one), output point, input point.
+    pub path: Vec<u8>,
+    /// O->T output data bytes.
+    pub output: usize,
+    /// Whether O->T data carries the 32-bit run/idle header.
+    pub run_idle: bool,
+    /// T->O input data bytes.
+    pub input: usize,
+}
+
+impl Connection {
+    /// The test device's connection (configuration 151, output 150, input 100).
+    pub fn test_device() -> Self {
+        Connection {
+            path: CONNECTION_PATH.to_vec(),
+            output: 32,
+            run_idle: true,
+            input: 32,
+        }
+    }
+
+    /// The exclusive-owner connection to `device`'s first configuration, output and input
+    /// assemblies.
+    pub fn of(device: &impl Device) -> Self {
+        let find = |role: AssemblyRole| device.assemblies().iter().find(|a| a.role == role);
+        let output = find(AssemblyRole::Output).expect("an output assembly");
+        let input = find(AssemblyRole::Input).expect("an input assembly");
+        let mut path = Vec::new();
+        let mut segment = |kind: u8, v: u16| {
+            if v <= 0xFF {
+                path.extend_from_slice(&[kind, v as u8]);
+            } else {
+                path.extend_from_slice(&[kind | 1, 0]);
+                path.extend_from_slice(&v.to_le_bytes());
+            }
+        };
+        segment(0x20, 0x04);
+        if let Some(c) = find(AssemblyRole::Config) {
+            segment(0x24, c.instance);
+        }
+        segment(0x2C, output.instance);
+        segment(0x2C, input.instance);
+        Connection {
+            path,
+            output: usize::from(output.size),
+            run_idle: output.run_idle_header,
+            input: usize::from(input.size),
+        }
+    }
+
+    /// Forward_Open (exclusive owner, cyclic, 10 ms both ways, point-to-point) as a Message
+    /// Router request to the Connection Manager.
+    pub fn forward_open(&self) -> Vec<u8> {
+        let o_t = 2 + 4 * usize::from(self.run_idle) + self.output;
+        let fo = ForwardOpen {
+            large: false,
+            priority_tick: 0x0A,
+            timeout_ticks: 0x0E,
+            o_t_connection_id: 0,
+            t_o_connection_id: 0x2000_0001,
+            triad: TRIAD,
+            timeout_multiplier: 1,
+            o_t_rpi: 10_000,
+            // Point-to-point, scheduled, fixed, with the sequence count (and run/idle).
+            o_t_params: NetworkParams::from_u16(0x4800 | o_t as u16),
+            t_o_rpi: 10_000,
+            t_o_params: NetworkParams::from_u16(0x4800 | (2 + self.input) as u16),
+            transport: 0x01,
+            path: &self.path,
+        };
+        let mut data = [0u8; 64];
+        let mut w = Writer::new(&mut data);
+        fo.emit(&mut w).expect("fits");
+        let n = w.len();
+        request(0x54, &path(0x06, 1, None), &data[..n])
+    }
+
+    /// Forward_Close of the connection.
+    pub fn forward_close(&self) -> Vec<u8> {
+        let fc = ForwardClose {
+            priority_tick: 0x0A,
+            timeout_ticks: 0x0E,
+            triad: TRIAD,
+            path: &self.path,
+        };
+        let mut data = [0u8; 32];
+        let mut w = Writer::new(&mut data);
+        fc.emit(&mut w).expect("fits");
+        let n = w.len();
+        request(0x4E, &path(0x06, 1, None), &data[..n])
+    }
+
+    /// An O->T datagram for connection `id`: sequence, run header, `fill` as output data.
+    pub fn o_t_datagram(&self, id: u32, sequence: u16, fill: &[u8]) -> Vec<u8> {
+        let header = 2 + 4 * usize::from(self.run_idle);
+        let connected = header + self.output;
+        let mut d = vec![0u8; io_datagram::HEADER_LEN + connected];
+        io_datagram::emit_header(&mut d, id, u32::from(sequence), connected).expect("fits");
+        let at = io_datagram::HEADER_LEN;
+        d[at..at + 2].copy_from_slice(&sequence.to_le_bytes());
+        if self.run_idle {
+            d[at + 2..at + 6].copy_from_slice(&1u32.to_le_bytes());
+        }
+        for (b, f) in d[at + header..].iter_mut().zip(fill.iter().cycle()) {
+            *b = *f;
+        }
+        d
+    }
+}
+
+/// Forward_Open of the test device's seed connection.
 pub fn forward_open() -> Vec<u8> {
-    let fo = ForwardOpen {
-        large: false,
-        priority_tick: 0x0A,
-        timeout_ticks: 0x0E,
-        o_t_connection_id: 0,
-        t_o_connection_id: 0x2000_0001,
-        triad: TRIAD,
-        timeout_multiplier: 1,
-        o_t_rpi: 10_000,
-        // Point-to-point, scheduled, fixed: 32 data + 2 sequence + 4 run/idle.
-        o_t_params: NetworkParams::from_u16(0x4800 | 38),
-        t_o_rpi: 10_000,
-        // Point-to-point, scheduled, fixed: 32 data + 2 sequence.
-        t_o_params: NetworkParams::from_u16(0x4800 | 34),
-        transport: 0x01,
-        path: &CONNECTION_PATH,
-    };
-    let mut data = [0u8; 64];
-    let mut w = Writer::new(&mut data);
-    fo.emit(&mut w).expect("fits");
-    let n = w.len();
-    request(0x54, &path(0x06, 1, None), &data[..n])
+    Connection::test_device().forward_open()
 }
 
-/// Forward_Close of the seed connection.
+/// Forward_Close of the test device's seed connection.
 pub fn forward_close() -> Vec<u8> {
-    let fc = ForwardClose {
-        priority_tick: 0x0A,
-        timeout_ticks: 0x0E,
-        triad: TRIAD,
-        path: &CONNECTION_PATH,
-    };
-    let mut data = [0u8; 32];
-    let mut w = Writer::new(&mut data);
-    fc.emit(&mut w).expect("fits");
-    let n = w.len();
-    request(0x4E, &path(0x06, 1, None), &data[..n])
+    Connection::test_device().forward_close()
 }
 
-/// An O->T datagram for connection `id`: sequence, run header, 32 bytes of output data.
+/// An O->T datagram to the test device for connection `id`: sequence, run header, 32 bytes
+/// of output data.
 pub fn o_t_datagram(id: u32, sequence: u16) -> Vec<u8> {
-    let connected = 2 + 4 + 32;
-    let mut d = vec![0u8; io_datagram::HEADER_LEN + connected];
-    io_datagram::emit_header(&mut d, id, u32::from(sequence), connected).expect("fits");
-    let at = io_datagram::HEADER_LEN;
-    d[at..at + 2].copy_from_slice(&sequence.to_le_bytes());
-    d[at + 2..at + 6].copy_from_slice(&1u32.to_le_bytes());
-    d[at + 6..].fill(sequence as u8);
-    d
+    Connection::test_device().o_t_datagram(id, sequence, &[sequence as u8])
 }
 
 /// Builds an I/O script (see [`crate::io_script`]).
-#[derive(Debug, Default, Clone)]
+#[derive(Debug, Clone)]
 pub struct IoScript(pub Vec<u8>);
 
+/// A script for the test device.
+impl Default for IoScript {
+    fn default() -> Self {
+        Self::for_device("test")
+    }
+}
+
 impl IoScript {
+    /// An empty script for the device called `name` ("test" or a profile name).
+    pub fn for_device(name: &str) -> Self {
+        Self(vec![script::device_byte(name)])
+    }
     fn op(mut self, kind: u8, arg: u8) -> Self {
         self.0.push(kind | (arg << 3));
         self
@@ -319,7 +429,7 @@ impl IoScript {
     pub fn wait_ms(self, ms: u8) -> Self {
         self.op(io_script::WAIT_MS, ms.clamp(1, 32) - 1)
     }
-    /// Input assembly 100 has new data.
+    /// The device's first assembly (the test device's input 100) has new data.
     pub fn trigger(self) -> Self {
         self.op(io_script::TRIGGER, 0)
     }

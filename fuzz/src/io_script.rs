@@ -2,11 +2,12 @@
 //! SendUnitData), Class 1 datagrams on UDP 2222, time steps and input triggers, with the
 //! adapter polled after every operation as a runtime would.
 //!
-//! Op byte: bits 0-2 kind, bits 3-7 argument `a`:
+//! The first byte picks the device (see [`crate::script::split_device`]). Op byte: bits 0-2 kind, bits 3-7 argument `a`:
 //! 0 accept on socket `a & 3`; 1 close socket `a & 3`; 2 TCP data on socket `a & 3`
 //! (`u16` length, then the bytes); 3 a datagram on UDP 2222 from sender `a & 3` (`u16`
 //! length, then the bytes); 4 time passes `a + 1` ms; 5 time passes `a` x 100 ms;
-//! 6 `trigger_input` for assembly `[100, 150, 151, 0xFFFF][a & 3]`; 7 a datagram on UDP 44818
+//! 6 `trigger_input` for the device's assembly `a & 3` (in `Device::assemblies` order; one
+//! past the last is an instance no device has); 7 a datagram on UDP 44818
 //! (`u8` length) to the adapter.
 //!
 //! Invariants checked after every operation: `poll_io` hands out at most one datagram per
@@ -17,10 +18,9 @@ use core::net::{Ipv4Addr, SocketAddrV4};
 
 use enip_stack::config::{MAX_CONNECTIONS, MAX_ENCAP_FRAME};
 use enip_stack::wire::io_datagram;
-use enip_stack::{Adapter, Duration, Instant, SocketId};
+use enip_stack::{Adapter, Device, Duration, Instant, SocketId};
 
-use crate::device::TestDevice;
-use crate::script::{adapter, check_frame, drain, feed_tcp, network, tcp_peer, Cursor};
+use crate::script::{check_frame, drain, feed_tcp, network, tcp_peer, with_device, Cursor};
 
 /// Kind: accept a TCP connection.
 pub const ACCEPT: u8 = 0;
@@ -48,8 +48,6 @@ pub const IO_SENDERS: [SocketAddrV4; 4] = [
     SocketAddrV4::new(Ipv4Addr::new(198, 18, 0, 1), 1),
 ];
 
-const TRIGGERED: [u16; 4] = [100, 150, 151, 0xFFFF];
-
 /// What the script saw, for the seed self-check.
 #[derive(Debug, Default, Clone, Copy)]
 pub struct IoStats {
@@ -60,8 +58,15 @@ pub struct IoStats {
 }
 
 /// Plays an I/O script; `on_reply` sees every TCP reply. Panics on a broken invariant.
-pub fn run_io(script: &[u8], mut on_reply: impl FnMut(u8, &[u8])) -> IoStats {
-    let mut adapter = adapter();
+pub fn run_io(script: &[u8], on_reply: impl FnMut(u8, &[u8])) -> IoStats {
+    with_device!(script, |adapter, rest| run_io_on(adapter, rest, on_reply))
+}
+
+fn run_io_on<D: Device>(
+    mut adapter: Adapter<D>,
+    script: &[u8],
+    mut on_reply: impl FnMut(u8, &[u8]),
+) -> IoStats {
     let mut stats = IoStats::default();
     let mut now = Instant::from_micros(1_000_000);
     let mut reply = [0u8; MAX_ENCAP_FRAME];
@@ -90,7 +95,14 @@ pub fn run_io(script: &[u8], mut on_reply: impl FnMut(u8, &[u8])) -> IoStats {
             }
             WAIT_MS => now = now.add(Duration::from_millis(u64::from(a) + 1)),
             WAIT_100MS => now = now.add(Duration::from_millis(100 * u64::from(a))),
-            TRIGGER => adapter.trigger_input(TRIGGERED[usize::from(socket)]),
+            TRIGGER => {
+                let instance = adapter
+                    .device()
+                    .assemblies()
+                    .get(usize::from(socket))
+                    .map_or(0xFFFF, |a| a.instance);
+                adapter.trigger_input(instance);
+            }
             _ => {
                 let n = c.u8().unwrap_or(0);
                 let data = c.take(usize::from(n));
@@ -107,8 +119,10 @@ pub fn run_io(script: &[u8], mut on_reply: impl FnMut(u8, &[u8])) -> IoStats {
 }
 
 /// Polls like a runtime at `now`; returns how many T->O datagrams were produced.
-fn poll(adapter: &mut Adapter<TestDevice>, now: Instant, out: &mut [u8]) -> usize {
+fn poll<D: Device>(adapter: &mut Adapter<D>, now: Instant, out: &mut [u8]) -> usize {
     let limit = out.len();
+    // The device's own time (a drive moving, a limit switch turning), as a runtime runs it.
+    let _ = adapter.poll_device(now);
     let mut produced = 0;
     while let Some((_to, len)) = adapter.poll_io(now, out) {
         produced += 1;

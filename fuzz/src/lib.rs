@@ -6,6 +6,7 @@
 pub mod device;
 pub mod frames;
 pub mod io_script;
+pub mod profile;
 pub mod script;
 
 pub use device::TestDevice;

@@ -1,7 +1,9 @@
 //! The byte scripts the adapter targets read, and the runners that play them against an
 //! [`Adapter`] while checking the entry points' invariants.
 //!
-//! A script is a sequence of operations, each starting with one op byte, so libFuzzer splits
+//! A script's first byte picks the device ([`device_byte`]): the small [`crate::device::TestDevice`] or one of
+//! the shipped profiles (`enip_firmware::Profile::NAMES`), so every adapter target runs with
+//! every device that ships. The rest is a sequence of operations, each starting with one op byte, so libFuzzer splits
 //! the stream into accept/close/data events and chunk boundaries on its own.
 //!
 //! TCP op byte: bits 0-1 socket (3 is outside the adapter's sockets), bits 2-3 kind
@@ -14,11 +16,13 @@
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
+use enip_firmware::Profile;
 use enip_stack::config::{MAX_ENCAP_FRAME, MAX_PENDING_LIST_IDENTITY, MAX_SESSIONS};
-use enip_stack::wire::encap::{Packet, HEADER_LEN};
-use enip_stack::{Adapter, Duration, Instant, NetworkConfig, SocketId};
-
-use crate::device::TestDevice;
+use enip_stack::wire::cpf::{self, item_type};
+use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
+use enip_stack::wire::message_router::ResponseRepr;
+use enip_stack::wire::rr_data;
+use enip_stack::{Adapter, Device, Duration, Instant, NetworkConfig, SocketId};
 
 /// Seed of the adapter's generator in every target (session handles depend on it).
 pub const ADAPTER_SEED: u64 = 0x0005_EED0_FE1F;
@@ -52,10 +56,55 @@ pub fn network() -> NetworkConfig {
     )
 }
 
-/// A fresh adapter as every target builds it.
-pub fn adapter() -> Adapter<TestDevice> {
-    Adapter::new(TestDevice::new(), network(), ADAPTER_SEED)
+/// A fresh adapter around `device` as every target builds it.
+pub fn adapter<D: Device>(device: D) -> Adapter<D> {
+    Adapter::new(device, network(), ADAPTER_SEED)
 }
+
+/// How many devices a script can pick: the test device and every compiled-in profile.
+pub fn device_count() -> usize {
+    1 + Profile::NAMES.len()
+}
+
+/// The first script byte that picks `name` ("test" or a `Profile::NAMES` entry).
+pub fn device_byte(name: &str) -> u8 {
+    let i = Profile::NAMES
+        .iter()
+        .position(|&n| n == name)
+        .map_or(0, |i| i + 1);
+    assert!(i > 0 || name == "test", "unknown device {name:?}");
+    i as u8
+}
+
+/// The device picked by the script's first byte (modulo [`device_count`]: 0 the test
+/// device, `i` the profile `Profile::NAMES[i - 1]`) and the rest of the script.
+pub fn split_device(script: &[u8]) -> (Option<Profile>, &[u8]) {
+    let Some((&b, rest)) = script.split_first() else {
+        return (None, script);
+    };
+    let i = usize::from(b) % device_count();
+    let profile = i
+        .checked_sub(1)
+        .and_then(|i| Profile::from_name(Profile::NAMES[i]));
+    (profile, rest)
+}
+
+/// Runs `$run(adapter, rest)` with the adapter around the device `$script` picks.
+macro_rules! with_device {
+    ($script:expr, |$adapter:ident, $rest:ident| $body:expr) => {
+        match $crate::script::split_device($script) {
+            (None, $rest) => {
+                let $adapter = $crate::script::adapter($crate::device::TestDevice::new());
+                $body
+            }
+            (Some(p), $rest) => {
+                let $adapter = $crate::script::adapter(p);
+                $body
+            }
+        }
+    };
+}
+pub(crate) use with_device;
 
 /// The TCP peer (the scanner) of `socket`.
 pub fn tcp_peer(socket: u8) -> SocketAddrV4 {
@@ -93,11 +142,46 @@ pub fn check_frame(reply: &[u8]) {
     assert_eq!(p.options(), 0, "reply options must be zero");
 }
 
+/// Asserts that the Message Router reply a successful SendRRData or SendUnitData reply
+/// carries is well formed: a data item (after the sequence count when connected) holding a
+/// reply service with bit 7 set, a reserved byte 0, the general status and the additional
+/// status inside the item.
+pub fn check_cip(frame: &[u8]) {
+    let Ok(p) = Packet::new_checked(frame) else {
+        return;
+    };
+    let (kind, skip) = match p.command() {
+        command::SEND_RR_DATA => (item_type::UNCONNECTED_DATA, 0),
+        command::SEND_UNIT_DATA => (item_type::CONNECTED_DATA, 2),
+        _ => return,
+    };
+    if p.status() != 0 {
+        return;
+    }
+    let rr = rr_data::Packet::new_checked(p.data()).expect("reply interface handle, timeout");
+    let c = cpf::Packet::new_checked(rr.cpf()).expect("reply CPF");
+    let item = c.find(kind).expect("reply data item");
+    let body = item.data.get(skip..).expect("sequence count");
+    let r = ResponseRepr::parse(body).expect("a Message Router reply in the data item");
+    assert!(
+        r.service & 0x80 != 0,
+        "reply service without bit 7: {body:02x?}"
+    );
+    assert_eq!(body[1], 0, "reply reserved byte: {body:02x?}");
+}
+
 /// Plays a TCP script; `on_reply(socket, frame)` sees every reply. Panics on a broken
-/// invariant: a reply longer than its buffer or malformed, no progress on non-empty data,
-/// more consumed than given.
-pub fn run_tcp(script: &[u8], mut on_reply: impl FnMut(u8, &[u8])) {
-    let mut adapter = adapter();
+/// invariant: a reply longer than its buffer or malformed (down to the Message Router reply,
+/// [`check_cip`]), no progress on non-empty data, more consumed than given.
+pub fn run_tcp(script: &[u8], on_reply: impl FnMut(u8, &[u8])) {
+    with_device!(script, |adapter, rest| run_tcp_on(adapter, rest, on_reply))
+}
+
+fn run_tcp_on<D: Device>(
+    mut adapter: Adapter<D>,
+    script: &[u8],
+    mut on_reply: impl FnMut(u8, &[u8]),
+) {
     let mut now = Instant::from_micros(1_000_000);
     let mut reply = [0u8; MAX_ENCAP_FRAME];
     let mut c = Cursor(script);
@@ -135,8 +219,8 @@ pub fn run_tcp(script: &[u8], mut on_reply: impl FnMut(u8, &[u8])) {
 
 /// Feeds `data` received on `socket` until it is all consumed or the adapter closes the
 /// connection (then closes it, as a runtime would), checking every outcome.
-pub fn feed_tcp(
-    adapter: &mut Adapter<TestDevice>,
+pub fn feed_tcp<D: Device>(
+    adapter: &mut Adapter<D>,
     socket: u8,
     data: &[u8],
     now: Instant,
@@ -157,6 +241,7 @@ pub fn feed_tcp(
         if out.reply_len > 0 {
             let frame = &reply[..out.reply_len];
             check_frame(frame);
+            check_cip(frame);
             on_reply(socket, frame);
         }
         if out.close {
@@ -187,8 +272,15 @@ const SENDERS: [SocketAddrV4; 4] = [
 /// the sender) or delayed. Panics on a broken invariant: a reply longer than its buffer or
 /// malformed, a due reply left queued, a deadline in the past after polling, or a queue that
 /// does not drain.
-pub fn run_udp(script: &[u8], mut on_reply: impl FnMut(SocketAddrV4, &[u8])) {
-    let mut adapter = adapter();
+pub fn run_udp(script: &[u8], on_reply: impl FnMut(SocketAddrV4, &[u8])) {
+    with_device!(script, |adapter, rest| run_udp_on(adapter, rest, on_reply))
+}
+
+fn run_udp_on<D: Device>(
+    mut adapter: Adapter<D>,
+    script: &[u8],
+    mut on_reply: impl FnMut(SocketAddrV4, &[u8]),
+) {
     let mut now = Instant::from_micros(1_000_000);
     let mut reply = [0u8; MAX_ENCAP_FRAME];
     let mut c = Cursor(script);
@@ -233,8 +325,8 @@ pub fn run_udp(script: &[u8], mut on_reply: impl FnMut(SocketAddrV4, &[u8])) {
 }
 
 /// Sends every delayed reply due at `now` and checks what is left is in the future.
-pub(crate) fn drain(
-    adapter: &mut Adapter<TestDevice>,
+pub(crate) fn drain<D: Device>(
+    adapter: &mut Adapter<D>,
     now: Instant,
     out: &mut [u8],
     on_reply: &mut impl FnMut(SocketAddrV4, &[u8]),

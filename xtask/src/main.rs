@@ -131,6 +131,30 @@ mod tests {
         }
     }
 
+    /// `cargo fuzz run` needs a `[[bin]]` for every file in `fuzz/fuzz_targets/` (the
+    /// per-profile targets included), or `cargo xtask fuzz` fails on it.
+    #[test]
+    fn every_fuzz_target_is_a_fuzz_crate_bin() {
+        let manifest = std::fs::read_to_string(util::root().join("fuzz/Cargo.toml")).unwrap();
+        let targets = fuzz::targets().unwrap();
+        for t in &targets {
+            let entry = format!("name = \"{t}\"\npath = \"fuzz_targets/{t}.rs\"");
+            assert!(
+                manifest.contains(&entry),
+                "fuzz/Cargo.toml has no [[bin]] {t}"
+            );
+        }
+        for p in [
+            "position_servo",
+            "parker_ipa",
+            "ametek_pls",
+            "kollmorgen_akd",
+        ] {
+            let t = format!("profile_{p}");
+            assert!(targets.contains(&t), "no fuzz target {t}");
+        }
+    }
+
     #[test]
     fn summary_counts() {
         let mut s = util::Steps::default();

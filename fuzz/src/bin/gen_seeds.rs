@@ -8,8 +8,9 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use enip_fuzz::frames::{self, IoScript, TcpScript, UdpScript};
-use enip_fuzz::{io_script, script};
+use enip_firmware::Profile;
+use enip_fuzz::frames::{self, Connection, IoScript, TcpScript, UdpScript};
+use enip_fuzz::{io_script, profile, script};
 use enip_stack::wire::cpf;
 use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
 use enip_stack::wire::forward_open::ForwardOpenReply;
@@ -100,7 +101,7 @@ fn main() {
         add(target, "forward_open", frames::forward_open());
         add(target, "forward_close", frames::forward_close());
     }
-    let o_t = learn_o_t_id(session);
+    let o_t = learn_o_t_id(session, "test", &Connection::test_device());
     add("io_datagram", "o_t_run", frames::o_t_datagram(o_t, 1));
     let mut io = IoScript::default()
         .accept(0)
@@ -169,6 +170,60 @@ fn main() {
             .0,
     );
 
+    // Every shipped profile as the adapter targets' device: a session with the identity
+    // requests and the profile's manual requests, ListIdentity over UDP, and an exclusive
+    // owner connection to its first configuration, output and input assemblies.
+    for &name in Profile::NAMES {
+        let manual = profile::seeds(name);
+        let mut tcp = TcpScript::for_device(name)
+            .accept(0)
+            .data(0, &frames::register_session());
+        for req in [&requests[0].1, &requests[1].1]
+            .into_iter()
+            .cloned()
+            .chain(manual.iter().flat_map(|(_, s)| s.requests()))
+        {
+            tcp = tcp.data(0, &frames::send_rr_data(session, &req));
+        }
+        add_owned(&mut seeds, "adapter_tcp", format!("{name}_session"), tcp.0);
+        let udp = UdpScript::for_device(name)
+            .unicast(&frames::list_identity())
+            .broadcast(&frames::list_identity())
+            .wait(4);
+        add_owned(
+            &mut seeds,
+            "adapter_udp",
+            format!("{name}_list_identity"),
+            udp.0,
+        );
+        let conn = Connection::of(&Profile::from_name(name).expect("profile"));
+        let o_t = learn_o_t_id(session, name, &conn);
+        let mut io = IoScript::for_device(name)
+            .accept(0)
+            .tcp(0, &frames::register_session())
+            .tcp(0, &frames::send_rr_data(session, &conn.forward_open()));
+        for seq in 1..=4u16 {
+            io = io.wait_ms(10).io(&conn.o_t_datagram(o_t, seq, &[0]));
+        }
+        io = io
+            .trigger()
+            .wait_ms(10)
+            .tcp(0, &frames::send_rr_data(session, &conn.forward_close()))
+            .wait_ms(32)
+            .close(0);
+        add_owned(
+            &mut seeds,
+            "adapter_io",
+            format!("{name}_exclusive_owner"),
+            io.0,
+        );
+        // The profile target: its manual's examples.
+        let target: &'static str = profile_target(name);
+        for (seed, script) in manual {
+            add_owned(&mut seeds, target, seed.to_string(), script.0);
+        }
+    }
+
     verify(&seeds, session);
     if check_only {
         let stale: Vec<String> = seeds
@@ -201,6 +256,27 @@ fn main() {
     println!("wrote {} seeds under {}", seeds.len(), root.display());
 }
 
+fn add_owned(
+    seeds: &mut Vec<(&str, String, Vec<u8>)>,
+    target: &'static str,
+    name: String,
+    bytes: Vec<u8>,
+) {
+    seeds.push((target, name, bytes));
+}
+
+/// The per-profile target of the profile called `name` (`profile_<name with _>`); the
+/// generic profile has no parsers of its own and no target.
+fn profile_target(name: &str) -> &'static str {
+    match name {
+        "position-servo" => "profile_position_servo",
+        "parker-ipa" => "profile_parker_ipa",
+        "ametek-pls" => "profile_ametek_pls",
+        "kollmorgen-akd" => "profile_kollmorgen_akd",
+        _ => "",
+    }
+}
+
 fn write(dir: &Path, name: &str, bytes: &[u8]) {
     fs::create_dir_all(dir).expect("create seed dir");
     fs::write(dir.join(name), bytes).expect("write seed");
@@ -218,13 +294,13 @@ fn learn_session_handle() -> u32 {
     handle.expect("RegisterSession was answered")
 }
 
-/// The O->T connection ID the adapter picks for the seed Forward_Open.
-fn learn_o_t_id(session: u32) -> u32 {
+/// The O->T connection ID the adapter around `device` picks for `conn`'s Forward_Open.
+fn learn_o_t_id(session: u32, device: &str, conn: &Connection) -> u32 {
     let mut id = None;
-    let s = IoScript::default()
+    let s = IoScript::for_device(device)
         .accept(0)
         .tcp(0, &frames::register_session())
-        .tcp(0, &frames::send_rr_data(session, &frames::forward_open()));
+        .tcp(0, &frames::send_rr_data(session, &conn.forward_open()));
     io_script::run_io(&s.0, |_, reply| {
         let p = Packet::new_checked(reply).expect("frame");
         if p.command() != command::SEND_RR_DATA {
@@ -281,6 +357,16 @@ fn verify(seeds: &[(&str, String, Vec<u8>)], session: u32) {
                     "{name}: no T->O data produced: {stats:?}"
                 );
                 println!("{target}/{name}: {stats:?}");
+            }
+            t if t.starts_with("profile_") => {
+                let device = Profile::NAMES
+                    .iter()
+                    .find(|&&n| profile_target(n) == t)
+                    .expect("a profile target");
+                for (req, status) in profile::run(device, bytes) {
+                    assert_eq!(status, 0, "{t}/{name}: status of {req:02x?}");
+                    replies += 1;
+                }
             }
             _ => continue,
         }
