@@ -325,6 +325,16 @@ fn get_attribute_list_reports_each_attribute() {
         0x13,
         "count beyond the data"
     );
+    // An impossible count is "not enough data" before it is "too many".
+    assert_eq!(ask(&mut h, 0x03, 1, None, &[0xFF, 0xFF, 1, 0]).0, 0x13);
+    assert_eq!(ask(&mut h, 0x04, 1, None, &[0xFF, 0xFF, 1, 0]).0, 0x13);
+    let mut many = vec![33, 0];
+    many.extend([1, 0].repeat(33));
+    assert_eq!(
+        ask(&mut h, 0x03, 1, None, &many).0,
+        0x02,
+        "more than a reply may carry"
+    );
 }
 
 #[test]

@@ -164,8 +164,14 @@ fn value_len(
         .value_len(data, obj.run_time_size(instance, attr))
 }
 
+/// The attribute count of a list request: a count the data cannot hold (2 bytes an ID at
+/// least) is not enough data (0x13), one beyond what a reply may carry resource unavailable
+/// (0x02).
 fn list_count(r: &mut Reader<'_>) -> CipResult<u16> {
     let count = r.u16()?;
+    if r.remaining() < usize::from(count) * 2 {
+        return Err(General::NotEnoughData.into());
+    }
     if usize::from(count) > MAX_MULTIPLE_SERVICES {
         return Err(General::ResourceUnavailable.into());
     }
