@@ -41,6 +41,8 @@ mod concurrency;
 mod example_io_block;
 #[path = "tap_interop/explicit.rs"]
 mod explicit;
+#[path = "tap_interop/faults.rs"]
+mod faults;
 #[path = "tap_interop/hostile_cip.rs"]
 mod hostile_cip;
 #[path = "tap_interop/hostile_framing.rs"]
