@@ -135,7 +135,11 @@ impl Config {
         let mut pls = [0; PLS_WORDS];
         let mut g = 0;
         while g < GROUPS {
-            pls[6 * g] = DEFAULT_SCALE;
+            // Const context, so no `get_mut`; `6 * g < 6 * GROUPS`, which the array length covers.
+            #[allow(clippy::indexing_slicing)]
+            {
+                pls[6 * g] = DEFAULT_SCALE;
+            }
             g += 1;
         }
         Config {
@@ -264,7 +268,11 @@ impl Config {
 
 /// Little-endian UINT words of `bytes` into `out` (lengths already checked by the stack).
 pub fn decode_words(bytes: &[u8], out: &mut [u16]) {
-    for (w, b) in out.iter_mut().zip(bytes.chunks_exact(2)) {
-        *w = u16::from_le_bytes([b[0], b[1]]);
+    let words = bytes
+        .chunks_exact(2)
+        .filter_map(|b| <[u8; 2]>::try_from(b).ok())
+        .map(u16::from_le_bytes);
+    for (w, v) in out.iter_mut().zip(words) {
+        *w = v;
     }
 }

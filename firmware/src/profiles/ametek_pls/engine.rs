@@ -40,7 +40,8 @@ impl OutputData {
     pub fn decode(data: &[u8]) -> Self {
         let w = |i: usize| {
             data.get(2 * i..2 * i + 2)
-                .map_or(0, |b| u16::from_le_bytes([b[0], b[1]]))
+                .and_then(|b| <[u8; 2]>::try_from(b).ok())
+                .map_or(0, u16::from_le_bytes)
         };
         OutputData {
             bits: w(0),
@@ -274,10 +275,11 @@ impl Engine {
 
     /// Recomputes every group position from the angle and the offsets.
     fn refresh_positions(&mut self, cfg: &Config) {
-        for g in 0..GROUPS {
+        let raws: [u16; GROUPS] = core::array::from_fn(|g| self.raw(cfg, g));
+        let groups = self.positions.iter_mut().zip(&self.group_offset).zip(raws);
+        for (g, ((position, &offset), raw)) in groups.enumerate() {
             let sf = u32::from(cfg.scale(g));
-            let raw = u32::from(self.raw(cfg, g));
-            self.positions[g] = ((raw + u32::from(self.group_offset[g]) % sf) % sf) as u16;
+            *position = ((u32::from(raw) + u32::from(offset) % sf) % sf) as u16;
         }
     }
 
@@ -289,14 +291,17 @@ impl Engine {
             let value = i32::from(words.get(g + 1).copied().unwrap_or(0) as i16);
             let sf = i32::from(cfg.scale(g));
             let raw = i32::from(self.raw(cfg, g));
-            let current = i32::from(self.group_offset[g]);
+            let Some(slot) = self.group_offset.get_mut(g) else {
+                continue;
+            };
+            let current = i32::from(*slot);
             let offset = match (mask >> (2 * g)) & 3 {
                 1 => value - raw,
                 2 => value,
                 3 => current + value,
                 _ => continue,
             };
-            self.group_offset[g] = offset.rem_euclid(sf) as u16;
+            *slot = offset.rem_euclid(sf) as u16;
         }
         self.refresh_positions(cfg);
     }
@@ -313,8 +318,8 @@ impl Engine {
 
     /// Restores group offsets saved with the program.
     pub fn set_group_offsets(&mut self, cfg: &Config, offsets: [u16; GROUPS]) {
-        for (g, o) in offsets.iter().enumerate() {
-            self.group_offset[g] = o % cfg.scale(g);
+        for (g, (slot, o)) in self.group_offset.iter_mut().zip(offsets).enumerate() {
+            *slot = o % cfg.scale(g);
         }
         self.refresh_positions(cfg);
     }
@@ -348,10 +353,12 @@ impl Engine {
         self.levels = levels;
         for i in (0..INPUTS).filter(|i| changed & (1 << i) != 0) {
             let leading = self.active(cfg, i);
-            let pos = cfg.group_of_input(i).map_or(0, |g| self.positions[g]);
+            let pos = cfg.group_of_input(i).map_or(0, |g| self.position(g));
             let [bits, ..] = cfg.input(i);
             let update = (bits >> 1) & 3;
-            let st = &mut self.inputs[i];
+            let Some(st) = self.inputs.get_mut(i) else {
+                continue;
+            };
             if leading {
                 st.latch.0 = pos;
                 st.transition |= 1;
@@ -392,61 +399,81 @@ impl Engine {
             return;
         };
         let sf = i32::from(cfg.scale(g));
-        let pos = self.positions[g];
+        let pos = self.position(g);
         let raw = i32::from(self.raw(cfg, g));
         let outputs = Self::input_outputs(cfg, i, kind);
         let inside = |on: u16, off: u16| window(pos, on, off);
         let preset = |engine: &mut Self, value: u16| {
             let offset = (i32::from(value) - raw).rem_euclid(sf) as u16;
-            engine.input_offset[i] = offset;
+            if let Some(slot) = engine.input_offset.get_mut(i) {
+                *slot = offset;
+            }
             if kind >= t::GROUP {
-                engine.group_offset[g] = offset;
+                if let Some(slot) = engine.group_offset.get_mut(g) {
+                    *slot = offset;
+                }
             } else {
                 for o in bits(outputs) {
-                    engine.output_offset[o] = Some(offset);
+                    if let Some(slot) = engine.output_offset.get_mut(o) {
+                        *slot = Some(offset);
+                    }
                 }
             }
         };
         match kind % t::GROUP {
             _ if kind == t::SETPOINT_TUNE => {
                 for o in bits(outputs) {
-                    self.tune[o] = (self.tune[o] + i32::from(p1 as i16)).rem_euclid(sf);
+                    if let Some(tune) = self.tune.get_mut(o) {
+                        *tune = (*tune + i32::from(p1 as i16)).rem_euclid(sf);
+                    }
                 }
             }
             _ if kind == t::OFFSET_TUNE => {
-                let offset = i32::from(self.group_offset[g]) + i32::from(p1 as i16);
-                self.group_offset[g] = offset.rem_euclid(sf) as u16;
+                if let Some(slot) = self.group_offset.get_mut(g) {
+                    let offset = i32::from(*slot) + i32::from(p1 as i16);
+                    *slot = offset.rem_euclid(sf) as u16;
+                }
             }
             20 => preset(self, p1),
             21 => {
                 preset(self, p1);
-                self.inputs[i].shot = Shot::Running(0);
+                if let Some(st) = self.inputs.get_mut(i) {
+                    st.shot = Shot::Running(0);
+                }
             }
             22 => {
-                let st = &mut self.inputs[i];
-                let n = p1.clamp(1, 32) as u8;
-                st.history[usize::from(st.history_next % 32)] = pos;
-                st.history_next = (st.history_next + 1) % n;
-                st.history_len = (st.history_len + 1).min(n);
-                let len = usize::from(st.history_len);
-                let sum: u32 = st.history.iter().take(len).map(|&p| u32::from(p)).sum();
-                let average = (sum / len.max(1) as u32) as u16;
-                // The average input position becomes the program's zero ([R], README).
-                let target = (i32::from(pos) - i32::from(average)).rem_euclid(sf) as u16;
-                preset(self, target);
+                if let Some(st) = self.inputs.get_mut(i) {
+                    let n = p1.clamp(1, 32) as u8;
+                    if let Some(slot) = st.history.get_mut(usize::from(st.history_next % 32)) {
+                        *slot = pos;
+                    }
+                    st.history_next = (st.history_next + 1) % n;
+                    st.history_len = (st.history_len + 1).min(n);
+                    let len = usize::from(st.history_len);
+                    let sum: u32 = st.history.iter().take(len).map(|&p| u32::from(p)).sum();
+                    let average = (sum / len.max(1) as u32) as u16;
+                    // The average input position becomes the program's zero ([R], README).
+                    let target = (i32::from(pos) - i32::from(average)).rem_euclid(sf) as u16;
+                    preset(self, target);
+                }
             }
             23 if inside(p2, p3) => {
                 preset(self, p1);
-                self.inputs[i].shot = Shot::Running(0);
+                if let Some(st) = self.inputs.get_mut(i) {
+                    st.shot = Shot::Running(0);
+                }
             }
             31 => {
-                self.inputs[i].enabled = inside(p1, p2);
-                self.inputs[i].seen |= inside(p1, p2);
+                if let Some(st) = self.inputs.get_mut(i) {
+                    st.enabled = inside(p1, p2);
+                    st.seen |= inside(p1, p2);
+                }
             }
             32 => {
-                let st = &mut self.inputs[i];
-                st.pending = inside(p1, p2);
-                st.seen |= st.pending;
+                if let Some(st) = self.inputs.get_mut(i) {
+                    st.pending = inside(p1, p2);
+                    st.seen |= st.pending;
+                }
                 let _ = p3;
             }
             _ => {}
@@ -471,7 +498,9 @@ impl Engine {
             let full = u32::try_from(step >> 32)
                 .unwrap_or(u32::MAX)
                 .saturating_mul(sf);
-            self.travel[g] = ((after + sf - u32::from(*b)) % sf).saturating_add(full);
+            if let Some(travel) = self.travel.get_mut(g) {
+                *travel = ((after + sf - u32::from(*b)) % sf).saturating_add(full);
+            }
         }
         self.refresh_positions(cfg);
         if self.addon.active {
@@ -499,8 +528,11 @@ impl Engine {
                 continue;
             };
             let [bits, _, _, kind, p1, p2, p3] = cfg.input(i);
-            let (pos, travel, sf) = (self.positions[g], self.travel[g], cfg.scale(g));
-            let st = &mut self.inputs[i];
+            let travel = self.travel.get(g).copied().unwrap_or(0);
+            let (pos, sf) = (self.position(g), cfg.scale(g));
+            let Some(st) = self.inputs.get_mut(i) else {
+                continue;
+            };
             if crossed(pos, travel, 0, sf) {
                 if (bits >> 1) & 3 == 0 {
                     st.registers = st.latch;
@@ -556,26 +588,32 @@ impl Engine {
                 continue;
             };
             if prog.count == 0 || prog.kind != setpoint::TIME_BASED {
-                self.timed_until[o] = None;
+                if let Some(until) = self.timed_until.get_mut(o) {
+                    *until = None;
+                }
                 continue;
             }
             let (pos, sf) = (self.output_position(cfg, o, g), cfg.scale(g));
-            let on = shift(prog.params[0], self.tune[o], sf);
-            if crossed(pos, self.travel[g], on, sf) {
+            let tune = self.tune.get(o).copied().unwrap_or(0);
+            let on = shift(prog.params[0], tune, sf);
+            let travel = self.travel.get(g).copied().unwrap_or(0);
+            if crossed(pos, travel, on, sf) {
                 let ms = Duration::from_millis(prog.params[1].into());
-                self.timed_until[o] = Some(now.add(ms));
+                if let Some(until) = self.timed_until.get_mut(o) {
+                    *until = Some(now.add(ms));
+                }
             }
         }
     }
 
     /// Output `o`'s position: its group's, or its own after a reset to preset of a subset.
     fn output_position(&self, cfg: &Config, o: usize, g: usize) -> u16 {
-        match self.output_offset[o] {
+        match self.output_offset.get(o).copied().flatten() {
             Some(offset) => {
                 let sf = u32::from(cfg.scale(g));
                 ((u32::from(self.raw(cfg, g)) + u32::from(offset)) % sf) as u16
             }
-            None => self.positions[g],
+            None => self.position(g),
         }
     }
 
@@ -611,7 +649,8 @@ impl Engine {
                 window(pos, on, off) && (cycle == 0 || into % cycle < u32::from(p3))
             }
             setpoint::TIME_BASED => {
-                self.timed_until[o].is_some_and(|u| self.now.as_micros() < u.as_micros())
+                let until = self.timed_until.get(o).copied().flatten();
+                until.is_some_and(|u| self.now.as_micros() < u.as_micros())
             }
             setpoint::MOTION_DETECT => rpm >= p1,
             _ => false,
@@ -639,7 +678,9 @@ impl Engine {
         let mut input_group_force = [0u16; GROUPS];
         for i in 0..INPUTS {
             let [_, _, _, kind, p1, p2, _] = cfg.input(i);
-            let st = &self.inputs[i];
+            let Some(st) = self.inputs.get(i) else {
+                continue;
+            };
             let outs = Self::input_outputs(cfg, i, kind);
             let active = self.active(cfg, i);
             match kind % t::GROUP {
@@ -650,12 +691,16 @@ impl Engine {
                     let c = if active { p1 } else { p2 };
                     if kind >= t::GROUP {
                         if let Some(g) = cfg.group_of_input(i) {
-                            input_group_force[g] = c;
+                            if let Some(slot) = input_group_force.get_mut(g) {
+                                *slot = c;
+                            }
                         }
                     } else {
                         for o in bits(outs) {
-                            if input_force[o] == 0 {
-                                input_force[o] = c;
+                            if let Some(slot) = input_force.get_mut(o) {
+                                if *slot == 0 {
+                                    *slot = c;
+                                }
                             }
                         }
                     }
@@ -673,7 +718,7 @@ impl Engine {
             };
             let sf = cfg.scale(g);
             let group = match data.group_force_of(g) {
-                0 => input_group_force[g],
+                0 => input_group_force.get(g).copied().unwrap_or(0),
                 c => c,
             };
             let single = match data.force_of(o) {
@@ -687,7 +732,8 @@ impl Engine {
                 (_, 2) => false,
                 _ if self.addon.active && o < HIGH_SPEED && self.addon.mask & (1 << o) != 0 => {
                     let sim = (u64::from(self.addon.angle as u32) * u64::from(sf)) >> 32;
-                    let pos = ((u64::from(self.addon.start[g]) + sim) % u64::from(sf)) as u16;
+                    let start = self.addon.start.get(g).copied().unwrap_or(0);
+                    let pos = ((u64::from(start) + sim) % u64::from(sf)) as u16;
                     self.pattern(cfg, o, pos, sf, self.addon.rpm)
                 }
                 _ => {

@@ -183,7 +183,8 @@ impl<N: Nvram> AmetekPls<N> {
         let image = *self.nvram.load().ok_or(())?;
         let mut words = image
             .chunks_exact(2)
-            .map(|b| u16::from_le_bytes([b[0], b[1]]));
+            .filter_map(|b| <[u8; 2]>::try_from(b).ok())
+            .map(u16::from_le_bytes);
         let mut cfg = Config::new();
         for (slot, w) in cfg.all_words_mut().zip(&mut words) {
             *slot = w;
@@ -346,7 +347,9 @@ impl<N: Nvram> Device for AmetekPls<N> {
             _ => &[],
         };
         let n = data.len().min(out.len());
-        out[..n].copy_from_slice(&data[..n]);
+        for (o, b) in out.iter_mut().zip(data) {
+            *o = *b;
+        }
         Ok(n)
     }
 

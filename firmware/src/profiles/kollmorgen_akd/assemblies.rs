@@ -326,6 +326,8 @@ pub fn encode(state: &State, io: &Handshake, out: &mut [u8]) -> usize {
         _ => {}
     }
     let n = out.len().min(SIZE);
-    out[..n].copy_from_slice(&r[..n]);
+    for (o, b) in out.iter_mut().zip(&r) {
+        *o = *b;
+    }
     n
 }

@@ -178,7 +178,9 @@ impl<S: NvStorage> Device for KollmorgenAkd<S> {
             assemblies::COMMAND => {
                 let cmd = self.io.command();
                 let n = out.len().min(cmd.len());
-                out[..n].copy_from_slice(cmd.get(..n).unwrap_or(&[]));
+                for (o, c) in out.iter_mut().zip(cmd) {
+                    *o = *c;
+                }
                 Ok(n)
             }
             assemblies::CONFIG => Ok(0),

@@ -118,7 +118,11 @@ pub const INFOS: [AssemblyInfo; ASSEMBLIES.len()] = {
     let mut out = [ASSEMBLIES[0].info; ASSEMBLIES.len()];
     let mut i = 0;
     while i < ASSEMBLIES.len() {
-        out[i] = ASSEMBLIES[i].info;
+        // Const context, so no iterators; `i < ASSEMBLIES.len()`, the length of both arrays.
+        #[allow(clippy::indexing_slicing)]
+        {
+            out[i] = ASSEMBLIES[i].info;
+        }
         i += 1;
     }
     out

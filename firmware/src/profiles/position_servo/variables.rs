@@ -239,6 +239,8 @@ pub const COUNT: usize = HEAD.len() + USER + MIDDLE.len() + LINKS + TAIL.len();
 /// The variable table, sorted by ID.
 pub const TABLE: [Variable; COUNT] = build();
 
+// Only evaluated for the `const` TABLE, so an out-of-range index is a compile error, not a panic.
+#[allow(clippy::indexing_slicing)]
 const fn build() -> [Variable; COUNT] {
     let mut t = [var(0, Int, RO, false, 0); COUNT];
     let mut i = 0;
