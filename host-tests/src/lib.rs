@@ -1,10 +1,8 @@
-//! Shared helpers for the integration tests: the TAP rig (namespace, TAP, board, capture),
-//! independent peers, and a raw EtherNet/IP client for hostile inputs.
+//! Shared helpers for the integration tests: a raw EtherNet/IP client for hostile inputs and
+//! the project's scanner. The TAP rig (namespace, TAP, boards, capture, peers) is the lab
+//! crate's, re-exported here under the paths the tests use.
 
-pub mod capture;
 pub mod enip;
-pub mod netns;
-pub mod peers;
-pub mod process;
-pub mod rig;
 pub mod scanner;
+
+pub use enip_lab::{capture, netns, paths, peers, process, rig};

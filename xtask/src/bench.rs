@@ -15,8 +15,8 @@ use std::process::{Command, Stdio};
 use std::thread::sleep;
 use std::time::Duration;
 
-use crate::netns::{Lab, BOARD_CIDR, BOARD_IP};
 use crate::util::{self, cargo, err, output, run, Result};
+use enip_lab::netns::{Lab, BOARD_CIDR, BOARD_IP};
 
 /// Cycles of the short and long callgrind runs.
 const CALLGRIND_CYCLES: (u64, u64) = (1_000, 11_000);
@@ -186,7 +186,7 @@ fn tap_run(bin: &std::path::Path) -> Result<String> {
         ])
         .args([
             "--target",
-            BOARD_IP,
+            &BOARD_IP.to_string(),
             "--connections",
             &TAP_CONNECTIONS.to_string(),
         ])

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use crate::setup::THUMB_TARGET;
 use crate::util::{self, run, Result};
+use crate::workspace::Metadata;
 
 /// The NUCLEO-F767ZI board crate.
 pub const NUCLEO: &str = "enip-nucleo-f767zi";
@@ -13,6 +14,19 @@ pub const QEMU: &str = "enip-qemu-mps2";
 pub const EXAMPLE_NUCLEO: &str = "io-block-nucleo";
 /// The profile a board runs unless told otherwise.
 pub const DEFAULT_PROFILE: &str = "generic";
+
+/// The firmware crate, whose `profile-NAME` features are the device profiles.
+const FIRMWARE: &str = "enip-firmware";
+
+/// The device profiles the firmware has: its `profile-NAME` features, sorted.
+pub fn profiles(metadata: &Metadata) -> Result<Vec<String>> {
+    Ok(metadata
+        .features(FIRMWARE)?
+        .iter()
+        .filter_map(|f| f.strip_prefix("profile-"))
+        .map(str::to_string)
+        .collect())
+}
 
 /// The release ELF of `board` (its binary has the crate's name).
 pub fn elf(board: &str) -> PathBuf {
@@ -51,34 +65,27 @@ pub fn clippy(board: &str) -> Result {
 
 #[cfg(test)]
 mod tests {
-    use std::fs;
+    use super::*;
 
-    use crate::util;
-
-    /// Every profile the firmware has (its `profile-NAME` features) can be chosen on both
-    /// embedded boards and is compiled into `enip-host`.
+    /// Every profile the firmware has can be chosen on both embedded boards (a `profile-NAME`
+    /// feature enabling the firmware's) and is compiled into `enip-host` by default.
     #[test]
     fn every_profile_has_a_board_feature() {
-        let manifest = |path: &str| {
-            fs::read_to_string(util::root().join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
-        };
-        let firmware = manifest("firmware/Cargo.toml");
-        let names: Vec<&str> = firmware
-            .lines()
-            .filter_map(|l| l.strip_prefix("profile-"))
-            .filter_map(|l| l.split_once(" = ").map(|(name, _)| name))
-            .collect();
-        assert!(names.contains(&"generic"), "{names:?}");
-        for board in ["nucleo-f767zi", "qemu-mps2", "host"] {
-            let path = format!("boards/{board}/Cargo.toml");
-            let board_manifest = manifest(&path);
+        let metadata = Metadata::read().unwrap();
+        let names = profiles(&metadata).unwrap();
+        assert!(names.contains(&DEFAULT_PROFILE.to_string()), "{names:?}");
+        for board in [NUCLEO, QEMU, "enip-host"] {
             for name in &names {
-                let line = format!("\nprofile-{name} = [\"enip-firmware/profile-{name}\"]");
-                assert!(board_manifest.contains(&line), "{path} lacks{line}");
+                let feature = format!("profile-{name}");
+                let enables = metadata.feature(board, &feature).unwrap();
+                assert_eq!(
+                    enables,
+                    Some(vec![format!("{FIRMWARE}/{feature}")]),
+                    "{board}'s {feature}"
+                );
             }
         }
-        let host = manifest("boards/host/Cargo.toml");
-        let defaults = crate::workspace::string_array(&host, "default");
+        let defaults = metadata.feature("enip-host", "default").unwrap().unwrap();
         for name in &names {
             let feature = format!("profile-{name}");
             assert!(

@@ -14,15 +14,15 @@
 //! and the whole demo is bounded in time.
 
 use std::fs;
-use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::thread::sleep;
 use std::time::{Duration, Instant};
 
+use enip_lab::peers;
+use enip_lab::rig::{self, Options, Rig, BOARD_CIDR, BOARD_IP};
+
 use crate::boards;
-use crate::json;
-use crate::netns::{Lab, BOARD_CIDR, BOARD_IP};
-use crate::qemu::{self, Qemu};
+use crate::qemu;
 use crate::setup;
 use crate::util::{self, err, interrupted, run, Result};
 
@@ -37,13 +37,9 @@ pub enum Board {
 
 /// The device profile the board runs.
 const PROFILE: &str = "generic";
-/// The pycomm3 identity reader.
-const IDENTITY: &str = concat!(
-    include_str!("../scripts/identity.py"),
-    include_str!("../scripts/demo_identity.py")
-);
-/// The `ethernetip` live data view.
-const LIVE_DATA: &str = include_str!("../scripts/demo_live_data.py");
+/// The demo's namespace and TAP.
+const NAMESPACE: &str = "enip-demo";
+const TAP: &str = "enipdemo0";
 /// Live data: RPI in ms and seconds.
 const DATA_RPI_MS: u32 = 10;
 const DATA_SECONDS: u32 = 5;
@@ -52,8 +48,8 @@ const TIMING_ROUNDS: u32 = 5;
 const TIMING_RPI_US: u32 = 2_000;
 /// The longest any one scanner step may take.
 const STEP_TIMEOUT: Duration = Duration::from_secs(60);
-/// The longest the host board may take to listen.
-const HOST_BOOT_TIMEOUT: Duration = Duration::from_secs(15);
+/// Lines of the board's log shown when the demo fails.
+const LOG_TAIL: usize = 30;
 
 /// Runs the demo; the namespace and every child are gone when it returns.
 pub fn run_demo(board: Board) -> Result {
@@ -65,58 +61,67 @@ pub fn run_demo(board: Board) -> Result {
     setup::python_peers()?;
     let log_dir = util::target_dir().join("demo");
     fs::create_dir_all(&log_dir)?;
-    let image = match board {
+    let (image, log) = match board {
         Board::Qemu => {
             setup::rust_target()?;
             qemu::ensure_installed()?;
-            boards::build(boards::QEMU, PROFILE)?
+            let elf = boards::build(boards::QEMU, PROFILE)?;
+            (elf, log_dir.join("board.log"))
         }
         Board::Host => {
             run(util::cargo().args(["build", "-p", "enip-host"]))?;
-            util::target_dir().join("debug/enip-host")
+            let bin = util::target_dir().join("debug/enip-host");
+            (bin, log_dir.join("enip-host.log"))
         }
     };
     run(util::cargo().args(["build", "--release", "-p", "host-tests", "--bin", "scanner"]))?;
 
-    let lab = Lab::create("enip-demo", "enipdemo0")?;
-    let mut running = match board {
-        Board::Qemu => Running::Qemu(Qemu::boot(&lab, &image, &log_dir.join("board.log"))?),
-        Board::Host => Running::Host(HostBoard::start(
-            &lab,
-            &image,
-            &log_dir.join("enip-host.log"),
-        )?),
+    let launched = match board {
+        Board::Qemu => rig::Board::Qemu { elf: &image },
+        Board::Host => rig::Board::Host {
+            bin: &image,
+            profile: PROFILE,
+            extra: &[],
+            answers_at: BOARD_IP,
+        },
     };
     println!(
-        "demo: the board runs profile {PROFILE} at {BOARD_CIDR} in namespace {}\n",
-        lab.name
+        "demo: starting {} (log: {})",
+        image.display(),
+        log.display()
     );
-    let result = show(&lab, &mut running);
+    let options = Options {
+        namespace: Some(NAMESPACE),
+        tap: Some(TAP),
+        log_file: Some(&log),
+        ..Options::default()
+    };
+    let mut rig = Rig::launch(launched, &options)?;
+    println!("demo: the board runs profile {PROFILE} at {BOARD_CIDR} in namespace {NAMESPACE}\n");
+    let result = show(&mut rig);
     if result.is_err() {
-        running.print_log_tail();
+        qemu::print_log_tail(&rig, &log, LOG_TAIL);
     }
-    drop(running);
-    drop(lab);
-    println!("demo: torn down (board stopped, namespace enip-demo deleted)");
+    drop(rig);
+    println!("demo: torn down (board stopped, namespace {NAMESPACE} deleted)");
     result
 }
 
 /// The three parts of the demo, each watched for Ctrl-C and the board's health.
-fn show(lab: &Lab, board: &mut Running) -> Result {
-    let python = setup::venv_python();
-    let python = python.to_string_lossy();
-    supervise(lab.command(&python).args(["-c", IDENTITY, BOARD_IP]), board)?;
+fn show(rig: &mut Rig) -> Result {
+    let python = peers::venv_python();
+    let board = BOARD_IP.to_string();
+    let mut identity = rig.ns().command(&python);
+    identity.arg(peers::script("demo_identity.py")).arg(&board);
+    supervise(&mut identity, rig)?;
     println!();
-    supervise(
-        lab.command(&python).args([
-            "-c",
-            LIVE_DATA,
-            BOARD_IP,
-            &DATA_RPI_MS.to_string(),
-            &DATA_SECONDS.to_string(),
-        ]),
-        board,
-    )?;
+    let mut live = rig.ns().command(&python);
+    live.arg(peers::script("demo_live_data.py")).args([
+        board.clone(),
+        DATA_RPI_MS.to_string(),
+        DATA_SECONDS.to_string(),
+    ]);
+    supervise(&mut live, rig)?;
     println!(
         "\nClass 1 timing (the project's scanner, one connection per 1 s round, RPI {} ms):",
         f64::from(TIMING_RPI_US) / 1000.0
@@ -124,21 +129,23 @@ fn show(lab: &Lab, board: &mut Running) -> Result {
     let scanner = util::target_dir().join("release/scanner");
     let json_path = util::target_dir().join("demo/scanner.json");
     for round in 1..=TIMING_ROUNDS {
-        let mut cmd = lab.command(&scanner.to_string_lossy());
-        cmd.args(["--target", BOARD_IP, "--connections", "1"])
+        let mut cmd = rig.ns().command(&scanner);
+        cmd.args(["--target", &board, "--connections", "1"])
             .args(["--rpi-us", &TIMING_RPI_US.to_string(), "--seconds", "1"])
-            .args(["--json", &json_path.to_string_lossy()])
+            .arg("--json")
+            .arg(&json_path)
             .stdout(Stdio::null())
             .stderr(Stdio::null());
-        supervise(&mut cmd, board)?;
-        let out = fs::read_to_string(&json_path)?;
-        println!("  round {round}: {}", json::scanner_figures(&out));
+        supervise(&mut cmd, rig)?;
+        let report = serde_json::from_str(&fs::read_to_string(&json_path)?)
+            .map_err(|e| util::Error(format!("{}: {e}", json_path.display())))?;
+        println!("  round {round}: {}", peers::scanner_figures(&report));
     }
     Ok(())
 }
 
 /// Runs `cmd` to completion, bounded in time, while the board stays up; Ctrl-C stops it.
-fn supervise(cmd: &mut Command, board: &mut Running) -> Result {
+fn supervise(cmd: &mut Command, rig: &mut Rig) -> Result {
     let mut child = cmd.stdin(Stdio::null()).spawn()?;
     let start = Instant::now();
     let result = loop {
@@ -149,8 +156,8 @@ fn supervise(cmd: &mut Command, board: &mut Running) -> Result {
                 err(format!("`{}` failed ({status})", util::show(cmd)))
             };
         }
-        if let Err(e) = board.check_alive() {
-            break Err(e);
+        if let Err(e) = rig.check_alive() {
+            break Err(e.into());
         }
         if interrupted() {
             break err("interrupted");
@@ -168,84 +175,4 @@ fn supervise(cmd: &mut Command, board: &mut Running) -> Result {
         let _ = child.wait();
     }
     result
-}
-
-/// The board the demo started.
-enum Running {
-    Qemu(Qemu),
-    Host(HostBoard),
-}
-
-impl Running {
-    fn check_alive(&mut self) -> Result {
-        match self {
-            Running::Qemu(q) => q.check_alive(),
-            Running::Host(h) => h.check_alive(),
-        }
-    }
-
-    fn print_log_tail(&self) {
-        match self {
-            Running::Qemu(q) => q.print_log_tail(30),
-            Running::Host(h) => h.print_log_tail(),
-        }
-    }
-}
-
-/// `enip-host` inside the lab; stopped when dropped.
-struct HostBoard {
-    child: Child,
-    log: std::path::PathBuf,
-}
-
-impl HostBoard {
-    /// Starts `bin` on the lab's TAP and waits until it listens.
-    fn start(lab: &Lab, bin: &Path, log: &Path) -> Result<HostBoard> {
-        let file = fs::File::create(log)?;
-        let mut cmd = lab.command(&bin.to_string_lossy());
-        cmd.args(["--tap", &lab.tap, "--ip", BOARD_CIDR, "--profile", PROFILE])
-            .stdin(Stdio::null())
-            .stdout(file.try_clone()?)
-            .stderr(file);
-        println!("$ {}  (log: {})", util::show(&cmd), log.display());
-        let mut host = HostBoard {
-            child: cmd.spawn()?,
-            log: log.to_path_buf(),
-        };
-        let start = Instant::now();
-        while !fs::read_to_string(log)
-            .unwrap_or_default()
-            .contains("listening on")
-        {
-            host.check_alive()?;
-            if start.elapsed() > HOST_BOOT_TIMEOUT || interrupted() {
-                return err("enip-host did not come up");
-            }
-            sleep(Duration::from_millis(100));
-        }
-        Ok(host)
-    }
-
-    fn check_alive(&mut self) -> Result {
-        match self.child.try_wait()? {
-            Some(status) => err(format!("enip-host exited ({status})")),
-            None => Ok(()),
-        }
-    }
-
-    fn print_log_tail(&self) {
-        let text = fs::read_to_string(&self.log).unwrap_or_default();
-        let lines: Vec<&str> = text.lines().collect();
-        println!("--- last lines of {} ---", self.log.display());
-        for l in lines.iter().skip(lines.len().saturating_sub(30)) {
-            println!("  | {l}");
-        }
-    }
-}
-
-impl Drop for HostBoard {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
 }

@@ -7,6 +7,9 @@ use std::collections::BTreeMap;
 use std::fs;
 use std::process::Command;
 
+use enip_stack::config::{MAX_CONNECTIONS, MAX_SESSIONS};
+use serde_json::{json, Value};
+
 use crate::boards;
 use crate::util::{self, err, output, Result};
 
@@ -49,14 +52,13 @@ pub fn footprint() -> Result {
         let elf = boards::build(board, boards::DEFAULT_PROFILE)?;
         images.insert(board, measure(&elf.to_string_lossy())?);
     }
-    let (sessions, connections) = capacities();
     let dir = util::target_dir().join("bench");
     fs::create_dir_all(&dir)?;
     let path = dir.join("footprint.json");
-    fs::write(&path, to_json(&images, sessions, connections))?;
+    fs::write(&path, report(&images).to_string())?;
 
     println!(
-        "\nFootprint, release, profile {} ({sessions} TCP sessions, {connections} connections):",
+        "\nFootprint, release, profile {} ({MAX_SESSIONS} TCP sessions, {MAX_CONNECTIONS} connections):",
         boards::DEFAULT_PROFILE
     );
     println!("{:<26} {:>10} {:>10}", "", "flash", "RAM");
@@ -176,42 +178,29 @@ fn static_owner(symbol: &str) -> String {
     }
 }
 
-/// The stack's capacities, from `stack/src/config.rs`.
-fn capacities() -> (u64, u64) {
-    let text = fs::read_to_string(util::root().join("stack/src/config.rs")).unwrap_or_default();
-    let constant = |name: &str| {
-        text.lines()
-            .find_map(|l| l.strip_prefix(&format!("pub const {name}: usize = ")))
-            .and_then(|v| v.trim_end_matches(';').trim().parse().ok())
-            .unwrap_or(0)
-    };
-    (constant("MAX_SESSIONS"), constant("MAX_CONNECTIONS"))
-}
-
-fn to_json(images: &BTreeMap<&str, Image>, sessions: u64, connections: u64) -> String {
-    let map = |m: &BTreeMap<String, u64>| {
-        let fields: Vec<String> = m.iter().map(|(k, v)| format!("\"{k}\":{v}")).collect();
-        format!("{{{}}}", fields.join(","))
-    };
-    let boards: Vec<String> = images
+/// The report: the profile and capacities measured, the budget, and per board its flash
+/// and RAM totals, sections and shares by owner.
+fn report(images: &BTreeMap<&str, Image>) -> Value {
+    let boards: serde_json::Map<String, Value> = images
         .iter()
         .map(|(board, i)| {
-            format!(
-                "\"{board}\":{{\"flash\":{},\"ram\":{},\"sections\":{},\"flash_by\":{},\"ram_by\":{}}}",
-                i.flash(),
-                i.ram(),
-                map(&i.sections),
-                map(&i.flash_by),
-                map(&i.ram_by)
-            )
+            let image = json!({
+                "flash": i.flash(),
+                "ram": i.ram(),
+                "sections": i.sections,
+                "flash_by": i.flash_by,
+                "ram_by": i.ram_by,
+            });
+            (board.to_string(), image)
         })
         .collect();
-    format!(
-        "{{\"profile\":\"{}\",\"tcp_sessions\":{sessions},\"connections\":{connections},\"budget\":{{\"board\":\"{}\",\"flash\":{NUCLEO_FLASH_BUDGET},\"ram\":{NUCLEO_RAM_BUDGET}}},\"boards\":{{{}}}}}",
-        boards::DEFAULT_PROFILE,
-        boards::NUCLEO,
-        boards.join(",")
-    )
+    json!({
+        "profile": boards::DEFAULT_PROFILE,
+        "tcp_sessions": MAX_SESSIONS,
+        "connections": MAX_CONNECTIONS,
+        "budget": {"board": boards::NUCLEO, "flash": NUCLEO_FLASH_BUDGET, "ram": NUCLEO_RAM_BUDGET},
+        "boards": boards,
+    })
 }
 
 #[cfg(test)]

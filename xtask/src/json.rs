@@ -29,39 +29,16 @@ pub fn number(json: &str, key: &str) -> Option<u64> {
     find(json, key)?.as_u64()
 }
 
-/// The value of `key` as a string.
-pub fn string(json: &str, key: &str) -> Option<String> {
-    find(json, key)?.as_str().map(str::to_string)
-}
-
-/// One line of the scanner's single-connection figures from its `--json` report: packets
-/// sent and received (of those expected), lost, and the interval percentiles.
-pub fn scanner_figures(report: &str) -> String {
-    let n = |k| number(report, k).unwrap_or(0);
-    format!(
-        "sent {:5} O->T, received {:5} T->O of {} expected, lost {}, \
-         interval p50 {:5} us, p99 {:5} us, max {:5} us",
-        n("sent"),
-        n("received"),
-        n("expected_per_connection"),
-        n("lost"),
-        n("p50_us"),
-        n("p99_us"),
-        n("max_us")
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn reads_numbers_booleans_and_strings() {
-        let j = r#"{"connections":[{"lost":0,"p50_us":1000}],"sent": 10000, "ok": true, "name": "enip-rs generic"}"#;
+    fn reads_numbers_and_booleans() {
+        let j = r#"{"connections":[{"lost":0,"p50_us":1000}],"sent": 10000, "ok": true}"#;
         assert_eq!(number(j, "p50_us"), Some(1000));
         assert_eq!(number(j, "sent"), Some(10000));
         assert_eq!(find(j, "ok"), Some(Value::Bool(true)));
-        assert_eq!(string(j, "name").as_deref(), Some("enip-rs generic"));
         assert_eq!(find(j, "missing"), None);
         assert_eq!(number(&format!("a warning\n{j}\n"), "sent"), Some(10000));
     }

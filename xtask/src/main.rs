@@ -17,7 +17,6 @@ mod demo;
 mod footprint;
 mod fuzz;
 mod json;
-mod netns;
 mod qemu;
 mod setup;
 mod smoke;
@@ -25,6 +24,7 @@ mod test;
 mod util;
 mod workspace;
 
+use std::ffi::OsString;
 use std::process::ExitCode;
 
 const USAGE: &str = "\
@@ -46,42 +46,53 @@ commands:
                       (`cargo run -p enip-host -- --eds --profile NAME` prints one)
 ";
 
+/// A command line, parsed.
+#[derive(Debug, PartialEq, Eq)]
+enum Command {
+    Setup,
+    Test,
+    Fuzz { seconds: u64 },
+    Qemu { profile: String },
+    Demo { board: demo::Board },
+    Bench,
+    Footprint,
+    Smoke,
+    Eds,
+    Help,
+}
+
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let result = match args.as_slice() {
-        ["setup"] => setup::all(),
-        ["test"] => {
+    let command = match parse(std::env::args_os().skip(1)) {
+        Ok(c) => c,
+        Err(e) => {
+            eprint!("error: {e}\n{USAGE}");
+            return ExitCode::from(2);
+        }
+    };
+    let result = match command {
+        Command::Setup => setup::all(),
+        Command::Test => {
             return if test::run_all() {
                 ExitCode::SUCCESS
             } else {
                 ExitCode::FAILURE
             };
         }
-        ["fuzz", rest @ ..] => match parse_seconds(rest) {
-            Ok(seconds) => fuzz::run_all(seconds).map(|_| ()),
-            Err(e) => Err(e),
-        },
-        ["qemu"] => qemu::run_interactive(boards::DEFAULT_PROFILE),
-        ["qemu", "--profile", name] => qemu::run_interactive(name),
-        ["demo"] => demo::run_demo(demo::Board::Qemu),
-        ["demo", "--host"] => demo::run_demo(demo::Board::Host),
-        ["bench"] => bench::run_all(),
-        ["footprint"] => footprint::footprint(),
-        ["smoke"] => smoke::run_smoke().map(|_| ()),
+        Command::Fuzz { seconds } => fuzz::run_all(seconds).map(|_| ()),
+        Command::Qemu { profile } => qemu::run_interactive(&profile),
+        Command::Demo { board } => demo::run_demo(board),
+        Command::Bench => bench::run_all(),
+        Command::Footprint => footprint::footprint(),
+        Command::Smoke => smoke::run_smoke().map(|_| ()),
         // The firmware's EDS test knows every profile; asked to, it rewrites the files.
-        ["eds"] => util::run(
+        Command::Eds => util::run(
             util::cargo()
                 .args(["test", "every_eds_file_is_current"])
                 .env("UPDATE_EDS", "1"),
         ),
-        ["help" | "-h" | "--help"] => {
+        Command::Help => {
             print!("{USAGE}");
             Ok(())
-        }
-        _ => {
-            eprint!("{USAGE}");
-            return ExitCode::from(2);
         }
     };
     match result {
@@ -93,17 +104,49 @@ fn main() -> ExitCode {
     }
 }
 
-/// `--seconds N` (or nothing, for the default).
-fn parse_seconds(args: &[&str]) -> util::Result<u64> {
-    match args {
-        [] => Ok(fuzz::DEFAULT_SECONDS),
-        ["--seconds", n] => n
-            .parse()
-            .ok()
-            .filter(|&n| n > 0)
-            .ok_or_else(|| util::Error(format!("--seconds wants a positive number, not {n:?}"))),
-        _ => util::err(format!("unexpected arguments {args:?}\n{USAGE}")),
+/// Parses the arguments after `cargo xtask`.
+fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command, lexopt::Error> {
+    use lexopt::prelude::*;
+    let mut parser = lexopt::Parser::from_args(args);
+    let name = match parser.next()? {
+        Some(Value(name)) => name.string()?,
+        Some(Short('h') | Long("help")) => return Ok(Command::Help),
+        Some(other) => return Err(other.unexpected()),
+        None => return Err("no command given".into()),
+    };
+    let mut command = match name.as_str() {
+        "setup" => Command::Setup,
+        "test" => Command::Test,
+        "fuzz" => Command::Fuzz {
+            seconds: fuzz::DEFAULT_SECONDS,
+        },
+        "qemu" => Command::Qemu {
+            profile: boards::DEFAULT_PROFILE.to_string(),
+        },
+        "demo" => Command::Demo {
+            board: demo::Board::Qemu,
+        },
+        "bench" => Command::Bench,
+        "footprint" => Command::Footprint,
+        "smoke" => Command::Smoke,
+        "eds" => Command::Eds,
+        "help" => Command::Help,
+        _ => return Err(format!("unknown command {name:?}").into()),
+    };
+    while let Some(arg) = parser.next()? {
+        match (&mut command, arg) {
+            (Command::Fuzz { seconds }, Long("seconds")) => {
+                *seconds = parser.value()?.parse()?;
+                if *seconds == 0 {
+                    return Err("--seconds wants a positive number".into());
+                }
+            }
+            (Command::Qemu { profile }, Long("profile")) => *profile = parser.value()?.string()?,
+            (Command::Demo { board }, Long("host")) => *board = demo::Board::Host,
+            (_, other) => return Err(other.unexpected()),
+        }
     }
+    Ok(command)
 }
 
 #[cfg(test)]
@@ -111,13 +154,33 @@ mod tests {
     use super::*;
 
     #[test]
-    fn seconds_argument() {
-        assert_eq!(parse_seconds(&[]).unwrap(), fuzz::DEFAULT_SECONDS);
-        assert_eq!(parse_seconds(&["--seconds", "5"]).unwrap(), 5);
-        assert!(parse_seconds(&["--seconds", "0"]).is_err());
-        assert!(parse_seconds(&["--seconds", "x"]).is_err());
-        assert!(parse_seconds(&["--seconds"]).is_err());
-        assert!(parse_seconds(&["-s", "5"]).is_err());
+    fn command_lines() {
+        let p = |args: &[&str]| parse(args.iter().copied());
+        let fuzz = |seconds| Command::Fuzz { seconds };
+        assert_eq!(p(&["fuzz"]).unwrap(), fuzz(fuzz::DEFAULT_SECONDS));
+        assert_eq!(p(&["fuzz", "--seconds", "5"]).unwrap(), fuzz(5));
+        assert!(p(&["fuzz", "--seconds", "0"]).is_err());
+        assert!(p(&["fuzz", "--seconds", "x"]).is_err());
+        assert!(p(&["fuzz", "--seconds"]).is_err());
+        assert!(p(&["fuzz", "-s", "5"]).is_err());
+        assert_eq!(
+            p(&["qemu", "--profile", "parker-ipa"]).unwrap(),
+            Command::Qemu {
+                profile: "parker-ipa".into()
+            }
+        );
+        assert_eq!(
+            p(&["demo", "--host"]).unwrap(),
+            Command::Demo {
+                board: demo::Board::Host
+            }
+        );
+        assert!(p(&["demo", "--seconds", "5"]).is_err());
+        assert!(p(&["test", "extra"]).is_err());
+        assert!(p(&["nothing"]).is_err());
+        assert!(p(&[]).is_err());
+        assert_eq!(p(&["--help"]).unwrap(), Command::Help);
+        assert_eq!(p(&["smoke"]).unwrap(), Command::Smoke);
     }
 
     #[test]

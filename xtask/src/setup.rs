@@ -1,8 +1,9 @@
 //! `cargo xtask setup`: installs what the tests need, idempotently and quietly when present.
 
 use std::fs;
-use std::path::PathBuf;
 use std::process::Command;
+
+use enip_lab::peers::{npm_dir, venv_dir, venv_python};
 
 use crate::util::{self, err, have, loud, output, run, run_quiet, Result};
 
@@ -149,16 +150,6 @@ fn preseed() -> Result {
     Ok(())
 }
 
-/// The Python virtual environment holding [`PYTHON_PEERS`].
-pub fn venv_dir() -> PathBuf {
-    util::target_dir().join("peers-venv")
-}
-
-/// Its interpreter.
-pub fn venv_python() -> PathBuf {
-    venv_dir().join("bin/python")
-}
-
 /// Creates the venv and installs [`PYTHON_PEERS`] unless a stamp says they already are.
 pub fn python_peers() -> Result {
     let dir = venv_dir();
@@ -186,11 +177,6 @@ pub fn python_peers() -> Result {
     run(&mut pip)?;
     fs::write(&stamp, wanted)?;
     Ok(())
-}
-
-/// The npm prefix holding [`NPM_PEERS`].
-pub fn npm_dir() -> PathBuf {
-    util::target_dir().join("peers-npm")
 }
 
 /// Installs [`NPM_PEERS`] unless a stamp says they already are; only warns if npm is missing.

@@ -1,17 +1,15 @@
 //! `cargo xtask test`: the whole test suite, in order, stopping at the first failure.
 
+use enip_lab::peers;
+
 use crate::util::{self, loud, run, Outcome, Result, Steps};
-use crate::{footprint, fuzz, setup, smoke, workspace};
+use crate::workspace::Metadata;
+use crate::{boards, footprint, fuzz, setup, smoke};
 
 /// Seconds per fuzz target in the test run.
 const FUZZ_SECONDS: u64 = 5;
-/// The profiles whose TAP scenarios also run on the QEMU board.
-const QEMU_PROFILES: [&str; 4] = [
-    "position-servo",
-    "parker-ipa",
-    "ametek-pls",
-    "kollmorgen-akd",
-];
+/// The published crate whose `rust-version` the run builds with.
+const PUBLISHED: &str = "enip-stack";
 /// The TAP interop test file (written by the host-tests owners).
 const TAP_INTEROP: &str = "host-tests/tests/tap_interop.rs";
 
@@ -26,7 +24,7 @@ pub fn run_all() -> bool {
     // workspace members outside them (the boards) build only for the embedded target, in
     // release as they ship.
     let no_std = ["enip-stack", "enip-firmware"];
-    let mut boards = Vec::new();
+    let mut cross_crates = Vec::new();
     // `&&` stops at the first failed step; the summary lists the steps that ran.
     let mut ok = steps.run("setup", || setup::all().map(|()| Outcome::Passed))
         && steps.run("rustfmt", || {
@@ -58,11 +56,11 @@ pub fn run_all() -> bool {
             cargo(&["test"])
         })
         && steps.run("list the cross-only crates", || {
-            boards.extend(workspace::cross_only_packages()?);
+            cross_crates.extend(Metadata::read()?.cross_only_packages());
             println!(
                 "boards built for {}: {}",
                 setup::THUMB_TARGET,
-                boards.join(", ")
+                cross_crates.join(", ")
             );
             Ok(Outcome::Passed)
         });
@@ -77,7 +75,7 @@ pub fn run_all() -> bool {
         && steps.run("rust-version and cargo publish --dry-run", || {
             // The claimed toolchain: the active one when it is that version (a fresh machine
             // may have no toolchain of that name), else that toolchain through rustup.
-            let toolchain = workspace::rust_version_toolchain()?;
+            let toolchain = Metadata::read()?.rust_version_toolchain(PUBLISHED)?;
             let active = util::output(std::process::Command::new("rustc").arg("--version"))
                 .unwrap_or_default();
             let mut build = if active.split_whitespace().nth(1) == Some(toolchain.as_str()) {
@@ -100,11 +98,11 @@ pub fn run_all() -> bool {
                 "enip-firmware",
             ])
         });
-    for board in &boards {
+    for board in &cross_crates {
         ok = ok
             && steps.run(&format!("board: {board} (release build, clippy)"), || {
-                crate::boards::build(board, crate::boards::DEFAULT_PROFILE)?;
-                crate::boards::clippy(board)?;
+                boards::build(board, boards::DEFAULT_PROFILE)?;
+                boards::clippy(board)?;
                 Ok(Outcome::Passed)
             });
     }
@@ -130,16 +128,17 @@ fn tap_interop() -> Result<Outcome> {
     let host_bin = util::target_dir().join("debug/enip-host");
     let example_bin = util::target_dir().join("debug/io-block-host");
     // The profiles' scenarios also run on the emulated board: a copy of its ELF per profile
-    // (ENIP_QEMU_<PROFILE>_ELF), since the smoke run rebuilds the same path with the
-    // generic profile.
+    // but the default one (ENIP_QEMU_<PROFILE>_ELF), since the smoke run rebuilds the same
+    // path with the default profile.
     let mut elves = Vec::new();
-    for profile in QEMU_PROFILES {
+    let profiles = boards::profiles(&Metadata::read()?)?;
+    for profile in profiles.iter().filter(|p| *p != boards::DEFAULT_PROFILE) {
         let elf = util::target_dir().join(format!("qemu-{profile}.elf"));
-        std::fs::copy(crate::boards::build(crate::boards::QEMU, profile)?, &elf)?;
+        std::fs::copy(boards::build(boards::QEMU, profile)?, &elf)?;
         let var = format!("ENIP_QEMU_{}_ELF", profile.to_uppercase().replace('-', "_"));
         elves.push((var, elf));
     }
-    let python = setup::venv_python();
+    let python = peers::venv_python();
     run(util::cargo()
         .args([
             "test",
@@ -154,7 +153,7 @@ fn tap_interop() -> Result<Outcome> {
         .env("ENIP_PEER_PYTHON", &python)
         .env("ENIP_HOST_BIN", &host_bin)
         .env("ENIP_EXAMPLE_BIN", &example_bin)
-        .env("ENIP_PEER_NPM_DIR", setup::npm_dir())
+        .env("ENIP_PEER_NPM_DIR", peers::npm_dir())
         .envs(elves))?;
     Ok(Outcome::Passed)
 }

@@ -1,92 +1,80 @@
-//! Just enough of the root `Cargo.toml` to tell host crates from cross-only crates.
+//! The workspace as cargo describes it (`cargo metadata`, read with serde_json): which crates
+//! build only for the embedded target, the published crates' `rust-version`, and a package's
+//! features (the device profiles are the firmware's `profile-NAME` features).
 
-use std::fs;
-use std::path::Path;
+use serde_json::Value;
 
-use crate::util::{self, Result};
+use crate::util::{self, Error, Result};
 
-/// The strings of the array `key = [ ... ]` in `toml` (single- or multi-line), in order.
-pub fn string_array(toml: &str, key: &str) -> Vec<String> {
-    let Some(start) = toml
-        .lines()
-        .scan(0usize, |at, line| {
-            let here = *at;
-            *at += line.len() + 1;
-            Some((here, line))
+/// The workspace's own packages, from `cargo metadata --no-deps`.
+#[derive(Debug)]
+pub struct Metadata(Value);
+
+impl Metadata {
+    /// Asks cargo.
+    pub fn read() -> Result<Metadata> {
+        let mut cargo = util::cargo();
+        cargo.args(["metadata", "--format-version", "1", "--no-deps"]);
+        let out = util::output(&mut cargo).ok_or_else(|| Error("cargo metadata failed".into()))?;
+        serde_json::from_str(&out)
+            .map(Metadata)
+            .map_err(|e| Error(format!("cargo metadata: {e}")))
+    }
+
+    fn packages(&self) -> impl Iterator<Item = &Value> {
+        self.0["packages"].as_array().into_iter().flatten()
+    }
+
+    fn package(&self, name: &str) -> Result<&Value> {
+        self.packages()
+            .find(|p| p["name"] == name)
+            .ok_or_else(|| Error(format!("no package {name} in the workspace")))
+    }
+
+    /// Package names of the workspace members that are not default members: the crates that
+    /// build only for the embedded target (the boards).
+    pub fn cross_only_packages(&self) -> Vec<String> {
+        let ids =
+            |key: &str| -> Vec<&Value> { self.0[key].as_array().into_iter().flatten().collect() };
+        let defaults = ids("workspace_default_members");
+        let members = ids("workspace_members");
+        self.packages()
+            .filter(|p| members.contains(&&p["id"]) && !defaults.contains(&&p["id"]))
+            .filter_map(|p| p["name"].as_str().map(str::to_string))
+            .collect()
+    }
+
+    /// The `rust-version` of `package`, as a toolchain name (`1.95` -> `1.95.0`).
+    pub fn rust_version_toolchain(&self, package: &str) -> Result<String> {
+        let version = self.package(package)?["rust_version"]
+            .as_str()
+            .ok_or_else(|| Error(format!("{package} has no rust-version")))?;
+        Ok(match version.split('.').count() {
+            2 => format!("{version}.0"),
+            _ => version.to_string(),
         })
-        .find(|(_, l)| {
-            l.trim_start()
-                .strip_prefix(key)
-                .is_some_and(|r| r.trim_start().starts_with('='))
-        })
-        .map(|(at, _)| at)
-    else {
-        return Vec::new();
-    };
-    let rest = &toml[start..];
-    let (Some(open), Some(close)) = (rest.find('['), rest.find(']')) else {
-        return Vec::new();
-    };
-    if close < open {
-        return Vec::new();
     }
-    rest[open + 1..close]
-        .lines()
-        .map(|l| l.split('#').next().unwrap_or(""))
-        .flat_map(|l| l.split(','))
-        .map(|s| s.trim().trim_matches('"').to_string())
-        .filter(|s| !s.is_empty())
-        .collect()
-}
 
-/// The `name` of the `[package]` in `dir/Cargo.toml`.
-pub fn package_name(dir: &Path) -> Option<String> {
-    let text = fs::read_to_string(dir.join("Cargo.toml")).ok()?;
-    let mut in_package = false;
-    for line in text.lines() {
-        let l = line.trim();
-        if l.starts_with('[') {
-            in_package = l == "[package]";
-        } else if in_package {
-            if let Some(v) = l.strip_prefix("name") {
-                let v = v.trim_start().strip_prefix('=')?;
-                return Some(v.trim().trim_matches('"').to_string());
-            }
-        }
+    /// The features `package` declares, sorted.
+    pub fn features(&self, package: &str) -> Result<Vec<String>> {
+        let features = self.package(package)?["features"].as_object();
+        Ok(features
+            .into_iter()
+            .flatten()
+            .map(|(k, _)| k.clone())
+            .collect())
     }
-    None
-}
 
-/// Package names of the workspace members that are not default members: the crates that
-/// build only for the embedded target (the boards).
-pub fn cross_only_packages() -> Result<Vec<String>> {
-    let root = util::root();
-    let toml = fs::read_to_string(root.join("Cargo.toml"))?;
-    let members = string_array(&toml, "members");
-    let defaults = string_array(&toml, "default-members");
-    if defaults.is_empty() {
-        return Ok(Vec::new());
+    /// What the feature `feature` of `package` enables (`None` if it has no such feature).
+    #[cfg(test)]
+    pub fn feature(&self, package: &str, feature: &str) -> Result<Option<Vec<String>>> {
+        let enables = self.package(package)?["features"][feature].as_array();
+        Ok(enables.map(|list| {
+            list.iter()
+                .filter_map(|f| f.as_str().map(str::to_string))
+                .collect()
+        }))
     }
-    Ok(members
-        .iter()
-        .filter(|m| !defaults.contains(m))
-        .filter_map(|m| package_name(&root.join(m)))
-        .collect())
-}
-
-/// The workspace's `rust-version` (`[workspace.package]`), as a toolchain name
-/// (`1.95` -> `1.95.0`).
-pub fn rust_version_toolchain() -> Result<String> {
-    let toml = fs::read_to_string(util::root().join("Cargo.toml"))?;
-    let version = toml
-        .lines()
-        .find_map(|l| l.trim().strip_prefix("rust-version = "))
-        .map(|v| v.trim_matches('"').to_string())
-        .ok_or_else(|| util::Error("no rust-version in Cargo.toml".into()))?;
-    Ok(match version.split('.').count() {
-        2 => format!("{version}.0"),
-        _ => version,
-    })
 }
 
 #[cfg(test)]
@@ -94,21 +82,22 @@ mod tests {
     use super::*;
 
     #[test]
-    fn reads_arrays() {
-        let toml = "[workspace]\nmembers = [\n    \"stack\",\n    \"boards/a\", # x\n]\n\
-                    default-members = [\"stack\"]\nexclude = [\"fuzz\"]\n";
-        assert_eq!(string_array(toml, "members"), ["stack", "boards/a"]);
-        assert_eq!(string_array(toml, "default-members"), ["stack"]);
-        assert_eq!(string_array(toml, "exclude"), ["fuzz"]);
-        assert!(string_array(toml, "nothing").is_empty());
-    }
-
-    #[test]
     fn reads_this_workspace() {
+        let m = Metadata::read().unwrap();
+        let cross = m.cross_only_packages();
+        assert!(cross.contains(&"enip-qemu-mps2".to_string()), "{cross:?}");
+        assert!(!cross.contains(&"enip-stack".to_string()), "{cross:?}");
+        let toolchain = m.rust_version_toolchain("enip-stack").unwrap();
+        assert_eq!(toolchain.split('.').count(), 3, "{toolchain}");
+        assert!(m
+            .features("enip-firmware")
+            .unwrap()
+            .contains(&"profile-generic".to_string()));
         assert_eq!(
-            package_name(&util::root().join("stack")).as_deref(),
-            Some("enip-stack")
+            m.feature("enip-stack", "log").unwrap(),
+            Some(vec!["dep:log".to_string()])
         );
-        assert!(cross_only_packages().is_ok());
+        assert_eq!(m.feature("enip-stack", "nothing").unwrap(), None);
+        assert!(m.package("no-such-crate").is_err());
     }
 }

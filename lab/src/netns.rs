@@ -1,5 +1,6 @@
-//! Network namespaces a test creates for itself, so that every frame it sends stays on a
-//! private TAP link (198.18.0.0/24) and nothing reaches the machine's real networks.
+//! Network namespaces a test (or an xtask command) creates for itself, each with a TAP link
+//! (198.18.0.0/24), so that every frame it sends stays there and nothing reaches the
+//! machine's real networks.
 //!
 //! Programs run inside with `ip netns exec`; the test process itself reaches in by opening
 //! sockets on a short-lived thread that joined the namespace (see [`Namespace::inside`]).
@@ -8,7 +9,9 @@
 use std::ffi::OsStr;
 use std::fs::File;
 use std::io;
+use std::net::Ipv4Addr;
 use std::os::fd::AsRawFd;
+use std::path::Path;
 use std::process::Command;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Duration;
@@ -17,6 +20,17 @@ use crate::process::{run_bounded, signal};
 
 /// How long one `ip` command may take.
 const IP_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// The kernel's address on the TAP (where every peer runs).
+pub const HOST_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
+/// The board's address (its own TCP/IP stack, not a kernel address).
+pub const BOARD_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
+/// The board's address with its prefix, as the boards' `--ip` takes it.
+pub const BOARD_CIDR: &str = "198.18.0.2/24";
+/// The subnet's directed broadcast address.
+pub const BROADCAST_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 255);
+/// Prefix length of the subnet.
+pub const PREFIX: u8 = 24;
 
 /// A network namespace, deleted (with every process still inside it) when dropped.
 #[derive(Debug)]
@@ -33,6 +47,19 @@ impl Namespace {
             std::process::id(),
             NEXT.fetch_add(1, Ordering::Relaxed)
         );
+        Self::add(name)
+    }
+
+    /// Creates the namespace `name` (a fixed name, for a command a person runs), first
+    /// deleting a stale one of that name with everything still running in it.
+    pub fn create_named(name: &str) -> io::Result<Self> {
+        drop(Namespace {
+            name: name.to_string(),
+        });
+        Self::add(name.to_string())
+    }
+
+    fn add(name: String) -> io::Result<Self> {
         ip(&["netns", "add", &name])?;
         let ns = Namespace { name };
         ns.exec_checked("ip", &["link", "set", "lo", "up"])?;
@@ -92,13 +119,58 @@ impl Namespace {
 
 impl Drop for Namespace {
     fn drop(&mut self) {
-        // Only this test started processes in its namespace; none may outlive it.
+        // Only its owner started processes in the namespace; none may outlive it.
         for pid in self.pids() {
             signal(pid, libc::SIGKILL);
         }
-        if let Err(e) = ip(&["netns", "delete", &self.name]) {
-            eprintln!("warning: could not delete namespace {}: {e}", self.name);
+        if Path::new("/run/netns").join(&self.name).exists() {
+            if let Err(e) = ip(&["netns", "delete", &self.name]) {
+                eprintln!("warning: could not delete namespace {}: {e}", self.name);
+            }
         }
+    }
+}
+
+/// A namespace holding one TAP device, up at [`HOST_IP`]/[`PREFIX`]: the link a board
+/// attaches to. Deleted, with everything in it, when dropped.
+#[derive(Debug)]
+pub struct Lab {
+    /// The TAP device's name inside the namespace.
+    pub tap: String,
+    ns: Namespace,
+}
+
+impl Lab {
+    /// Creates the namespace `name` (replacing a stale one) with the TAP `tap`.
+    pub fn create(name: &str, tap: &str) -> io::Result<Self> {
+        Self::with_tap(Namespace::create_named(name)?, tap)
+    }
+
+    /// Creates a namespace with a name of its own (see [`Namespace::create`]) with the TAP
+    /// `tap`.
+    pub fn create_unique(tap: &str) -> io::Result<Self> {
+        Self::with_tap(Namespace::create()?, tap)
+    }
+
+    fn with_tap(ns: Namespace, tap: &str) -> io::Result<Self> {
+        ns.exec_checked("ip", &["tuntap", "add", "dev", tap, "mode", "tap"])?;
+        let host = format!("{HOST_IP}/{PREFIX}");
+        ns.exec_checked("ip", &["addr", "add", &host, "dev", tap])?;
+        ns.exec_checked("ip", &["link", "set", tap, "up"])?;
+        Ok(Lab {
+            tap: tap.to_string(),
+            ns,
+        })
+    }
+
+    /// The namespace.
+    pub fn ns(&self) -> &Namespace {
+        &self.ns
+    }
+
+    /// A command that runs `program` inside the namespace.
+    pub fn command(&self, program: impl AsRef<OsStr>) -> Command {
+        self.ns.command(program)
     }
 }
 

@@ -1,10 +1,17 @@
-# QEMU smoke run, explicit part: pycomm3 reads the Identity object of the board and
-# discovers it with a ListIdentity broadcast to the subnet.
-# Usage: python -c PRELUDE+THIS BOARD_IP BROADCAST (xtask prepends identity.py). Prints one
-# JSON line: {"identity": {key: text}, "discovered": [{"ip_address", "product_name"}]}.
-import json
+"""QEMU smoke run (host-tests/tests/qemu_smoke.rs), explicit part: pycomm3 reads the
+Identity object of the board and discovers it with a ListIdentity broadcast to the subnet.
 
+Usage: python smoke_explicit.py BOARD_IP BROADCAST. Prints one JSON line:
+{"identity": {key: text}, "discovered": [{"ip_address", "product_name"}]}.
+"""
+import json
+import struct
+import sys
+
+from pycomm3 import CIPDriver
 from pycomm3.packets import ListIdentityRequestPacket
+
+from identity import read_identity, wait_for_board
 
 ip, broadcast = sys.argv[1], sys.argv[2]
 wait_for_board(ip)

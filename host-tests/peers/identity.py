@@ -1,5 +1,6 @@
-"""Prelude of the xtask pycomm3 scripts (xtask prepends it to each): wait for the board to
-listen, and read its Identity object (class 0x01, instance 1, attributes 1-7)."""
+"""Shared by smoke_explicit.py and demo_identity.py (not a peer itself): wait for the board
+to listen, and read its Identity object (class 0x01, instance 1, attributes 1-7) with
+pycomm3."""
 import socket
 import struct
 import sys

@@ -1,8 +1,10 @@
 //! Child processes with bounded waits: one-shot commands with a deadline, and long-running
-//! children (the board, tshark) whose output is collected line by line and which are
-//! stopped, by their own process id, when dropped.
+//! children (the board, tshark) whose output is collected line by line (and optionally
+//! written to a log file) and which are stopped, by their own process id, when dropped.
 
+use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read, Write};
+use std::path::Path;
 use std::process::{Child, Command, ExitStatus, Output, Stdio};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::sync::{Arc, Mutex};
@@ -106,7 +108,15 @@ pub struct LoggedChild {
 
 impl LoggedChild {
     /// Spawns `cmd` under the label `name`, collecting its output.
-    pub fn spawn(name: &str, mut cmd: Command) -> io::Result<Self> {
+    pub fn spawn(name: &str, cmd: Command) -> io::Result<Self> {
+        Self::spawn_logged(name, cmd, None)
+    }
+
+    /// Like [`LoggedChild::spawn`], also writing every output line to the file `log` if given
+    /// (created afresh).
+    pub fn spawn_logged(name: &str, mut cmd: Command, log_file: Option<&Path>) -> io::Result<Self> {
+        let file = log_file.map(File::create).transpose()?;
+        let file = Arc::new(Mutex::new(file));
         cmd.stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped());
@@ -122,11 +132,17 @@ impl LoggedChild {
             .take()
             .map(|p| Box::new(p) as Box<dyn Read + Send>);
         for pipe in [out, err].into_iter().flatten() {
-            let (tx, log) = (tx.clone(), Arc::clone(&log));
+            let (tx, log, file) = (tx.clone(), Arc::clone(&log), Arc::clone(&file));
             thread::spawn(move || {
                 for line in BufReader::new(pipe).lines().map_while(Result::ok) {
                     if let Ok(mut l) = log.lock() {
                         l.push(line.clone());
+                    }
+                    if let Ok(mut f) = file.lock() {
+                        if let Some(f) = f.as_mut() {
+                            // The file is a convenience copy; the lines are kept in memory.
+                            let _ = writeln!(f, "{line}");
+                        }
                     }
                     let _ = tx.send(line);
                 }
@@ -173,6 +189,14 @@ impl LoggedChild {
     /// Everything the child printed so far.
     pub fn output(&self) -> String {
         self.log.lock().map(|l| l.join("\n")).unwrap_or_default()
+    }
+
+    /// The last `n` lines the child printed.
+    pub fn tail(&self, n: usize) -> String {
+        let Ok(l) = self.log.lock() else {
+            return String::new();
+        };
+        l[l.len().saturating_sub(n)..].join("\n")
     }
 
     /// Sends `sig`, waits up to `grace` for the child to end, then kills it.

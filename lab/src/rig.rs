@@ -1,0 +1,321 @@
+//! The TAP rig: a [`Lab`] (a namespace holding a TAP device, 198.18.0.1/24 on the kernel
+//! side), optionally tshark capturing on it, and a board attached to the TAP at 198.18.0.2/24
+//! with its own TCP/IP stack: the `enip-host` program, a program built on `enip_host::run`,
+//! or the emulated board in QEMU. These are the boards' only launchers. Dropping the rig
+//! stops the board and tshark and deletes the namespace, also when a test panics.
+
+use std::ffi::OsStr;
+use std::io;
+use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4, UdpSocket};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Duration;
+
+use enip_stack::wire::encap::{command, Repr, HEADER_LEN};
+
+use crate::capture::Capture;
+use crate::netns::{Lab, Namespace};
+use crate::process::LoggedChild;
+
+pub use crate::netns::{BOARD_CIDR, BOARD_IP, BROADCAST_IP, HOST_IP, PREFIX};
+
+/// The TAP device's name inside the namespace (unless [`Options::tap`] names another).
+pub const TAP: &str = "enip0";
+/// The encapsulation port.
+pub const ENCAP_PORT: u16 = enip_stack::config::ENCAP_PORT;
+/// What the host board prints once it serves.
+pub const LISTENING: &str = "enip-host: listening on";
+/// What any `enip_host::run` program prints once it serves (after its own name).
+const PROGRAM_READY: &str = ": listening on";
+/// How long the host board (or a program) may take to come up.
+const BOARD_START: Duration = Duration::from_secs(10);
+/// What the emulated board prints once its sockets listen.
+const QEMU_READY: &str = "listening on";
+/// How long QEMU may take to boot the emulated board.
+const QEMU_BOOT: Duration = Duration::from_secs(30);
+/// What the emulated board prints when it panics.
+const QEMU_PANIC: &str = "PANIC";
+/// Reachability probes sent after start-up.
+const PROBES: u32 = 40;
+/// How long each probe waits for its answer.
+const PROBE_WAIT: Duration = Duration::from_millis(250);
+/// How long a stopped board may take to end after SIGTERM.
+const STOP_GRACE: Duration = Duration::from_secs(3);
+
+/// The board's encapsulation endpoint.
+pub const fn board_addr() -> SocketAddr {
+    SocketAddr::V4(SocketAddrV4::new(BOARD_IP, ENCAP_PORT))
+}
+
+/// A board the rig can start on its TAP.
+#[derive(Debug, Clone, Copy)]
+pub enum Board<'a> {
+    /// The host board `bin` (`enip-host`) running `profile`, with `extra` arguments (e.g.
+    /// `--nvram FILE`); it comes up at `answers_at` (its `--ip` is [`BOARD_CIDR`] unless its
+    /// non-volatile file says otherwise).
+    Host {
+        /// The `enip-host` binary.
+        bin: &'a Path,
+        /// Its `--profile`.
+        profile: &'a str,
+        /// More arguments.
+        extra: &'a [&'a str],
+        /// The address it answers at.
+        answers_at: Ipv4Addr,
+    },
+    /// A program built on `enip_host::run` (its own device, no `--profile`).
+    Program {
+        /// The program.
+        bin: &'a Path,
+    },
+    /// The emulated board's ELF in QEMU (mps2-an386, LAN9118 on the TAP; the ELF has
+    /// 198.18.0.2/24 built in).
+    Qemu {
+        /// The `enip-qemu-mps2` ELF.
+        elf: &'a Path,
+    },
+}
+
+impl Board<'_> {
+    /// The command that starts the board on `tap` inside `lab`.
+    fn command(&self, lab: &Lab) -> Command {
+        let log_level = std::env::var("RUST_LOG").unwrap_or("info".into());
+        match *self {
+            Board::Host {
+                bin,
+                profile,
+                extra,
+                ..
+            } => {
+                let mut cmd = host_command(lab, bin);
+                cmd.args(["--profile", profile])
+                    .args(extra)
+                    .env("RUST_LOG", log_level);
+                cmd
+            }
+            Board::Program { bin } => {
+                let mut cmd = host_command(lab, bin);
+                cmd.env("RUST_LOG", log_level);
+                cmd
+            }
+            Board::Qemu { elf } => {
+                let mut cmd = lab.command("qemu-system-arm");
+                cmd.args(["-M", "mps2-an386", "-nographic", "-kernel"])
+                    .arg(elf)
+                    .args(["-net", "nic,netdev=n0,model=lan9118", "-netdev"])
+                    .arg(format!(
+                        "tap,id=n0,ifname={},script=no,downscript=no",
+                        lab.tap
+                    ));
+                cmd
+            }
+        }
+    }
+
+    /// Its label in messages, what it prints once it serves, and how long that may take.
+    fn start_up(&self) -> (&'static str, &'static str, Duration) {
+        match self {
+            Board::Host { .. } => ("enip-host", LISTENING, BOARD_START),
+            Board::Program { .. } => ("program", PROGRAM_READY, BOARD_START),
+            Board::Qemu { .. } => ("qemu", QEMU_READY, QEMU_BOOT),
+        }
+    }
+
+    fn answers_at(&self) -> Ipv4Addr {
+        match self {
+            Board::Host { answers_at, .. } => *answers_at,
+            Board::Program { .. } | Board::Qemu { .. } => BOARD_IP,
+        }
+    }
+}
+
+/// `bin --tap TAP --ip 198.18.0.2/24` inside `lab`.
+fn host_command(lab: &Lab, bin: impl AsRef<OsStr>) -> Command {
+    let mut cmd = lab.command(bin);
+    cmd.args(["--tap", &lab.tap, "--ip", BOARD_CIDR]);
+    cmd
+}
+
+/// Where a rig runs and what it records besides the board's output in memory.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Options<'a> {
+    /// A fixed namespace name (a stale one is replaced); `None` for a name of its own.
+    pub namespace: Option<&'a str>,
+    /// The TAP device's name; `None` for [`TAP`].
+    pub tap: Option<&'a str>,
+    /// A tshark capture of the TAP into this file.
+    pub capture: Option<&'a Path>,
+    /// A copy of the board's output in this file.
+    pub log_file: Option<&'a Path>,
+}
+
+/// A namespace with a TAP link, an optional capture on it, and the board on the other end.
+/// Fields drop in order: board, capture, namespace.
+#[derive(Debug)]
+pub struct Rig {
+    board: LoggedChild,
+    capture: Option<Capture>,
+    lab: Lab,
+}
+
+impl Rig {
+    /// Starts the host board `bin` with `--profile profile`, capturing into `capture` if given.
+    pub fn start(bin: &Path, profile: &str, capture: Option<&Path>) -> io::Result<Self> {
+        Self::start_with_args(bin, profile, &[], capture)
+    }
+
+    /// Like [`Rig::start`], with `extra` arguments for the board (e.g. `--nvram FILE`).
+    pub fn start_with_args(
+        bin: &Path,
+        profile: &str,
+        extra: &[&str],
+        capture: Option<&Path>,
+    ) -> io::Result<Self> {
+        Self::start_at(bin, profile, extra, capture, BOARD_IP)
+    }
+
+    /// Like [`Rig::start_with_args`], for a board that comes up at `board_ip` (in
+    /// 198.18.0.0/24) instead of its `--ip` (e.g. from its `--nv-file`).
+    pub fn start_at(
+        bin: &Path,
+        profile: &str,
+        extra: &[&str],
+        capture: Option<&Path>,
+        board_ip: Ipv4Addr,
+    ) -> io::Result<Self> {
+        let board = Board::Host {
+            bin,
+            profile,
+            extra,
+            answers_at: board_ip,
+        };
+        Self::launch(board, &Options::capturing(capture))
+    }
+
+    /// Starts `bin`, a program built on `enip_host::run` (its own device, no `--profile`),
+    /// capturing into `capture` if given.
+    pub fn start_program(bin: &Path, capture: Option<&Path>) -> io::Result<Self> {
+        Self::launch(Board::Program { bin }, &Options::capturing(capture))
+    }
+
+    /// Boots the emulated board's ELF `elf` in QEMU, capturing into `capture` if given.
+    pub fn start_qemu(elf: &Path, capture: Option<&Path>) -> io::Result<Self> {
+        Self::launch(Board::Qemu { elf }, &Options::capturing(capture))
+    }
+
+    /// The namespace and TAP, the capture, then `board`, which must print that it serves
+    /// within its start-up bound and then answer a ListIdentity.
+    pub fn launch(board: Board<'_>, options: &Options<'_>) -> io::Result<Self> {
+        let tap = options.tap.unwrap_or(TAP);
+        let lab = match options.namespace {
+            Some(name) => Lab::create(name, tap)?,
+            None => Lab::create_unique(tap)?,
+        };
+        let capture = options
+            .capture
+            .map(|p| Capture::start(lab.ns(), tap, p))
+            .transpose()?;
+        let (name, ready, bound) = board.start_up();
+        let mut child = LoggedChild::spawn_logged(name, board.command(&lab), options.log_file)?;
+        child.wait_for_line(ready, bound)?;
+        let rig = Rig {
+            board: child,
+            capture,
+            lab,
+        };
+        rig.wait_reachable(board.answers_at())?;
+        Ok(rig)
+    }
+
+    /// Waits (bounded) until the board answers a unicast ListIdentity, so that address
+    /// resolution and start-up are over before a test measures anything.
+    fn wait_reachable(&self, board_ip: Ipv4Addr) -> io::Result<()> {
+        let board = SocketAddrV4::new(board_ip, ENCAP_PORT);
+        let mut probe = [0u8; HEADER_LEN];
+        let header = Repr {
+            command: command::LIST_IDENTITY,
+            length: 0,
+            session_handle: 0,
+            status: 0,
+            sender_context: [0; 8],
+            options: 0,
+        };
+        header
+            .emit(&mut probe)
+            .map_err(|e| io::Error::other(format!("ListIdentity probe: {e:?}")))?;
+        let answered = self.lab.ns().inside(|| -> io::Result<bool> {
+            let s = UdpSocket::bind(SocketAddrV4::new(HOST_IP, 0))?;
+            s.set_read_timeout(Some(PROBE_WAIT))?;
+            let mut buf = [0u8; 512];
+            for _ in 0..PROBES {
+                s.send_to(&probe, board)?;
+                if s.recv_from(&mut buf).is_ok() {
+                    return Ok(true);
+                }
+            }
+            Ok(false)
+        })??;
+        if answered {
+            Ok(())
+        } else {
+            Err(io::Error::other(format!(
+                "the board does not answer ListIdentity; log:\n{}",
+                self.board.output()
+            )))
+        }
+    }
+
+    /// The namespace every peer must run in.
+    pub fn ns(&self) -> &Namespace {
+        self.lab.ns()
+    }
+
+    /// The namespace with its TAP.
+    pub fn lab(&self) -> &Lab {
+        &self.lab
+    }
+
+    /// Everything the board logged so far.
+    pub fn board_log(&self) -> String {
+        self.board.output()
+    }
+
+    /// The last `n` lines the board logged.
+    pub fn board_log_tail(&self, n: usize) -> String {
+        self.board.tail(n)
+    }
+
+    /// Fails if the board exited or logged a panic.
+    pub fn check_alive(&mut self) -> io::Result<()> {
+        if let Some(status) = self.board.exited() {
+            return Err(io::Error::other(format!("the board exited ({status})")));
+        }
+        if self.board.output().contains(QEMU_PANIC) {
+            return Err(io::Error::other("the board panicked"));
+        }
+        Ok(())
+    }
+
+    /// Stops the board (failing if it had died on its own) and the capture; returns the
+    /// capture file, if any.
+    pub fn finish(mut self) -> io::Result<Option<PathBuf>> {
+        if let Some(status) = self.board.exited() {
+            return Err(io::Error::other(format!(
+                "the board died during the test ({status}); log:\n{}",
+                self.board.output()
+            )));
+        }
+        self.board.stop(libc::SIGTERM, STOP_GRACE);
+        Ok(self.capture.take().map(Capture::stop))
+    }
+}
+
+impl<'a> Options<'a> {
+    /// A namespace of its own with the TAP [`TAP`], capturing into `capture` if given.
+    pub fn capturing(capture: Option<&'a Path>) -> Self {
+        Options {
+            capture,
+            ..Options::default()
+        }
+    }
+}
