@@ -124,3 +124,21 @@ pub fn count(path: &Path, filter: &str) -> io::Result<usize> {
     let out = run_bounded(cmd, None, TSHARK_TIMEOUT)?;
     Ok(String::from_utf8_lossy(&out.stdout).lines().count())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::counts;
+
+    #[test]
+    fn malformed_frames_and_warnings_count_unless_tolerated() {
+        // malformed | severities | messages | frame | src | dst | info
+        assert!(counts("1|||7|198.18.0.1|198.18.0.2|x", &[]));
+        let warning = "|6291456|Bad length|7|198.18.0.2|198.18.0.1|x";
+        assert!(counts(warning, &[]));
+        assert!(!counts(warning, &["Bad length"]));
+        let note_and_error = "|4194304;8388608|Just a note;Broken|9|a|b|x";
+        assert!(counts(note_and_error, &["Just a note"]));
+        assert!(!counts(note_and_error, &["Broken"]));
+        assert!(!counts("|4194304|Just a note|9|a|b|x", &[]));
+    }
+}

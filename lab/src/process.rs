@@ -222,3 +222,64 @@ impl Drop for LoggedChild {
         self.stop(libc::SIGTERM, Duration::from_secs(3));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn run_bounded_feeds_stdin_and_returns_output_and_status() {
+        let mut c = Command::new("sh");
+        c.args(["-c", "read x; echo out $x; echo err >&2; exit 3"]);
+        let o = run_bounded(c, Some(b"in\n"), Duration::from_secs(10)).unwrap();
+        assert_eq!(o.stdout, b"out in\n");
+        assert_eq!(o.stderr, b"err\n");
+        assert_eq!(o.status.code(), Some(3));
+    }
+
+    #[test]
+    fn run_bounded_kills_a_late_child() {
+        let mut c = Command::new("sleep");
+        c.arg("30");
+        let start = Instant::now();
+        let e = run_bounded(c, None, Duration::from_millis(200)).unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::TimedOut);
+        assert!(start.elapsed() < Duration::from_secs(10), "{e}");
+    }
+
+    #[test]
+    fn logged_child_waits_for_a_line_keeps_its_log_and_stops() {
+        let file = std::env::temp_dir().join(format!("enip-lab-{}.log", std::process::id()));
+        let mut c = Command::new("sh");
+        c.args(["-c", "echo one; echo two >&2; exec sleep 30"]);
+        let mut child = LoggedChild::spawn_logged("sh", c, Some(&file)).unwrap();
+        let line = child.wait_for_line("two", Duration::from_secs(10)).unwrap();
+        assert_eq!(line, "two");
+        assert_eq!(child.tail(1), "two");
+        let mut lines: Vec<String> = child.output().lines().map(str::to_string).collect();
+        lines.sort();
+        assert_eq!(lines, ["one", "two"]);
+        let mut copy: Vec<String> = std::fs::read_to_string(&file)
+            .unwrap()
+            .lines()
+            .map(str::to_string)
+            .collect();
+        copy.sort();
+        assert_eq!(copy, lines);
+        assert!(child.exited().is_none());
+        child.stop(libc::SIGTERM, Duration::from_secs(5));
+        assert!(child.exited().is_some());
+        let _ = std::fs::remove_file(&file);
+    }
+
+    #[test]
+    fn wait_for_line_fails_when_the_child_ends_first() {
+        let mut c = Command::new("sh");
+        c.args(["-c", "echo nope"]);
+        let mut child = LoggedChild::spawn("sh", c).unwrap();
+        let e = child
+            .wait_for_line("ready", Duration::from_secs(10))
+            .unwrap_err();
+        assert!(e.to_string().contains("nope"), "{e}");
+    }
+}

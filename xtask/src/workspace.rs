@@ -11,10 +11,19 @@ use crate::util::{self, Error, Result};
 pub struct Metadata(Value);
 
 impl Metadata {
-    /// Asks cargo.
+    /// Asks cargo about the workspace.
     pub fn read() -> Result<Metadata> {
+        Self::read_manifest(None)
+    }
+
+    /// Asks cargo about the package or workspace of `manifest` (a `Cargo.toml` relative to
+    /// the root; `None` for the workspace).
+    pub fn read_manifest(manifest: Option<&str>) -> Result<Metadata> {
         let mut cargo = util::cargo();
         cargo.args(["metadata", "--format-version", "1", "--no-deps"]);
+        if let Some(m) = manifest {
+            cargo.args(["--manifest-path", m]);
+        }
         let out = util::output(&mut cargo).ok_or_else(|| Error("cargo metadata failed".into()))?;
         serde_json::from_str(&out)
             .map(Metadata)
@@ -63,6 +72,20 @@ impl Metadata {
             .flatten()
             .map(|(k, _)| k.clone())
             .collect())
+    }
+
+    /// The names of the binaries of every package read.
+    #[cfg(test)]
+    pub fn bins(&self) -> Vec<(String, String)> {
+        self.packages()
+            .flat_map(|p| p["targets"].as_array().into_iter().flatten())
+            .filter(|t| {
+                t["kind"]
+                    .as_array()
+                    .is_some_and(|k| k.contains(&"bin".into()))
+            })
+            .filter_map(|t| Some((t["name"].as_str()?.into(), t["src_path"].as_str()?.into())))
+            .collect()
     }
 
     /// What the feature `feature` of `package` enables (`None` if it has no such feature).
