@@ -23,7 +23,7 @@
 //! cargo xtask smoke
 //! ```
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 use host_tests::netns::{BOARD_IP, BROADCAST_IP};
@@ -58,8 +58,7 @@ type Checked<T> = Result<T, String>;
 #[test]
 #[ignore = "needs root, QEMU, the Python peers and ENIP_QEMU_GENERIC_ELF"]
 fn qemu_smoke() {
-    let Some(elf) = std::env::var_os("ENIP_QEMU_GENERIC_ELF") else {
-        eprintln!("SKIPPED: set ENIP_QEMU_GENERIC_ELF to an enip-qemu-mps2 ELF built with the generic profile");
+    let Some(elf) = host_tests::rig::qemu_elf("generic") else {
         return;
     };
     let dir = paths::target_dir().join("qemu-smoke");
@@ -71,7 +70,6 @@ fn qemu_smoke() {
         log_file: Some(&log),
         ..Options::default()
     };
-    let elf = PathBuf::from(elf);
     let mut rig = Rig::launch(Board::Qemu { elf: &elf }, &options)
         .unwrap_or_else(|e| panic!("boot {}: {e}", elf.display()));
     if let Err(e) = checks(&mut rig, &dir) {

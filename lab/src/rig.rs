@@ -47,6 +47,23 @@ pub const fn board_addr() -> SocketAddr {
     SocketAddr::V4(SocketAddrV4::new(BOARD_IP, ENCAP_PORT))
 }
 
+/// The variable naming the emulated board's ELF built with `profile`:
+/// `ENIP_QEMU_<PROFILE>_ELF` (`position-servo` -> `ENIP_QEMU_POSITION_SERVO_ELF`).
+pub fn qemu_elf_var(profile: &str) -> String {
+    format!("ENIP_QEMU_{}_ELF", profile.to_uppercase().replace('-', "_"))
+}
+
+/// The emulated board's ELF built with `profile`, from [`qemu_elf_var`]; without it, says
+/// loudly that the caller's QEMU test is skipped and returns `None`.
+pub fn qemu_elf(profile: &str) -> Option<PathBuf> {
+    let var = qemu_elf_var(profile);
+    let elf = std::env::var_os(&var).map(PathBuf::from);
+    if elf.is_none() {
+        eprintln!("SKIPPED: set {var} to an enip-qemu-mps2 ELF built with the {profile} profile");
+    }
+    elf
+}
+
 /// A board the rig can start on its TAP.
 #[derive(Debug, Clone, Copy)]
 pub enum Board<'a> {

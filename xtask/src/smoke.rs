@@ -3,7 +3,7 @@
 //! says what it checks), with its figures printed. Its report goes to
 //! `target/qemu-smoke/report.json`, the board's log next to it.
 
-use enip_lab::peers;
+use enip_lab::{peers, rig};
 
 use crate::boards;
 use crate::qemu;
@@ -24,7 +24,7 @@ pub fn run_smoke() -> Result<Outcome> {
     run(util::cargo()
         .args(["test", "-p", "host-tests", "--test", "qemu_smoke"])
         .args(["--", "--ignored", "--nocapture"])
-        .env("ENIP_QEMU_GENERIC_ELF", elf)
+        .env(rig::qemu_elf_var(boards::DEFAULT_PROFILE), elf)
         .env(
             "ENIP_SCANNER_BIN",
             util::target_dir().join("release/scanner"),

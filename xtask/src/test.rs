@@ -1,6 +1,6 @@
 //! `cargo xtask test`: the whole test suite, in order, stopping at the first failure.
 
-use enip_lab::peers;
+use enip_lab::{peers, rig};
 
 use crate::util::{self, loud, run, Outcome, Result, Steps};
 use crate::workspace::Metadata;
@@ -135,8 +135,7 @@ fn tap_interop() -> Result<Outcome> {
     for profile in profiles.iter().filter(|p| *p != boards::DEFAULT_PROFILE) {
         let elf = util::target_dir().join(format!("qemu-{profile}.elf"));
         std::fs::copy(boards::build(boards::QEMU, profile)?, &elf)?;
-        let var = format!("ENIP_QEMU_{}_ELF", profile.to_uppercase().replace('-', "_"));
-        elves.push((var, elf));
+        elves.push((rig::qemu_elf_var(profile), elf));
     }
     let python = peers::venv_python();
     run(util::cargo()

@@ -435,12 +435,11 @@ fn ametek_pls_moving_resolver() {
 #[test]
 #[ignore = "needs root and ENIP_QEMU_AMETEK_PLS_ELF"]
 fn ametek_pls_on_qemu() {
-    let Some(elf) = std::env::var_os("ENIP_QEMU_AMETEK_PLS_ELF") else {
-        eprintln!("SKIPPED: set ENIP_QEMU_AMETEK_PLS_ELF to an enip-qemu-mps2 ELF built with the ametek-pls profile");
+    let Some(elf) = host_tests::rig::qemu_elf("ametek-pls") else {
         return;
     };
-    let rig = Rig::start_qemu(&PathBuf::from(elf), Some(&pcap("ametek_pls_qemu")))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let rig =
+        Rig::start_qemu(&elf, Some(&pcap("ametek_pls_qemu"))).unwrap_or_else(|e| panic!("{e}"));
     attributes_and_validation(&rig);
     outputs_forces_add_on_and_inputs(&rig);
     let log = rig.board_log();

@@ -261,15 +261,13 @@ fn kollmorgen_akd_explicit_objects() {
 #[test]
 #[ignore = "needs root and ENIP_QEMU_KOLLMORGEN_AKD_ELF"]
 fn kollmorgen_akd_on_qemu() {
-    let Some(elf) = std::env::var_os("ENIP_QEMU_KOLLMORGEN_AKD_ELF") else {
-        eprintln!("SKIPPED: set ENIP_QEMU_KOLLMORGEN_AKD_ELF to an enip-qemu-mps2 ELF built with the kollmorgen-akd profile");
+    let Some(elf) = host_tests::rig::qemu_elf("kollmorgen-akd") else {
         return;
     };
     let pcap = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .join("tap_interop")
         .join("kollmorgen_akd_qemu.pcapng");
-    let rig = Rig::start_qemu(&PathBuf::from(elf), Some(&pcap))
-        .unwrap_or_else(|e| panic!("QEMU rig: {e}"));
+    let rig = Rig::start_qemu(&elf, Some(&pcap)).unwrap_or_else(|e| panic!("QEMU rig: {e}"));
     for (name, scenario) in [
         ("class 1", class1_scenario as fn(&Rig)),
         ("explicit", explicit_scenario),

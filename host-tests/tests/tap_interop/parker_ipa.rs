@@ -219,12 +219,11 @@ type Scenario = (&'static str, fn(&Rig));
 #[test]
 #[ignore = "needs root and ENIP_QEMU_PARKER_IPA_ELF"]
 fn parker_ipa_on_qemu() {
-    let Some(elf) = std::env::var_os("ENIP_QEMU_PARKER_IPA_ELF") else {
-        eprintln!("SKIPPED: set ENIP_QEMU_PARKER_IPA_ELF to an enip-qemu-mps2 ELF built with the parker-ipa profile");
+    let Some(elf) = host_tests::rig::qemu_elf("parker-ipa") else {
         return;
     };
-    let rig = Rig::start_qemu(PathBuf::from(elf).as_path(), Some(&pcap("parker_ipa_qemu")))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let rig =
+        Rig::start_qemu(&elf, Some(&pcap("parker_ipa_qemu"))).unwrap_or_else(|e| panic!("{e}"));
     let scenarios: [Scenario; 3] = [
         ("manual examples (pycomm3)", explicit),
         ("tags (cpppo)", tags),

@@ -293,11 +293,10 @@ type Scenario = (&'static str, fn(&dyn Target));
 #[test]
 #[ignore = "needs root and ENIP_QEMU_POSITION_SERVO_ELF"]
 fn position_servo_on_qemu() {
-    let Some(elf) = std::env::var_os("ENIP_QEMU_POSITION_SERVO_ELF") else {
-        eprintln!("SKIPPED: set ENIP_QEMU_POSITION_SERVO_ELF to an enip-qemu-mps2 ELF built with the position-servo profile");
+    let Some(elf) = host_tests::rig::qemu_elf("position-servo") else {
         return;
     };
-    let board = QemuBoard::boot(PathBuf::from(elf).as_path()).unwrap_or_else(|e| panic!("{e}"));
+    let board = QemuBoard::boot(&elf).unwrap_or_else(|e| panic!("{e}"));
     let scenarios: [Scenario; 6] = [
         ("example 6.3", explicit),
         ("connections and multicast", connections_scenario),
