@@ -7,7 +7,7 @@ use std::process::Command;
 use std::time::Duration;
 
 use crate::netns::Namespace;
-use crate::process::{run_bounded, LoggedChild};
+use crate::process::{run_bounded, LoggedChild, SIGINT};
 
 /// How long tshark may take to start capturing, and to read a capture back.
 const TSHARK_TIMEOUT: Duration = Duration::from_secs(30);
@@ -49,7 +49,7 @@ impl Capture {
         // dumpcap reads the kernel's packet ring one block at a time (a block retires after
         // its 250 ms read timeout) and drops a partial block when interrupted: let it retire.
         std::thread::sleep(FLUSH);
-        self.tshark.stop(libc::SIGINT, Duration::from_secs(5));
+        self.tshark.stop(SIGINT, Duration::from_secs(5));
         self.path.clone()
     }
 }

@@ -7,6 +7,8 @@
 //! Host-only: it runs `ip`, `tshark`, `qemu-system-arm` and the peers, and needs root for
 //! the namespaces.
 
+#![forbid(unsafe_code)]
+
 pub mod capture;
 pub mod netns;
 pub mod paths;

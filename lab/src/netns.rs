@@ -10,13 +10,15 @@ use std::ffi::OsStr;
 use std::fs::File;
 use std::io;
 use std::net::Ipv4Addr;
-use std::os::fd::AsRawFd;
+use std::os::fd::AsFd;
 use std::path::Path;
 use std::process::Command;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Duration;
 
-use crate::process::{run_bounded, signal};
+use rustix::thread::{move_into_link_name_space, LinkNameSpaceType};
+
+use crate::process::{run_bounded, signal, SIGKILL};
 
 /// How long one `ip` command may take.
 const IP_TIMEOUT: Duration = Duration::from_secs(10);
@@ -90,11 +92,8 @@ impl Namespace {
         let file = File::open(format!("/run/netns/{}", self.name))?;
         std::thread::scope(|s| {
             s.spawn(|| {
-                // SAFETY: setns on a valid namespace file descriptor that outlives the call; it
-                // only changes the network namespace of this (scoped, short-lived) thread.
-                if unsafe { libc::setns(file.as_raw_fd(), libc::CLONE_NEWNET) } != 0 {
-                    return Err(io::Error::last_os_error());
-                }
+                // Only this (scoped, short-lived) thread changes its network namespace.
+                move_into_link_name_space(file.as_fd(), Some(LinkNameSpaceType::Network))?;
                 Ok(f())
             })
             .join()
@@ -121,7 +120,7 @@ impl Drop for Namespace {
     fn drop(&mut self) {
         // Only its owner started processes in the namespace; none may outlive it.
         for pid in self.pids() {
-            signal(pid, libc::SIGKILL);
+            signal(pid, SIGKILL);
         }
         if Path::new("/run/netns").join(&self.name).exists() {
             if let Err(e) = ip(&["netns", "delete", &self.name]) {

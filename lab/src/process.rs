@@ -11,16 +11,25 @@ use std::sync::{Arc, Mutex};
 use std::thread;
 use std::time::{Duration, Instant};
 
+use rustix::process::{kill_process, Pid, Signal};
+
 /// How often a waiting loop looks at a child.
 const POLL: Duration = Duration::from_millis(20);
 /// How long output is still collected after a child ended.
 const PIPE_GRACE: Duration = Duration::from_secs(2);
 
-/// Sends `sig` to process `pid` (errors, e.g. an already gone process, are ignored).
+/// SIGINT, as [`signal`] and [`LoggedChild::stop`] take it.
+pub const SIGINT: i32 = Signal::INT.as_raw();
+/// SIGTERM.
+pub const SIGTERM: i32 = Signal::TERM.as_raw();
+/// SIGKILL.
+pub const SIGKILL: i32 = Signal::KILL.as_raw();
+
+/// Sends the signal numbered `sig` to process `pid` (errors, e.g. an already gone process,
+/// are ignored, and so are a pid or signal number that are not one).
 pub fn signal(pid: i32, sig: i32) {
-    // SAFETY: kill(2) with a specific positive pid has no memory-safety requirements.
-    unsafe {
-        libc::kill(pid, sig);
+    if let (Some(pid), Some(sig)) = (Pid::from_raw(pid), Signal::from_named_raw(sig)) {
+        let _ = kill_process(pid, sig);
     }
 }
 
@@ -219,7 +228,7 @@ impl LoggedChild {
 
 impl Drop for LoggedChild {
     fn drop(&mut self) {
-        self.stop(libc::SIGTERM, Duration::from_secs(3));
+        self.stop(SIGTERM, Duration::from_secs(3));
     }
 }
 
@@ -267,7 +276,7 @@ mod tests {
         copy.sort();
         assert_eq!(copy, lines);
         assert!(child.exited().is_none());
-        child.stop(libc::SIGTERM, Duration::from_secs(5));
+        child.stop(SIGTERM, Duration::from_secs(5));
         assert!(child.exited().is_some());
         let _ = std::fs::remove_file(&file);
     }

@@ -15,7 +15,7 @@ use enip_stack::wire::encap::{command, Repr, HEADER_LEN};
 
 use crate::capture::Capture;
 use crate::netns::{Lab, Namespace};
-use crate::process::LoggedChild;
+use crate::process::{LoggedChild, SIGTERM};
 
 pub use crate::netns::{BOARD_CIDR, BOARD_IP, BROADCAST_IP, HOST_IP, PREFIX};
 
@@ -322,7 +322,7 @@ impl Rig {
                 self.board.output()
             )));
         }
-        self.board.stop(libc::SIGTERM, STOP_GRACE);
+        self.board.stop(SIGTERM, STOP_GRACE);
         Ok(self.capture.take().map(Capture::stop))
     }
 }

@@ -11,6 +11,8 @@
 //!   written to `target/bench/footprint.json` (`footprint` alone).
 //! - `smoke`: the QEMU smoke run of `test`, alone.
 
+#![forbid(unsafe_code)]
+
 mod bench;
 mod boards;
 mod demo;
