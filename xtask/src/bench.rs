@@ -152,9 +152,8 @@ fn callgrind(cycle: &str, cycles: u64) -> Result<u64> {
 fn native_ns(cycle: &str) -> Result<f64> {
     let out = output(Command::new(cycle).arg(NATIVE_CYCLES.to_string()))
         .ok_or_else(|| util::Error("io_cycle failed".into()))?;
-    out.split("\"ns_per_cycle\":")
-        .nth(1)
-        .and_then(|v| v.trim_end_matches(['}', '\n']).parse().ok())
+    crate::json::find(&out, "ns_per_cycle")
+        .and_then(|v| v.as_f64())
         .ok_or_else(|| util::Error(format!("io_cycle printed {out:?}")))
 }
 
