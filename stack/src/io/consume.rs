@@ -53,14 +53,12 @@ pub fn consume<D: Device>(
     now: Instant,
 ) -> Result<Accepted, Discard> {
     let packet = Packet::new_checked(datagram).map_err(|_| Discard::Malformed)?;
-    let slot = table
-        .find_o_t(packet.connection_id())
+    let (slot, conn) = table
+        .find_o_t_mut(packet.connection_id())
         .ok_or(Discard::UnknownConnection)?;
-    let conn = table.get_mut(slot).ok_or(Discard::UnknownConnection)?;
     if conn.originator != *from.ip() {
         return Err(Discard::UnknownConnection);
     }
-    let timeout = conn.timeout;
     let Transport::Class1 { consumer: c, .. } = &mut conn.transport else {
         return Err(Discard::UnknownConnection);
     };
@@ -76,7 +74,8 @@ pub fn consume<D: Device>(
         return Err(Discard::Stale);
     }
     c.last_encap_sequence = Some(encap);
-    conn.expires = now.add(timeout);
+    let expires = now.add(conn.timeout);
+    conn.expires = expires;
     conn.last_activity = now;
 
     let sequence = get_u16(data, 0);
@@ -88,7 +87,7 @@ pub fn consume<D: Device>(
         c.last_sequence = Some(sequence);
     }
     let (instance, size, run_idle) = (c.instance, c.size, c.run_idle);
-    table.note_expiry(now.add(timeout));
+    table.set_expiry(slot, expires);
     if run_changed && run_idle {
         device.connection_event(ConnectionEvent::RunIdle(run));
     }

@@ -33,26 +33,11 @@ pub fn produce_due<D: Device>(
         return None;
     }
     // The most overdue producer, and when the next of the others is due.
-    let mut first: Option<(usize, Instant)> = None;
-    let mut others = Instant(u64::MAX);
-    for (i, at) in table
-        .iter()
-        .filter_map(|(i, c)| c.producer().map(|p| (i, p.due_at())))
-    {
-        match first {
-            Some((_, best)) if best <= at => others = others.min(at),
-            _ => {
-                if let Some((_, best)) = first {
-                    others = others.min(best);
-                }
-                first = Some((i, at));
-            }
-        }
-    }
-    let Some((slot, _)) = first.filter(|&(_, at)| at <= now) else {
-        table.production_bound = first.map_or(Instant(u64::MAX), |(_, at)| at);
+    let (slot, first, others) = table.earliest_due();
+    if first > now {
+        table.production_bound = first;
         return None;
-    };
+    }
     let conn = table.get_mut(slot)?;
     let (t_o_id, rpi) = (conn.t_o_id, conn.t_o_rpi);
     let Transport::Class1 {
@@ -87,7 +72,8 @@ pub fn produce_due<D: Device>(
         p.next = advance(p.next, rpi, now);
     }
     let (to, due) = (p.destination, p.due_at());
-    table.production_bound = others.min(due);
+    table.production_bound = others;
+    table.set_due(slot, due);
     Some((to, data_at + size))
 }
 
@@ -111,7 +97,7 @@ fn trigger_where(table: &mut ConnectionTable, pick: impl Fn(&Producer) -> bool) 
             if p.trigger != Trigger::Cyclic && pick(p) {
                 p.triggered = true;
                 let due = p.due_at();
-                table.production_bound = table.production_bound.min(due);
+                table.set_due(slot, due);
             }
         }
     }

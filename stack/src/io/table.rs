@@ -1,6 +1,6 @@
 //! The fixed-size connection table: lookup, ID allocation, closing with dependants.
 
-use super::connection::{Connection, Kind, Transport};
+use super::connection::{Connection, Kind, Producer, Transport};
 use crate::config::{MAX_CONNECTIONS, MAX_EXPLICIT_CONNECTED};
 use crate::device::{CloseReason, ConnectionEvent, ConnectionInfo, Device};
 use crate::time::Instant;
@@ -37,13 +37,20 @@ pub struct ConnectionTable {
     /// Exclusive-owner connections closed by their watchdog so far (wrapping).
     owner_timeouts: u32,
     timeouts: u16,
-    /// No producer is due before this instant: exact after each production scan, lowered
-    /// when a connection opens or a producer is triggered.
-    pub(crate) production_bound: Instant,
-    /// No watchdog expires before this instant. Traffic only moves an expiry later, so it
-    /// stays a lower bound until a connection is inserted; [`ConnectionTable::expire`]
-    /// rescans only once it is reached.
+    /// Per slot: when its producer is next due (`Instant::NEVER` for none). Kept beside the
+    /// connections so the earliest deadline is a scan of one small array.
+    due: [Instant; MAX_CONNECTIONS],
+    /// Per slot: when its watchdog fires (`Instant::NEVER` for an empty slot); mirrors
+    /// [`Connection::expires`], kept by `insert` and [`ConnectionTable::set_expiry`].
+    expiry: [Instant; MAX_CONNECTIONS],
+    /// No watchdog fires before this instant: a lower bound that every move of an expiry
+    /// keeps, so [`ConnectionTable::expire`] looks at the slots only once it is reached.
     expiry_bound: Instant,
+    /// No producer is due before this instant: exact after each production, lowered when a
+    /// producer's due time moves earlier.
+    pub(crate) production_bound: Instant,
+    /// One past the highest occupied slot: the deadline scans stop there.
+    used: usize,
 }
 
 impl ConnectionTable {
@@ -56,8 +63,11 @@ impl ConnectionTable {
             replies: [const { heapless::Vec::new() }; MAX_CONNECTIONS],
             owner_timeouts: 0,
             timeouts: 0,
-            expiry_bound: Instant(u64::MAX),
-            production_bound: Instant(u64::MAX),
+            due: [Instant::NEVER; MAX_CONNECTIONS],
+            expiry: [Instant::NEVER; MAX_CONNECTIONS],
+            expiry_bound: Instant::NEVER,
+            production_bound: Instant::NEVER,
+            used: 0,
         }
     }
     /// Open connections with their slot numbers.
@@ -93,6 +103,12 @@ impl ConnectionTable {
         let slot = (id & SLOT_MASK) as usize;
         self.get(slot).filter(|c| c.o_t_id == id).map(|_| slot)
     }
+    /// Like [`ConnectionTable::find_o_t`], with the connection to update.
+    pub(crate) fn find_o_t_mut(&mut self, id: u32) -> Option<(usize, &mut Connection)> {
+        let slot = (id & SLOT_MASK) as usize;
+        let conn = self.get_mut(slot).filter(|c| c.o_t_id == id)?;
+        Some((slot, conn))
+    }
     /// A fresh non-zero connection ID for the connection going into `slot`, that no open
     /// connection uses; its low bits are the slot.
     pub fn new_id(&mut self, slot: usize) -> u32 {
@@ -104,10 +120,34 @@ impl ConnectionTable {
             }
         }
     }
-    /// A watchdog was moved to `at` (traffic on a connection): the table's bound on the
-    /// earliest expiry follows it down.
-    pub(crate) fn note_expiry(&mut self, at: Instant) {
+    /// The watchdog of the connection in `slot` (whose [`Connection::expires`] the caller
+    /// just moved) now fires `at`: traffic can bring it earlier than the first-packet grace.
+    pub(crate) fn set_expiry(&mut self, slot: usize, at: Instant) {
+        if let Some(e) = self.expiry.get_mut(slot) {
+            *e = at;
+        }
         self.expiry_bound = self.expiry_bound.min(at);
+    }
+    /// The producer in `slot` is next due `at` (produced, triggered, opened).
+    pub(crate) fn set_due(&mut self, slot: usize, at: Instant) {
+        if let Some(d) = self.due.get_mut(slot) {
+            *d = at;
+        }
+        self.production_bound = self.production_bound.min(at);
+    }
+    /// The slot whose producer is due first with its time, and when the next of the others
+    /// is due.
+    pub(crate) fn earliest_due(&self) -> (usize, Instant, Instant) {
+        let (mut slot, mut first, mut second) = (0, Instant::NEVER, Instant::NEVER);
+        let used = self.due.get(..self.used).unwrap_or(&self.due);
+        for (i, &at) in used.iter().enumerate() {
+            if at < first {
+                (slot, first, second) = (i, at, first);
+            } else if at < second {
+                second = at;
+            }
+        }
+        (slot, first, second)
     }
     /// The slot [`ConnectionTable::insert`] will use next, if one is free.
     pub fn free_slot(&self) -> Option<usize> {
@@ -116,13 +156,19 @@ impl ConnectionTable {
     /// Stores `conn` in a free slot and returns it; `None` (and `conn` dropped) if full.
     pub fn insert(&mut self, conn: Connection) -> Option<usize> {
         let slot = self.free_slot()?;
-        self.expiry_bound = self.expiry_bound.min(conn.expires);
-        if let Some(p) = conn.producer() {
-            self.production_bound = self.production_bound.min(p.due_at());
+        if let Some(e) = self.expiry.get_mut(slot) {
+            *e = conn.expires;
         }
+        self.expiry_bound = self.expiry_bound.min(conn.expires);
         if let Some(s) = self.slots.get_mut(slot) {
             *s = Some(conn);
         }
+        self.used = self.used.max(slot + 1);
+        let due = self
+            .get(slot)
+            .and_then(Connection::producer)
+            .map(Producer::due_at);
+        self.set_due(slot, due.unwrap_or(Instant::NEVER));
         self.refresh_owned();
         Some(slot)
     }
@@ -165,10 +211,10 @@ impl ConnectionTable {
     }
     /// The earliest watchdog expiry or production deadline.
     pub fn next_deadline(&self) -> Option<Instant> {
-        self.iter()
-            .flat_map(|(_, c)| [Some(c.expires), c.producer().map(|p| p.due_at())])
-            .flatten()
-            .min()
+        let due = self.due.get(..self.used).unwrap_or(&self.due);
+        let expiry = self.expiry.get(..self.used).unwrap_or(&self.expiry);
+        let at = due.iter().chain(expiry).copied().min()?;
+        (at != Instant::NEVER).then_some(at)
     }
     /// Closes the connection in `slot` and the listen-only connections that follow its
     /// production, telling `device` when the last exclusive owner goes.
@@ -176,6 +222,7 @@ impl ConnectionTable {
         let Some(conn) = self.slots.get_mut(slot).and_then(Option::take) else {
             return;
         };
+        Self::clear_deadlines(&mut self.due, &mut self.expiry, slot);
         info!(
             "connection {} closed ({:?} from {}): {}",
             slot,
@@ -194,6 +241,7 @@ impl ConnectionTable {
                     c.kind == Kind::ListenOnly && c.t_o_id == conn.t_o_id && c.producer().is_none()
                 });
                 if let Some(c) = s.take_if(|_| follows) {
+                    Self::clear_deadlines(&mut self.due, &mut self.expiry, i);
                     info!(
                         "connection {} closed: {}",
                         i,
@@ -205,6 +253,11 @@ impl ConnectionTable {
             }
         }
         self.refresh_owned();
+        self.used = self
+            .slots
+            .iter()
+            .rposition(Option::is_some)
+            .map_or(0, |i| i + 1);
         if had_owner && self.owned.is_empty() {
             device.connection_event(ConnectionEvent::OwnershipLost(reason));
         }
@@ -245,8 +298,10 @@ impl ConnectionTable {
         }
         let mut closed = 0;
         for slot in 0..MAX_CONNECTIONS {
-            let expired = self.get(slot).filter(|c| c.expires <= now);
-            if let Some(owner) = expired.map(|c| c.kind == Kind::ExclusiveOwner) {
+            if self.expiry.get(slot).is_none_or(|&at| at > now) {
+                continue;
+            }
+            if let Some(owner) = self.get(slot).map(|c| c.kind == Kind::ExclusiveOwner) {
                 if owner {
                     self.owner_timeouts = self.owner_timeouts.wrapping_add(1);
                 }
@@ -255,11 +310,7 @@ impl ConnectionTable {
                 closed += 1;
             }
         }
-        self.expiry_bound = self
-            .iter()
-            .map(|(_, c)| c.expires)
-            .min()
-            .unwrap_or(Instant(u64::MAX));
+        self.expiry_bound = self.expiry.iter().copied().min().unwrap_or(Instant::NEVER);
         closed
     }
     /// Exclusive-owner connections closed by their watchdog since start-up (wrapping): what
@@ -294,6 +345,16 @@ impl ConnectionTable {
         }
     }
 
+    /// An emptied slot is never due and never expires.
+    fn clear_deadlines(
+        due: &mut [Instant; MAX_CONNECTIONS],
+        expiry: &mut [Instant; MAX_CONNECTIONS],
+        slot: usize,
+    ) {
+        if let (Some(d), Some(e)) = (due.get_mut(slot), expiry.get_mut(slot)) {
+            (*d, *e) = (Instant::NEVER, Instant::NEVER);
+        }
+    }
     fn refresh_owned(&mut self) {
         self.owned.clear();
         for slot in self.slots.iter().flatten() {
