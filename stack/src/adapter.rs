@@ -186,10 +186,10 @@ impl<D: Device> Adapter<D> {
         slot.last_activity = now;
         // Fast path: a whole frame at the front of `data` with nothing buffered is not copied.
         if slot.rx.is_empty() {
-            if let Need::Complete = crate::encap::session::frame_need(data) {
-                let len = frame_len(data);
+            if let Need::Complete(header) = crate::encap::session::frame_need(data) {
+                let len = HEADER_LEN + usize::from(header.length);
                 let frame = data.get(..len).unwrap_or(&[]);
-                let (reply_len, close) = self.tcp_frame(index, frame, now, reply);
+                let (reply_len, close) = self.tcp_frame(index, &header, frame, now, reply);
                 return TcpOutcome {
                     consumed: len,
                     reply_len,
@@ -238,9 +238,9 @@ impl<D: Device> Adapter<D> {
                         close: true,
                     };
                 }
-                Need::Complete => {
+                Need::Complete(header) => {
                     let frame = core::mem::take(&mut slot.rx);
-                    let (reply_len, close) = self.tcp_frame(index, &frame, now, reply);
+                    let (reply_len, close) = self.tcp_frame(index, &header, &frame, now, reply);
                     return TcpOutcome {
                         consumed,
                         reply_len,
@@ -401,12 +401,4 @@ impl<D: Device> Adapter<D> {
         }
         changes.clear();
     }
-}
-
-/// Total length of the complete frame at the start of `data`.
-fn frame_len(data: &[u8]) -> usize {
-    HEADER_LEN
-        + Repr::parse_header(data)
-            .map(|h| usize::from(h.length))
-            .unwrap_or(0)
 }

@@ -26,8 +26,17 @@ impl<'a> Path<'a> {
     /// segment, or a path with neither class nor symbol is a path segment error (0x04).
     pub fn parse(raw: &'a [u8]) -> CipResult<Path<'a>> {
         let mut p = Path::default();
-        for seg in Segments::new(raw) {
-            match seg.map_err(|_| CipError::new(General::PathSegmentError))? {
+        let mut segments = Segments::new(raw);
+        loop {
+            // Most paths are 8-bit logical segments only: those skip the general decoder.
+            let seg = match segments.next_logical8() {
+                Some((kind, v)) => Segment::Logical(kind, v),
+                None => match segments.next() {
+                    Some(seg) => seg.map_err(|_| CipError::new(General::PathSegmentError))?,
+                    None => break,
+                },
+            };
+            match seg {
                 Segment::Logical(kind, v) => {
                     let slot = match kind {
                         LogicalType::Class => &mut p.class,

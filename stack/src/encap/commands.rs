@@ -22,18 +22,16 @@ const STATE_OPERATIONAL: u8 = 3;
 type TcpAction = (usize, bool);
 
 impl<D: Device> Adapter<D> {
-    /// Handles one complete frame from TCP socket `index`.
+    /// Handles one complete frame from TCP socket `index`, whose `header` the caller parsed.
     pub(crate) fn tcp_frame(
         &mut self,
         index: usize,
+        header: &Repr,
         frame: &[u8],
         now: Instant,
         reply: &mut [u8],
     ) -> TcpAction {
         self.objects.link.count_in(frame.len(), true);
-        let Ok(header) = Repr::parse_header(frame) else {
-            return (0, true);
-        };
         if header.options != 0 {
             // Vol 2, 2-3.6: a frame with non-zero options is discarded.
             self.objects.link.count_discard();
@@ -47,30 +45,28 @@ impl<D: Device> Adapter<D> {
                 self.list_identity_reply(header.session_handle, header.sender_context, reply),
                 false,
             ),
-            command::LIST_SERVICES => (list_services_reply(&header, reply), false),
-            command::LIST_INTERFACES => (list_interfaces_reply(&header, reply), false),
-            command::REGISTER_SESSION => {
-                (self.register_session(index, &header, data, reply), false)
-            }
+            command::LIST_SERVICES => (list_services_reply(header, reply), false),
+            command::LIST_INTERFACES => (list_interfaces_reply(header, reply), false),
+            command::REGISTER_SESSION => (self.register_session(index, header, data, reply), false),
             command::UNREGISTER_SESSION if session.is_some_and(|h| h == header.session_handle) => {
                 (0, true)
             }
             command::UNREGISTER_SESSION | command::SEND_RR_DATA | command::SEND_UNIT_DATA
                 if session.is_none_or(|h| h != header.session_handle) =>
             {
-                (error_reply(&header, status::INVALID_SESSION, reply), false)
+                (error_reply(header, status::INVALID_SESSION, reply), false)
             }
             command::SEND_RR_DATA => {
-                let len = self.send_rr_data(index, &header, data, now, reply);
+                let len = self.send_rr_data(index, header, data, now, reply);
                 self.after_explicit_request();
                 (len, false)
             }
             command::SEND_UNIT_DATA => {
-                let len = self.send_unit_data(index, &header, data, now, reply);
+                let len = self.send_unit_data(index, header, data, now, reply);
                 self.after_explicit_request();
                 (len, false)
             }
-            _ => (error_reply(&header, status::INVALID_COMMAND, reply), false),
+            _ => (error_reply(header, status::INVALID_COMMAND, reply), false),
         };
         if action.0 > 0 {
             self.objects.link.count_out(action.0);

@@ -11,8 +11,8 @@ use crate::wire::encap::{Repr, HEADER_LEN};
 pub enum Need {
     /// This many more bytes.
     Bytes(usize),
-    /// The frame is complete.
-    Complete,
+    /// The frame is complete; its header, parsed once for whoever handles it.
+    Complete(Repr),
     /// The header declares more data than the stack accepts.
     TooLong,
 }
@@ -51,14 +51,15 @@ pub fn frame_need(rx: &[u8]) -> Need {
     if rx.len() < HEADER_LEN {
         return Need::Bytes(HEADER_LEN - rx.len());
     }
-    let length = Repr::parse_header(rx)
-        .map(|h| usize::from(h.length))
-        .unwrap_or(0);
+    let Ok(header) = Repr::parse_header(rx) else {
+        return Need::Bytes(HEADER_LEN.saturating_sub(rx.len()));
+    };
+    let length = usize::from(header.length);
     if length > MAX_ENCAP_DATA {
         return Need::TooLong;
     }
     match (HEADER_LEN + length).checked_sub(rx.len()) {
-        Some(0) | None => Need::Complete,
+        Some(0) | None => Need::Complete(header),
         Some(n) => Need::Bytes(n),
     }
 }
@@ -120,7 +121,7 @@ mod tests {
         h[2] = 6;
         assert_eq!(frame_need(&h[..10]), Need::Bytes(14));
         assert_eq!(frame_need(&h[..24]), Need::Bytes(6));
-        assert_eq!(frame_need(&h[..30]), Need::Complete);
+        assert!(matches!(frame_need(&h[..30]), Need::Complete(_)));
         h[2] = 0xFF;
         h[3] = 0xFF;
         assert_eq!(frame_need(&h[..24]), Need::TooLong);

@@ -89,7 +89,7 @@ pub fn trigger_all(table: &mut ConnectionTable) {
 }
 
 fn trigger_where(table: &mut ConnectionTable, pick: impl Fn(&Producer) -> bool) {
-    for slot in 0..crate::config::MAX_CONNECTIONS {
+    for slot in table.slots_in_use() {
         if let Some(Transport::Class1 {
             producer: Some(p), ..
         }) = table.get_mut(slot).map(|c| &mut c.transport)

@@ -91,7 +91,11 @@ impl ConnectionTable {
     }
     /// True if no connection is open.
     pub fn is_empty(&self) -> bool {
-        self.len() == 0
+        self.used == 0
+    }
+    /// Slot numbers that can hold a connection: those below the highest occupied one.
+    pub(crate) fn slots_in_use(&self) -> core::ops::Range<usize> {
+        0..self.used
     }
     /// The slot of the connection with `triad`.
     pub fn find_triad(&self, triad: &Triad) -> Option<usize> {
@@ -264,14 +268,14 @@ impl ConnectionTable {
     }
     /// Closes every open connection with `reason`.
     pub fn close_all<D: Device>(&mut self, reason: CloseReason, device: &mut D) {
-        for slot in 0..MAX_CONNECTIONS {
+        for slot in self.slots_in_use() {
             self.close(slot, reason, device);
         }
     }
     /// Closes the Class 1 connections whose consumed or produced assembly can no longer carry
     /// the size they opened with ([`CloseReason::Reconfigured`]).
     pub fn close_resized<D: Device>(&mut self, device: &mut D) {
-        for slot in 0..MAX_CONNECTIONS {
+        for slot in self.slots_in_use() {
             let resized = self.get(slot).is_some_and(|c| {
                 let differs = |instance: u16, size: u16| {
                     device
@@ -297,7 +301,7 @@ impl ConnectionTable {
             return 0;
         }
         let mut closed = 0;
-        for slot in 0..MAX_CONNECTIONS {
+        for slot in self.slots_in_use() {
             if self.expiry.get(slot).is_none_or(|&at| at > now) {
                 continue;
             }
@@ -332,7 +336,7 @@ impl ConnectionTable {
     /// Closes the Class 3 connections of the session on socket `socket`; its Class 1
     /// connections stay open, detached from it.
     pub fn close_session<D: Device>(&mut self, socket: u8, device: &mut D) {
-        for slot in 0..MAX_CONNECTIONS {
+        for slot in self.slots_in_use() {
             let Some(conn) = self.get_mut(slot).filter(|c| c.socket == socket) else {
                 continue;
             };

@@ -314,6 +314,19 @@ impl<'a> Segments<'a> {
             failed: false,
         }
     }
+    /// Takes the next segment if it is an 8-bit logical segment (class, instance, attribute,
+    /// member, connection point, service ID): the common case, decoded without building a
+    /// [`Segment`]. Anything else is left for [`Iterator::next`].
+    #[inline]
+    pub fn next_logical8(&mut self) -> Option<(LogicalType, u32)> {
+        let [b, v] = *self.r.rest().first_chunk::<2>()?;
+        if b & 0xE3 != 0x20 || b == KEY_SEGMENT {
+            return None;
+        }
+        let kind = LogicalType::from_code((b >> 2) & 0x07)?;
+        self.r.take(2).ok()?;
+        Some((kind, u32::from(v)))
+    }
 }
 
 impl<'a> Iterator for Segments<'a> {
@@ -341,6 +354,33 @@ mod tests {
         let mut r = Reader::new(wire);
         assert_eq!(Segment::parse(&mut r), Ok(s));
         assert_eq!(r.remaining(), 0);
+    }
+
+    #[test]
+    fn the_logical8_fast_path_agrees_with_the_decoder() {
+        let mut taken = 0;
+        for b in 0..=255u8 {
+            for v in [0u8, 1, 0x7F, 0xFF] {
+                let raw = [b, v, 0, 0, 0, 0, 0, 0, 0, 0];
+                let general = Segment::parse(&mut Reader::new(&raw));
+                let mut fast = Segments::new(&raw);
+                match fast.next_logical8() {
+                    Some((kind, value)) => {
+                        taken += 1;
+                        assert_eq!(general, Ok(Segment::Logical(kind, value)), "{b:#04x}");
+                        assert_eq!(fast.r.remaining(), raw.len() - 2);
+                    }
+                    None => {
+                        assert_eq!(fast.r.remaining(), raw.len(), "nothing consumed");
+                        let is_logical8 =
+                            matches!(general, Ok(Segment::Logical(..))) && b & 0x03 == 0;
+                        assert!(!is_logical8, "{b:#04x} left to the general decoder");
+                    }
+                }
+            }
+        }
+        // Six logical types, one 8-bit format each.
+        assert_eq!(taken, 6 * 4);
     }
 
     #[test]
