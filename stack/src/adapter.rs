@@ -4,7 +4,7 @@ use core::net::{Ipv4Addr, SocketAddrV4};
 
 use crate::cip::context::RequestContext;
 use crate::cip::{Ctx, ObjectState};
-use crate::config::MAX_SESSIONS;
+use crate::config::{MAX_ENCAP_FRAME, MAX_SESSIONS};
 use crate::device::{CloseReason, Device};
 use crate::encap::list_identity::DelayedReplies;
 use crate::encap::session::{Need, Sessions};
@@ -239,7 +239,11 @@ impl<D: Device> Adapter<D> {
                     };
                 }
                 Need::Complete(header) => {
-                    let frame = core::mem::take(&mut slot.rx);
+                    // Handling needs the whole adapter, so the frame moves out of the slot
+                    // first: its bytes only, not the buffer's whole capacity.
+                    let mut frame = heapless::Vec::<u8, MAX_ENCAP_FRAME>::new();
+                    let _ = frame.extend_from_slice(&slot.rx);
+                    slot.rx.clear();
                     let (reply_len, close) = self.tcp_frame(index, &header, &frame, now, reply);
                     return TcpOutcome {
                         consumed,
