@@ -63,7 +63,7 @@ impl<D: Device> Adapter<D> {
         }
     }
 
-    /// Keeps the TCP/IP settings (attributes 3, 5, 6 and 13) in `store` from now on: loads
+    /// Keeps the TCP/IP settings (attributes 3, 5, 6, 8, 9 and 13) in `store` from now on: loads
     /// those it holds (see [`crate::cip::tcpip::TcpIpState`] for when they apply) and saves
     /// every Set before answering it (0x19 if that fails). Returns whether settings were
     /// loaded; on a read error the factory defaults hold and the store is still used.
@@ -78,6 +78,8 @@ impl<D: Device> Adapter<D> {
             tcpip.interface = st.interface;
             tcpip.host_name = st.host_name;
             tcpip.inactivity_timeout_s = st.inactivity_timeout_s;
+            tcpip.ttl = st.ttl;
+            tcpip.mcast = st.mcast;
         }
         Ok(found)
     }

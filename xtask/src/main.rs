@@ -3,7 +3,8 @@
 //! - `setup`: installs what the tests need (Rust target and nightly, cargo-fuzz, Debian
 //!   packages, pinned Python and npm peers under `target/`).
 //! - `test`: the whole suite, stopping at the first failure, with a summary.
-//! - `fuzz [--seconds N]`: every fuzz target for N seconds (default 60).
+//! - `fuzz [--seconds N]`: every fuzz target for N seconds (default 60); `fuzz --campaign
+//!   MINUTES`: a long run that merges new coverage into the seeds.
 //! - `qemu [--profile NAME]`: the emulated board (QEMU mps2-an386) in a network namespace.
 //! - `demo [--host]`: the emulated board (or the host board) read by scanners: identity and
 //!   a live Class 1 view.
@@ -34,6 +35,9 @@ commands:
   setup               install what the tests need (idempotent)
   test                fmt, clippy, doc, tests, no_std builds, fuzz (5 s each), TAP interop
   fuzz [--seconds N]  run every fuzz target for N seconds each (default 60)
+  fuzz --campaign MINUTES
+                      every target in turn for a share of MINUTES; merge new coverage into
+                      the committed seeds; report in target/fuzz-logs/campaign.md
   qemu [--profile NAME]
                       boot the emulated board (QEMU mps2-an386) in netns enip-qemu until Ctrl-C
   demo [--host]       boot the emulated board (--host: the Linux host board) in netns
@@ -58,6 +62,7 @@ fn main() -> ExitCode {
                 ExitCode::FAILURE
             };
         }
+        ["fuzz", "--campaign", m] => fuzz::parse_minutes(m).and_then(fuzz::campaign),
         ["fuzz", rest @ ..] => match parse_seconds(rest) {
             Ok(seconds) => fuzz::run_all(seconds).map(|_| ()),
             Err(e) => Err(e),

@@ -77,7 +77,10 @@ pub(crate) fn handle<D: Device>(
 }
 
 /// Multiple_Service_Packet: runs each embedded request in order and replies with a count, an
-/// offset table and every embedded response; 0x1E if any embedded service failed.
+/// offset table and every embedded response; 0x1E if any embedded service failed. A count of
+/// 0 is an invalid parameter (0x20), an offset table or an offset beyond the data not enough
+/// data (0x13), more services than [`MAX_MULTIPLE_SERVICES`] resource unavailable (0x02),
+/// offsets into the table or not increasing an invalid parameter (0x20).
 fn multiple_service_packet<D: Device>(
     ctx: &mut Ctx<'_, D>,
     data: &[u8],
@@ -89,8 +92,14 @@ fn multiple_service_packet<D: Device>(
     }
     let mut r = Reader::new(data);
     let count = usize::from(r.u16()?);
-    if count == 0 || count > MAX_MULTIPLE_SERVICES {
+    if count == 0 {
         return Err(General::InvalidParameter.into());
+    }
+    if r.remaining() < 2 * count {
+        return Err(General::NotEnoughData.into());
+    }
+    if count > MAX_MULTIPLE_SERVICES {
+        return Err(General::ResourceUnavailable.into());
     }
     let table_len = 2 + 2 * count;
     let mut offsets = [0usize; MAX_MULTIPLE_SERVICES + 1];
@@ -101,6 +110,9 @@ fn multiple_service_packet<D: Device>(
         *end = data.len();
     }
     let bounds = offsets.get(..=count).unwrap_or(&[]);
+    if bounds.iter().any(|&o| o > data.len()) {
+        return Err(General::NotEnoughData.into());
+    }
     if bounds.first().is_some_and(|&o| o < table_len)
         || bounds.windows(2).any(|p| matches!(p, [a, b] if a >= b))
     {

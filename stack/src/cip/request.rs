@@ -90,11 +90,19 @@ pub struct Request<'a> {
 }
 
 impl<'a> Request<'a> {
-    /// Frames a request: Err carries the service code (if any) and the status to answer with.
+    /// Frames a request: Err carries the service code (if any) and the status to answer with:
+    /// no path size byte is not enough data (0x13), a path size beyond the request path size
+    /// invalid (0x26), a segment that cannot be decoded a path segment error (0x04).
     pub fn parse(buf: &'a [u8]) -> Result<Request<'a>, (u8, CipError)> {
         let service = buf.first().copied().unwrap_or(0);
-        let packet = RequestPacket::new_checked(buf)
-            .map_err(|_| (service, CipError::new(General::PathSegmentError)))?;
+        let packet = RequestPacket::new_checked(buf).map_err(|_| {
+            let general = if buf.len() < 2 {
+                General::NotEnoughData
+            } else {
+                General::PathSizeInvalid
+            };
+            (service, CipError::new(general))
+        })?;
         let repr = RequestRepr::parse(&packet);
         let path = Path::parse(repr.path).map_err(|e| (service, e))?;
         Ok(Request {
@@ -131,7 +139,7 @@ mod tests {
         assert_eq!(e(&[0x0E, 2, 0x20, 1, 0x20, 2]), 0x04); // class twice
         assert_eq!(e(&[0x0E, 1, 0x24, 1]), 0x04); // no class
         assert_eq!(e(&[0x0E, 2, 0x20, 1, 0x01, 0]), 0x04); // port segment
-        assert_eq!(e(&[0x0E, 5, 0x20, 1]), 0x04); // path longer than message
-        assert_eq!(e(&[0x0E]), 0x04);
+        assert_eq!(e(&[0x0E, 5, 0x20, 1]), 0x26); // path longer than message
+        assert_eq!(e(&[0x0E]), 0x13);
     }
 }

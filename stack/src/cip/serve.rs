@@ -8,7 +8,8 @@
 //! no attribute in the path 0x05, unknown attribute 0x14, Get of a write-only attribute
 //! 0x2C, Set of a read-only one 0x0E, value shorter than its type 0x13 or longer 0x15, then
 //! the object's verdict on the value (0x09 invalid, 0x0C object state, 0x10 device state),
-//! reply too large 0x11, and anything else 0x08 (service not supported). A failed Set
+//! reply too large 0x11, and anything else 0x08 (service not supported). Get_Attribute_Single
+//! and Get_Attributes_All carrying data are too much data (0x15). A failed Set
 //! changes nothing; Set_Attribute_List applies each entry on its own, as CIP specifies.
 
 use super::object::{Access, AttributeDef, ClassDef, DataType};
@@ -111,6 +112,9 @@ pub(crate) fn attribute_services(
             obj.set(instance, &attr, req.data)
         }
         service::GET_ATTRIBUTES_ALL if !obj.class().get_all.is_empty() => {
+            if !req.data.is_empty() {
+                return Err(General::TooMuchData.into());
+            }
             let def = *obj.class();
             for &id in def.get_all {
                 let attr = def.attribute(id).ok_or(unsupported())?;

@@ -12,7 +12,7 @@ use super::{crc32, records, NvError, NvStore};
 
 /// Bytes of one copy in RAM and in flash (body with header and CRC), a multiple of
 /// [`MAX_WRITE_SIZE`]; a sector must hold [`MAX_WRITE_SIZE`] more.
-pub const IMAGE_SIZE: usize = 512;
+pub const IMAGE_SIZE: usize = 4096;
 /// The commit word: the copy in this sector is complete.
 const MAGIC: u32 = 0x4E56_4331; // "NVC1"
 /// Version of the body layout.
