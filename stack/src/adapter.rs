@@ -221,7 +221,7 @@ impl<D: Device> Adapter<D> {
                     let take = n.min(rest.len());
                     // Cannot fail: `need` never asks beyond the frame capacity.
                     let _ = slot.rx.extend_from_slice(rest.get(..take).unwrap_or(&[]));
-                    consumed += take;
+                    consumed = consumed.saturating_add(take);
                 }
                 Need::TooLong => {
                     warn!(

@@ -49,7 +49,7 @@ impl<D: Device> Object for Router<'_, '_, D> {
             return Ok(());
         }
         let vendor = self.ctx.device.classes();
-        w.u16((STANDARD_CLASSES.len() + vendor.len()) as u16)?;
+        w.u16(STANDARD_CLASSES.len().saturating_add(vendor.len()) as u16)?;
         for c in STANDARD_CLASSES.iter().chain(vendor.iter().map(|c| &c.id)) {
             w.u16(*c)?;
         }
@@ -101,7 +101,8 @@ fn multiple_service_packet<D: Device>(
     if count > MAX_MULTIPLE_SERVICES {
         return Err(General::ResourceUnavailable.into());
     }
-    let table_len = 2 + 2 * count;
+    // `count` is at most MAX_MULTIPLE_SERVICES here: no overflow.
+    let table_len = count.saturating_mul(2).saturating_add(2);
     let mut offsets = [0usize; MAX_MULTIPLE_SERVICES + 1];
     for slot in offsets.iter_mut().take(count) {
         *slot = usize::from(r.u16()?);
@@ -128,9 +129,13 @@ fn multiple_service_packet<D: Device>(
             _ => &[],
         };
         let at = w.len();
-        w.patch_u16(base + 2 + 2 * i, (at - base) as u16);
-        respond(ctx, sub, w, depth + 1)?;
-        failed |= w.written().get(at + 2).is_some_and(|&s| s != 0);
+        let entry = base.saturating_add(2).saturating_add(i.saturating_mul(2));
+        w.patch_u16(entry, at.saturating_sub(base) as u16);
+        respond(ctx, sub, w, depth.saturating_add(1))?;
+        failed |= w
+            .written()
+            .get(at.saturating_add(2))
+            .is_some_and(|&s| s != 0);
     }
     if failed {
         return Err(CipError::new(General::EmbeddedServiceError).keeping_data());

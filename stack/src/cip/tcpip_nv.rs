@@ -47,11 +47,11 @@ impl InterfaceConfig {
     /// Parses a Set value (20 bytes and a padded STRING, length already checked) and
     /// checks it: 0x09 for an address that cannot be this interface's.
     pub fn parse(value: &[u8]) -> CipResult<Self> {
-        let at = |i: usize| Ipv4Addr::from(get_u32(value, 4 * i));
+        let at = |i: usize| Ipv4Addr::from(get_u32(value, i.saturating_mul(4)));
         let fixed = usize::from(INTERFACE_FIXED);
         let len = usize::from(get_u16(value, fixed));
         let name = value
-            .get(fixed + 2..fixed + 2 + len)
+            .get(fixed.saturating_add(2)..fixed.saturating_add(2).saturating_add(len))
             .ok_or(General::NotEnoughData)?;
         let config = InterfaceConfig {
             ip: at(0),

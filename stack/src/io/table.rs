@@ -167,7 +167,7 @@ impl ConnectionTable {
         if let Some(s) = self.slots.get_mut(slot) {
             *s = Some(conn);
         }
-        self.used = self.used.max(slot + 1);
+        self.used = self.used.max(slot.saturating_add(1));
         let due = self
             .get(slot)
             .and_then(Connection::producer)
@@ -261,7 +261,7 @@ impl ConnectionTable {
             .slots
             .iter()
             .rposition(Option::is_some)
-            .map_or(0, |i| i + 1);
+            .map_or(0, |i| i.saturating_add(1));
         if had_owner && self.owned.is_empty() {
             device.connection_event(ConnectionEvent::OwnershipLost(reason));
         }
@@ -300,7 +300,7 @@ impl ConnectionTable {
         if now < self.expiry_bound {
             return 0;
         }
-        let mut closed = 0;
+        let mut closed = 0usize;
         for slot in self.slots_in_use() {
             if self.expiry.get(slot).is_none_or(|&at| at > now) {
                 continue;
@@ -311,7 +311,7 @@ impl ConnectionTable {
                 }
                 self.timeouts = self.timeouts.wrapping_add(1);
                 self.close(slot, CloseReason::Timeout, device);
-                closed += 1;
+                closed = closed.saturating_add(1);
             }
         }
         self.expiry_bound = self.expiry.iter().copied().min().unwrap_or(Instant::NEVER);

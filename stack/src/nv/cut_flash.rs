@@ -112,7 +112,7 @@ impl Flash for CutFlash {
         for (i, unit) in data.chunks(UNIT).enumerate() {
             let alive = self.step();
             // `i * UNIT` stays inside the span checked above.
-            let at = offset + i * UNIT;
+            let at = offset.saturating_add(i.saturating_mul(UNIT));
             let cells = self.span(sector, at, UNIT)?;
             // A cut unit gets its first two bytes only.
             let n = if alive { UNIT } else { UNIT / 2 };
