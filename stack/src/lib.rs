@@ -12,6 +12,7 @@
 //! - [`adapter`]: the [`Adapter`] the runtime drives.
 //! - [`eds`]: the EDS file of any device.
 //! - [`nv`]: non-volatile storage (A/B copies with sequence numbers and CRC) over any flash.
+//! - [`virtual_scanner`]: a scanner in virtual time, for a device's own tests.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -44,6 +45,7 @@ pub mod nv;
 pub mod originator;
 pub mod rng;
 pub mod time;
+pub mod virtual_scanner;
 pub mod wire;
 
 pub use adapter::{Adapter, SocketId, TcpOutcome};

@@ -5,13 +5,13 @@
 //! cancels out).
 
 use std::hint::black_box;
-use std::net::{Ipv4Addr, SocketAddrV4};
 
 use enip_firmware::profiles::generic::Generic;
 use enip_stack::config::MAX_ENCAP_FRAME;
 use enip_stack::originator;
+use enip_stack::virtual_scanner::VirtualScanner;
 use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::{Adapter, Instant, NetworkConfig, SocketId};
+use enip_stack::{Instant, SocketId};
 
 /// Get_Attribute_Single.
 const GET_ATTRIBUTE_SINGLE: u8 = 0x0E;
@@ -21,20 +21,12 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(100_000);
-    let net = NetworkConfig::new_static(
-        Ipv4Addr::new(198, 18, 0, 2),
-        Ipv4Addr::new(255, 255, 255, 0),
-        [2, 0, 0, 0, 0, 2],
-    );
-    let mut adapter = Adapter::new(Generic::new(), net, 1);
-    let scanner = SocketAddrV4::new(Ipv4Addr::new(198, 18, 0, 1), 50_000);
-    adapter.tcp_accept(SocketId(0), scanner, Instant(0));
+    let mut scanner = VirtualScanner::new(Generic::new());
+    let session = scanner.session();
+    assert_ne!(session, 0, "RegisterSession answered");
+    let adapter = scanner.adapter_mut();
     let mut frame = vec![0u8; MAX_ENCAP_FRAME];
     let mut reply = vec![0u8; MAX_ENCAP_FRAME];
-    let n = originator::register_session(&mut frame).expect("frame");
-    let out = adapter.tcp_receive(SocketId(0), &frame[..n], Instant(0), &mut reply);
-    assert_eq!(out.reply_len, 28, "RegisterSession answered");
-    let session = u32::from_le_bytes(reply[4..8].try_into().expect("handle"));
     let path = [
         Segment::Logical(LogicalType::Class, 1),
         Segment::Logical(LogicalType::Instance, 1),
