@@ -327,15 +327,12 @@ impl<D: Device> Adapter<D> {
 
     /// The multicast group T->O data goes to while a multicast connection is open.
     pub fn multicast_group(&self) -> Option<Ipv4Addr> {
-        self.connections
-            .iter()
-            .any(|(_, c)| c.produces_multicast())
-            .then(|| {
-                self.objects
-                    .tcpip
-                    .multicast_in_use(&self.device, &self.net)
-                    .0
-            })
+        self.connections.produces_multicast().then(|| {
+            self.objects
+                .tcpip
+                .multicast_in_use(&self.device, &self.net)
+                .0
+        })
     }
 
     /// TTL for multicast T->O datagrams (TCP/IP attribute 8).

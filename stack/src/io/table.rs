@@ -51,6 +51,8 @@ pub struct ConnectionTable {
     pub(crate) production_bound: Instant,
     /// One past the highest occupied slot: the deadline scans stop there.
     used: usize,
+    /// Some connection produces to a multicast group.
+    multicast: bool,
 }
 
 impl ConnectionTable {
@@ -68,6 +70,7 @@ impl ConnectionTable {
             expiry_bound: Instant::NEVER,
             production_bound: Instant::NEVER,
             used: 0,
+            multicast: false,
         }
     }
     /// Open connections with their slot numbers.
@@ -88,6 +91,10 @@ impl ConnectionTable {
     /// Number of open connections.
     pub fn len(&self) -> usize {
         self.iter().count()
+    }
+    /// True if some open connection produces to a multicast group.
+    pub fn produces_multicast(&self) -> bool {
+        self.multicast
     }
     /// True if no connection is open.
     pub fn is_empty(&self) -> bool {
@@ -173,7 +180,7 @@ impl ConnectionTable {
             .and_then(Connection::producer)
             .map(Producer::due_at);
         self.set_due(slot, due.unwrap_or(Instant::NEVER));
-        self.refresh_owned();
+        self.refresh_summary();
         Some(slot)
     }
     /// The cached Class 3 reply of `slot`.
@@ -256,7 +263,7 @@ impl ConnectionTable {
                 }
             }
         }
-        self.refresh_owned();
+        self.refresh_summary();
         self.used = self
             .slots
             .iter()
@@ -359,8 +366,12 @@ impl ConnectionTable {
             (*d, *e) = (Instant::NEVER, Instant::NEVER);
         }
     }
-    fn refresh_owned(&mut self) {
+    /// Recomputes what the open connections add up to (after an open or a close): the owned
+    /// outputs, and whether any produces multicast.
+    fn refresh_summary(&mut self) {
         self.owned.clear();
+        let multicast = self.iter().any(|(_, c)| c.produces_multicast());
+        self.multicast = multicast;
         for slot in self.slots.iter().flatten() {
             if let (Kind::ExclusiveOwner, Some(c)) = (slot.kind, slot.consumer()) {
                 // Cannot fail: at most one entry per slot.
