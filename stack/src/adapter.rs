@@ -4,7 +4,7 @@ use core::net::{Ipv4Addr, SocketAddrV4};
 
 use crate::cip::context::RequestContext;
 use crate::cip::{Ctx, ObjectState};
-use crate::config::MAX_SESSIONS;
+use crate::config::{MAX_ENCAP_FRAME, MAX_SESSIONS};
 use crate::device::{CloseReason, Device};
 use crate::encap::list_identity::DelayedReplies;
 use crate::encap::session::{Need, Sessions};
@@ -63,7 +63,7 @@ impl<D: Device> Adapter<D> {
         }
     }
 
-    /// Keeps the TCP/IP settings (attributes 3, 5, 6 and 13) in `store` from now on: loads
+    /// Keeps the TCP/IP settings (attributes 3, 5, 6, 8, 9 and 13) in `store` from now on: loads
     /// those it holds (see [`crate::cip::tcpip::TcpIpState`] for when they apply) and saves
     /// every Set before answering it (0x19 if that fails). Returns whether settings were
     /// loaded; on a read error the factory defaults hold and the store is still used.
@@ -78,6 +78,8 @@ impl<D: Device> Adapter<D> {
             tcpip.interface = st.interface;
             tcpip.host_name = st.host_name;
             tcpip.inactivity_timeout_s = st.inactivity_timeout_s;
+            tcpip.ttl = st.ttl;
+            tcpip.mcast = st.mcast;
         }
         Ok(found)
     }
@@ -186,10 +188,10 @@ impl<D: Device> Adapter<D> {
         slot.last_activity = now;
         // Fast path: a whole frame at the front of `data` with nothing buffered is not copied.
         if slot.rx.is_empty() {
-            if let Need::Complete = crate::encap::session::frame_need(data) {
-                let len = frame_len(data);
+            if let Need::Complete(header) = crate::encap::session::frame_need(data) {
+                let len = HEADER_LEN + usize::from(header.length);
                 let frame = data.get(..len).unwrap_or(&[]);
-                let (reply_len, close) = self.tcp_frame(index, frame, now, reply);
+                let (reply_len, close) = self.tcp_frame(index, &header, frame, now, reply);
                 return TcpOutcome {
                     consumed: len,
                     reply_len,
@@ -219,7 +221,7 @@ impl<D: Device> Adapter<D> {
                     let take = n.min(rest.len());
                     // Cannot fail: `need` never asks beyond the frame capacity.
                     let _ = slot.rx.extend_from_slice(rest.get(..take).unwrap_or(&[]));
-                    consumed += take;
+                    consumed = consumed.saturating_add(take);
                 }
                 Need::TooLong => {
                     warn!(
@@ -238,9 +240,13 @@ impl<D: Device> Adapter<D> {
                         close: true,
                     };
                 }
-                Need::Complete => {
-                    let frame = core::mem::take(&mut slot.rx);
-                    let (reply_len, close) = self.tcp_frame(index, &frame, now, reply);
+                Need::Complete(header) => {
+                    // Handling needs the whole adapter, so the frame moves out of the slot
+                    // first: its bytes only, not the buffer's whole capacity.
+                    let mut frame = heapless::Vec::<u8, MAX_ENCAP_FRAME>::new();
+                    let _ = frame.extend_from_slice(&slot.rx);
+                    slot.rx.clear();
+                    let (reply_len, close) = self.tcp_frame(index, &header, &frame, now, reply);
                     return TcpOutcome {
                         consumed,
                         reply_len,
@@ -321,15 +327,12 @@ impl<D: Device> Adapter<D> {
 
     /// The multicast group T->O data goes to while a multicast connection is open.
     pub fn multicast_group(&self) -> Option<Ipv4Addr> {
-        self.connections
-            .iter()
-            .any(|(_, c)| c.produces_multicast())
-            .then(|| {
-                self.objects
-                    .tcpip
-                    .multicast_in_use(&self.device, &self.net)
-                    .0
-            })
+        self.connections.produces_multicast().then(|| {
+            self.objects
+                .tcpip
+                .multicast_in_use(&self.device, &self.net)
+                .0
+        })
     }
 
     /// TTL for multicast T->O datagrams (TCP/IP attribute 8).
@@ -401,12 +404,4 @@ impl<D: Device> Adapter<D> {
         }
         changes.clear();
     }
-}
-
-/// Total length of the complete frame at the start of `data`.
-fn frame_len(data: &[u8]) -> usize {
-    HEADER_LEN
-        + Repr::parse_header(data)
-            .map(|h| usize::from(h.length))
-            .unwrap_or(0)
 }

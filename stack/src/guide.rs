@@ -126,7 +126,9 @@
 //! its own and skips a refused one. [`crate::cip::context::RequestContext`] tells a handler
 //! whether the request came unconnected or over which Class 3 connection, from which peer,
 //! and when. To test a device without a network, [`crate::Adapter::execute`] runs one
-//! Message Router request through the same machinery.
+//! Message Router request through the same machinery, and
+//! [`crate::virtual_scanner::VirtualScanner`] plays a whole scanner in virtual time
+//! (sessions, explicit requests, Forward_Open, Class 1 data both ways, watchdogs).
 //!
 //! # 3. Admission of connections
 //!

@@ -12,18 +12,20 @@
 //! - [`adapter`]: the [`Adapter`] the runtime drives.
 //! - [`eds`]: the EDS file of any device.
 //! - [`nv`]: non-volatile storage (A/B copies with sequence numbers and CRC) over any flash.
+//! - [`virtual_scanner`]: a scanner in virtual time, for a device's own tests.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
-// No panic on any input, made mechanical: no unwrap, expect, panic or unchecked indexing
-// outside the tests.
+// No panic on any input, made mechanical: no unwrap, expect, panic, unchecked indexing or
+// arithmetic that can overflow outside the tests.
 #![cfg_attr(
     not(test),
     deny(
         clippy::unwrap_used,
         clippy::expect_used,
         clippy::panic,
-        clippy::indexing_slicing
+        clippy::indexing_slicing,
+        clippy::arithmetic_side_effects
     )
 )]
 
@@ -43,6 +45,7 @@ pub mod nv;
 pub mod originator;
 pub mod rng;
 pub mod time;
+pub mod virtual_scanner;
 pub mod wire;
 
 pub use adapter::{Adapter, SocketId, TcpOutcome};

@@ -9,6 +9,8 @@ pub struct Instant(pub u64);
 pub struct Duration(pub u64);
 
 impl Instant {
+    /// The end of time: what is never due.
+    pub const NEVER: Instant = Instant(u64::MAX);
     /// The instant `us` microseconds after the epoch.
     pub const fn from_micros(us: u64) -> Self {
         Instant(us)

@@ -153,9 +153,9 @@ fn lists_and_multiple_service_packet() {
     assert_eq!(&d[..6], &[2, 0, 6, 0, 12, 0]);
     assert_eq!(&d[6..12], &[0x8E, 0, 0, 0, 1, 0]);
     assert_eq!(&d[12..], &[0x8E, 0, 0x05, 0]);
-    // Offsets out of order.
+    // Offsets out of order (both inside the data).
     assert_eq!(
-        status(&h.request(0x0A, &path(2, 1, None), &[2, 0, 14, 0, 6, 0, 0, 0])).0,
+        status(&h.request(0x0A, &path(2, 1, None), &[2, 0, 8, 0, 6, 0, 0, 0, 0, 0])).0,
         0x20
     );
 }

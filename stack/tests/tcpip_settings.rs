@@ -1,4 +1,4 @@
-//! The TCP/IP object's settable, stored attributes (3, 5, 6, 13): the CIP rules of a Set,
+//! The TCP/IP object's settable, stored attributes (3, 5, 6, 8, 9, 13): the CIP rules of a Set,
 //! status and capability bits, and the settings surviving a restart through an `NvStore`.
 
 mod common;
@@ -129,6 +129,23 @@ fn settings_survive_a_restart() {
 }
 
 #[test]
+fn ttl_and_multicast_config_survive_a_restart() {
+    let store = shared();
+    let mut h = harness(&store);
+    let mcast = [1, 0, 4, 0, 0, 3, 192, 239];
+    assert_eq!(set(&mut h, 8, &[7]), 0);
+    assert_eq!(set(&mut h, 9, &mcast), 0);
+    drop(h);
+    let mut h = harness(&store);
+    assert_eq!(get(&mut h, 8), vec![7]);
+    assert_eq!(get(&mut h, 9), mcast.to_vec());
+    // A refused store undoes the Set.
+    *store.1.borrow_mut() = true;
+    assert_eq!(set(&mut h, 8, &[9]), 0x19);
+    assert_eq!(get(&mut h, 8), vec![7]);
+}
+
+#[test]
 fn attribute_5_rules() {
     let store = shared();
     let mut h = harness(&store);
@@ -182,8 +199,9 @@ fn a_failed_store_is_0x19_and_changes_nothing() {
     assert_eq!(set(&mut h, 13, &[30, 0]), 0x19);
     assert_eq!(h.adapter.objects().tcpip.inactivity_timeout_s, 120);
     assert_eq!(get(&mut h, 1), 1u32.to_le_bytes());
-    // Attributes 8 and 9 are not stored: unaffected.
-    assert_eq!(set(&mut h, 8, &[4]), 0);
+    // Attribute 8 is stored as well.
+    assert_eq!(set(&mut h, 8, &[4]), 0x19);
+    assert_eq!(get(&mut h, 8), vec![1]);
 }
 
 #[test]

@@ -49,10 +49,9 @@ pub fn run_all() -> Result {
     let cycle = bin.join("io_cycle");
     let cycle = cycle.to_str().unwrap_or("io_cycle");
 
-    let short = callgrind(cycle, CALLGRIND_CYCLES.0)?;
-    let long = callgrind(cycle, CALLGRIND_CYCLES.1)?;
-    let per_cycle =
-        (long.saturating_sub(short)) as f64 / (CALLGRIND_CYCLES.1 - CALLGRIND_CYCLES.0) as f64;
+    let (short, long, per_cycle) = per_iteration(cycle)?;
+    let explicit = bin.join("explicit_cycle");
+    let explicit = per_iteration(explicit.to_str().unwrap_or("explicit_cycle"))?;
 
     let mut ns: Vec<f64> = (0..3).map(|_| native_ns(cycle)).collect::<Result<_>>()?;
     ns.sort_by(f64::total_cmp);
@@ -73,6 +72,10 @@ pub fn run_all() -> Result {
             "ns_per_cycle_median": (ns_median * 10.0).round() / 10.0,
             "ns_per_cycle_runs": ns,
         },
+        "explicit_request": {
+            "instructions_per_get_attribute_single": (explicit.2 * 10.0).round() / 10.0,
+            "callgrind_runs": [[CALLGRIND_CYCLES.0, explicit.0], [CALLGRIND_CYCLES.1, explicit.1]],
+        },
         "timer_baseline": parsed(&baseline),
         "tap": parsed(&tap),
     })
@@ -88,6 +91,10 @@ pub fn run_all() -> Result {
     println!(
         "{:<52} {:>12.1}",
         "ns per Class 1 cycle (native, median of 3)", ns_median
+    );
+    println!(
+        "{:<52} {:>12.1}",
+        "stack instructions per Get_Attribute_Single (callgrind)", explicit.2
     );
     let rows: [(&str, &str, &str); 6] = [
         (
@@ -125,17 +132,27 @@ pub fn run_all() -> Result {
     Ok(())
 }
 
-/// Total instructions of `io_cycle cycles` under callgrind.
-fn callgrind(cycle: &str, cycles: u64) -> Result<u64> {
+/// Instructions per iteration of the driver program `bin` (`io_cycle`, `explicit_cycle`):
+/// the short and long runs' totals and their difference per iteration.
+fn per_iteration(bin: &str) -> Result<(u64, u64, f64)> {
+    let short = callgrind(bin, CALLGRIND_CYCLES.0)?;
+    let long = callgrind(bin, CALLGRIND_CYCLES.1)?;
+    let per = long.saturating_sub(short) as f64 / (CALLGRIND_CYCLES.1 - CALLGRIND_CYCLES.0) as f64;
+    Ok((short, long, per))
+}
+
+/// Total instructions of `bin cycles` under callgrind.
+fn callgrind(bin: &str, cycles: u64) -> Result<u64> {
+    let name = bin.rsplit('/').next().unwrap_or(bin);
     let out_file = util::target_dir()
         .join("bench")
-        .join(format!("callgrind.{cycles}.out"));
+        .join(format!("callgrind.{name}.{cycles}.out"));
     let _ = fs::create_dir_all(util::target_dir().join("bench"));
     let o = Command::new("valgrind")
         .args([
             "--tool=callgrind",
             &format!("--callgrind-out-file={}", out_file.display()),
-            cycle,
+            bin,
             &cycles.to_string(),
         ])
         .stdout(Stdio::null())

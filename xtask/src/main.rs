@@ -3,7 +3,8 @@
 //! - `setup`: installs what the tests need (Rust target and nightly, cargo-fuzz, Debian
 //!   packages, pinned Python and npm peers under `target/`).
 //! - `test`: the whole suite, stopping at the first failure, with a summary.
-//! - `fuzz [--seconds N]`: every fuzz target for N seconds (default 60).
+//! - `fuzz [--seconds N]`: every fuzz target for N seconds (default 60); `fuzz --campaign
+//!   MINUTES`: a long run that merges new coverage into the seeds.
 //! - `qemu [--profile NAME]`: the emulated board (QEMU mps2-an386) in a network namespace.
 //! - `demo [--host]`: the emulated board (or the host board) read by scanners: identity and
 //!   a live Class 1 view.
@@ -36,6 +37,9 @@ commands:
   setup               install what the tests need (idempotent)
   test                fmt, clippy, doc, tests, no_std builds, fuzz (5 s each), TAP interop
   fuzz [--seconds N]  run every fuzz target for N seconds each (default 60)
+  fuzz --campaign MINUTES
+                      every target in turn for a share of MINUTES; merge new coverage into
+                      the committed seeds; report in target/fuzz-logs/campaign.md
   qemu [--profile NAME]
                       boot the emulated board (QEMU mps2-an386) in netns enip-qemu until Ctrl-C
   demo [--host]       boot the emulated board (--host: the Linux host board) in netns
@@ -54,6 +58,7 @@ enum Command {
     Setup,
     Test,
     Fuzz { seconds: u64 },
+    Campaign { minutes: u64 },
     Qemu { profile: String },
     Demo { board: demo::Board },
     Bench,
@@ -81,6 +86,7 @@ fn main() -> ExitCode {
             };
         }
         Command::Fuzz { seconds } => fuzz::run_all(seconds).map(|_| ()),
+        Command::Campaign { minutes } => fuzz::campaign(minutes),
         Command::Qemu { profile } => qemu::run_interactive(&profile),
         Command::Demo { board } => demo::run_demo(board),
         Command::Bench => bench::run_all(),
@@ -137,6 +143,12 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
     };
     while let Some(arg) = parser.next()? {
         match (&mut command, arg) {
+            (Command::Fuzz { .. }, Long("campaign")) => {
+                let minutes = fuzz::parse_minutes(&parser.value()?.string()?);
+                command = Command::Campaign {
+                    minutes: minutes.map_err(|e| e.0)?,
+                };
+            }
             (Command::Fuzz { seconds }, Long("seconds")) => {
                 *seconds = parser.value()?.parse()?;
                 if *seconds == 0 {
@@ -165,6 +177,12 @@ mod tests {
         assert!(p(&["fuzz", "--seconds", "x"]).is_err());
         assert!(p(&["fuzz", "--seconds"]).is_err());
         assert!(p(&["fuzz", "-s", "5"]).is_err());
+        assert_eq!(
+            p(&["fuzz", "--campaign", "30"]).unwrap(),
+            Command::Campaign { minutes: 30 }
+        );
+        assert!(p(&["fuzz", "--campaign", "0"]).is_err());
+        assert!(p(&["fuzz", "--campaign", "30", "--seconds", "5"]).is_err());
         assert_eq!(
             p(&["qemu", "--profile", "parker-ipa"]).unwrap(),
             Command::Qemu {

@@ -2,6 +2,7 @@
 //! and UDP scripts against the adapter, that every seed request gets a successful reply.
 //!
 //! Run from the repository root: `cargo run --manifest-path fuzz/Cargo.toml --bin gen_seeds`.
+//! It replaces the seeds it wrote before and keeps the inputs a fuzz campaign merged in.
 //! With `--check` it writes nothing: it fails if a seed no longer gets a successful reply,
 //! and warns if the committed seeds differ from what it would write.
 
@@ -247,9 +248,7 @@ fn main() {
         }
         return;
     }
-    if root.exists() {
-        fs::remove_dir_all(&root).expect("remove old seeds");
-    }
+    remove_written_seeds(&root);
     for (target, name, bytes) in &seeds {
         write(&root.join(target), name, bytes);
     }
@@ -274,6 +273,28 @@ fn profile_target(name: &str) -> &'static str {
         "ametek-pls" => "profile_ametek_pls",
         "kollmorgen-akd" => "profile_kollmorgen_akd",
         _ => "",
+    }
+}
+
+/// Removes every seed this program wrote before; the inputs `cargo xtask fuzz --campaign`
+/// merged in (named by their SHA-1, 40 hex digits) stay.
+fn remove_written_seeds(root: &Path) {
+    let Ok(targets) = fs::read_dir(root) else {
+        return;
+    };
+    for dir in targets.filter_map(|e| e.ok()).map(|e| e.path()) {
+        for file in fs::read_dir(&dir)
+            .into_iter()
+            .flatten()
+            .filter_map(|e| e.ok())
+        {
+            let name = file.file_name();
+            let name = name.to_string_lossy();
+            let merged = name.len() == 40 && name.bytes().all(|b| b.is_ascii_hexdigit());
+            if !merged {
+                fs::remove_file(file.path()).expect("remove old seed");
+            }
+        }
     }
 }
 

@@ -4,31 +4,20 @@
 //! counts (two runs of different N, so set-up cancels out), and natively for time per cycle.
 
 use std::hint::black_box;
-use std::net::{Ipv4Addr, SocketAddrV4};
+use std::net::SocketAddrV4;
 use std::time::Instant as WallClock;
 
 use enip_firmware::profiles::generic::Generic;
-use enip_stack::config::MAX_ENCAP_FRAME;
 use enip_stack::originator;
-use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardOpen, ForwardOpenReply, NetworkParams, Triad};
-use enip_stack::wire::Writer;
-use enip_stack::{Adapter, Instant, NetworkConfig, SocketId};
+use enip_stack::virtual_scanner::{VirtualScanner, SCANNER_IP};
+use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::Instant;
 
 const RPI_US: u64 = 1_000;
 
-/// Opens the generic profile's exclusive owner (150 -> 100, config 151); returns its O->T ID.
-fn open(adapter: &mut Adapter<Generic>) -> u32 {
-    let scanner = SocketAddrV4::new(Ipv4Addr::new(198, 18, 0, 1), 50_000);
-    adapter.tcp_accept(SocketId(0), scanner, Instant(0));
-    let mut frame = vec![0u8; MAX_ENCAP_FRAME];
-    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
-    let n = originator::register_session(&mut frame).expect("frame");
-    let out = adapter.tcp_receive(SocketId(0), &frame[..n], Instant(0), &mut reply);
-    let session = u32::from_le_bytes(reply[4..8].try_into().expect("handle"));
-    assert_eq!(out.reply_len, 28);
-    let path = [0x20, 0x04, 0x24, 151, 0x2C, 150, 0x2C, 100];
-    let fo = ForwardOpen {
+/// The generic profile's exclusive owner (150 -> 100, config 151).
+fn exclusive_owner(path: &[u8]) -> ForwardOpen<'_> {
+    ForwardOpen {
         large: false,
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,
@@ -45,27 +34,8 @@ fn open(adapter: &mut Adapter<Generic>) -> u32 {
         t_o_rpi: RPI_US as u32,
         t_o_params: NetworkParams::from_u16(0x4800 | 34),
         transport: 0x01,
-        path: &path,
-    };
-    let mut data = [0u8; 64];
-    let mut w = Writer::new(&mut data);
-    fo.emit(&mut w).expect("forward open");
-    let len = w.len();
-    let cm = [
-        Segment::Logical(LogicalType::Class, 6),
-        Segment::Logical(LogicalType::Instance, 1),
-    ];
-    let n = originator::send_rr_data(&mut frame, session, None, |w| {
-        originator::request(w, 0x54, &cm, &data[..len])
-    })
-    .expect("frame");
-    let out = adapter.tcp_receive(SocketId(0), &frame[..n], Instant(0), &mut reply);
-    let r = originator::parse_reply(&reply[..out.reply_len]).expect("reply");
-    let resp = r.response.expect("response");
-    assert_eq!(resp.general_status, 0, "Forward_Open refused");
-    ForwardOpenReply::parse(resp.data)
-        .expect("reply data")
-        .o_t_connection_id
+        path,
+    }
 }
 
 fn main() {
@@ -73,14 +43,13 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(1_000_000);
-    let net = NetworkConfig::new_static(
-        Ipv4Addr::new(198, 18, 0, 2),
-        Ipv4Addr::new(255, 255, 255, 0),
-        [2, 0, 0, 0, 0, 2],
-    );
-    let mut adapter = Adapter::new(Generic::new(), net, 1);
-    let o_t = open(&mut adapter);
-    let scanner = SocketAddrV4::new(Ipv4Addr::new(198, 18, 0, 1), 2222);
+    let mut scanner = VirtualScanner::new(Generic::new());
+    let path = [0x20, 0x04, 0x24, 151, 0x2C, 150, 0x2C, 100];
+    let opened = scanner.forward_open(&exclusive_owner(&path));
+    assert_eq!(opened.general, 0, "Forward_Open refused");
+    let o_t = opened.o_t_id;
+    let adapter = scanner.adapter_mut();
+    let scanner = SocketAddrV4::new(SCANNER_IP, 2222);
     // The O->T datagram is built once; each cycle only patches its two sequence numbers, so
     // the count is the adapter's work, not the originator's.
     let mut rx = [0u8; 64];

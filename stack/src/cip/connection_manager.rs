@@ -222,8 +222,10 @@ pub(crate) fn embedded_request<'a>(req: &Request<'a>, depth: u8) -> CipResult<&'
     if depth >= MAX_DEPTH {
         return Err(General::ServiceNotSupported.into());
     }
-    if req.path.instance_or_point() != Some(1) {
-        return Err(General::ObjectDoesNotExist.into());
+    match req.path.instance_or_point() {
+        Some(1) => {}
+        Some(_) => return Err(General::ObjectDoesNotExist.into()),
+        None => return Err(General::PathDestinationUnknown.into()),
     }
     let mut r = Reader::new(req.data);
     r.u8()?; // priority / time tick

@@ -49,7 +49,7 @@ impl<D: Device> Object for Router<'_, '_, D> {
             return Ok(());
         }
         let vendor = self.ctx.device.classes();
-        w.u16((STANDARD_CLASSES.len() + vendor.len()) as u16)?;
+        w.u16(STANDARD_CLASSES.len().saturating_add(vendor.len()) as u16)?;
         for c in STANDARD_CLASSES.iter().chain(vendor.iter().map(|c| &c.id)) {
             w.u16(*c)?;
         }
@@ -77,7 +77,10 @@ pub(crate) fn handle<D: Device>(
 }
 
 /// Multiple_Service_Packet: runs each embedded request in order and replies with a count, an
-/// offset table and every embedded response; 0x1E if any embedded service failed.
+/// offset table and every embedded response; 0x1E if any embedded service failed. A count of
+/// 0 is an invalid parameter (0x20), an offset table or an offset beyond the data not enough
+/// data (0x13), more services than [`MAX_MULTIPLE_SERVICES`] resource unavailable (0x02),
+/// offsets into the table or not increasing an invalid parameter (0x20).
 fn multiple_service_packet<D: Device>(
     ctx: &mut Ctx<'_, D>,
     data: &[u8],
@@ -89,10 +92,17 @@ fn multiple_service_packet<D: Device>(
     }
     let mut r = Reader::new(data);
     let count = usize::from(r.u16()?);
-    if count == 0 || count > MAX_MULTIPLE_SERVICES {
+    if count == 0 {
         return Err(General::InvalidParameter.into());
     }
-    let table_len = 2 + 2 * count;
+    if r.remaining() < 2 * count {
+        return Err(General::NotEnoughData.into());
+    }
+    if count > MAX_MULTIPLE_SERVICES {
+        return Err(General::ResourceUnavailable.into());
+    }
+    // `count` is at most MAX_MULTIPLE_SERVICES here: no overflow.
+    let table_len = count.saturating_mul(2).saturating_add(2);
     let mut offsets = [0usize; MAX_MULTIPLE_SERVICES + 1];
     for slot in offsets.iter_mut().take(count) {
         *slot = usize::from(r.u16()?);
@@ -101,6 +111,9 @@ fn multiple_service_packet<D: Device>(
         *end = data.len();
     }
     let bounds = offsets.get(..=count).unwrap_or(&[]);
+    if bounds.iter().any(|&o| o > data.len()) {
+        return Err(General::NotEnoughData.into());
+    }
     if bounds.first().is_some_and(|&o| o < table_len)
         || bounds.windows(2).any(|p| matches!(p, [a, b] if a >= b))
     {
@@ -116,9 +129,13 @@ fn multiple_service_packet<D: Device>(
             _ => &[],
         };
         let at = w.len();
-        w.patch_u16(base + 2 + 2 * i, (at - base) as u16);
-        respond(ctx, sub, w, depth + 1)?;
-        failed |= w.written().get(at + 2).is_some_and(|&s| s != 0);
+        let entry = base.saturating_add(2).saturating_add(i.saturating_mul(2));
+        w.patch_u16(entry, at.saturating_sub(base) as u16);
+        respond(ctx, sub, w, depth.saturating_add(1))?;
+        failed |= w
+            .written()
+            .get(at.saturating_add(2))
+            .is_some_and(|&s| s != 0);
     }
     if failed {
         return Err(CipError::new(General::EmbeddedServiceError).keeping_data());

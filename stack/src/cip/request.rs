@@ -26,8 +26,17 @@ impl<'a> Path<'a> {
     /// segment, or a path with neither class nor symbol is a path segment error (0x04).
     pub fn parse(raw: &'a [u8]) -> CipResult<Path<'a>> {
         let mut p = Path::default();
-        for seg in Segments::new(raw) {
-            match seg.map_err(|_| CipError::new(General::PathSegmentError))? {
+        let mut segments = Segments::new(raw);
+        loop {
+            // Most paths are 8-bit logical segments only: those skip the general decoder.
+            let seg = match segments.next_logical8() {
+                Some((kind, v)) => Segment::Logical(kind, v),
+                None => match segments.next() {
+                    Some(seg) => seg.map_err(|_| CipError::new(General::PathSegmentError))?,
+                    None => break,
+                },
+            };
+            match seg {
                 Segment::Logical(kind, v) => {
                     let slot = match kind {
                         LogicalType::Class => &mut p.class,
@@ -81,11 +90,19 @@ pub struct Request<'a> {
 }
 
 impl<'a> Request<'a> {
-    /// Frames a request: Err carries the service code (if any) and the status to answer with.
+    /// Frames a request: Err carries the service code (if any) and the status to answer with:
+    /// no path size byte is not enough data (0x13), a path size beyond the request path size
+    /// invalid (0x26), a segment that cannot be decoded a path segment error (0x04).
     pub fn parse(buf: &'a [u8]) -> Result<Request<'a>, (u8, CipError)> {
         let service = buf.first().copied().unwrap_or(0);
-        let packet = RequestPacket::new_checked(buf)
-            .map_err(|_| (service, CipError::new(General::PathSegmentError)))?;
+        let packet = RequestPacket::new_checked(buf).map_err(|_| {
+            let general = if buf.len() < 2 {
+                General::NotEnoughData
+            } else {
+                General::PathSizeInvalid
+            };
+            (service, CipError::new(general))
+        })?;
         let repr = RequestRepr::parse(&packet);
         let path = Path::parse(repr.path).map_err(|e| (service, e))?;
         Ok(Request {
@@ -122,7 +139,7 @@ mod tests {
         assert_eq!(e(&[0x0E, 2, 0x20, 1, 0x20, 2]), 0x04); // class twice
         assert_eq!(e(&[0x0E, 1, 0x24, 1]), 0x04); // no class
         assert_eq!(e(&[0x0E, 2, 0x20, 1, 0x01, 0]), 0x04); // port segment
-        assert_eq!(e(&[0x0E, 5, 0x20, 1]), 0x04); // path longer than message
-        assert_eq!(e(&[0x0E]), 0x04);
+        assert_eq!(e(&[0x0E, 5, 0x20, 1]), 0x26); // path longer than message
+        assert_eq!(e(&[0x0E]), 0x13);
     }
 }

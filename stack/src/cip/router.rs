@@ -40,7 +40,7 @@ fn respond_to<D: Device>(
         let inner = connection_manager::embedded_request(req, depth)
             .and_then(|bytes| Request::parse(bytes).map_err(|(_, e)| e));
         return match inner {
-            Ok(inner) => respond_to(ctx, &inner, w, depth + 1),
+            Ok(inner) => respond_to(ctx, &inner, w, depth.saturating_add(1)),
             Err(e) => finish(w, start, req.service, Err(e)),
         };
     }
@@ -60,8 +60,12 @@ fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> w
             for (dst, src) in words.chunks_exact_mut(2).zip(e.additional()) {
                 dst.copy_from_slice(&src.to_le_bytes());
             }
-            w.insert(start + 4, words.get(..2 * n).unwrap_or(&[]))?;
-            w.patch_u16(start + 2, u16::from(e.general) | ((n as u16) << 8));
+            let words = words.get(..n.saturating_mul(2)).unwrap_or(&[]);
+            w.insert(start.saturating_add(4), words)?;
+            w.patch_u16(
+                start.saturating_add(2),
+                u16::from(e.general) | ((n as u16) << 8),
+            );
             w.patch_u16(start, u16::from(service | REPLY_BIT));
             return Ok(());
         }
@@ -72,7 +76,7 @@ fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> w
         }
     };
     w.patch_u16(start, u16::from(service | REPLY_BIT));
-    w.patch_u16(start + 2, u16::from(general));
+    w.patch_u16(start.saturating_add(2), u16::from(general));
     Ok(())
 }
 

@@ -8,7 +8,8 @@
 //! no attribute in the path 0x05, unknown attribute 0x14, Get of a write-only attribute
 //! 0x2C, Set of a read-only one 0x0E, value shorter than its type 0x13 or longer 0x15, then
 //! the object's verdict on the value (0x09 invalid, 0x0C object state, 0x10 device state),
-//! reply too large 0x11, and anything else 0x08 (service not supported). A failed Set
+//! reply too large 0x11, and anything else 0x08 (service not supported). Get_Attribute_Single
+//! and Get_Attributes_All carrying data are too much data (0x15). A failed Set
 //! changes nothing; Set_Attribute_List applies each entry on its own, as CIP specifies.
 
 use super::object::{Access, AttributeDef, ClassDef, DataType};
@@ -111,6 +112,9 @@ pub(crate) fn attribute_services(
             obj.set(instance, &attr, req.data)
         }
         service::GET_ATTRIBUTES_ALL if !obj.class().get_all.is_empty() => {
+            if !req.data.is_empty() {
+                return Err(General::TooMuchData.into());
+            }
             let def = *obj.class();
             for &id in def.get_all {
                 let attr = def.attribute(id).ok_or(unsupported())?;
@@ -232,7 +236,7 @@ fn set_list(obj: &mut impl Object, instance: u32, data: &[u8], w: &mut Writer<'_
             Ok(attr) => attr,
             Err(e) => {
                 w.u16(u16::from(e.general))?;
-                w.patch_u16(count_at, done + 1);
+                w.patch_u16(count_at, done.saturating_add(1));
                 return Err(CipError::new(General::AttributeListError).keeping_data());
             }
         };
@@ -255,7 +259,7 @@ fn set_list(obj: &mut impl Object, instance: u32, data: &[u8], w: &mut Writer<'_
             w.u16(u16::from(e.general))?;
             failed = true;
             if value.is_none() {
-                w.patch_u16(count_at, done + 1);
+                w.patch_u16(count_at, done.saturating_add(1));
                 break;
             }
         } else {

@@ -56,11 +56,13 @@ pub enum General {
     /// Embedded service error (Multiple_Service_Packet).
     EmbeddedServiceError = 0x1E,
     /// Routing failure, request packet too large.
-    RequestTooLarge = 0x25,
+    RequestTooLarge = 0x1A,
+    /// Missing attribute list entry data.
+    MissingAttributeListEntryData = 0x1C,
+    /// Path size invalid: the request path's size does not fit the request.
+    PathSizeInvalid = 0x26,
     /// Unexpected attribute in list.
-    UnexpectedAttributeInList = 0x26,
-    /// Path size invalid.
-    PathSizeInvalid = 0x1C,
+    UnexpectedAttributeInList = 0x27,
     /// Attribute not gettable.
     AttributeNotGettable = 0x2C,
 }
@@ -165,3 +167,20 @@ impl From<crate::wire::Error> for CipError {
 
 /// Result of a CIP service.
 pub type CipResult<T = ()> = core::result::Result<T, CipError>;
+
+#[cfg(test)]
+mod tests {
+    use super::General;
+
+    /// The codes whose numbers are easy to mix up, against Vol 1 appendix B.
+    #[test]
+    fn codes_match_the_specification() {
+        assert_eq!(General::StoreOperationFailure as u8, 0x19);
+        assert_eq!(General::RequestTooLarge as u8, 0x1A);
+        assert_eq!(General::MissingAttributeListEntryData as u8, 0x1C);
+        assert_eq!(General::EmbeddedServiceError as u8, 0x1E);
+        assert_eq!(General::PathSizeInvalid as u8, 0x26);
+        assert_eq!(General::UnexpectedAttributeInList as u8, 0x27);
+        assert_eq!(General::AttributeNotGettable as u8, 0x2C);
+    }
+}

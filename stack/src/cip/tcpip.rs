@@ -49,7 +49,7 @@ pub struct MulticastConfig {
 
 /// Settable TCP/IP object state.
 ///
-/// Attributes 3, 5, 6 and 13 are saved to the adapter's [`crate::nv::NvStore`] (when it has
+/// Attributes 3, 5, 6, 8, 9 and 13 are saved to the adapter's [`crate::nv::NvStore`] (when it has
 /// one) before a Set is answered. Attributes 3 and 5 apply at the next reset (capability bit
 /// 6): the runtime reads them at start with [`TcpIpState::stored`] and
 /// [`TcpIpState::static_interface`]; until then status bit 5 says a change is pending.
@@ -96,7 +96,8 @@ impl TcpIpState {
         }
         let host = u32::from(net.ip) & !u32::from(net.netmask);
         let host_id = host.wrapping_sub(1) & 0x3FF;
-        Ipv4Addr::from(CIP_MCAST_BASE + (host_id << 5))
+        // host_id < 0x400: the sum stays inside 239.192.0.0/14, far below u32::MAX.
+        Ipv4Addr::from(CIP_MCAST_BASE.wrapping_add(host_id << 5))
     }
 
     /// The first multicast address and the TTL in use: the device's when it keeps them
@@ -214,12 +215,15 @@ impl<D: Device> Object for TcpIp<'_, '_, D> {
         Ok(())
     }
 
+    /// Every settable attribute is non-volatile (Vol 2 table 5-4.3): the Set is saved before
+    /// it is answered, or undone and refused with 0x19.
     fn set(&mut self, _instance: u32, attr: &AttributeDef, value: &[u8]) -> CipResult {
-        if !matches!(attr.id, 3 | 5 | 6 | 13) {
-            return self.set_volatile(attr, value);
-        }
         let before = self.0.state.tcpip.clone();
-        self.set_stored(attr, value)?;
+        if matches!(attr.id, 8 | 9) {
+            self.set_multicast(attr, value)?;
+        } else {
+            self.set_interface(attr, value)?;
+        }
         let ctx = &mut *self.0;
         if let Some(store) = ctx.store.as_deref_mut() {
             if ctx.state.tcpip.save(store).is_err() {
@@ -233,8 +237,8 @@ impl<D: Device> Object for TcpIp<'_, '_, D> {
 }
 
 impl<D: Device> TcpIp<'_, '_, D> {
-    /// Sets attribute 3, 5, 6 or 13 (the stored ones) in RAM.
-    fn set_stored(&mut self, attr: &AttributeDef, value: &[u8]) -> CipResult {
+    /// Sets attribute 3, 5, 6 or 13 in RAM.
+    fn set_interface(&mut self, attr: &AttributeDef, value: &[u8]) -> CipResult {
         let st = &mut self.0.state.tcpip;
         match attr.id {
             3 => {
@@ -277,8 +281,8 @@ impl<D: Device> TcpIp<'_, '_, D> {
         }
     }
 
-    /// Sets attribute 8 or 9 (kept in RAM, or by the device).
-    fn set_volatile(&mut self, attr: &AttributeDef, value: &[u8]) -> CipResult {
+    /// Sets attribute 8 or 9 (in RAM, or by the device when it keeps them).
+    fn set_multicast(&mut self, attr: &AttributeDef, value: &[u8]) -> CipResult {
         let st = &mut self.0.state.tcpip;
         match attr.id {
             8 => match value.first().copied().unwrap_or(0) {
@@ -317,7 +321,7 @@ impl<D: Device> TcpIp<'_, '_, D> {
 }
 
 /// Alloc control 0 takes no range; 1 takes a non-empty range inside 239.192.0.0/14.
-fn valid_mcast(m: &MulticastConfig) -> bool {
+pub(crate) fn valid_mcast(m: &MulticastConfig) -> bool {
     let start = u32::from(m.start);
     match m.alloc_control {
         0 => m.num_mcast == 0 && start == 0,

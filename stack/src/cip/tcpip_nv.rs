@@ -1,12 +1,12 @@
 //! The TCP/IP object's settings that survive a power cycle: attribute 5's interface
 //! configuration and its validity rules, and the [`crate::nv`] record holding attributes 3,
-//! 5, 6 and 13.
+//! 5, 6, 8, 9 and 13.
 
 use core::net::Ipv4Addr;
 
 use super::encoding::{ip, padded_string};
 use super::status::{CipResult, General};
-use super::tcpip::TcpIpState;
+use super::tcpip::{valid_mcast, MulticastConfig, TcpIpState};
 use crate::config::{MAX_DOMAIN_NAME, MAX_HOST_NAME};
 use crate::nv::{key, NvError, NvStore};
 use crate::wire::bytes::{get_u16, get_u32};
@@ -14,10 +14,10 @@ use crate::wire::{Reader, Writer};
 
 /// Bytes of attribute 5 before the domain name: address, mask, gateway, two name servers.
 pub const INTERFACE_FIXED: u16 = 20;
-/// Layout version of the stored record.
-const RECORD_VERSION: u8 = 1;
+/// Layout version of the stored record: 2 adds attributes 8 and 9 to version 1's.
+const RECORD_VERSION: u8 = 2;
 /// Largest stored record.
-const RECORD_MAX: usize = 1 + 4 + 20 + 1 + MAX_DOMAIN_NAME + 1 + MAX_HOST_NAME + 2;
+const RECORD_MAX: usize = 1 + 4 + 20 + 1 + MAX_DOMAIN_NAME + 1 + MAX_HOST_NAME + 2 + 1 + 8;
 
 /// Attribute 5: the interface configuration (all zero: none configured).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -47,11 +47,11 @@ impl InterfaceConfig {
     /// Parses a Set value (20 bytes and a padded STRING, length already checked) and
     /// checks it: 0x09 for an address that cannot be this interface's.
     pub fn parse(value: &[u8]) -> CipResult<Self> {
-        let at = |i: usize| Ipv4Addr::from(get_u32(value, 4 * i));
+        let at = |i: usize| Ipv4Addr::from(get_u32(value, i.saturating_mul(4)));
         let fixed = usize::from(INTERFACE_FIXED);
         let len = usize::from(get_u16(value, fixed));
         let name = value
-            .get(fixed + 2..fixed + 2 + len)
+            .get(fixed.saturating_add(2)..fixed.saturating_add(2).saturating_add(len))
             .ok_or(General::NotEnoughData)?;
         let config = InterfaceConfig {
             ip: at(0),
@@ -140,7 +140,7 @@ impl TcpIpState {
         Ok(Some(state))
     }
 
-    /// Stores attributes 3, 5, 6 and 13 in `store`.
+    /// Stores attributes 3, 5, 6, 8, 9 and 13 in `store`.
     pub fn save(&self, store: &mut dyn NvStore) -> Result<(), NvError> {
         let mut buf = [0u8; RECORD_MAX];
         let mut w = Writer::new(&mut buf);
@@ -166,13 +166,18 @@ impl TcpIpState {
         w.bytes(&i.domain)?;
         w.u8(self.host_name.len() as u8)?;
         w.bytes(&self.host_name)?;
-        w.u16(self.inactivity_timeout_s)
+        w.u16(self.inactivity_timeout_s)?;
+        w.u8(self.ttl)?;
+        w.u8(self.mcast.alloc_control)?;
+        w.u16(self.mcast.num_mcast)?;
+        w.u32(u32::from(self.mcast.start))
     }
 
     /// Reads a stored record into `self`; `None` (and `self` partly changed) if malformed.
     fn decode(&mut self, bytes: &[u8]) -> Option<()> {
         let mut r = Reader::new(bytes);
-        if r.u8().ok()? != RECORD_VERSION {
+        let version = r.u8().ok()?;
+        if !matches!(version, 1 | RECORD_VERSION) {
             return None;
         }
         self.config_control = r.u32().ok()?;
@@ -190,9 +195,19 @@ impl TcpIpState {
         let len = usize::from(r.u8().ok()?);
         self.host_name = heapless::Vec::from_slice(r.take(len).ok()?).ok()?;
         self.inactivity_timeout_s = r.u16().ok()?;
+        if version == RECORD_VERSION {
+            self.ttl = r.u8().ok()?;
+            self.mcast = MulticastConfig {
+                alloc_control: r.u8().ok()?,
+                num_mcast: r.u16().ok()?,
+                start: Ipv4Addr::from(r.u32().ok()?),
+            };
+        }
         let sane = (self.interface.is_none() || self.interface.is_valid())
             && valid_name(&self.host_name)
-            && self.inactivity_timeout_s <= super::tcpip::MAX_INACTIVITY_TIMEOUT_S;
+            && self.inactivity_timeout_s <= super::tcpip::MAX_INACTIVITY_TIMEOUT_S
+            && self.ttl != 0
+            && valid_mcast(&self.mcast);
         sane.then_some(())
     }
 }
@@ -246,6 +261,12 @@ mod tests {
         st.interface.domain = heapless::Vec::from_slice(b"plant.example").unwrap();
         st.host_name = heapless::Vec::from_slice(b"press-4").unwrap();
         st.inactivity_timeout_s = 30;
+        st.ttl = 5;
+        st.mcast = MulticastConfig {
+            alloc_control: 1,
+            num_mcast: 4,
+            start: Ipv4Addr::new(239, 192, 3, 0),
+        };
         st.save(&mut store).unwrap();
         let mut store = AbStore::mount(store.into_flash());
         let back = TcpIpState::stored(&mut store).unwrap().unwrap();
@@ -254,6 +275,7 @@ mod tests {
             (back.host_name, back.inactivity_timeout_s),
             (st.host_name, 30)
         );
+        assert_eq!((back.ttl, back.mcast), (5, st.mcast));
         store.write(key::TCP_IP, &[RECORD_VERSION, 0]).unwrap();
         assert_eq!(TcpIpState::stored(&mut store), Ok(None));
     }

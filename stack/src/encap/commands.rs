@@ -22,18 +22,16 @@ const STATE_OPERATIONAL: u8 = 3;
 type TcpAction = (usize, bool);
 
 impl<D: Device> Adapter<D> {
-    /// Handles one complete frame from TCP socket `index`.
+    /// Handles one complete frame from TCP socket `index`, whose `header` the caller parsed.
     pub(crate) fn tcp_frame(
         &mut self,
         index: usize,
+        header: &Repr,
         frame: &[u8],
         now: Instant,
         reply: &mut [u8],
     ) -> TcpAction {
         self.objects.link.count_in(frame.len(), true);
-        let Ok(header) = Repr::parse_header(frame) else {
-            return (0, true);
-        };
         if header.options != 0 {
             // Vol 2, 2-3.6: a frame with non-zero options is discarded.
             self.objects.link.count_discard();
@@ -47,30 +45,28 @@ impl<D: Device> Adapter<D> {
                 self.list_identity_reply(header.session_handle, header.sender_context, reply),
                 false,
             ),
-            command::LIST_SERVICES => (list_services_reply(&header, reply), false),
-            command::LIST_INTERFACES => (list_interfaces_reply(&header, reply), false),
-            command::REGISTER_SESSION => {
-                (self.register_session(index, &header, data, reply), false)
-            }
+            command::LIST_SERVICES => (list_services_reply(header, reply), false),
+            command::LIST_INTERFACES => (list_interfaces_reply(header, reply), false),
+            command::REGISTER_SESSION => (self.register_session(index, header, data, reply), false),
             command::UNREGISTER_SESSION if session.is_some_and(|h| h == header.session_handle) => {
                 (0, true)
             }
             command::UNREGISTER_SESSION | command::SEND_RR_DATA | command::SEND_UNIT_DATA
                 if session.is_none_or(|h| h != header.session_handle) =>
             {
-                (error_reply(&header, status::INVALID_SESSION, reply), false)
+                (error_reply(header, status::INVALID_SESSION, reply), false)
             }
             command::SEND_RR_DATA => {
-                let len = self.send_rr_data(index, &header, data, now, reply);
+                let len = self.send_rr_data(index, header, data, now, reply);
                 self.after_explicit_request();
                 (len, false)
             }
             command::SEND_UNIT_DATA => {
-                let len = self.send_unit_data(index, &header, data, now, reply);
+                let len = self.send_unit_data(index, header, data, now, reply);
                 self.after_explicit_request();
                 (len, false)
             }
-            _ => (error_reply(&header, status::INVALID_COMMAND, reply), false),
+            _ => (error_reply(header, status::INVALID_COMMAND, reply), false),
         };
         if action.0 > 0 {
             self.objects.link.count_out(action.0);
@@ -244,7 +240,7 @@ impl<D: Device> Adapter<D> {
             cpf::emit_item_header(w, item_type::UNCONNECTED_DATA, 0)?;
             let at = w.len();
             router::respond(&mut ctx, request, w, 0)?;
-            w.patch_u16(at - 2, (w.len() - at) as u16);
+            w.patch_item_len(at);
             if let Some(sockaddr) = ctx.reply_t_o_sockaddr {
                 w.patch_u16(count_at, 3);
                 cpf::emit_item_header(w, item_type::SOCKADDR_T_O, cpf::SOCKADDR_LEN as u16)?;
@@ -295,7 +291,7 @@ impl<D: Device> Adapter<D> {
                 with_body(&header.reply(status::SUCCESS, 0), out, |w| {
                     let at = body(w, t_o_id)?;
                     w.bytes(cached)?;
-                    w.patch_u16(at - 2, (w.len() - at) as u16);
+                    w.patch_item_len(at);
                     Ok(())
                 })
             }
@@ -309,9 +305,9 @@ impl<D: Device> Adapter<D> {
                 let mut reply_at = 0;
                 let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
                     let at = body(w, t_o_id)?;
-                    reply_at = at + 2;
+                    reply_at = at.saturating_add(2);
                     router::respond(&mut ctx, request, w, 0)?;
-                    w.patch_u16(at - 2, (w.len() - at) as u16);
+                    w.patch_item_len(at);
                     Ok(())
                 });
                 let reply = out.get(reply_at..len).unwrap_or(&[]);
@@ -388,7 +384,7 @@ fn with_body(
         return 0;
     }
     let len = w.len();
-    let Ok(length) = u16::try_from(len - HEADER_LEN) else {
+    let Ok(length) = u16::try_from(len.saturating_sub(HEADER_LEN)) else {
         return 0;
     };
     match (Repr { length, ..*header }).emit(out) {

@@ -11,8 +11,8 @@ use crate::wire::encap::{Repr, HEADER_LEN};
 pub enum Need {
     /// This many more bytes.
     Bytes(usize),
-    /// The frame is complete.
-    Complete,
+    /// The frame is complete; its header, parsed once for whoever handles it.
+    Complete(Repr),
     /// The header declares more data than the stack accepts.
     TooLong,
 }
@@ -49,16 +49,17 @@ impl Slot {
 /// What a frame whose first bytes are `rx` still needs.
 pub fn frame_need(rx: &[u8]) -> Need {
     if rx.len() < HEADER_LEN {
-        return Need::Bytes(HEADER_LEN - rx.len());
+        return Need::Bytes(HEADER_LEN.saturating_sub(rx.len()));
     }
-    let length = Repr::parse_header(rx)
-        .map(|h| usize::from(h.length))
-        .unwrap_or(0);
+    let Ok(header) = Repr::parse_header(rx) else {
+        return Need::Bytes(HEADER_LEN.saturating_sub(rx.len()));
+    };
+    let length = usize::from(header.length);
     if length > MAX_ENCAP_DATA {
         return Need::TooLong;
     }
     match (HEADER_LEN + length).checked_sub(rx.len()) {
-        Some(0) | None => Need::Complete,
+        Some(0) | None => Need::Complete(header),
         Some(n) => Need::Bytes(n),
     }
 }
@@ -94,7 +95,7 @@ impl Sessions {
     pub fn new_handle(&mut self, index: usize) -> u32 {
         loop {
             self.next_handle = self.next_handle.wrapping_add(0x100);
-            let h = (self.next_handle & !0xFF) | (index as u32 + 1);
+            let h = (self.next_handle & !0xFF) | (index as u32).wrapping_add(1);
             if h != 0 && !self.slots.iter().any(|s| s.handle == Some(h)) {
                 return h;
             }
@@ -120,7 +121,7 @@ mod tests {
         h[2] = 6;
         assert_eq!(frame_need(&h[..10]), Need::Bytes(14));
         assert_eq!(frame_need(&h[..24]), Need::Bytes(6));
-        assert_eq!(frame_need(&h[..30]), Need::Complete);
+        assert!(matches!(frame_need(&h[..30]), Need::Complete(_)));
         h[2] = 0xFF;
         h[3] = 0xFF;
         assert_eq!(frame_need(&h[..24]), Need::TooLong);

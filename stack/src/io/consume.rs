@@ -53,20 +53,23 @@ pub fn consume<D: Device>(
     now: Instant,
 ) -> Result<Accepted, Discard> {
     let packet = Packet::new_checked(datagram).map_err(|_| Discard::Malformed)?;
-    let slot = table
-        .find_o_t(packet.connection_id())
+    let (slot, conn) = table
+        .find_o_t_mut(packet.connection_id())
         .ok_or(Discard::UnknownConnection)?;
-    let conn = table.get_mut(slot).ok_or(Discard::UnknownConnection)?;
     if conn.originator != *from.ip() {
         return Err(Discard::UnknownConnection);
     }
-    let timeout = conn.timeout;
     let Transport::Class1 { consumer: c, .. } = &mut conn.transport else {
         return Err(Discard::UnknownConnection);
     };
     let data = packet.connected_data();
-    let header = if c.run_idle { RUN_IDLE_LEN } else { 0 };
-    if data.len() != SEQUENCE_LEN + header + usize::from(c.size) {
+    // Small constants and a u16: the sum cannot overflow.
+    let header = if c.run_idle {
+        SEQUENCE_LEN + RUN_IDLE_LEN
+    } else {
+        SEQUENCE_LEN
+    };
+    if data.len() != header.saturating_add(usize::from(c.size)) {
         return Err(Discard::WrongSize);
     }
     let encap = packet.encap_sequence();
@@ -76,7 +79,8 @@ pub fn consume<D: Device>(
         return Err(Discard::Stale);
     }
     c.last_encap_sequence = Some(encap);
-    conn.expires = now.add(timeout);
+    let expires = now.add(conn.timeout);
+    conn.expires = expires;
     conn.last_activity = now;
 
     let sequence = get_u16(data, 0);
@@ -88,7 +92,7 @@ pub fn consume<D: Device>(
         c.last_sequence = Some(sequence);
     }
     let (instance, size, run_idle) = (c.instance, c.size, c.run_idle);
-    table.note_expiry(now.add(timeout));
+    table.set_expiry(slot, expires);
     if run_changed && run_idle {
         device.connection_event(ConnectionEvent::RunIdle(run));
     }
@@ -96,7 +100,7 @@ pub fn consume<D: Device>(
         return Ok(Accepted::NoNewData);
     }
     if size > 0 {
-        let payload = data.get(SEQUENCE_LEN + header..).unwrap_or(&[]);
+        let payload = data.get(header..).unwrap_or(&[]);
         // A device that refuses the data keeps its previous outputs; the connection goes on.
         let _ = device.write_assembly(instance, payload);
     }

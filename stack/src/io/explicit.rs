@@ -33,8 +33,7 @@ pub fn lookup(
     sequence: u16,
     now: Instant,
 ) -> Option<Step> {
-    let slot = table.find_o_t(o_t_id)?;
-    let conn = table.get_mut(slot)?;
+    let (slot, conn) = table.find_o_t_mut(o_t_id)?;
     let Transport::Class3 { last_sequence } = &conn.transport else {
         return None;
     };
@@ -46,7 +45,7 @@ pub fn lookup(
     conn.expires = expires;
     conn.last_activity = now;
     let t_o_id = conn.t_o_id;
-    table.note_expiry(expires);
+    table.set_expiry(slot, expires);
     Some(if repeat {
         Step::Repeat { slot, t_o_id }
     } else {

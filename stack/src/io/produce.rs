@@ -17,8 +17,13 @@ fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
     if next > now {
         return next;
     }
-    let missed = now.since(previous).as_micros() / rpi + 1;
-    previous.add(Duration::from_micros(missed * rpi))
+    let missed = now
+        .since(previous)
+        .as_micros()
+        .checked_div(rpi)
+        .unwrap_or(0)
+        .saturating_add(1);
+    previous.add(Duration::from_micros(missed.saturating_mul(rpi)))
 }
 
 /// Writes the most overdue datagram into `out` and returns where it goes and its length;
@@ -33,26 +38,11 @@ pub fn produce_due<D: Device>(
         return None;
     }
     // The most overdue producer, and when the next of the others is due.
-    let mut first: Option<(usize, Instant)> = None;
-    let mut others = Instant(u64::MAX);
-    for (i, at) in table
-        .iter()
-        .filter_map(|(i, c)| c.producer().map(|p| (i, p.due_at())))
-    {
-        match first {
-            Some((_, best)) if best <= at => others = others.min(at),
-            _ => {
-                if let Some((_, best)) = first {
-                    others = others.min(best);
-                }
-                first = Some((i, at));
-            }
-        }
-    }
-    let Some((slot, _)) = first.filter(|&(_, at)| at <= now) else {
-        table.production_bound = first.map_or(Instant(u64::MAX), |(_, at)| at);
+    let (slot, first, others) = table.earliest_due();
+    if first > now {
+        table.production_bound = first;
         return None;
-    };
+    }
     let conn = table.get_mut(slot)?;
     let (t_o_id, rpi) = (conn.t_o_id, conn.t_o_rpi);
     let Transport::Class1 {
@@ -77,7 +67,14 @@ pub fn produce_due<D: Device>(
             data.len()
         }
     };
-    emit_header(out, t_o_id, p.encap_sequence, SEQUENCE_LEN + size).ok()?;
+    // `size` is at most the connection's u16 size: no overflow in these sums.
+    emit_header(
+        out,
+        t_o_id,
+        p.encap_sequence,
+        SEQUENCE_LEN.saturating_add(size),
+    )
+    .ok()?;
     put_u16(out, HEADER_LEN, p.sequence);
     if triggered {
         p.triggered = false;
@@ -87,8 +84,9 @@ pub fn produce_due<D: Device>(
         p.next = advance(p.next, rpi, now);
     }
     let (to, due) = (p.destination, p.due_at());
-    table.production_bound = others.min(due);
-    Some((to, data_at + size))
+    table.production_bound = others;
+    table.set_due(slot, due);
+    Some((to, data_at.saturating_add(size)))
 }
 
 /// Marks the producers of assembly `instance` with a change-of-state or application trigger
@@ -103,7 +101,7 @@ pub fn trigger_all(table: &mut ConnectionTable) {
 }
 
 fn trigger_where(table: &mut ConnectionTable, pick: impl Fn(&Producer) -> bool) {
-    for slot in 0..crate::config::MAX_CONNECTIONS {
+    for slot in table.slots_in_use() {
         if let Some(Transport::Class1 {
             producer: Some(p), ..
         }) = table.get_mut(slot).map(|c| &mut c.transport)
@@ -111,7 +109,7 @@ fn trigger_where(table: &mut ConnectionTable, pick: impl Fn(&Producer) -> bool) 
             if p.trigger != Trigger::Cyclic && pick(p) {
                 p.triggered = true;
                 let due = p.due_at();
-                table.production_bound = table.production_bound.min(due);
+                table.set_due(slot, due);
             }
         }
     }

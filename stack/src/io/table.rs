@@ -1,6 +1,6 @@
 //! The fixed-size connection table: lookup, ID allocation, closing with dependants.
 
-use super::connection::{Connection, Kind, Transport};
+use super::connection::{Connection, Kind, Producer, Transport};
 use crate::config::{MAX_CONNECTIONS, MAX_EXPLICIT_CONNECTED};
 use crate::device::{CloseReason, ConnectionEvent, ConnectionInfo, Device};
 use crate::time::Instant;
@@ -37,13 +37,22 @@ pub struct ConnectionTable {
     /// Exclusive-owner connections closed by their watchdog so far (wrapping).
     owner_timeouts: u32,
     timeouts: u16,
-    /// No producer is due before this instant: exact after each production scan, lowered
-    /// when a connection opens or a producer is triggered.
-    pub(crate) production_bound: Instant,
-    /// No watchdog expires before this instant. Traffic only moves an expiry later, so it
-    /// stays a lower bound until a connection is inserted; [`ConnectionTable::expire`]
-    /// rescans only once it is reached.
+    /// Per slot: when its producer is next due (`Instant::NEVER` for none). Kept beside the
+    /// connections so the earliest deadline is a scan of one small array.
+    due: [Instant; MAX_CONNECTIONS],
+    /// Per slot: when its watchdog fires (`Instant::NEVER` for an empty slot); mirrors
+    /// [`Connection::expires`], kept by `insert` and [`ConnectionTable::set_expiry`].
+    expiry: [Instant; MAX_CONNECTIONS],
+    /// No watchdog fires before this instant: a lower bound that every move of an expiry
+    /// keeps, so [`ConnectionTable::expire`] looks at the slots only once it is reached.
     expiry_bound: Instant,
+    /// No producer is due before this instant: exact after each production, lowered when a
+    /// producer's due time moves earlier.
+    pub(crate) production_bound: Instant,
+    /// One past the highest occupied slot: the deadline scans stop there.
+    used: usize,
+    /// Some connection produces to a multicast group.
+    multicast: bool,
 }
 
 impl ConnectionTable {
@@ -56,8 +65,12 @@ impl ConnectionTable {
             replies: [const { heapless::Vec::new() }; MAX_CONNECTIONS],
             owner_timeouts: 0,
             timeouts: 0,
-            expiry_bound: Instant(u64::MAX),
-            production_bound: Instant(u64::MAX),
+            due: [Instant::NEVER; MAX_CONNECTIONS],
+            expiry: [Instant::NEVER; MAX_CONNECTIONS],
+            expiry_bound: Instant::NEVER,
+            production_bound: Instant::NEVER,
+            used: 0,
+            multicast: false,
         }
     }
     /// Open connections with their slot numbers.
@@ -79,9 +92,17 @@ impl ConnectionTable {
     pub fn len(&self) -> usize {
         self.iter().count()
     }
+    /// True if some open connection produces to a multicast group.
+    pub fn produces_multicast(&self) -> bool {
+        self.multicast
+    }
     /// True if no connection is open.
     pub fn is_empty(&self) -> bool {
-        self.len() == 0
+        self.used == 0
+    }
+    /// Slot numbers that can hold a connection: those below the highest occupied one.
+    pub(crate) fn slots_in_use(&self) -> core::ops::Range<usize> {
+        0..self.used
     }
     /// The slot of the connection with `triad`.
     pub fn find_triad(&self, triad: &Triad) -> Option<usize> {
@@ -92,6 +113,12 @@ impl ConnectionTable {
     pub fn find_o_t(&self, id: u32) -> Option<usize> {
         let slot = (id & SLOT_MASK) as usize;
         self.get(slot).filter(|c| c.o_t_id == id).map(|_| slot)
+    }
+    /// Like [`ConnectionTable::find_o_t`], with the connection to update.
+    pub(crate) fn find_o_t_mut(&mut self, id: u32) -> Option<(usize, &mut Connection)> {
+        let slot = (id & SLOT_MASK) as usize;
+        let conn = self.get_mut(slot).filter(|c| c.o_t_id == id)?;
+        Some((slot, conn))
     }
     /// A fresh non-zero connection ID for the connection going into `slot`, that no open
     /// connection uses; its low bits are the slot.
@@ -104,10 +131,34 @@ impl ConnectionTable {
             }
         }
     }
-    /// A watchdog was moved to `at` (traffic on a connection): the table's bound on the
-    /// earliest expiry follows it down.
-    pub(crate) fn note_expiry(&mut self, at: Instant) {
+    /// The watchdog of the connection in `slot` (whose [`Connection::expires`] the caller
+    /// just moved) now fires `at`: traffic can bring it earlier than the first-packet grace.
+    pub(crate) fn set_expiry(&mut self, slot: usize, at: Instant) {
+        if let Some(e) = self.expiry.get_mut(slot) {
+            *e = at;
+        }
         self.expiry_bound = self.expiry_bound.min(at);
+    }
+    /// The producer in `slot` is next due `at` (produced, triggered, opened).
+    pub(crate) fn set_due(&mut self, slot: usize, at: Instant) {
+        if let Some(d) = self.due.get_mut(slot) {
+            *d = at;
+        }
+        self.production_bound = self.production_bound.min(at);
+    }
+    /// The slot whose producer is due first with its time, and when the next of the others
+    /// is due.
+    pub(crate) fn earliest_due(&self) -> (usize, Instant, Instant) {
+        let (mut slot, mut first, mut second) = (0, Instant::NEVER, Instant::NEVER);
+        let used = self.due.get(..self.used).unwrap_or(&self.due);
+        for (i, &at) in used.iter().enumerate() {
+            if at < first {
+                (slot, first, second) = (i, at, first);
+            } else if at < second {
+                second = at;
+            }
+        }
+        (slot, first, second)
     }
     /// The slot [`ConnectionTable::insert`] will use next, if one is free.
     pub fn free_slot(&self) -> Option<usize> {
@@ -116,14 +167,20 @@ impl ConnectionTable {
     /// Stores `conn` in a free slot and returns it; `None` (and `conn` dropped) if full.
     pub fn insert(&mut self, conn: Connection) -> Option<usize> {
         let slot = self.free_slot()?;
-        self.expiry_bound = self.expiry_bound.min(conn.expires);
-        if let Some(p) = conn.producer() {
-            self.production_bound = self.production_bound.min(p.due_at());
+        if let Some(e) = self.expiry.get_mut(slot) {
+            *e = conn.expires;
         }
+        self.expiry_bound = self.expiry_bound.min(conn.expires);
         if let Some(s) = self.slots.get_mut(slot) {
             *s = Some(conn);
         }
-        self.refresh_owned();
+        self.used = self.used.max(slot.saturating_add(1));
+        let due = self
+            .get(slot)
+            .and_then(Connection::producer)
+            .map(Producer::due_at);
+        self.set_due(slot, due.unwrap_or(Instant::NEVER));
+        self.refresh_summary();
         Some(slot)
     }
     /// The cached Class 3 reply of `slot`.
@@ -165,10 +222,10 @@ impl ConnectionTable {
     }
     /// The earliest watchdog expiry or production deadline.
     pub fn next_deadline(&self) -> Option<Instant> {
-        self.iter()
-            .flat_map(|(_, c)| [Some(c.expires), c.producer().map(|p| p.due_at())])
-            .flatten()
-            .min()
+        let due = self.due.get(..self.used).unwrap_or(&self.due);
+        let expiry = self.expiry.get(..self.used).unwrap_or(&self.expiry);
+        let at = due.iter().chain(expiry).copied().min()?;
+        (at != Instant::NEVER).then_some(at)
     }
     /// Closes the connection in `slot` and the listen-only connections that follow its
     /// production, telling `device` when the last exclusive owner goes.
@@ -176,6 +233,7 @@ impl ConnectionTable {
         let Some(conn) = self.slots.get_mut(slot).and_then(Option::take) else {
             return;
         };
+        Self::clear_deadlines(&mut self.due, &mut self.expiry, slot);
         info!(
             "connection {} closed ({:?} from {}): {}",
             slot,
@@ -194,6 +252,7 @@ impl ConnectionTable {
                     c.kind == Kind::ListenOnly && c.t_o_id == conn.t_o_id && c.producer().is_none()
                 });
                 if let Some(c) = s.take_if(|_| follows) {
+                    Self::clear_deadlines(&mut self.due, &mut self.expiry, i);
                     info!(
                         "connection {} closed: {}",
                         i,
@@ -204,21 +263,26 @@ impl ConnectionTable {
                 }
             }
         }
-        self.refresh_owned();
+        self.refresh_summary();
+        self.used = self
+            .slots
+            .iter()
+            .rposition(Option::is_some)
+            .map_or(0, |i| i.saturating_add(1));
         if had_owner && self.owned.is_empty() {
             device.connection_event(ConnectionEvent::OwnershipLost(reason));
         }
     }
     /// Closes every open connection with `reason`.
     pub fn close_all<D: Device>(&mut self, reason: CloseReason, device: &mut D) {
-        for slot in 0..MAX_CONNECTIONS {
+        for slot in self.slots_in_use() {
             self.close(slot, reason, device);
         }
     }
     /// Closes the Class 1 connections whose consumed or produced assembly can no longer carry
     /// the size they opened with ([`CloseReason::Reconfigured`]).
     pub fn close_resized<D: Device>(&mut self, device: &mut D) {
-        for slot in 0..MAX_CONNECTIONS {
+        for slot in self.slots_in_use() {
             let resized = self.get(slot).is_some_and(|c| {
                 let differs = |instance: u16, size: u16| {
                     device
@@ -243,23 +307,21 @@ impl ConnectionTable {
         if now < self.expiry_bound {
             return 0;
         }
-        let mut closed = 0;
-        for slot in 0..MAX_CONNECTIONS {
-            let expired = self.get(slot).filter(|c| c.expires <= now);
-            if let Some(owner) = expired.map(|c| c.kind == Kind::ExclusiveOwner) {
+        let mut closed = 0usize;
+        for slot in self.slots_in_use() {
+            if self.expiry.get(slot).is_none_or(|&at| at > now) {
+                continue;
+            }
+            if let Some(owner) = self.get(slot).map(|c| c.kind == Kind::ExclusiveOwner) {
                 if owner {
                     self.owner_timeouts = self.owner_timeouts.wrapping_add(1);
                 }
                 self.timeouts = self.timeouts.wrapping_add(1);
                 self.close(slot, CloseReason::Timeout, device);
-                closed += 1;
+                closed = closed.saturating_add(1);
             }
         }
-        self.expiry_bound = self
-            .iter()
-            .map(|(_, c)| c.expires)
-            .min()
-            .unwrap_or(Instant(u64::MAX));
+        self.expiry_bound = self.expiry.iter().copied().min().unwrap_or(Instant::NEVER);
         closed
     }
     /// Exclusive-owner connections closed by their watchdog since start-up (wrapping): what
@@ -281,7 +343,7 @@ impl ConnectionTable {
     /// Closes the Class 3 connections of the session on socket `socket`; its Class 1
     /// connections stay open, detached from it.
     pub fn close_session<D: Device>(&mut self, socket: u8, device: &mut D) {
-        for slot in 0..MAX_CONNECTIONS {
+        for slot in self.slots_in_use() {
             let Some(conn) = self.get_mut(slot).filter(|c| c.socket == socket) else {
                 continue;
             };
@@ -294,8 +356,22 @@ impl ConnectionTable {
         }
     }
 
-    fn refresh_owned(&mut self) {
+    /// An emptied slot is never due and never expires.
+    fn clear_deadlines(
+        due: &mut [Instant; MAX_CONNECTIONS],
+        expiry: &mut [Instant; MAX_CONNECTIONS],
+        slot: usize,
+    ) {
+        if let (Some(d), Some(e)) = (due.get_mut(slot), expiry.get_mut(slot)) {
+            (*d, *e) = (Instant::NEVER, Instant::NEVER);
+        }
+    }
+    /// Recomputes what the open connections add up to (after an open or a close): the owned
+    /// outputs, and whether any produces multicast.
+    fn refresh_summary(&mut self) {
         self.owned.clear();
+        let multicast = self.iter().any(|(_, c)| c.produces_multicast());
+        self.multicast = multicast;
         for slot in self.slots.iter().flatten() {
             if let (Kind::ExclusiveOwner, Some(c)) = (slot.kind, slot.consumer()) {
                 // Cannot fail: at most one entry per slot.

@@ -5,16 +5,22 @@
 //! over any [`Flash`] with two sectors used in turn (A/B): a write programs a complete new
 //! copy (sequence number and CRC) into the other sector and commits it last, so a power cut at
 //! any point leaves the previous complete copy readable, and erases alternate between the two.
-//! [`RamFlash`] is the flash of the host and QEMU builds (and of the tests).
+//! [`RamFlash`] is the flash of the host and QEMU builds, [`CutFlash`] one whose power a test
+//! cuts at any step. [`SharedStore`] lets the adapter and the device profile keep their
+//! records in the same store.
 
 mod ab;
 mod crc;
+mod cut_flash;
 mod flash;
 mod records;
+mod shared;
 
 pub use ab::{AbStore, IMAGE_SIZE};
 pub use crc::crc32;
+pub use cut_flash::{CutFlash, CUT_SECTOR};
 pub use flash::{Flash, FlashError, RamFlash, MAX_WRITE_SIZE};
+pub use shared::SharedStore;
 
 /// Why a store operation failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -26,6 +32,8 @@ pub enum NvError {
     NoSpace,
     /// The caller's buffer is smaller than the record.
     BufferTooSmall,
+    /// Another owner's operation on a [`SharedStore`] is still running.
+    Busy,
 }
 
 impl From<FlashError> for NvError {
@@ -37,10 +45,16 @@ impl From<FlashError> for NvError {
 /// Record keys: who owns which record. The stack's are below 0x100; a device profile uses
 /// [`key::PROFILE_BASE`] and up.
 pub mod key {
-    /// The TCP/IP Interface object's settings (attributes 3, 5, 6 and 13).
+    /// The TCP/IP Interface object's settings (attributes 3, 5, 6, 8, 9 and 13).
     pub const TCP_IP: u16 = 0x0001;
     /// First key of the device profile's records.
     pub const PROFILE_BASE: u16 = 0x0100;
+    /// The PositionServo profile's EPM copy of its variables.
+    pub const POSITION_SERVO_EPM: u16 = PROFILE_BASE;
+    /// The Kollmorgen AKD profile's parameters saved by DRV.NVSAVE.
+    pub const KOLLMORGEN_AKD_PARAMETERS: u16 = PROFILE_BASE + 1;
+    /// The Ametek PLS profile's program saved to NVRAM.
+    pub const AMETEK_PLS_PROGRAM: u16 = PROFILE_BASE + 2;
 }
 
 /// Small numbered records that survive a power cycle; each write or removal is atomic.

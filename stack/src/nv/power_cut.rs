@@ -1,97 +1,9 @@
-//! The power-cut test: a simulated flash that loses power at every erase and program step,
-//! and a check that the store then boots with either the old or the new records.
+//! The power-cut test: the store's flash ([`CutFlash`]) loses power at every erase and program
+//! step, and the store must then boot with either the old or the new records.
 //! (Test code only: `nv` declares it `#[cfg(test)]`.)
 
 #[cfg(test)]
 use super::*;
-
-/// Bytes of a simulated sector.
-const SECTOR: usize = MAX_WRITE_SIZE + IMAGE_SIZE;
-
-/// Flash whose power goes after `budget` more steps (an erase, or one program unit): the
-/// step in progress is left half done and every later operation fails.
-#[derive(Clone)]
-pub(crate) struct CutFlash {
-    pub(crate) cells: [[u8; SECTOR]; 2],
-    pub(crate) budget: Option<usize>,
-    pub(crate) steps: usize,
-    off: bool,
-}
-
-impl CutFlash {
-    pub(crate) fn new() -> Self {
-        CutFlash {
-            cells: [[0xFF; SECTOR]; 2],
-            budget: None,
-            steps: 0,
-            off: false,
-        }
-    }
-    /// One step more; false (power gone) once the budget is spent.
-    fn step(&mut self) -> bool {
-        self.steps += 1;
-        match &mut self.budget {
-            Some(0) => {
-                self.off = true;
-                false
-            }
-            Some(n) => {
-                *n -= 1;
-                true
-            }
-            None => true,
-        }
-    }
-    fn dead(&self) -> bool {
-        self.off
-    }
-    /// Power back on, with no cut to come.
-    pub(crate) fn restore(&mut self) {
-        self.budget = None;
-        self.off = false;
-    }
-}
-
-impl Flash for CutFlash {
-    const SECTOR_SIZE: usize = SECTOR;
-    const WRITE_SIZE: usize = 4;
-    fn read(&mut self, sector: u8, offset: usize, buf: &mut [u8]) -> Result<(), FlashError> {
-        if self.dead() {
-            return Err(FlashError);
-        }
-        let s = &self.cells[usize::from(sector)];
-        buf.copy_from_slice(&s[offset..offset + buf.len()]);
-        Ok(())
-    }
-    fn erase(&mut self, sector: u8) -> Result<(), FlashError> {
-        let alive = !self.dead() && self.step();
-        let s = &mut self.cells[usize::from(sector)];
-        if !alive {
-            // Half erased: the first half of the sector only.
-            s[..SECTOR / 2].fill(0xFF);
-            return Err(FlashError);
-        }
-        s.fill(0xFF);
-        Ok(())
-    }
-    fn program(&mut self, sector: u8, offset: usize, data: &[u8]) -> Result<(), FlashError> {
-        assert_eq!((offset % 4, data.len() % 4), (0, 0));
-        for (i, unit) in data.chunks(4).enumerate() {
-            let alive = !self.dead() && self.step();
-            let at = offset + 4 * i;
-            let cells = &mut self.cells[usize::from(sector)][at..at + 4];
-            // A cut unit gets its first two bytes only.
-            let n = if alive { 4 } else { 2 };
-            for (c, b) in cells.iter_mut().zip(unit).take(n) {
-                *c &= *b;
-            }
-            if !alive {
-                return Err(FlashError);
-            }
-        }
-        Ok(())
-    }
-}
 
 fn value(store: &mut AbStore<CutFlash>, key: u16) -> Option<Vec<u8, IMAGE_SIZE>> {
     let mut buf = [0u8; IMAGE_SIZE];
@@ -108,12 +20,12 @@ fn cut_everywhere(before: &CutFlash, new: &[u8]) -> usize {
     let mut probe = AbStore::mount(before.clone());
     let old = value(&mut probe, 1);
     let other = value(&mut probe, 2);
-    let start = probe.flash().steps;
+    let start = probe.flash().steps();
     probe.write(1, new).unwrap();
-    let steps = probe.flash().steps - start;
+    let steps = probe.flash().steps() - start;
     for cut in 0..steps {
         let mut flash = before.clone();
-        flash.budget = Some(cut);
+        flash.cut_after(cut);
         let mut store = AbStore::mount(flash);
         assert!(store.write(1, new).is_err(), "cut after {cut} of {steps}");
         let mut flash = store.into_flash();
@@ -173,7 +85,7 @@ fn a_corrupted_current_copy_falls_back_to_the_previous_one() {
     store.write(1, b"new").unwrap();
     let mut flash = store.into_flash();
     // The newer copy (sector 1) loses a bit of its records.
-    flash.cells[1][MAX_WRITE_SIZE + 12] ^= 0x01;
+    flash.cells_mut(1).unwrap()[MAX_WRITE_SIZE + 12] ^= 0x01;
     assert_eq!(
         value(&mut AbStore::mount(flash), 1).as_deref(),
         Some(&b"old"[..])
@@ -215,7 +127,7 @@ fn every_power_cut_boots_the_old_or_the_new_tcpip_settings() {
     let mut cut = 0;
     loop {
         let mut flash = before.clone();
-        flash.budget = Some(cut);
+        flash.cut_after(cut);
         let mut store = AbStore::mount(flash);
         let done = new.save(&mut store).is_ok();
         let mut flash = store.into_flash();

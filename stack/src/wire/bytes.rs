@@ -156,6 +156,12 @@ impl<'a> Writer<'a> {
             put_u16(self.buf, at, v);
         }
     }
+    /// Writes how many bytes were written since `at` into the `u16` just before it: a CPF
+    /// item's length, once its data is complete.
+    pub fn patch_item_len(&mut self, at: usize) {
+        let len = self.len.saturating_sub(at);
+        self.patch_u16(at.saturating_sub(2), len as u16);
+    }
     /// Inserts `bytes` at offset `at`, moving what was written after it to the right.
     pub fn insert(&mut self, at: usize, bytes: &[u8]) -> Result<()> {
         let old = self.len;
@@ -163,8 +169,10 @@ impl<'a> Writer<'a> {
             return Err(Error::Exhausted);
         }
         self.reserve(bytes.len())?;
-        self.buf.copy_within(at..old, at + bytes.len());
-        if let Some(dst) = self.buf.get_mut(at..at + bytes.len()) {
+        // `reserve` succeeded, so at + bytes.len() <= old + bytes.len() fits the buffer.
+        let end = at.saturating_add(bytes.len());
+        self.buf.copy_within(at..old, end);
+        if let Some(dst) = self.buf.get_mut(at..end) {
             dst.copy_from_slice(bytes);
         }
         Ok(())

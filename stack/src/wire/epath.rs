@@ -132,27 +132,23 @@ impl<'a> Segment<'a> {
 
     fn parse_port(b: u8, r: &mut Reader<'a>) -> Result<Segment<'a>> {
         let extended_link = b & 0x10 != 0;
-        let mut consumed = 1usize;
         let link_len = if extended_link {
-            consumed += 1;
             usize::from(r.u8()?)
         } else {
             1
         };
         let port = match b & 0x0F {
             0 => return Err(Error::Malformed),
-            0x0F => {
-                consumed += 2;
-                match r.u16()? {
-                    0 => return Err(Error::Malformed),
-                    p => p,
-                }
-            }
+            0x0F => match r.u16()? {
+                0 => return Err(Error::Malformed),
+                p => p,
+            },
             p => u16::from(p),
         };
         let link = r.take(link_len)?;
-        consumed += link_len;
-        if consumed % 2 == 1 {
+        // Padded to an even length: the segment byte, the link size byte if any, the 16-bit
+        // port if any (even) and the link address.
+        if (1 ^ usize::from(extended_link) ^ link_len) & 1 == 1 {
             r.u8()?;
         }
         Ok(Segment::Port { port, link })
@@ -213,21 +209,21 @@ impl<'a> Segment<'a> {
             Segment::Logical(..) => 6,
             Segment::ElectronicKey(_) => 10,
             Segment::Port { port, link } => {
-                let mut n = 1 + link.len();
-                if link.len() != 1 {
-                    n += 1;
-                }
-                if port >= 0x0F {
-                    n += 2;
-                }
-                n + n % 2
+                let size_byte = usize::from(link.len() != 1);
+                let port_word = if port >= 0x0F { 2 } else { 0 };
+                let n = link
+                    .len()
+                    .saturating_add(1)
+                    .saturating_add(size_byte)
+                    .saturating_add(port_word);
+                n.saturating_add(n % 2)
             }
             Segment::Network { kind, data } => match kind {
-                0x50 | 0x51 => 2 + data.len(),
-                _ => 1 + data.len(),
+                0x50 | 0x51 => data.len().saturating_add(2),
+                _ => data.len().saturating_add(1),
             },
-            Segment::Symbolic(s) => 2 + s.len() + s.len() % 2,
-            Segment::Data(d) => 2 + d.len(),
+            Segment::Symbolic(s) => s.len().saturating_add(2).saturating_add(s.len() % 2),
+            Segment::Data(d) => d.len().saturating_add(2),
         }
     }
 
@@ -266,7 +262,7 @@ impl<'a> Segment<'a> {
                     w.u16(port)?;
                 }
                 w.bytes(link)?;
-                if (w.len() - start) % 2 == 1 {
+                if w.len().saturating_sub(start) % 2 == 1 {
                     w.u8(0)?;
                 }
                 Ok(())
@@ -314,6 +310,19 @@ impl<'a> Segments<'a> {
             failed: false,
         }
     }
+    /// Takes the next segment if it is an 8-bit logical segment (class, instance, attribute,
+    /// member, connection point, service ID): the common case, decoded without building a
+    /// [`Segment`]. Anything else is left for [`Iterator::next`].
+    #[inline]
+    pub fn next_logical8(&mut self) -> Option<(LogicalType, u32)> {
+        let [b, v] = *self.r.rest().first_chunk::<2>()?;
+        if b & 0xE3 != 0x20 || b == KEY_SEGMENT {
+            return None;
+        }
+        let kind = LogicalType::from_code((b >> 2) & 0x07)?;
+        self.r.take(2).ok()?;
+        Some((kind, u32::from(v)))
+    }
 }
 
 impl<'a> Iterator for Segments<'a> {
@@ -341,6 +350,33 @@ mod tests {
         let mut r = Reader::new(wire);
         assert_eq!(Segment::parse(&mut r), Ok(s));
         assert_eq!(r.remaining(), 0);
+    }
+
+    #[test]
+    fn the_logical8_fast_path_agrees_with_the_decoder() {
+        let mut taken = 0;
+        for b in 0..=255u8 {
+            for v in [0u8, 1, 0x7F, 0xFF] {
+                let raw = [b, v, 0, 0, 0, 0, 0, 0, 0, 0];
+                let general = Segment::parse(&mut Reader::new(&raw));
+                let mut fast = Segments::new(&raw);
+                match fast.next_logical8() {
+                    Some((kind, value)) => {
+                        taken += 1;
+                        assert_eq!(general, Ok(Segment::Logical(kind, value)), "{b:#04x}");
+                        assert_eq!(fast.r.remaining(), raw.len() - 2);
+                    }
+                    None => {
+                        assert_eq!(fast.r.remaining(), raw.len(), "nothing consumed");
+                        let is_logical8 =
+                            matches!(general, Ok(Segment::Logical(..))) && b & 0x03 == 0;
+                        assert!(!is_logical8, "{b:#04x} left to the general decoder");
+                    }
+                }
+            }
+        }
+        // Six logical types, one 8-bit format each.
+        assert_eq!(taken, 6 * 4);
     }
 
     #[test]

@@ -63,7 +63,9 @@ impl<'a> IdentityRepr<'a> {
     }
     /// Bytes the item data takes.
     pub fn buffer_len(&self) -> usize {
-        2 + 16 + 2 + 2 + 2 + 2 + 2 + 4 + 1 + self.product_name.len() + 1
+        self.product_name
+            .len()
+            .saturating_add(2 + 16 + 2 + 2 + 2 + 2 + 2 + 4 + 1 + 1)
     }
     /// Writes the item data.
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {

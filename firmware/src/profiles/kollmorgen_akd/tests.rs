@@ -5,16 +5,15 @@
 
 extern crate std;
 
-use core::net::{Ipv4Addr, SocketAddrV4};
+use core::net::Ipv4Addr;
 use std::vec;
 use std::vec::Vec;
 
 use enip_stack::cip::{CipError, CipResult, General};
-use enip_stack::config::MAX_ENCAP_FRAME;
 use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardOpen, ForwardOpenReply, NetworkParams, Triad};
+use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
 use enip_stack::wire::Writer;
-use enip_stack::{Adapter, Device, Instant, NetworkConfig, SocketId};
+use enip_stack::{Adapter, Device, Instant, NetworkConfig};
 
 use super::assemblies::{control, status1, status2, COMMAND, RESPONSE};
 use super::drive::COUNTS_PER_REV;
@@ -731,40 +730,21 @@ mod dynamic_map;
 /// The Class 1 path through the adapter: admission, sizes and the datagrams.
 mod class1 {
     use super::*;
-    use enip_stack::originator;
-    use enip_stack::wire::io_datagram::Packet;
+    use enip_stack::virtual_scanner::{Opened, VirtualScanner};
 
-    const SCANNER: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
-
+    /// The drive behind a virtual scanner.
     struct Scanner {
-        adapter: Adapter<KollmorgenAkd>,
-        session: u32,
+        scanner: VirtualScanner<KollmorgenAkd>,
     }
 
     impl Scanner {
         fn new() -> Self {
-            let mut adapter = Adapter::new(KollmorgenAkd::new(), net(), 7);
-            adapter.tcp_accept(SocketId(0), SocketAddrV4::new(SCANNER, 50000), Instant(0));
-            let mut s = Scanner {
-                adapter,
-                session: 0,
-            };
-            let mut buf = [0u8; 64];
-            let n = originator::register_session(&mut buf).unwrap();
-            let reply = s.tcp(&buf[..n]);
-            s.session = u32::from_le_bytes([reply[4], reply[5], reply[6], reply[7]]);
-            s
+            Scanner {
+                scanner: VirtualScanner::new(KollmorgenAkd::new()),
+            }
         }
-        fn tcp(&mut self, frame: &[u8]) -> Vec<u8> {
-            let mut reply = vec![0u8; MAX_ENCAP_FRAME];
-            let out = self
-                .adapter
-                .tcp_receive(SocketId(0), frame, Instant(0), &mut reply);
-            reply.truncate(out.reply_len);
-            reply
-        }
-        /// Forward_Open 101 -> 102 with config 100; (general status, extended, reply data).
-        fn open(&mut self, rpi: u32, t_o_type: u16, transport: u8) -> (u8, Vec<u16>, Vec<u8>) {
+        /// Forward_Open 101 -> 102 with config 100.
+        fn open(&mut self, rpi: u32, t_o_type: u16, transport: u8) -> Opened {
             let segs = [
                 Segment::Logical(LogicalType::Class, 4),
                 Segment::Logical(LogicalType::Instance, 100),
@@ -796,74 +776,40 @@ mod class1 {
                 transport,
                 path: &path[..n],
             };
-            let mut data = [0u8; 128];
-            let mut w = Writer::new(&mut data);
-            fo.emit(&mut w).unwrap();
-            let len = w.len();
-            let cm = [
-                Segment::Logical(LogicalType::Class, 6),
-                Segment::Logical(LogicalType::Instance, 1),
-            ];
-            let mut buf = vec![0u8; MAX_ENCAP_FRAME];
-            let session = self.session;
-            let n = originator::send_rr_data(&mut buf, session, None, |w| {
-                originator::request(w, 0x54, &cm, &data[..len])
-            })
-            .unwrap();
-            let reply = self.tcp(&buf[..n]);
-            let r = originator::parse_reply(&reply).unwrap().response.unwrap();
-            let words = r
-                .additional_status
-                .chunks(2)
-                .map(|c| u16::from_le_bytes([c[0], c[1]]))
-                .collect();
-            (r.general_status, words, r.data.to_vec())
+            self.scanner.forward_open(&fo)
         }
     }
 
     #[test]
     fn rpi_limits_and_triggers() {
         let mut s = Scanner::new();
-        let (g, ext, _) = s.open(5_000, 0x4800, 0x01);
-        assert_eq!((g, ext.first().copied()), (0x01, Some(0x0112)));
-        let (g, ext, _) = s.open(10_000, 0x4800, 0x11);
-        assert_eq!((g, ext.first().copied()), (0x01, Some(0x0103)));
-        assert_eq!(s.open(10_000, 0x2800, 0x01).0, 0, "multicast T->O at 10 ms");
+        let o = s.open(5_000, 0x4800, 0x01);
+        assert_eq!((o.general, o.extended), (0x01, Some(0x0112)));
+        let o = s.open(10_000, 0x4800, 0x11);
+        assert_eq!((o.general, o.extended), (0x01, Some(0x0103)));
+        assert_eq!(
+            s.open(10_000, 0x2800, 0x01).general,
+            0,
+            "multicast T->O at 10 ms"
+        );
     }
 
     #[test]
     fn exclusive_owner_at_ten_milliseconds() {
         let mut s = Scanner::new();
-        let (g, _, data) = s.open(10_000, 0x4800, 0x01);
-        assert_eq!(g, 0);
-        let reply = ForwardOpenReply::parse(&data).unwrap();
-        let mut out = [0u8; 256];
-        let from = SocketAddrV4::new(SCANNER, 2222);
+        let o = s.open(10_000, 0x4800, 0x01);
+        assert_eq!(o.general, 0);
         let mut c = cmd(EN, 0x21, 0x20, 1000);
         let mut seen = Vec::new();
         for k in 1..=20u32 {
-            let now = u64::from(k) * 10_000;
             if k == 10 {
                 c[0] |= LOAD;
             }
-            let mut dg = [0u8; 128];
-            let n = originator::io_datagram(
-                &mut dg,
-                reply.o_t_connection_id,
-                k,
-                k as u16,
-                Some(true),
-                &c,
-            )
-            .unwrap();
-            s.adapter.io_receive(from, &dg[..n], Instant(now)).unwrap();
-            s.adapter.poll_device(Instant(now));
-            while let Some((_, len)) = s.adapter.poll_io(Instant(now), &mut out) {
-                let p = Packet::new_checked(&out[..len]).unwrap();
-                let d = p.connected_data();
-                assert_eq!(d.len(), 2 + 64);
-                seen.push(d[2..].to_vec());
-            }
+            s.scanner.send_io(o.o_t_id, Some(true), &c).unwrap();
+            s.scanner.advance(10_000, |_, data| {
+                assert_eq!(data.len(), 64);
+                seen.push(data.to_vec());
+            });
         }
         assert!(seen.len() >= 19, "{} datagrams", seen.len());
         let first = &seen[1];
@@ -877,24 +823,15 @@ mod class1 {
     #[test]
     fn losing_the_owner_disables_the_drive() {
         let mut s = Scanner::new();
-        let (g, _, data) = s.open(10_000, 0x4800, 0x01);
-        assert_eq!(g, 0);
-        let reply = ForwardOpenReply::parse(&data).unwrap();
-        let from = SocketAddrV4::new(SCANNER, 2222);
-        let mut dg = [0u8; 128];
+        let o = s.open(10_000, 0x4800, 0x01);
+        assert_eq!(o.general, 0);
+        s.scanner.advance(10_000, |_, _| {});
         let c = cmd(EN, 0x21, 0x20, 0);
-        let n = originator::io_datagram(&mut dg, reply.o_t_connection_id, 1, 1, Some(true), &c)
-            .unwrap();
-        s.adapter
-            .io_receive(from, &dg[..n], Instant(10_000))
-            .unwrap();
-        assert!(s.adapter.device().state().drive.enabled());
+        s.scanner.send_io(o.o_t_id, Some(true), &c).unwrap();
+        assert!(s.scanner.adapter().device().state().drive.enabled());
         // Multiplier code 1: x8, so 80 ms without data closes the connection.
-        let mut out = [0u8; 256];
-        for t in (20..=200).step_by(10) {
-            while s.adapter.poll_io(Instant(t * 1_000), &mut out).is_some() {}
-        }
-        assert!(s.adapter.connections().is_empty());
-        assert!(!s.adapter.device().state().drive.enabled());
+        s.scanner.advance(190_000, |_, _| {});
+        assert!(s.scanner.adapter().connections().is_empty());
+        assert!(!s.scanner.adapter().device().state().drive.enabled());
     }
 }

@@ -5,20 +5,15 @@
 
 extern crate std;
 
-use core::net::{Ipv4Addr, SocketAddrV4};
+use core::net::SocketAddrV4;
 use std::vec;
 use std::vec::Vec;
 
-use enip_stack::config::MAX_ENCAP_FRAME;
-use enip_stack::originator;
-use enip_stack::wire::forward_open::{ForwardOpen, ForwardOpenReply, NetworkParams, Triad};
-use enip_stack::wire::io_datagram::HEADER_LEN;
-use enip_stack::wire::Writer;
-use enip_stack::{Adapter, Instant, NetworkConfig, SocketId};
+use enip_stack::virtual_scanner::{Opened, VirtualScanner, SCANNER_IP};
+use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
 
 use super::ParkerIpa;
 
-const SCANNER: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
 /// Point-to-point, scheduled priority, fixed size.
 const P2P: u16 = 0x4800;
 /// Multicast, scheduled, fixed.
@@ -26,93 +21,32 @@ const MULTICAST: u16 = 0x2800;
 /// Connection path 3/102/101 (configuration, consumed, produced).
 const IO_PATH: [u8; 8] = [0x20, 0x04, 0x24, 0x03, 0x2C, 0x66, 0x2C, 0x65];
 
+/// The controller behind a virtual scanner, with the requests these tests make.
 struct Rig {
-    adapter: Adapter<ParkerIpa>,
-    session: u32,
-    /// The socket requests go on (the session's).
-    socket: u8,
-    now: Instant,
-}
-
-/// A Forward_Open reply: general status, extended status, O->T connection ID.
-#[derive(Debug)]
-struct Opened {
-    general: u8,
-    extended: Option<u16>,
-    o_t_id: u32,
+    scanner: VirtualScanner<ParkerIpa>,
 }
 
 impl Rig {
     fn new() -> Rig {
-        let net = NetworkConfig::new_static(
-            Ipv4Addr::new(198, 18, 0, 2),
-            Ipv4Addr::new(255, 255, 255, 0),
-            [2, 0, 0, 0, 0, 2],
-        );
-        let mut rig = Rig {
-            adapter: Adapter::new(ParkerIpa::new(), net, 7),
-            session: 0,
-            socket: 0,
-            now: Instant(0),
-        };
-        rig.session = rig.open_session(0, 50000);
-        rig
-    }
-
-    fn open_session(&mut self, socket: u8, port: u16) -> u32 {
-        self.adapter
-            .tcp_accept(SocketId(socket), SocketAddrV4::new(SCANNER, port), self.now);
-        let mut buf = [0u8; 64];
-        let n = originator::register_session(&mut buf).unwrap();
-        let reply = self.tcp(socket, &buf[..n]);
-        u32::from_le_bytes(reply[4..8].try_into().unwrap())
-    }
-
-    fn tcp(&mut self, socket: u8, frame: &[u8]) -> Vec<u8> {
-        let mut reply = vec![0u8; MAX_ENCAP_FRAME];
-        let out = self
-            .adapter
-            .tcp_receive(SocketId(socket), frame, self.now, &mut reply);
-        reply.truncate(out.reply_len);
-        reply
+        Rig {
+            scanner: VirtualScanner::new(ParkerIpa::new()),
+        }
     }
 
     /// An unconnected Message Router request (raw bytes); the status and reply data.
     fn ucmm(&mut self, mr: &[u8]) -> (u8, Option<u16>, Vec<u8>) {
-        let mut buf = vec![0u8; MAX_ENCAP_FRAME];
-        let n = originator::send_rr_data(&mut buf, self.session, None, |w| w.bytes(mr)).unwrap();
-        let reply = self.tcp(self.socket, &buf[..n]);
-        let r = originator::parse_reply(&reply).unwrap().response.unwrap();
-        (r.general_status, r.extended_status(), r.data.to_vec())
+        let (general, extended, data) = self.scanner.unconnected(mr).unwrap();
+        (general, extended, data.to_vec())
     }
 
     /// A connected (Class 3) request over connection `id`.
     fn connected(&mut self, id: u32, seq: u16, mr: &[u8]) -> (u8, Vec<u8>) {
-        let mut buf = vec![0u8; MAX_ENCAP_FRAME];
-        let n =
-            originator::send_unit_data(&mut buf, self.session, id, seq, |w| w.bytes(mr)).unwrap();
-        let reply = self.tcp(0, &buf[..n]);
-        let r = originator::parse_reply(&reply).unwrap().response.unwrap();
-        (r.general_status, r.data.to_vec())
+        let (general, _, data) = self.scanner.connected(id, seq, mr).unwrap();
+        (general, data.to_vec())
     }
 
     fn forward_open(&mut self, fo: &ForwardOpen<'_>) -> Opened {
-        let mut data = [0u8; 128];
-        let mut w = Writer::new(&mut data);
-        fo.emit(&mut w).unwrap();
-        let mut mr = vec![0x54, 0x02, 0x20, 0x06, 0x24, 0x01];
-        mr.extend_from_slice(w.written());
-        let (general, extended, data) = self.ucmm(&mr);
-        let o_t_id = if general == 0 {
-            ForwardOpenReply::parse(&data).unwrap().o_t_connection_id
-        } else {
-            0
-        };
-        Opened {
-            general,
-            extended,
-            o_t_id,
-        }
+        self.scanner.forward_open(fo)
     }
 
     fn forward_close(&mut self, serial: u16) -> u8 {
@@ -153,37 +87,16 @@ impl Rig {
         }
     }
 
-    fn o_t(&mut self, id: u32, seq: u16, run: bool, data: &[u8]) {
-        let mut buf = vec![0u8; 600];
-        let n =
-            originator::io_datagram(&mut buf, id, u32::from(seq), seq, Some(run), data).unwrap();
-        self.adapter
-            .io_receive(SocketAddrV4::new(SCANNER, 2222), &buf[..n], self.now)
-            .unwrap();
+    /// O->T data on connection `id`, Run or Idle.
+    fn o_t(&mut self, id: u32, run: bool, data: &[u8]) {
+        self.scanner.send_io(id, Some(run), data).unwrap();
     }
 
     /// Advances time by `us`, returns the T->O datagrams' data (after the sequence count).
     fn advance(&mut self, us: u64) -> Vec<(SocketAddrV4, Vec<u8>)> {
-        let end = self.now.as_micros() + us;
         let mut out = Vec::new();
-        let mut buf = vec![0u8; 600];
-        for _ in 0..100_000 {
-            let next = self
-                .adapter
-                .next_deadline()
-                .map_or(end, |d| d.as_micros().clamp(self.now.as_micros(), end));
-            self.now = Instant(next);
-            self.adapter.poll_device(self.now);
-            while let Some((to, n)) = self.adapter.poll_io(self.now, &mut buf) {
-                // A sequenced address item (0x8002, 8 bytes), then connected data (0x00B1).
-                assert_eq!(buf[2..6], [0x02, 0x80, 0x08, 0x00]);
-                assert_eq!(buf[14..16], [0xB1, 0x00]);
-                out.push((to, buf[HEADER_LEN + 2..n].to_vec()));
-            }
-            if next >= end {
-                break;
-            }
-        }
+        self.scanner
+            .advance(us, |to, data| out.push((to, data.to_vec())));
         out
     }
 }
@@ -247,7 +160,7 @@ fn rslogix_example_with_the_aoi_configuration() {
     out[32..36].copy_from_slice(&(-77i32).to_le_bytes());
     out[64..68].copy_from_slice(&2.5f32.to_le_bytes());
     out[200..204].copy_from_slice(&99i32.to_le_bytes()); // beyond C: ignored
-    rig.o_t(open.o_t_id, 1, true, &out);
+    rig.o_t(open.o_t_id, true, &out);
     let mut mr = vec![0x51, 0x03, 0x20, 0x64, 0x25, 0x00];
     mr.extend_from_slice(&12348u16.to_le_bytes());
     mr.extend_from_slice(&4i32.to_le_bytes());
@@ -262,7 +175,7 @@ fn rslogix_example_with_the_aoi_configuration() {
     let sent = rig.advance(25_000);
     assert!(sent.len() >= 2, "{}", sent.len());
     let (to, data) = sent.last().unwrap();
-    assert_eq!(*to, SocketAddrV4::new(SCANNER, 2222));
+    assert_eq!(*to, SocketAddrV4::new(SCANNER_IP, 2222));
     assert_eq!(data.len(), 400);
     assert_eq!(i32s(&data[160..192]), rig.longs(38912, 8));
     assert!(data[192..].iter().all(|&b| b == 0));
@@ -289,7 +202,7 @@ fn four_groups_both_ways() {
     ]);
     let open = rig.forward_open(&fo(1, 400, 400, 1_000, 1_000));
     assert_eq!(open.general, 0);
-    rig.o_t(open.o_t_id, 1, true, &[0; 400]);
+    rig.o_t(open.o_t_id, true, &[0; 400]);
     rig.write_longs(38913, &[4242]);
     let sent = rig.advance(2_000);
     assert!(!sent.is_empty());
@@ -304,12 +217,12 @@ fn four_groups_both_ways() {
     out[0..12].copy_from_slice(&[9, 0, 0, 0, 8, 0, 0, 0, 7, 0, 0, 0]);
     out[12..16].copy_from_slice(&1.75f32.to_le_bytes());
     out[16..20].copy_from_slice(&(-2.0f32).to_le_bytes());
-    rig.o_t(open.o_t_id, 2, true, &out);
+    rig.o_t(open.o_t_id, true, &out);
     assert_eq!(rig.longs(39000, 3), [9, 8, 7]);
     assert_eq!(rig.longs(39300, 2), [1, -2]);
     // Idle data is not applied.
     out[0] = 100;
-    rig.o_t(open.o_t_id, 3, false, &out);
+    rig.o_t(open.o_t_id, false, &out);
     assert_eq!(rig.longs(39000, 1), [9]);
     // RPI 1 ms reported.
     assert_eq!(rig.longs(37431, 3), [1, 1, 1]);
@@ -320,14 +233,11 @@ fn one_class1_connection_at_a_time() {
     let mut rig = Rig::new();
     let first = rig.forward_open(&fo(1, 400, 400, 10_000, 10_000));
     assert_eq!(first.general, 0);
-    rig.o_t(first.o_t_id, 1, true, &[0; 400]);
+    rig.o_t(first.o_t_id, true, &[0; 400]);
     // A second one from another session.
-    let s = rig.open_session(1, 50001);
-    let main = core::mem::replace(&mut rig.session, s);
-    rig.socket = 1;
+    rig.scanner.open_session(1).unwrap();
     let second = rig.forward_open(&fo(2, 400, 400, 10_000, 10_000));
-    rig.session = main;
-    rig.socket = 0;
+    rig.scanner.select_session(0);
     assert_eq!((second.general, second.extended), (0x01, Some(0x0106)));
     // Input only (not offered) and a duplicate triad.
     let dup = rig.forward_open(&fo(1, 400, 400, 10_000, 10_000));
@@ -335,10 +245,10 @@ fn one_class1_connection_at_a_time() {
     assert_eq!(rig.longs(37433, 1), [1]);
     assert_eq!(rig.longs(37430, 1), [2], "two attempts reached the profile");
     // The first keeps running.
-    for seq in 2..5u16 {
+    for _ in 2..5 {
         let sent = rig.advance(10_000);
         assert!(!sent.is_empty());
-        rig.o_t(first.o_t_id, seq, true, &[0; 400]);
+        rig.o_t(first.o_t_id, true, &[0; 400]);
     }
     assert_eq!(rig.forward_close(1), 0);
     assert_eq!(rig.longs(37433, 1), [0]);
@@ -354,7 +264,7 @@ fn timeout_closes_and_frees_the_slot() {
     let mut rig = Rig::new();
     let open = rig.forward_open(&fo(1, 400, 400, 2_000, 2_000));
     assert_eq!(open.general, 0);
-    rig.o_t(open.o_t_id, 1, true, &[0; 400]);
+    rig.o_t(open.o_t_id, true, &[0; 400]);
     // Multiplier x8 x 2 ms = 16 ms without O->T.
     rig.advance(200_000);
     assert!(rig.advance(20_000).is_empty());
@@ -456,7 +366,7 @@ fn multicast_t_o() {
     m.t_o_params = params(MULTICAST, 402);
     let open = rig.forward_open(&m);
     assert_eq!(open.general, 0);
-    rig.o_t(open.o_t_id, 1, true, &[0; 400]);
+    rig.o_t(open.o_t_id, true, &[0; 400]);
     let sent = rig.advance(20_000);
     assert!(
         sent.iter().all(|(to, _)| to.ip().is_multicast()),
@@ -479,7 +389,7 @@ fn class3_connection_write_binary_and_status() {
     let binary = [0x34, 0x02, 0x20, 0x65, 0x24, 0x01, 0x00, 0x01, 0x02, 0x03];
     assert_eq!(rig.connected(open.o_t_id, 1, &binary), (0, vec![]));
     assert_eq!(rig.ucmm(&binary).0, 0x10);
-    assert_eq!(rig.adapter.device().binary_bytes, 4);
+    assert_eq!(rig.scanner.adapter().device().binary_bytes, 4);
     // The same read over Class 3 and UCMM.
     let read = [
         0x53, 0x03, 0x20, 0x64, 0x25, 0x00, 0x08, 0x11, 0x03, 0, 0, 0,
@@ -528,6 +438,6 @@ fn exact_configured_sizes_connect() {
     assert_eq!(i32s(&data[0..8]), [0, 77]);
     let mut out = [0u8; 20];
     out[0..4].copy_from_slice(&5i32.to_le_bytes());
-    rig.o_t(open.o_t_id, 1, true, &out);
+    rig.o_t(open.o_t_id, true, &out);
     assert_eq!(rig.longs(39000, 1), [5]);
 }
