@@ -192,3 +192,25 @@ fn check(out: std::process::Output, program: &str, args: &[&str]) -> io::Result<
         )))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_link_addresses_agree() {
+        assert_eq!(BOARD_CIDR, format!("{BOARD_IP}/{PREFIX}"));
+        let net = |a: Ipv4Addr| u32::from(a) >> (32 - PREFIX);
+        assert_eq!(net(HOST_IP), net(BOARD_IP));
+        assert_eq!(net(BROADCAST_IP), net(BOARD_IP));
+        assert_eq!(
+            u32::from(BROADCAST_IP) | (u32::MAX << (32 - PREFIX)),
+            u32::MAX
+        );
+        // Inside 198.18.0.0/15, the benchmarking range the tests may use.
+        assert_eq!(
+            u32::from(BOARD_IP) >> 17,
+            u32::from(Ipv4Addr::new(198, 18, 0, 0)) >> 17
+        );
+    }
+}

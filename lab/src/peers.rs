@@ -36,14 +36,9 @@ pub fn python() -> String {
     std::env::var("ENIP_PEER_PYTHON").unwrap_or_else(|_| "python3".into())
 }
 
-/// The directory of the peer scripts.
-pub fn scripts_dir() -> PathBuf {
-    paths::root().join("host-tests/peers")
-}
-
-/// The path of the peer script `name`.
+/// The path of the peer script `name` (in `host-tests/peers/`).
 pub fn script(name: &str) -> PathBuf {
-    scripts_dir().join(name)
+    paths::root().join("host-tests/peers").join(name)
 }
 
 /// Runs the peer script `name` inside `ns` with `input` on stdin, for at most `timeout`, and

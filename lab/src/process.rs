@@ -260,21 +260,14 @@ mod tests {
     fn logged_child_waits_for_a_line_keeps_its_log_and_stops() {
         let file = std::env::temp_dir().join(format!("enip-lab-{}.log", std::process::id()));
         let mut c = Command::new("sh");
-        c.args(["-c", "echo one; echo two >&2; exec sleep 30"]);
+        // One pipe: the lines arrive in order (stdout and stderr are read apart).
+        c.args(["-c", "echo one; echo two; exec sleep 30"]);
         let mut child = LoggedChild::spawn_logged("sh", c, Some(&file)).unwrap();
         let line = child.wait_for_line("two", Duration::from_secs(10)).unwrap();
         assert_eq!(line, "two");
         assert_eq!(child.tail(1), "two");
-        let mut lines: Vec<String> = child.output().lines().map(str::to_string).collect();
-        lines.sort();
-        assert_eq!(lines, ["one", "two"]);
-        let mut copy: Vec<String> = std::fs::read_to_string(&file)
-            .unwrap()
-            .lines()
-            .map(str::to_string)
-            .collect();
-        copy.sort();
-        assert_eq!(copy, lines);
+        assert_eq!(child.output(), "one\ntwo");
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "one\ntwo\n");
         assert!(child.exited().is_none());
         child.stop(SIGTERM, Duration::from_secs(5));
         assert!(child.exited().is_some());
@@ -284,7 +277,7 @@ mod tests {
     #[test]
     fn wait_for_line_fails_when_the_child_ends_first() {
         let mut c = Command::new("sh");
-        c.args(["-c", "echo nope"]);
+        c.args(["-c", "echo nope >&2"]);
         let mut child = LoggedChild::spawn("sh", c).unwrap();
         let e = child
             .wait_for_line("ready", Duration::from_secs(10))

@@ -287,11 +287,6 @@ impl Rig {
         self.lab.ns()
     }
 
-    /// The namespace with its TAP.
-    pub fn lab(&self) -> &Lab {
-        &self.lab
-    }
-
     /// Everything the board logged so far.
     pub fn board_log(&self) -> String {
         self.board.output()
@@ -334,5 +329,19 @@ impl<'a> Options<'a> {
             capture,
             ..Options::default()
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn qemu_elf_variables_follow_the_profile_names() {
+        assert_eq!(
+            qemu_elf_var("position-servo"),
+            "ENIP_QEMU_POSITION_SERVO_ELF"
+        );
+        assert_eq!(qemu_elf_var("generic"), "ENIP_QEMU_GENERIC_ELF");
     }
 }
