@@ -221,7 +221,7 @@ impl<D: Device> Adapter<D> {
                     let take = n.min(rest.len());
                     // Cannot fail: `need` never asks beyond the frame capacity.
                     let _ = slot.rx.extend_from_slice(rest.get(..take).unwrap_or(&[]));
-                    consumed += take;
+                    consumed = consumed.saturating_add(take);
                 }
                 Need::TooLong => {
                     warn!(
@@ -407,8 +407,9 @@ impl<D: Device> Adapter<D> {
 
 /// Total length of the complete frame at the start of `data`.
 fn frame_len(data: &[u8]) -> usize {
-    HEADER_LEN
-        + Repr::parse_header(data)
+    HEADER_LEN.saturating_add(
+        Repr::parse_header(data)
             .map(|h| usize::from(h.length))
-            .unwrap_or(0)
+            .unwrap_or(0),
+    )
 }

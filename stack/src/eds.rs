@@ -146,7 +146,7 @@ pub fn write_eds<W: Write>(w: &mut W, device: &impl Device, info: &EdsInfo<'_>) 
         )?;
         let bits = u32::from(a.size) * 8;
         let member = match u32::from(info.member_bits) {
-            m if m == 0 || bits % m != 0 => bits,
+            m if bits.checked_rem(m).is_none_or(|r| r != 0) => bits,
             m => m,
         };
         for _ in 0..bits.checked_div(member).unwrap_or(0) {
@@ -178,11 +178,11 @@ pub fn write_eds<W: Write>(w: &mut W, device: &impl Device, info: &EdsInfo<'_>) 
             "Listen only",
         ),
     ];
-    let mut k = 0;
+    let mut k = 0u32;
     for (role, kind, t_o, label) in kinds {
         for o in assemblies.iter().filter(|a| a.role == role) {
             for t in assemblies.iter().filter(|a| a.role == AssemblyRole::Input) {
-                k += 1;
+                k = k.saturating_add(1);
                 let format = match (o.size, o.run_idle_header) {
                     (0, _) => O_T_HEARTBEAT,
                     (_, true) => O_T_RUN_IDLE,

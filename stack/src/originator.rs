@@ -20,7 +20,7 @@ pub fn frame(
     w.zeros(HEADER_LEN)?;
     body(&mut w)?;
     let len = w.len();
-    let length = u16::try_from(len - HEADER_LEN).map_err(|_| Error::Exhausted)?;
+    let length = u16::try_from(len.saturating_sub(HEADER_LEN)).map_err(|_| Error::Exhausted)?;
     Repr {
         command,
         length,
@@ -75,7 +75,7 @@ pub fn send_rr_data(
         cpf::emit_item_header(w, item_type::UNCONNECTED_DATA, 0)?;
         let at = w.len();
         mr(w)?;
-        w.patch_u16(at - 2, (w.len() - at) as u16);
+        w.patch_len_since(at);
         if let Some(s) = t_o_sockaddr {
             cpf::emit_item_header(w, item_type::SOCKADDR_T_O, cpf::SOCKADDR_LEN as u16)?;
             s.emit(w)?;
@@ -100,7 +100,7 @@ pub fn send_unit_data(
         let at = w.len();
         w.u16(sequence)?;
         mr(w)?;
-        w.patch_u16(at - 2, (w.len() - at) as u16);
+        w.patch_len_since(at);
         Ok(())
     })
 }
@@ -168,7 +168,9 @@ pub fn io_datagram(
     } else {
         0
     };
-    let len = io_datagram::SEQUENCE_LEN + header + data.len();
+    let len = io_datagram::SEQUENCE_LEN
+        .saturating_add(header)
+        .saturating_add(data.len());
     io_datagram::emit_header(out, connection_id, encap_sequence, len)?;
     let mut w = Writer::new(
         out.get_mut(io_datagram::HEADER_LEN..)
@@ -179,5 +181,5 @@ pub fn io_datagram(
         w.u32(u32::from(run))?;
     }
     w.bytes(data)?;
-    Ok(io_datagram::HEADER_LEN + len)
+    Ok(io_datagram::HEADER_LEN.saturating_add(len))
 }

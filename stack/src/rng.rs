@@ -25,7 +25,8 @@ impl Rng {
     /// A value in `0..=max`.
     pub fn below_or_equal(&mut self, max: u64) -> u64 {
         match max.checked_add(1) {
-            Some(m) => self.next_u64() % m,
+            // m >= 1: no division by zero.
+            Some(m) => self.next_u64().checked_rem(m).unwrap_or(0),
             None => self.next_u64(),
         }
     }

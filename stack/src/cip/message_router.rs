@@ -49,7 +49,7 @@ impl<D: Device> Object for Router<'_, '_, D> {
             return Ok(());
         }
         let vendor = self.ctx.device.classes();
-        w.u16((STANDARD_CLASSES.len() + vendor.len()) as u16)?;
+        w.u16(STANDARD_CLASSES.len().saturating_add(vendor.len()) as u16)?;
         for c in STANDARD_CLASSES.iter().chain(vendor.iter().map(|c| &c.id)) {
             w.u16(*c)?;
         }
@@ -76,6 +76,10 @@ pub(crate) fn handle<D: Device>(
     serve(&mut Router { ctx, depth }, req, w)
 }
 
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "count is at most MAX_MULTIPLE_SERVICES (checked first); offsets are positions in the writer, after `base`; depth is below MAX_DEPTH"
+)]
 /// Multiple_Service_Packet: runs each embedded request in order and replies with a count, an
 /// offset table and every embedded response; 0x1E if any embedded service failed. A count of
 /// 0 is an invalid parameter (0x20), an offset table or an offset beyond the data not enough

@@ -155,7 +155,10 @@ impl DataType {
             if n > max {
                 return Err(General::InvalidAttributeValue.into());
             }
-            Ok(prefix + n + usize::from(pad && n % 2 == 1))
+            // n is at most `max`, a u16; prefix at most 4.
+            Ok(prefix
+                .saturating_add(n)
+                .saturating_add(usize::from(pad && n % 2 == 1)))
         };
         let len = match self {
             DataType::ShortString { max } => counted(1, usize::from(max), false)?,
@@ -165,7 +168,7 @@ impl DataType {
             DataType::BytesThenPaddedString { bytes, max } => {
                 let fixed = usize::from(bytes);
                 let rest = data.get(fixed..).ok_or(not_enough())?;
-                fixed + DataType::PaddedString { max }.value_len(rest, None)?
+                fixed.saturating_add(DataType::PaddedString { max }.value_len(rest, None)?)
             }
             DataType::RunTime => run_time.ok_or(CipError::new(General::AttributeNotSupported))?,
             DataType::Unsized => data.len(),

@@ -40,7 +40,7 @@ fn respond_to<D: Device>(
         let inner = connection_manager::embedded_request(req, depth)
             .and_then(|bytes| Request::parse(bytes).map_err(|(_, e)| e));
         return match inner {
-            Ok(inner) => respond_to(ctx, &inner, w, depth + 1),
+            Ok(inner) => respond_to(ctx, &inner, w, depth.saturating_add(1)),
             Err(e) => finish(w, start, req.service, Err(e)),
         };
     }
@@ -49,6 +49,10 @@ fn respond_to<D: Device>(
     finish(w, start, req.service, result)
 }
 
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "`start` is where this response's 4-byte header was reserved in the writer, and at most MAX_ADDITIONAL words follow it"
+)]
 /// Completes the response that starts at `start`: patches the header reserved there, or
 /// replaces what was written with an error header (keeping the data where the error says so).
 fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> wire::Result<()> {

@@ -236,7 +236,7 @@ fn set_list(obj: &mut impl Object, instance: u32, data: &[u8], w: &mut Writer<'_
             Ok(attr) => attr,
             Err(e) => {
                 w.u16(u16::from(e.general))?;
-                w.patch_u16(count_at, done + 1);
+                w.patch_u16(count_at, done.saturating_add(1));
                 return Err(CipError::new(General::AttributeListError).keeping_data());
             }
         };
@@ -259,7 +259,7 @@ fn set_list(obj: &mut impl Object, instance: u32, data: &[u8], w: &mut Writer<'_
             w.u16(u16::from(e.general))?;
             failed = true;
             if value.is_none() {
-                w.patch_u16(count_at, done + 1);
+                w.patch_u16(count_at, done.saturating_add(1));
                 break;
             }
         } else {

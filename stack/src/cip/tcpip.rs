@@ -96,7 +96,8 @@ impl TcpIpState {
         }
         let host = u32::from(net.ip) & !u32::from(net.netmask);
         let host_id = host.wrapping_sub(1) & 0x3FF;
-        Ipv4Addr::from(CIP_MCAST_BASE + (host_id << 5))
+        // host_id < 0x400: at most 0x7FE0 above the base, never wrapping.
+        Ipv4Addr::from(CIP_MCAST_BASE.wrapping_add(host_id << 5))
     }
 
     /// The first multicast address and the TTL in use: the device's when it keeps them

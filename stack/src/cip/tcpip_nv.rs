@@ -46,6 +46,10 @@ impl InterfaceConfig {
 
     /// Parses a Set value (20 bytes and a padded STRING, length already checked) and
     /// checks it: 0x09 for an address that cannot be this interface's.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "i < 5 and len a u16: every offset is far below usize::MAX"
+    )]
     pub fn parse(value: &[u8]) -> CipResult<Self> {
         let at = |i: usize| Ipv4Addr::from(get_u32(value, 4 * i));
         let fixed = usize::from(INTERFACE_FIXED);

@@ -244,7 +244,7 @@ impl<D: Device> Adapter<D> {
             cpf::emit_item_header(w, item_type::UNCONNECTED_DATA, 0)?;
             let at = w.len();
             router::respond(&mut ctx, request, w, 0)?;
-            w.patch_u16(at - 2, (w.len() - at) as u16);
+            w.patch_len_since(at);
             if let Some(sockaddr) = ctx.reply_t_o_sockaddr {
                 w.patch_u16(count_at, 3);
                 cpf::emit_item_header(w, item_type::SOCKADDR_T_O, cpf::SOCKADDR_LEN as u16)?;
@@ -295,7 +295,7 @@ impl<D: Device> Adapter<D> {
                 with_body(&header.reply(status::SUCCESS, 0), out, |w| {
                     let at = body(w, t_o_id)?;
                     w.bytes(cached)?;
-                    w.patch_u16(at - 2, (w.len() - at) as u16);
+                    w.patch_len_since(at);
                     Ok(())
                 })
             }
@@ -309,9 +309,9 @@ impl<D: Device> Adapter<D> {
                 let mut reply_at = 0;
                 let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
                     let at = body(w, t_o_id)?;
-                    reply_at = at + 2;
+                    reply_at = at.saturating_add(2);
                     router::respond(&mut ctx, request, w, 0)?;
-                    w.patch_u16(at - 2, (w.len() - at) as u16);
+                    w.patch_len_since(at);
                     Ok(())
                 });
                 let reply = out.get(reply_at..len).unwrap_or(&[]);
@@ -388,7 +388,7 @@ fn with_body(
         return 0;
     }
     let len = w.len();
-    let Ok(length) = u16::try_from(len - HEADER_LEN) else {
+    let Ok(length) = u16::try_from(len.saturating_sub(HEADER_LEN)) else {
         return 0;
     };
     match (Repr { length, ..*header }).emit(out) {

@@ -49,7 +49,7 @@ impl Slot {
 /// What a frame whose first bytes are `rx` still needs.
 pub fn frame_need(rx: &[u8]) -> Need {
     if rx.len() < HEADER_LEN {
-        return Need::Bytes(HEADER_LEN - rx.len());
+        return Need::Bytes(HEADER_LEN.saturating_sub(rx.len()));
     }
     let length = Repr::parse_header(rx)
         .map(|h| usize::from(h.length))
@@ -57,7 +57,8 @@ pub fn frame_need(rx: &[u8]) -> Need {
     if length > MAX_ENCAP_DATA {
         return Need::TooLong;
     }
-    match (HEADER_LEN + length).checked_sub(rx.len()) {
+    // length is at most MAX_ENCAP_DATA (checked above).
+    match HEADER_LEN.saturating_add(length).checked_sub(rx.len()) {
         Some(0) | None => Need::Complete,
         Some(n) => Need::Bytes(n),
     }
@@ -94,7 +95,7 @@ impl Sessions {
     pub fn new_handle(&mut self, index: usize) -> u32 {
         loop {
             self.next_handle = self.next_handle.wrapping_add(0x100);
-            let h = (self.next_handle & !0xFF) | (index as u32 + 1);
+            let h = (self.next_handle & !0xFF) | (index as u32).wrapping_add(1);
             if h != 0 && !self.slots.iter().any(|s| s.handle == Some(h)) {
                 return h;
             }

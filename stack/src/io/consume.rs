@@ -66,7 +66,8 @@ pub fn consume<D: Device>(
     };
     let data = packet.connected_data();
     let header = if c.run_idle { RUN_IDLE_LEN } else { 0 };
-    if data.len() != SEQUENCE_LEN + header + usize::from(c.size) {
+    let header = SEQUENCE_LEN.saturating_add(header);
+    if data.len() != header.saturating_add(usize::from(c.size)) {
         return Err(Discard::WrongSize);
     }
     let encap = packet.encap_sequence();
@@ -96,7 +97,7 @@ pub fn consume<D: Device>(
         return Ok(Accepted::NoNewData);
     }
     if size > 0 {
-        let payload = data.get(SEQUENCE_LEN + header..).unwrap_or(&[]);
+        let payload = data.get(header..).unwrap_or(&[]);
         // A device that refuses the data keeps its previous outputs; the connection goes on.
         let _ = device.write_assembly(instance, payload);
     }

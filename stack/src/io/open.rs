@@ -142,7 +142,7 @@ fn data_size<D: Device>(
 ) -> Option<u16> {
     let full = usize::from(assembly.size);
     if params.variable {
-        return size_ok(params, overhead + full).then_some(assembly.size);
+        return size_ok(params, overhead.saturating_add(full)).then_some(assembly.size);
     }
     let data = usize::from(params.size).checked_sub(overhead)?;
     u16::try_from(data)
@@ -198,7 +198,7 @@ pub fn forward_open<D: Device>(
         return Err(CipError::connection(ext::BAD_NETWORK_PARAMS));
     }
     let multiplier = 4u64 << fo.timeout_multiplier;
-    let timeout = Duration::from_micros(u64::from(fo.o_t_rpi) * multiplier);
+    let timeout = Duration::from_micros(u64::from(fo.o_t_rpi).saturating_mul(multiplier));
     let base = Connection {
         kind: Kind::Explicit,
         triad: fo.triad,
@@ -382,10 +382,12 @@ fn class1<D: Device>(
             device,
             &consumer_info,
             &fo.o_t_params,
-            SEQUENCE_LEN + header,
+            SEQUENCE_LEN.saturating_add(header),
         )
         .ok_or_else(|| {
-            let expected = SEQUENCE_LEN + header + usize::from(consumer_info.size);
+            let expected = SEQUENCE_LEN
+                .saturating_add(header)
+                .saturating_add(usize::from(consumer_info.size));
             size_error(ext::BAD_O_T_SIZE, expected)
         })?;
         (consumer_info.run_idle_header, data)

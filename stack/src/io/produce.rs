@@ -17,8 +17,13 @@ fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
     if next > now {
         return next;
     }
-    let missed = now.since(previous).as_micros() / rpi + 1;
-    previous.add(Duration::from_micros(missed * rpi))
+    let missed = now
+        .since(previous)
+        .as_micros()
+        .checked_div(rpi)
+        .unwrap_or(0)
+        .saturating_add(1);
+    previous.add(Duration::from_micros(missed.saturating_mul(rpi)))
 }
 
 /// Writes the most overdue datagram into `out` and returns where it goes and its length;
@@ -77,7 +82,13 @@ pub fn produce_due<D: Device>(
             data.len()
         }
     };
-    emit_header(out, t_o_id, p.encap_sequence, SEQUENCE_LEN + size).ok()?;
+    emit_header(
+        out,
+        t_o_id,
+        p.encap_sequence,
+        SEQUENCE_LEN.saturating_add(size),
+    )
+    .ok()?;
     put_u16(out, HEADER_LEN, p.sequence);
     if triggered {
         p.triggered = false;
@@ -88,7 +99,7 @@ pub fn produce_due<D: Device>(
     }
     let (to, due) = (p.destination, p.due_at());
     table.production_bound = others.min(due);
-    Some((to, data_at + size))
+    Some((to, data_at.saturating_add(size)))
 }
 
 /// Marks the producers of assembly `instance` with a change-of-state or application trigger

@@ -243,7 +243,7 @@ impl ConnectionTable {
         if now < self.expiry_bound {
             return 0;
         }
-        let mut closed = 0;
+        let mut closed = 0usize;
         for slot in 0..MAX_CONNECTIONS {
             let expired = self.get(slot).filter(|c| c.expires <= now);
             if let Some(owner) = expired.map(|c| c.kind == Kind::ExclusiveOwner) {
@@ -252,7 +252,7 @@ impl ConnectionTable {
                 }
                 self.timeouts = self.timeouts.wrapping_add(1);
                 self.close(slot, CloseReason::Timeout, device);
-                closed += 1;
+                closed = closed.saturating_add(1);
             }
         }
         self.expiry_bound = self

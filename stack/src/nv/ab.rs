@@ -98,11 +98,15 @@ impl<F: Flash> AbStore<F> {
         self.flash.read(sector, BODY, &mut head).ok()?;
         let [s0, s1, s2, s3, l0, l1, f0, f1] = head;
         let len = usize::from(u16::from_le_bytes([l0, l1]));
-        (u16::from_le_bytes([f0, f1]) == FORMAT && HEADER + len + CRC <= IMAGE_SIZE)
+        (u16::from_le_bytes([f0, f1]) == FORMAT && len <= IMAGE_SIZE - HEADER - CRC)
             .then_some((u32::from_le_bytes([s0, s1, s2, s3]), len))
     }
 
     /// Reads `sector`'s body into `image`; true if its CRC is right.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "`header` admits only len <= IMAGE_SIZE - HEADER - CRC"
+    )]
     fn load_body(&mut self, sector: u8, len: usize) -> bool {
         let end = HEADER + len;
         let Some(body) = self.image.get_mut(..end + CRC) else {
@@ -117,7 +121,10 @@ impl<F: Flash> AbStore<F> {
 
     /// The records of the current copy (changed in RAM by a write being saved).
     fn area(&self) -> &[u8] {
-        self.image.get(HEADER..HEADER + self.used).unwrap_or(&[])
+        // `used` is at most IMAGE_SIZE - HEADER - CRC.
+        self.image
+            .get(HEADER..HEADER.saturating_add(self.used))
+            .unwrap_or(&[])
     }
 
     /// Changes record `key` and saves the new copy; on failure the old one stays current.
@@ -148,8 +155,8 @@ impl<F: Flash> AbStore<F> {
         };
         let seq = self.seq.wrapping_add(1);
         let len = self.used as u16;
-        let end = HEADER + self.used;
-        let padded = (end + CRC).next_multiple_of(F::WRITE_SIZE);
+        let end = HEADER.saturating_add(self.used);
+        let padded = end.saturating_add(CRC).next_multiple_of(F::WRITE_SIZE);
         let mut head = [0u8; HEADER];
         for (dst, src) in head.iter_mut().zip(
             seq.to_le_bytes()

@@ -111,8 +111,8 @@ impl Flash for CutFlash {
         self.span(sector, offset, data.len())?;
         for (i, unit) in data.chunks(UNIT).enumerate() {
             let alive = self.step();
-            // `i * UNIT` stays inside the span checked above.
-            let at = offset + i * UNIT;
+            // Inside the span checked above.
+            let at = offset.saturating_add(i.saturating_mul(UNIT));
             let cells = self.span(sector, at, UNIT)?;
             // A cut unit gets its first two bytes only.
             let n = if alive { UNIT } else { UNIT / 2 };

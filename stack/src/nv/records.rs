@@ -21,7 +21,7 @@ fn iter(area: &[u8]) -> impl Iterator<Item = (usize, u16, &[u8])> {
         let start = at.checked_add(RECORD_HEADER)?;
         let value = area.get(start..start.checked_add(len)?)?;
         let here = at;
-        at = start + len;
+        at = start.saturating_add(len);
         Some((here, key, value))
     })
 }
@@ -42,23 +42,24 @@ pub(crate) fn replace(
     let area = buf.get(..used).ok_or(NvError::NoSpace)?;
     let old = iter(area)
         .find(|(_, k, _)| *k == key)
-        .map(|(at, _, v)| (at, RECORD_HEADER + v.len()));
+        .map(|(at, _, v)| (at, RECORD_HEADER.saturating_add(v.len())));
     let removed = old.map_or(0, |(_, size)| size);
     let added = match value {
         Some(v) => {
             u16::try_from(v.len()).map_err(|_| NvError::NoSpace)?;
-            RECORD_HEADER + v.len()
+            RECORD_HEADER.saturating_add(v.len())
         }
         None => 0,
     };
-    let new_used = (used - removed)
+    let new_used = used
+        .saturating_sub(removed)
         .checked_add(added)
         .filter(|n| *n <= buf.len())
         .ok_or(NvError::NoSpace)?;
     let mut end = used;
     if let Some((at, size)) = old {
-        buf.copy_within(at + size..used, at);
-        end = used - size;
+        buf.copy_within(at.saturating_add(size)..used, at);
+        end = used.saturating_sub(size);
     }
     if let Some(v) = value {
         let len = (v.len() as u16).to_le_bytes();

@@ -156,6 +156,12 @@ impl<'a> Writer<'a> {
             put_u16(self.buf, at, v);
         }
     }
+    /// Patches the `u16` length field that ends at `at` with the bytes written since `at` (an
+    /// item's length, once its data is written).
+    pub fn patch_len_since(&mut self, at: usize) {
+        let len = u16::try_from(self.len.saturating_sub(at)).unwrap_or(u16::MAX);
+        self.patch_u16(at.saturating_sub(2), len);
+    }
     /// Inserts `bytes` at offset `at`, moving what was written after it to the right.
     pub fn insert(&mut self, at: usize, bytes: &[u8]) -> Result<()> {
         let old = self.len;
@@ -163,8 +169,10 @@ impl<'a> Writer<'a> {
             return Err(Error::Exhausted);
         }
         self.reserve(bytes.len())?;
-        self.buf.copy_within(at..old, at + bytes.len());
-        if let Some(dst) = self.buf.get_mut(at..at + bytes.len()) {
+        // `reserve` succeeded: `old + bytes.len()` fits the buffer, so `at + bytes.len()` does.
+        let end = at.saturating_add(bytes.len());
+        self.buf.copy_within(at..old, end);
+        if let Some(dst) = self.buf.get_mut(at..end) {
             dst.copy_from_slice(bytes);
         }
         Ok(())

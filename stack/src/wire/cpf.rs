@@ -116,7 +116,7 @@ impl<'a> Iterator for Items<'a> {
         if self.left == 0 {
             return None;
         }
-        self.left -= 1;
+        self.left = self.left.saturating_sub(1);
         let type_id = self.r.u16().ok()?;
         let len = usize::from(self.r.u16().ok()?);
         let data = self.r.take(len).ok()?;

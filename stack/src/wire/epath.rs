@@ -130,6 +130,10 @@ impl<'a> Segment<'a> {
         }
     }
 
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "consumed counts at most 1 + 1 + 2 + 255 bytes"
+    )]
     fn parse_port(b: u8, r: &mut Reader<'a>) -> Result<Segment<'a>> {
         let extended_link = b & 0x10 != 0;
         let mut consumed = 1usize;
@@ -206,6 +210,10 @@ impl<'a> Segment<'a> {
     }
 
     /// Bytes the segment takes in padded form.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "a slice is at most isize::MAX bytes: adding 6 cannot overflow usize"
+    )]
     pub fn buffer_len(&self) -> usize {
         match *self {
             Segment::Logical(_, v) if v <= 0xFF => 2,
@@ -266,7 +274,7 @@ impl<'a> Segment<'a> {
                     w.u16(port)?;
                 }
                 w.bytes(link)?;
-                if (w.len() - start) % 2 == 1 {
+                if w.len().saturating_sub(start) % 2 == 1 {
                     w.u8(0)?;
                 }
                 Ok(())

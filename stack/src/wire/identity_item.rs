@@ -63,7 +63,7 @@ impl<'a> IdentityRepr<'a> {
     }
     /// Bytes the item data takes.
     pub fn buffer_len(&self) -> usize {
-        2 + 16 + 2 + 2 + 2 + 2 + 2 + 4 + 1 + self.product_name.len() + 1
+        (2 + 16 + 2 + 2 + 2 + 2 + 2 + 4 + 1 + 1usize).saturating_add(self.product_name.len())
     }
     /// Writes the item data.
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {

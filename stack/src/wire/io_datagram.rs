@@ -42,7 +42,7 @@ impl<T: AsRef<[u8]>> Packet<T> {
             || get_u16(b, field::ADDR_TYPE) != item_type::SEQUENCED_ADDRESS
             || get_u16(b, field::ADDR_LEN) != 8
             || get_u16(b, field::DATA_TYPE) != item_type::CONNECTED_DATA
-            || usize::from(get_u16(b, field::DATA_LEN)) != b.len() - HEADER_LEN
+            || usize::from(get_u16(b, field::DATA_LEN)) != b.len().saturating_sub(HEADER_LEN)
         {
             return Err(Error::Malformed);
         }
@@ -71,7 +71,7 @@ pub fn emit_header(
     data_len: usize,
 ) -> Result<()> {
     let len = u16::try_from(data_len).map_err(|_| Error::Exhausted)?;
-    if buf.len() < HEADER_LEN + data_len {
+    if buf.len() < HEADER_LEN.saturating_add(data_len) {
         return Err(Error::Exhausted);
     }
     put_u16(buf, field::COUNT, 2);

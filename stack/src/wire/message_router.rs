@@ -13,12 +13,21 @@ pub struct RequestPacket<T: AsRef<[u8]>> {
     buffer: T,
 }
 
+/// Where the data of a request whose path is `words` words long starts (at most 512).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "words is a u8: at most 2 + 510"
+)]
+const fn data_start(words: u8) -> usize {
+    2 + 2 * words as usize
+}
+
 impl<T: AsRef<[u8]>> RequestPacket<T> {
     /// Wraps a request whose path fits in the buffer.
     pub fn new_checked(buffer: T) -> Result<Self> {
         let b = buffer.as_ref();
-        let words = usize::from(*b.get(1).ok_or(Error::Truncated)?);
-        if b.len() < 2 + words * 2 {
+        let words = *b.get(1).ok_or(Error::Truncated)?;
+        if b.len() < data_start(words) {
             return Err(Error::Truncated);
         }
         Ok(RequestPacket { buffer })
@@ -33,12 +42,12 @@ impl<T: AsRef<[u8]>> RequestPacket<T> {
     }
     /// The request path bytes.
     pub fn path(&self) -> &[u8] {
-        let end = 2 + usize::from(self.path_words()) * 2;
+        let end = data_start(self.path_words());
         self.buffer.as_ref().get(2..end).unwrap_or(&[])
     }
     /// The request data after the path.
     pub fn data(&self) -> &[u8] {
-        let start = 2 + usize::from(self.path_words()) * 2;
+        let start = data_start(self.path_words());
         self.buffer.as_ref().get(start..).unwrap_or(&[])
     }
 }
@@ -58,16 +67,19 @@ impl<'a> RequestRepr<'a> {
     /// Parses a checked request.
     pub fn parse(p: &RequestPacket<&'a [u8]>) -> RequestRepr<'a> {
         let b: &'a [u8] = p.buffer;
-        let words = usize::from(p.path_words());
+        let start = data_start(p.path_words());
         RequestRepr {
             service: p.service(),
-            path: b.get(2..2 + words * 2).unwrap_or(&[]),
-            data: b.get(2 + words * 2..).unwrap_or(&[]),
+            path: b.get(2..start).unwrap_or(&[]),
+            data: b.get(start..).unwrap_or(&[]),
         }
     }
     /// Bytes the request takes.
     pub const fn buffer_len(&self) -> usize {
-        2 + self.path.len() + self.data.len()
+        self.path
+            .len()
+            .saturating_add(self.data.len())
+            .saturating_add(2)
     }
     /// Writes the request (the path must be a whole number of words).
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
