@@ -94,6 +94,15 @@ impl Profile {
     /// Keeps the profile's saved settings (PositionServo EPM, AKD DRV.NVSAVE parameters,
     /// Ametek NVRAM program) in `store` from now on, each in its own record: the profile
     /// powers up again from what the store holds. Generic and Parker IPA save nothing.
+    // Built with neither of the profiles that save, nothing takes the store.
+    #[cfg_attr(
+        not(any(
+            feature = "profile-position-servo",
+            feature = "profile-kollmorgen-akd",
+            feature = "profile-ametek-pls"
+        )),
+        allow(unused_variables)
+    )]
     pub fn attach_store(&mut self, store: SharedStore) {
         match self {
             #[cfg(feature = "profile-position-servo")]
