@@ -15,15 +15,16 @@
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
-// No panic on any input, made mechanical: no unwrap, expect, panic or unchecked indexing
-// outside the tests.
+// No panic on any input, made mechanical: no unwrap, expect, panic, unchecked indexing or
+// arithmetic that can overflow outside the tests.
 #![cfg_attr(
     not(test),
     deny(
         clippy::unwrap_used,
         clippy::expect_used,
         clippy::panic,
-        clippy::indexing_slicing
+        clippy::indexing_slicing,
+        clippy::arithmetic_side_effects
     )
 )]
 

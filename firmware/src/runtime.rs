@@ -27,7 +27,7 @@ pub async fn run<D: Device>(
     let mut index = 0u8;
     let sockets = tcp.each_mut().map(|bufs| {
         let id = SocketId(index);
-        index += 1;
+        index = index.wrapping_add(1);
         tcp::serve(net, adapter, id, bufs, on_reset)
     });
     // Every joined future loops forever: the join never completes.

@@ -181,7 +181,7 @@ impl Rig {
         Self::start_with_args(bin, profile, &[], capture)
     }
 
-    /// Like [`Rig::start`], with `extra` arguments for the board (e.g. `--nvram FILE`).
+    /// Like [`Rig::start`], with `extra` arguments for the board (e.g. `--nv-file PATH`).
     pub fn start_with_args(
         bin: &Path,
         profile: &str,

@@ -13,7 +13,8 @@
 //! [`enip_firmware::SOCKETS`] sockets, wraps the device in a [`enip_stack::Adapter`], logs to stderr
 //! (`RUST_LOG`, default `info`), exits 0 on SIGINT or SIGTERM and 1 on any start-up error.
 //! The TCP/IP settings a scanner sets are kept in the non-volatile store, a file with
-//! [`Options::nv_file`] (`--nv-file`), so that a restart comes up at the address set.
+//! [`Options::nv_file`] (`--nv-file`), so that a restart comes up at the address set; a
+//! device profile keeps its saved settings in the same store ([`shared_store`]).
 
 mod nv_file;
 mod options;
@@ -21,6 +22,7 @@ mod runner;
 mod signals;
 mod tap;
 
+pub use nv_file::shared as shared_store;
 pub use options::{Options, Parsed, DEFAULT_MAC, OPTIONS_USAGE};
 pub use runner::run;
 

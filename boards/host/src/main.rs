@@ -2,12 +2,12 @@
 //! running one of the shipped device profiles; `enip-host --eds [--profile NAME]` prints the
 //! profile's EDS file instead.
 
-mod nvram;
+mod profile_options;
 
 use std::process::exit;
 
 use enip_firmware::Profile;
-use nvram::ProfileOptions;
+use profile_options::ProfileOptions;
 
 /// How to invoke the program.
 fn usage() -> String {
@@ -17,8 +17,6 @@ fn usage() -> String {
          enip-host --eds [--profile NAME]\n\n\
          \x20 --profile NAME     device profile: {} (default: generic)\n\
          \x20 --eds              print the profile's EDS file and exit\n\
-         \x20 --nvram FILE       the profile's non-volatile memory (ametek-pls: the program saved\n\
-         \x20                    by program control), read at start and rewritten at every save\n\
          \x20 --pls-rpm RPM      ametek-pls: speed of the simulated resolver (default 0)\n{}",
         Profile::NAMES.join(", "),
         enip_host::OPTIONS_USAGE
@@ -68,7 +66,9 @@ fn main() {
         chosen = profile(&value)?;
         Ok(true)
     });
-    if let Err(e) = nvram::set_up(&mut chosen, &profile_options) {
+    if let Err(e) =
+        profile_options::set_up(&mut chosen, &profile_options, options.nv_file.as_deref())
+    {
         eprintln!("enip-host: {e}");
         exit(1);
     }

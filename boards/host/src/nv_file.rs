@@ -1,12 +1,17 @@
 //! [`FileFlash`]: the two flash sectors of the non-volatile store in a file (`--nv-file`),
-//! each erase or program written through to the file and synced, as on real flash.
+//! each erase or program written through to the file and synced, as on real flash; and
+//! [`shared`], the one store of the process.
 
 use std::fs::{File, OpenOptions};
 use std::io::Read;
 use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
 
-use enip_stack::nv::{AbStore, Flash, FlashError, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE};
+use std::cell::{OnceCell, RefCell};
+
+use enip_stack::nv::{
+    AbStore, Flash, FlashError, RamFlash, SharedStore, IMAGE_SIZE, MAX_WRITE_SIZE,
+};
 
 /// Bytes of one sector in the file.
 pub const SECTOR: usize = MAX_WRITE_SIZE + IMAGE_SIZE;
@@ -131,6 +136,22 @@ impl Flash for HostFlash {
             HostFlash::Ram(f) => f.program(sector, offset, data),
         }
     }
+}
+
+/// The store `--nv-file` names (or one in RAM), opened on the first call and shared by every
+/// later one: the adapter (TCP/IP settings) and the device profile (its saved settings) keep
+/// their records in the one store, from the one thread that runs them.
+pub fn shared(path: Option<&Path>) -> Result<SharedStore, String> {
+    thread_local! {
+        static STORE: OnceCell<SharedStore> = const { OnceCell::new() };
+    }
+    STORE.with(|cell| {
+        if let Some(store) = cell.get() {
+            return Ok(*store);
+        }
+        let store: &'static RefCell<HostStore> = Box::leak(Box::new(RefCell::new(open(path)?)));
+        Ok(*cell.get_or_init(|| SharedStore::new(store)))
+    })
 }
 
 /// The store `--nv-file` names, or one in RAM.

@@ -12,7 +12,8 @@ pub const OPTIONS_USAGE: &str =
   --gateway A.B.C.D  default gateway (none by default)
   --mac MAC          the adapter's MAC address (default: 02:45:4e:49:50:01)
   --nv-file PATH     keep the settings that survive a power cycle (TCP/IP attributes 3, 5,
-                     6 and 13) in PATH (created if absent); a static interface configuration
+                     6, 8, 9 and 13; the profile's saved settings) in PATH (created if
+                     absent); a static interface configuration
                      stored there replaces --ip and --gateway at start (default: in RAM,
                      lost at exit)
   --create-tap       create IFNAME if there is none (needs root or CAP_NET_ADMIN); it is

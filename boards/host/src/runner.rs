@@ -9,9 +9,10 @@ use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
 use embassy_net_tuntap::TunTapDevice;
 use enip_firmware::Resources;
 use enip_stack::cip::tcpip::TcpIpState;
+use enip_stack::nv::SharedStore;
 use enip_stack::{Adapter, Device};
 
-use crate::nv_file::{self, HostStore};
+use crate::nv_file;
 use crate::{program_name, signals, tap, Options};
 
 /// Sockets of the embassy-net stack: what the adapter needs, and none to spare.
@@ -34,7 +35,7 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
         eprintln!("{program}: {e}");
         exit(1);
     });
-    let store = nv_file::open(options.nv_file.as_deref()).unwrap_or_else(|e| {
+    let store = nv_file::shared(options.nv_file.as_deref()).unwrap_or_else(|e| {
         eprintln!("{program}: {e}");
         exit(1);
     });
@@ -59,7 +60,7 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
 fn start<D: Device + 'static>(
     device: D,
     mut tap: TunTapDevice,
-    mut store: HostStore,
+    mut store: SharedStore,
     options: Options,
     program: String,
 ) -> (Runner<'static, TunTapDevice>, AdapterRun) {
@@ -103,7 +104,7 @@ fn start<D: Device + 'static>(
 
 /// The address to start with: the static interface configuration in the store, else
 /// `--ip` and `--gateway`; says which in the log.
-fn interface(store: &mut HostStore, options: &Options) -> StaticConfigV4 {
+fn interface(store: &mut SharedStore, options: &Options) -> StaticConfigV4 {
     let from = options
         .nv_file
         .as_deref()

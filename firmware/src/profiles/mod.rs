@@ -15,6 +15,8 @@ pub mod parker_ipa;
 pub mod position_servo;
 
 #[cfg(feature = "_any-profile")]
+pub mod nv_record;
+#[cfg(feature = "_any-profile")]
 mod select;
 
 #[cfg(feature = "profile-ametek-pls")]

@@ -7,6 +7,7 @@ use enip_stack::cip::request::Request;
 use enip_stack::cip::CipResult;
 use enip_stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
 use enip_stack::eds::EdsInfo;
+use enip_stack::nv::SharedStore;
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 
@@ -90,6 +91,44 @@ profiles! {
 }
 
 impl Profile {
+    /// Keeps the profile's saved settings (PositionServo EPM, AKD DRV.NVSAVE parameters,
+    /// Ametek NVRAM program) in `store` from now on, each in its own record: the profile
+    /// powers up again from what the store holds. Generic and Parker IPA save nothing.
+    // Built with neither of the profiles that save, nothing takes the store.
+    #[cfg_attr(
+        not(any(
+            feature = "profile-position-servo",
+            feature = "profile-kollmorgen-akd",
+            feature = "profile-ametek-pls"
+        )),
+        allow(unused_variables)
+    )]
+    pub fn attach_store(&mut self, store: SharedStore) {
+        match self {
+            #[cfg(feature = "profile-position-servo")]
+            Profile::PositionServo(p) => {
+                *p = super::PositionServo::with_storage(
+                    super::position_servo::storage::RamEpm::in_store(store),
+                );
+            }
+            #[cfg(feature = "profile-kollmorgen-akd")]
+            Profile::KollmorgenAkd(p) => {
+                *p = super::KollmorgenAkd::with_storage(
+                    super::kollmorgen_akd::storage::RamNv::in_store(store),
+                );
+            }
+            #[cfg(feature = "profile-ametek-pls")]
+            Profile::AmetekPls(p) => {
+                *p = super::AmetekPls::with_nvram(super::ametek_pls::nvram::RamNvram::in_store(
+                    store,
+                ));
+            }
+            // The profiles with nothing to save (none, when only those are compiled in).
+            #[allow(unreachable_patterns)]
+            _ => {}
+        }
+    }
+
     /// The profile's EDS file.
     pub fn write_eds(&self, w: &mut impl core::fmt::Write) -> core::fmt::Result {
         enip_stack::eds::write_eds(w, self, self.eds_info())

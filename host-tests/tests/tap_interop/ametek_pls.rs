@@ -455,7 +455,7 @@ fn ametek_pls_program_control_survives_a_restart() {
     let file = dir.join("ametek_pls_nvram.bin");
     let _ = std::fs::remove_file(&file);
     let nvram = file.to_str().unwrap();
-    let rig = start("ametek_pls_nvram_save", &["--nvram", nvram]);
+    let rig = start("ametek_pls_nvram_save", &["--nv-file", nvram]);
     let r = peer(
         &rig,
         "nvram",
@@ -474,7 +474,7 @@ fn ametek_pls_program_control_survives_a_restart() {
     assert_eq!(r["offsets"][0], 150, "{r}");
     common::finish(rig);
     // A restart of the board with the same file: the saved program and offset come back.
-    let rig = start("ametek_pls_nvram_restart", &["--nvram", nvram]);
+    let rig = start("ametek_pls_nvram_restart", &["--nv-file", nvram]);
     let r = peer(
         &rig,
         "nvram",

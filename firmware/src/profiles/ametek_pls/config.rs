@@ -4,6 +4,10 @@
 //! Every attribute is kept as the UINT words the manual tables number (word 1 = index 0),
 //! so a Get returns exactly what a valid Set wrote.
 
+// Word offsets only: group, setpoint and input indices below the tables' fixed sizes, and
+// attribute IDs matched to their ranges before any subtraction.
+#![allow(clippy::arithmetic_side_effects)]
+
 /// PLS groups (§2.3).
 pub const GROUPS: usize = 8;
 /// Outputs: 1-16 high speed, 17-32 low speed.

@@ -7,6 +7,11 @@
 //! (section 6): Run Enable 0, group force, individual force, add-on test, minimum speed
 //! disable and output-enable inputs, setpoint pattern; outputs in no group are off.
 
+// Position arithmetic: u16 positions, offsets and speeds are widened to 32, 64 or 128 bits
+// before every sum or product, every divisor is a scale factor of at least 1, and the
+// interpolation guards its span; nothing here can overflow or divide by zero.
+#![allow(clippy::arithmetic_side_effects)]
+
 use enip_stack::{Duration, Instant};
 
 use super::config::{setpoint, Config, GROUPS, HIGH_SPEED, INPUTS, OUTPUTS};

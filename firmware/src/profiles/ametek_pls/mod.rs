@@ -426,7 +426,9 @@ impl<N: Nvram> Device for AmetekPls<N> {
     /// 0 restarts from NVRAM (a power cycle); 1 also erases NVRAM (factory defaults).
     fn reset(&mut self, kind: u8) -> CipResult {
         if kind == 1 {
-            self.nvram.clear();
+            self.nvram
+                .clear()
+                .map_err(|_| General::StoreOperationFailure)?;
         }
         self.power_up();
         Ok(())

@@ -1,8 +1,11 @@
 //! Non-volatile storage of the program (§2.9: "save the current settings to NVRAM"):
-//! [`Nvram`] is what the profile needs from it; [`RamNvram`] keeps the image in RAM, with an
-//! optional hook a board uses to copy it to a file or flash.
+//! [`Nvram`] is what the profile needs from it; [`RamNvram`] keeps the image in RAM and in a
+//! record of the adapter's store.
+
+use enip_stack::nv::{key, SharedStore};
 
 use super::config::{CONFIG_BYTES, GROUPS};
+use crate::profiles::nv_record::Record;
 
 /// Bytes of the saved image: attributes 1-35 and 38, then the 8 group offsets.
 pub const IMAGE_BYTES: usize = CONFIG_BYTES + 2 * GROUPS;
@@ -18,19 +21,16 @@ pub trait Nvram {
     /// Saves `image`.
     fn store(&mut self, image: &[u8; IMAGE_BYTES]) -> Result<(), StoreError>;
     /// Forgets the saved image (factory defaults).
-    fn clear(&mut self);
+    fn clear(&mut self) -> Result<(), StoreError>;
 }
 
-/// A board's copy of the image to its own medium; `false` if it failed.
-pub type StoreHook = fn(&[u8]) -> bool;
-
-/// An [`Nvram`] in RAM (host and QEMU boards); a board may add a [`StoreHook`] so the image
-/// also survives a restart (the host board's `--nvram FILE`).
+/// An [`Nvram`] in RAM and, given the adapter's store ([`RamNvram::in_store`]), in a record
+/// there, so the program survives a restart.
 #[derive(Debug, Clone)]
 pub struct RamNvram {
     image: [u8; IMAGE_BYTES],
     saved: bool,
-    hook: Option<StoreHook>,
+    record: Option<Record>,
 }
 
 impl RamNvram {
@@ -39,24 +39,25 @@ impl RamNvram {
         RamNvram {
             image: [0; IMAGE_BYTES],
             saved: false,
-            hook: None,
+            record: None,
         }
     }
 
-    /// A store holding `image` (as a board read it back), if it has the right size, whose
-    /// saves also go to `hook`.
-    pub fn with_image(image: Option<&[u8]>, hook: Option<StoreHook>) -> Self {
+    /// The program saved in `store` (none, or unreadable: the defaults), saved there from
+    /// now on.
+    pub fn in_store(store: SharedStore) -> Self {
+        let record = Record::new(store, key::AMETEK_PLS_PROGRAM);
         let mut nv = RamNvram::new();
-        nv.hook = hook;
-        if let Some(bytes) = image.and_then(|i| <&[u8; IMAGE_BYTES]>::try_from(i).ok()) {
-            nv.image = *bytes;
+        if let Some(image) = record.load::<IMAGE_BYTES>() {
+            nv.image = image;
             nv.saved = true;
         }
+        nv.record = Some(record);
         nv
     }
 }
 
-/// Two stores are equal when they hold the same image (the hook is not compared).
+/// Two stores are equal when they hold the same image (where it is saved is not compared).
 impl PartialEq for RamNvram {
     fn eq(&self, other: &Self) -> bool {
         self.load() == other.load()
@@ -77,17 +78,19 @@ impl Nvram for RamNvram {
     }
 
     fn store(&mut self, image: &[u8; IMAGE_BYTES]) -> Result<(), StoreError> {
-        if let Some(hook) = self.hook {
-            if !hook(image) {
-                return Err(StoreError);
-            }
+        if let Some(record) = self.record {
+            record.save(image).map_err(|_| StoreError)?;
         }
         self.image = *image;
         self.saved = true;
         Ok(())
     }
 
-    fn clear(&mut self) {
+    fn clear(&mut self) -> Result<(), StoreError> {
+        if let Some(record) = self.record {
+            record.clear().map_err(|_| StoreError)?;
+        }
         self.saved = false;
+        Ok(())
     }
 }

@@ -10,8 +10,11 @@ use std::vec::Vec;
 
 use enip_stack::{Adapter, Device, Instant, NetworkConfig};
 
+use enip_stack::nv::{CutFlash, SharedStore};
+
 use super::nvram::{Nvram, RamNvram};
 use super::{identity, AmetekPls};
+use crate::profiles::nv_record::testing;
 
 /// Message Router request bytes: 8-bit class and instance, optional attribute, data.
 pub fn request(
@@ -503,18 +506,56 @@ fn program_control_save_change_restore() {
     assert_eq!(get(&mut pls, 0xC1, 2), [0; 52]);
 }
 
+/// A module programmed like [`programmed`], its NVRAM in `store`.
+fn programmed_in(store: SharedStore) -> AmetekPls {
+    let mut pls = AmetekPls::with_nvram(RamNvram::in_store(store));
+    assert_eq!(set(&mut pls, 1, &pls_object()), 0);
+    assert_eq!(set(&mut pls, 2, &output_1()), 0);
+    assert_eq!(set(&mut pls, 18, &output_17()), 0);
+    pls
+}
+
 #[test]
-fn a_saved_image_survives_a_new_module() {
-    let mut pls = programmed();
+fn a_saved_program_survives_a_restart_in_the_store() {
+    let store = testing::store();
+    let mut pls = programmed_in(store);
     assert_eq!(set(&mut pls, 37, &[2, 0]), 0);
-    let image = *pls.nvram().load().unwrap();
-    let mut fresh = AmetekPls::with_nvram(RamNvram::with_image(Some(&image), None));
+    let mut fresh = AmetekPls::with_nvram(RamNvram::in_store(store));
     assert_eq!(get(&mut fresh, 0xC1, 2), le(&output_1()));
     assert_eq!(get(&mut fresh, 0xC1, 18), le(&output_17()));
     assert_ne!(fresh.status_bits() & 0x4, 0);
+    // Factory defaults remove the record.
+    fresh.reset(1).unwrap();
+    let mut after = AmetekPls::with_nvram(RamNvram::in_store(store));
+    assert_eq!(after.nvram().load(), None);
+    assert_eq!(get(&mut after, 0xC1, 2), [0; 52]);
     // A failing medium: code 4.
-    let mut failing = AmetekPls::with_nvram(RamNvram::with_image(None, Some(|_| false)));
+    let mut dead = CutFlash::new();
+    dead.cut_after(0);
+    let mut failing = AmetekPls::with_nvram(RamNvram::in_store(testing::store_on(dead).0));
+    assert_eq!(set(&mut failing, 1, &pls_object()), 0);
     refused(&mut failing, 37, &[2, 0], 0x19, [4, 37, 1]);
+}
+
+#[test]
+fn every_power_cut_during_a_save_keeps_the_old_or_the_new_program() {
+    let steps = testing::every_power_cut(
+        |store| {
+            let mut pls = programmed_in(store);
+            assert_eq!(set(&mut pls, 37, &[2, 0]), 0);
+        },
+        |store| {
+            let mut pls = AmetekPls::with_nvram(RamNvram::in_store(store));
+            let mut changed = output_1();
+            changed[8] = 10;
+            set(&mut pls, 2, &changed) == 0 && set(&mut pls, 37, &[2, 0]) == 0
+        },
+        |store| {
+            let mut pls = AmetekPls::with_nvram(RamNvram::in_store(store));
+            (get(&mut pls, 0xC1, 2), get(&mut pls, 0xC1, 18))
+        },
+    );
+    assert!(steps > 100, "{steps} steps");
 }
 
 #[test]

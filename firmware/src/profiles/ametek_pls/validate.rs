@@ -4,6 +4,10 @@
 //! tables. All range checks (code 1) come before the conflict checks (code 2); within each
 //! pass the lowest word wins (\[R\] AM-EX-6).
 
+// Word offsets only: group, setpoint and input indices below the tables' fixed sizes (at
+// most a few hundred), and attribute IDs matched to their ranges before any subtraction.
+#![allow(clippy::arithmetic_side_effects)]
+
 use super::config::{attr, setpoint, Config, GROUPS, HIGH_SPEED, INPUTS, INPUT_STRIDE};
 
 /// An error the module reports in input words 15-17: (code, 1-based word).

@@ -214,7 +214,7 @@ fn isqrt(n: u128) -> u128 {
     let mut y = x.div_ceil(2);
     while y < x {
         x = y;
-        y = (x + n / x) / 2;
+        y = x.saturating_add(n.checked_div(x).unwrap_or(0)) / 2;
     }
     x
 }
@@ -370,7 +370,7 @@ impl Drive {
         while next <= now && ticks < MAX_CATCH_UP {
             self.tick();
             next = next.add(TICK);
-            ticks += 1;
+            ticks = ticks.saturating_add(1);
         }
         if next <= now {
             next = now.add(TICK);
@@ -392,14 +392,17 @@ impl Drive {
             self.advance();
             self.limit_check();
         }
-        self.acceleration = (self.velocity - before) * TICKS_PER_S;
+        self.acceleration = self
+            .velocity
+            .saturating_sub(before)
+            .saturating_mul(TICKS_PER_S);
         if self.velocity != 0 {
             self.positive = self.velocity > 0;
         }
     }
 
     fn advance(&mut self) {
-        let total = self.velocity + self.position_rem;
+        let total = self.velocity.saturating_add(self.position_rem);
         self.position = self.position.saturating_add(total / TICKS_PER_S);
         self.position_rem = total % TICKS_PER_S;
     }
@@ -432,14 +435,18 @@ impl Drive {
                     self.idle();
                 } else {
                     self.motion = Motion::Homing {
-                        ticks_left: ticks_left - 1,
+                        ticks_left: ticks_left.saturating_sub(1),
                     };
                 }
             }
             Motion::Torque => {
-                let acc = i64::from(self.torque_command) * TORQUE_K - self.velocity;
-                self.velocity =
-                    (self.velocity + acc / TICKS_PER_S).clamp(-MAX_VELOCITY, MAX_VELOCITY);
+                let acc = i64::from(self.torque_command)
+                    .saturating_mul(TORQUE_K)
+                    .saturating_sub(self.velocity);
+                self.velocity = self
+                    .velocity
+                    .saturating_add(acc / TICKS_PER_S)
+                    .clamp(-MAX_VELOCITY, MAX_VELOCITY);
             }
         }
     }
@@ -447,12 +454,13 @@ impl Drive {
     /// Ramps the velocity towards `v` with `acc` (speeding up) or `dec` (slowing down).
     fn ramp(&mut self, v: i64, acc: i64, dec: i64) {
         let cur = self.velocity;
-        let speeding_up = v.signum() * cur.signum() >= 0 && v.abs() > cur.abs();
+        let reversing = (v > 0 && cur < 0) || (v < 0 && cur > 0);
+        let speeding_up = !reversing && v.unsigned_abs() > cur.unsigned_abs();
         let step = (if speeding_up { acc } else { dec } / TICKS_PER_S).max(1);
         self.velocity = if v > cur {
-            (cur + step).min(v)
+            cur.saturating_add(step).min(v)
         } else {
-            (cur - step).max(v)
+            cur.saturating_sub(step).max(v)
         };
     }
 
@@ -465,18 +473,22 @@ impl Drive {
             self.finish_move();
             return;
         }
-        let along = self.velocity * dir;
-        let braking = isqrt(2 * dec as u128 * remaining.unsigned_abs() as u128);
+        let along = self.velocity.saturating_mul(dir);
+        let braking = isqrt(
+            (dec.unsigned_abs() as u128)
+                .saturating_mul(2)
+                .saturating_mul(remaining.unsigned_abs() as u128),
+        );
         let allowed = i64::try_from(braking).unwrap_or(i64::MAX).min(v).max(CREEP);
         let next = if along < 0 {
-            along + (dec / TICKS_PER_S).max(1)
+            along.saturating_add((dec / TICKS_PER_S).max(1))
         } else if allowed >= along {
-            allowed.min(along + (acc / TICKS_PER_S).max(1))
+            allowed.min(along.saturating_add((acc / TICKS_PER_S).max(1)))
         } else {
             allowed
         };
-        self.velocity = next * dir;
-        let travel = (next + self.position_rem * dir) / TICKS_PER_S;
+        self.velocity = next.saturating_mul(dir);
+        let travel = next.saturating_add(self.position_rem.saturating_mul(dir)) / TICKS_PER_S;
         if next > 0 && i128::from(travel) >= i128::from(remaining).abs() {
             self.position = target;
             self.position_rem = 0;
@@ -567,7 +579,9 @@ impl Drive {
     /// The commanded velocity, counts/s: the velocity the motion aims for.
     pub fn commanded_velocity(&self) -> i64 {
         match self.motion {
-            Motion::Move { target, v, .. } => v * target.saturating_sub(self.position).signum(),
+            Motion::Move { target, v, .. } => {
+                v.saturating_mul(target.saturating_sub(self.position).signum())
+            }
             Motion::Jog { v, .. } => v,
             Motion::Torque => self.velocity,
             _ => 0,
@@ -586,7 +600,7 @@ impl Drive {
         if !self.enabled {
             return 0;
         }
-        let ma = (self.acceleration + self.velocity) / TORQUE_K;
+        let ma = self.acceleration.saturating_add(self.velocity) / TORQUE_K;
         ma.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32
     }
     /// Status Word 2 bit 3: at or beyond the positive software limit (limits enabled).

@@ -214,7 +214,9 @@ impl<S: NvStorage> Device for KollmorgenAkd<S> {
 
     fn instance_count(&self, class: &ClassDef) -> u32 {
         match class.id {
-            parameter::CLASS => params::instances().count() as u32 + maps::INSTANCES,
+            parameter::CLASS => {
+                (params::instances().count() as u32).saturating_add(maps::INSTANCES)
+            }
             _ => 1,
         }
     }
@@ -285,7 +287,9 @@ impl<S: NvStorage> Device for KollmorgenAkd<S> {
     /// 0 restarts from the saved parameters (a power cycle); 1 also erases them.
     fn reset(&mut self, kind: u8) -> CipResult {
         if kind == 1 {
-            self.nv.clear();
+            self.nv
+                .clear()
+                .map_err(|_| General::StoreOperationFailure)?;
         }
         self.restore();
         Ok(())

@@ -10,6 +10,7 @@ use std::vec;
 use std::vec::Vec;
 
 use enip_stack::cip::{CipError, CipResult, General};
+use enip_stack::nv::{CutFlash, SharedStore};
 use enip_stack::wire::epath::{LogicalType, Segment};
 use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
 use enip_stack::wire::Writer;
@@ -18,7 +19,9 @@ use enip_stack::{Adapter, Device, Instant, NetworkConfig};
 use super::assemblies::{control, status1, status2, COMMAND, RESPONSE};
 use super::drive::COUNTS_PER_REV;
 use super::params::id;
+use super::storage::RamNv;
 use super::KollmorgenAkd;
+use crate::profiles::nv_record::testing;
 
 const EN: u8 = control::ENABLE;
 const LOAD: u8 = control::LOAD_START;
@@ -616,6 +619,46 @@ fn nvsave_survives_a_reset_and_factory_reset_clears_it() {
     assert_eq!(get(&mut b, id::EIP_POSUNIT), 1000u32.to_le_bytes());
     b.akd.reset(1).unwrap();
     assert_eq!(get(&mut b, 1), 5_000_000u32.to_le_bytes());
+}
+
+/// Parameter 1 as a fresh drive powered up from `store` reads it.
+fn parameter_1_after_power_up(store: SharedStore) -> Vec<u8> {
+    let mut akd = KollmorgenAkd::with_storage(RamNv::in_store(store));
+    execute(&mut akd, &request(0x0E, 0x0F, 1, Some(1), &[]), 0).1
+}
+
+/// Sets parameter 1 to `value` and saves with DRV.NVSAVE; true if both succeeded.
+fn set_and_save(store: SharedStore, value: u32) -> bool {
+    let mut akd = KollmorgenAkd::with_storage(RamNv::in_store(store));
+    let mut ok = |i: u16, d: &[u8]| execute(&mut akd, &request(0x10, 0x0F, i, Some(1), d), 0).0;
+    ok(1, &value.to_le_bytes()).is_ok() && ok(id::DRV_NVSAVE, &[1]).is_ok()
+}
+
+#[test]
+fn nvsave_survives_a_restart_in_the_store() {
+    let store = testing::store();
+    assert!(set_and_save(store, 1234));
+    assert_eq!(parameter_1_after_power_up(store), 1234u32.to_le_bytes());
+    let mut akd = KollmorgenAkd::with_storage(RamNv::in_store(store));
+    akd.reset(1).unwrap();
+    assert_eq!(
+        parameter_1_after_power_up(store),
+        5_000_000u32.to_le_bytes()
+    );
+    // A store that cannot write refuses DRV.NVSAVE.
+    let mut dead = CutFlash::new();
+    dead.cut_after(0);
+    assert!(!set_and_save(testing::store_on(dead).0, 7));
+}
+
+#[test]
+fn every_power_cut_during_nvsave_keeps_the_old_or_the_new_parameters() {
+    let steps = testing::every_power_cut(
+        |store| assert!(set_and_save(store, 1234)),
+        |store| set_and_save(store, 4321),
+        parameter_1_after_power_up,
+    );
+    assert!(steps > 50, "{steps} steps");
 }
 
 #[test]

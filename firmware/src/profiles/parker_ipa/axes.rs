@@ -25,7 +25,10 @@ pub struct Axes {
 }
 
 fn slot(axis: usize, index: u32) -> Option<Slot> {
-    Slot::of(AXIS_FIRST + axis as u32 * AXIS_STRIDE + index)
+    let offset = (axis as u32)
+        .saturating_mul(AXIS_STRIDE)
+        .saturating_add(index);
+    Slot::of(AXIS_FIRST.saturating_add(offset))
 }
 
 impl Axes {
@@ -48,7 +51,7 @@ impl Axes {
             moving = true;
             *residue = residue.saturating_add((f64::from(velocity) * elapsed as f64) as i64);
             let whole = *residue / MICRO;
-            *residue -= whole * MICRO;
+            *residue %= MICRO;
             if whole == 0 {
                 continue;
             }

@@ -70,7 +70,7 @@ fn read_group(ipa: &mut ParkerIpa, instance: u32, data: &[u8], w: &mut Writer<'_
         return Err(CipError::new(General::PathDestinationUnknown));
     }
     let n = count(data, MAX_GROUP_BLOCK)?;
-    let elements = (0..n as u32).map(|k| instance + k * AXIS_STRIDE);
+    let elements = (0..n as u32).map(|k| instance.saturating_add(k.saturating_mul(AXIS_STRIDE)));
     let mut values = [None; MAX_GROUP_BLOCK];
     for (slot, p) in values.iter_mut().zip(elements) {
         *slot = Some(

@@ -144,7 +144,7 @@ impl Slot {
         if let Some(i) = within(FLAGS_FIRST, FLAGS_COUNT) {
             return Some(Slot::Flag(i));
         }
-        if let Some(i) = within(AXIS_FIRST, AXES * AXIS_STRIDE as usize) {
+        if let Some(i) = within(AXIS_FIRST, AXES.saturating_mul(AXIS_STRIDE as usize)) {
             return Some(Slot::Axis(i));
         }
         if let Some(i) = within(STATUS_FIRST, STATUS_COUNT) {
@@ -217,7 +217,7 @@ impl Store {
         }
         for (g, entry) in super::ioconfig::AOI_GROUPS.iter().enumerate() {
             for (k, v) in entry.iter().enumerate() {
-                if let Some(c) = s.config.get_mut(4 * g + k) {
+                if let Some(c) = s.config.get_mut(g.saturating_mul(4).saturating_add(k)) {
                     *c = *v as u32;
                 }
             }

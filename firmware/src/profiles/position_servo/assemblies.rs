@@ -86,7 +86,7 @@ const fn assembly(instance: u16, role: AssemblyRole, words: &'static [Word]) -> 
         info: AssemblyInfo {
             instance,
             role,
-            size: (words.len() * 4) as u16,
+            size: words.len().saturating_mul(4) as u16,
             run_idle_header: matches!(role, AssemblyRole::Output),
         },
         words,
@@ -176,10 +176,10 @@ fn encode(vars: &Variables, word: Word) -> [u8; 4] {
 /// Copies assembly `instance` into `out`; returns the length.
 pub fn read(vars: &Variables, instance: u16, out: &mut [u8]) -> CipResult<usize> {
     let a = find(instance)?;
-    let mut n = 0;
+    let mut n = 0usize;
     for (chunk, word) in out.chunks_exact_mut(4).zip(a.words) {
         chunk.copy_from_slice(&encode(vars, *word));
-        n += 4;
+        n = n.saturating_add(4);
     }
     Ok(n)
 }

@@ -49,12 +49,12 @@ impl Link {
 
 /// The control variable of input link `n` (0 = A).
 pub const fn input(n: usize) -> u16 {
-    id::LINK_A_IN + n as u16
+    id::LINK_A_IN.saturating_add(n as u16)
 }
 
 /// The control variable of output link `n` (0 = A).
 pub const fn output(n: usize) -> u16 {
-    id::LINK_A_OUT + n as u16
+    id::LINK_A_OUT.saturating_add(n as u16)
 }
 
 /// The 4 bytes a link with control variable `control` carries: the linked variable in the

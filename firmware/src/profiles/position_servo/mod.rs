@@ -42,7 +42,7 @@ use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant};
 
 use drive::{Drive, MoveKind, Settings};
-use storage::{EpmStorage, RamEpm};
+use storage::{EpmStorage, RamEpm, StorageError};
 use variables::{id, Value, Variables, DEFAULT_MULTICAST};
 
 /// The PositionServo: variables, their EPM copy in `S`, and the simulated drive.
@@ -100,9 +100,10 @@ impl<S: EpmStorage> PositionServo<S> {
         let raw = var.encode(value)?;
         self.act(id, raw)?;
         if epm {
-            self.epm
-                .store(id, raw)
-                .map_err(|_| General::ResourceUnavailable)?;
+            self.epm.store(id, raw).map_err(|e| match e {
+                StorageError::Write => General::StoreOperationFailure,
+                StorageError::NoCopy => General::ResourceUnavailable,
+            })?;
         }
         self.vars.set(id, raw);
         self.drive.publish(&mut self.vars);
@@ -204,7 +205,9 @@ impl<S: EpmStorage> Device for PositionServo<S> {
     /// defaults).
     fn reset(&mut self, kind: u8) -> CipResult {
         if kind == 1 {
-            self.epm.clear();
+            self.epm
+                .clear()
+                .map_err(|_| General::StoreOperationFailure)?;
         }
         self.restart();
         Ok(())

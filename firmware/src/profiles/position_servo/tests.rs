@@ -13,9 +13,12 @@ use enip_stack::{Adapter, AssemblyRole, Device, Instant, NetworkConfig};
 
 use super::assemblies::{self, status2};
 use super::drive::status;
-use super::storage::EpmStorage;
+use enip_stack::nv::{CutFlash, SharedStore};
+
+use super::storage::{EpmStorage, RamEpm};
 use super::variables::{id, Value, DEFAULT_MULTICAST};
 use super::PositionServo;
+use crate::profiles::nv_record::testing;
 
 /// Message Router request bytes: class 0x64, 16-bit instance, optional attribute, data.
 fn request(service: u8, instance: u16, attribute: Option<u8>, data: &[u8]) -> Vec<u8> {
@@ -126,6 +129,49 @@ fn epm_copy_is_separate_and_survives_a_reset() {
     servo.reset(1).unwrap();
     assert_eq!(servo.variables().real(id::ACCEL_LIMIT), 100.0);
     assert_eq!(servo.storage().load(id::V0), None);
+}
+
+/// ACCEL_LIMIT and V0 as a drive powered up from `store` has them.
+fn after_power_up(store: SharedStore) -> (f32, f32) {
+    let servo = PositionServo::with_storage(RamEpm::in_store(store));
+    let v = servo.variables();
+    (v.real(id::ACCEL_LIMIT), v.real(id::V0))
+}
+
+/// Writes ACCEL_LIMIT to RAM and EPM (attribute 3); true if it was accepted.
+fn save_accel(store: SharedStore, value: f32) -> bool {
+    let mut servo = PositionServo::with_storage(RamEpm::in_store(store));
+    set(&mut servo, id::ACCEL_LIMIT, 3, &value.to_le_bytes()).is_ok()
+}
+
+#[test]
+fn epm_survives_a_restart_in_the_store() {
+    let store = testing::store();
+    assert!(save_accel(store, 500.0));
+    let mut servo = PositionServo::with_storage(RamEpm::in_store(store));
+    set(&mut servo, id::V0, 1, &9u32.to_le_bytes()).unwrap();
+    assert_eq!(after_power_up(store), (500.0, 9.0));
+    servo.reset(1).unwrap();
+    assert_eq!(after_power_up(store), (100.0, 0.0));
+    // A store that cannot write: 0x19, and the EPM copy is unchanged.
+    let mut dead = CutFlash::new();
+    dead.cut_after(0);
+    let mut failing = PositionServo::with_storage(RamEpm::in_store(testing::store_on(dead).0));
+    assert_eq!(
+        set(&mut failing, id::ACCEL_LIMIT, 3, &7.0f32.to_le_bytes()),
+        err(General::StoreOperationFailure)
+    );
+    assert_eq!(failing.storage().load(id::ACCEL_LIMIT), None);
+}
+
+#[test]
+fn every_power_cut_during_an_epm_write_keeps_the_old_or_the_new_value() {
+    let steps = testing::every_power_cut(
+        |store| assert!(save_accel(store, 500.0)),
+        |store| save_accel(store, 750.0),
+        after_power_up,
+    );
+    assert!(steps > 50, "{steps} steps");
 }
 
 #[test]

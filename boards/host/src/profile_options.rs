@@ -1,0 +1,43 @@
+//! The profile options of the host board: `--pls-rpm` for the ametek-pls profile's simulated
+//! resolver; and every profile's saved settings kept in the adapter's non-volatile store
+//! (`--nv-file`).
+
+use std::path::Path;
+
+use enip_firmware::Profile;
+
+/// The profile options of the command line.
+#[derive(Debug, Default)]
+pub struct ProfileOptions {
+    /// `--pls-rpm RPM`: speed of the ametek-pls profile's simulated resolver.
+    pub pls_rpm: u16,
+}
+
+impl ProfileOptions {
+    /// Takes `flag value` if it is one of these options.
+    pub fn take(&mut self, flag: &str, value: &str) -> Result<bool, String> {
+        match flag {
+            "--pls-rpm" => {
+                self.pls_rpm = value
+                    .parse()
+                    .map_err(|_| format!("bad --pls-rpm {value:?} (0 to 65535)"))?
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+}
+
+/// Powers `profile` up from its records in the store `nv_file` names (RAM without one) and
+/// applies the profile options.
+pub fn set_up(
+    profile: &mut Profile,
+    options: &ProfileOptions,
+    nv_file: Option<&Path>,
+) -> Result<(), String> {
+    profile.attach_store(enip_host::shared_store(nv_file)?);
+    if let Profile::AmetekPls(pls) = profile {
+        pls.set_resolver(options.pls_rpm, false);
+    }
+    Ok(())
+}
