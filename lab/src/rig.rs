@@ -68,7 +68,7 @@ pub fn qemu_elf(profile: &str) -> Option<PathBuf> {
 #[derive(Debug, Clone, Copy)]
 pub enum Board<'a> {
     /// The host board `bin` (`enip-host`) running `profile`, with `extra` arguments (e.g.
-    /// `--nvram FILE`); it comes up at `answers_at` (its `--ip` is [`BOARD_CIDR`] unless its
+    /// `--nv-file PATH`); it comes up at `answers_at` (its `--ip` is [`BOARD_CIDR`] unless its
     /// non-volatile file says otherwise).
     Host {
         /// The `enip-host` binary.
