@@ -125,7 +125,7 @@ fn hostile_epaths() {
         (
             "path size beyond the request",
             vec![0x0E, 10, 0x20, 0x01, 0x24, 0x01],
-            0x04,
+            0x26,
         ),
         (
             "reserved logical format",
@@ -135,7 +135,7 @@ fn hostile_epaths() {
         ("40 segments", mr_request(0x0E, &forty, &[]), 0x04),
         ("empty path", vec![0x0E, 0], 0x04),
         ("16-bit class cut short", vec![0x0E, 1, 0x21, 0x00], 0x04),
-        ("service byte only", vec![0x0E], 0x04),
+        ("service byte only", vec![0x0E], 0x13),
         (
             "port segment in a request path",
             mr_request(0x0E, &[0x01, 0x00, 0x20, 0x01], &[]),
