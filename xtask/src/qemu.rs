@@ -29,6 +29,11 @@ impl Qemu {
     /// Boots `elf` attached to the TAP of `lab`, its UART going to `log`, and waits until the
     /// board says it listens.
     pub fn boot(lab: &Lab, elf: &Path, log: &Path) -> Result<Qemu> {
+        Qemu::boot_with(lab, elf, log, &[])
+    }
+
+    /// Like [`Qemu::boot`], with `extra` arguments for QEMU (e.g. its `-d` logging).
+    pub fn boot_with(lab: &Lab, elf: &Path, log: &Path, extra: &[&str]) -> Result<Qemu> {
         let file = fs::File::create(log)?;
         let mut cmd = lab.command("qemu-system-arm");
         cmd.args(["-M", "mps2-an386", "-nographic", "-kernel"])
@@ -38,6 +43,7 @@ impl Qemu {
                 "tap,id=n0,ifname={},script=no,downscript=no",
                 lab.tap
             ))
+            .args(extra)
             .stdin(Stdio::null())
             .stdout(file.try_clone()?)
             .stderr(file);

@@ -187,7 +187,7 @@ fn scanner(lab: &Lab, dir: &Path) -> Result<String> {
 
 /// Runs `program args` inside the lab, killed after `seconds`, with `input` on its standard
 /// input; returns its standard output (failing if it fails).
-fn peer(
+pub(crate) fn peer(
     lab: &Lab,
     program: &str,
     args: &[&str],
