@@ -24,7 +24,7 @@ use std::process::Command;
 use std::thread;
 
 use crate::boards;
-use crate::netns::{Lab, BOARD_IP};
+use crate::netns::Lab;
 use crate::qemu::{self, Qemu};
 use crate::smoke;
 use crate::util::{self, err, output, run, Result};
@@ -56,8 +56,6 @@ const TIMING_CONNECTIONS: u32 = 10;
 const TIMING_SECONDS: u32 = 10;
 /// Their watchdog: code 3 is x32, as in the host board's TAP benchmark.
 const TIMING_MULTIPLIER: &str = "3";
-/// Extra seconds a scanner may take beyond its run.
-const SLACK_SECONDS: u32 = 30;
 
 /// Runs the traced and the timing runs; returns their JSON for the bench report.
 pub fn run_all() -> Result<serde_json::Value> {
@@ -276,7 +274,8 @@ fn traced_run(
         let scanned = board.and_then(|mut board| {
             let json = dir.join(format!("scanner-traced-{connections}.json"));
             let seconds = scanner_seconds(connections, rpi_us, wanted.0 + wanted.1);
-            let r = scanner(&lab, connections, rpi_us, seconds, TRACED_MULTIPLIER, &json);
+            let r =
+                smoke::run_scanner(&lab, connections, rpi_us, seconds, TRACED_MULTIPLIER, &json);
             board.check_alive()?;
             r
         });
@@ -304,48 +303,12 @@ fn scanner_seconds(connections: u32, rpi_us: u32, datagrams: u64) -> u32 {
     (3 * nominal as u32 + 20).min(TRACED_SECONDS)
 }
 
-/// Runs the scanner in the lab; returns its JSON report.
-fn scanner(
-    lab: &Lab,
-    connections: u32,
-    rpi_us: u32,
-    seconds: u32,
-    multiplier: &str,
-    json: &Path,
-) -> Result<String> {
-    let bin = util::target_dir().join("release/scanner");
-    let args = [
-        "--target".to_string(),
-        BOARD_IP.to_string(),
-        "--connections".into(),
-        connections.to_string(),
-        "--rpi-us".into(),
-        rpi_us.to_string(),
-        "--seconds".into(),
-        seconds.to_string(),
-        "--multiplier".into(),
-        multiplier.into(),
-        "--json".into(),
-        json.to_string_lossy().into_owned(),
-    ];
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let table = smoke::peer(
-        lab,
-        &bin.to_string_lossy(),
-        &args,
-        None,
-        seconds + SLACK_SECONDS,
-    )?;
-    print!("{table}");
-    Ok(fs::read_to_string(json)?)
-}
-
 /// The untraced board with [`TIMING_CONNECTIONS`] at `rpi_us`; returns the scanner's JSON.
 fn timing_run(elf: &Path, dir: &Path, rpi_us: u32) -> Result<String> {
     let lab = Lab::create("enip-mcu-bench", "enipmcub0")?;
     let mut board = Qemu::boot(&lab, elf, &dir.join(format!("board-{rpi_us}us.log")))?;
     let json = dir.join(format!("scanner-{rpi_us}us.json"));
-    let report = scanner(
+    let report = smoke::run_scanner(
         &lab,
         TIMING_CONNECTIONS,
         rpi_us,

@@ -143,32 +143,15 @@ fn ethernetip(lab: &Lab) -> Result<String> {
 
 /// The scanner: one connection at 1 ms for 10 s; returns its JSON.
 fn scanner(lab: &Lab, dir: &Path) -> Result<String> {
-    let bin = util::target_dir().join("release/scanner");
     let json_path = dir.join("scanner-1ms.json");
-    let args = [
-        "--target".to_string(),
-        BOARD_IP.to_string(),
-        "--connections".into(),
-        "1".into(),
-        "--rpi-us".into(),
-        SCANNER_RPI_US.to_string(),
-        "--seconds".into(),
-        SCANNER_SECONDS.to_string(),
-        "--multiplier".into(),
-        SCANNER_MULTIPLIER.into(),
-        "--json".into(),
-        json_path.to_string_lossy().into_owned(),
-    ];
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let table = peer(
+    let out = run_scanner(
         lab,
-        &bin.to_string_lossy(),
-        &args,
-        None,
-        SCANNER_SECONDS + PEER_SLACK_SECONDS,
+        1,
+        SCANNER_RPI_US,
+        SCANNER_SECONDS,
+        SCANNER_MULTIPLIER,
+        &json_path,
     )?;
-    print!("{table}");
-    let out = fs::read_to_string(&json_path)?;
     println!(
         "scanner at {SCANNER_RPI_US} us under emulation: {}",
         json::scanner_figures(&out)
@@ -185,9 +168,47 @@ fn scanner(lab: &Lab, dir: &Path) -> Result<String> {
     Ok(out)
 }
 
+/// Runs the project's scanner (release build) inside the lab against the board: `connections`
+/// at `rpi_us` for `seconds`, watchdog `multiplier` code; prints its table and returns the
+/// JSON report it wrote to `json`.
+pub(crate) fn run_scanner(
+    lab: &Lab,
+    connections: u32,
+    rpi_us: u32,
+    seconds: u32,
+    multiplier: &str,
+    json: &Path,
+) -> Result<String> {
+    let bin = util::target_dir().join("release/scanner");
+    let args = [
+        "--target".to_string(),
+        BOARD_IP.to_string(),
+        "--connections".into(),
+        connections.to_string(),
+        "--rpi-us".into(),
+        rpi_us.to_string(),
+        "--seconds".into(),
+        seconds.to_string(),
+        "--multiplier".into(),
+        multiplier.into(),
+        "--json".into(),
+        json.to_string_lossy().into_owned(),
+    ];
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let table = peer(
+        lab,
+        &bin.to_string_lossy(),
+        &args,
+        None,
+        seconds + PEER_SLACK_SECONDS,
+    )?;
+    print!("{table}");
+    Ok(fs::read_to_string(json)?)
+}
+
 /// Runs `program args` inside the lab, killed after `seconds`, with `input` on its standard
 /// input; returns its standard output (failing if it fails).
-pub(crate) fn peer(
+fn peer(
     lab: &Lab,
     program: &str,
     args: &[&str],

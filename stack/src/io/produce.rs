@@ -22,7 +22,7 @@ fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
 }
 
 /// A T->O datagram due for sending, from [`next_due`]: where it goes, its largest length,
-/// and the producer that builds it with [`write`].
+/// and the producer that builds it with [`write()`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct IoDue {
     /// Destination: UDP port 2222 of the originator, or the multicast group.
