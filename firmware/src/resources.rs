@@ -3,7 +3,8 @@
 
 use embassy_net::udp::PacketMetadata;
 use embassy_net::StackResources;
-use enip_stack::config::{MAX_ENCAP_FRAME, MAX_SESSIONS};
+use enip_stack::config::{MAX_ASSEMBLY_SIZE, MAX_CONNECTIONS, MAX_ENCAP_FRAME, MAX_SESSIONS};
+use enip_stack::wire::io_datagram::HEADER_LEN;
 
 /// Sockets [`crate::run`] opens on the embassy-net stack: a TCP socket per encapsulation
 /// session on port 44818 (3), a UDP socket on 44818, and two UDP sockets on 2222
@@ -47,27 +48,44 @@ pub(crate) struct UdpBuffers {
     pub reply: [u8; MAX_ENCAP_FRAME],
 }
 
-/// Datagrams each UDP 2222 socket can hold in each direction.
-pub const IO_PACKETS: usize = 16;
-/// Payload bytes each UDP 2222 socket can hold in each direction.
-pub const IO_BUFFER_LEN: usize = 4096;
-/// Largest T->O datagram: I/O header, sequence count and the largest assembly.
-pub const IO_DATAGRAM_LEN: usize =
-    enip_stack::wire::io_datagram::HEADER_LEN + 2 + enip_stack::config::MAX_ASSEMBLY_SIZE;
+/// Datagrams each UDP 2222 buffer can hold: one per connection.
+pub const IO_PACKETS: usize = MAX_CONNECTIONS;
+/// Payload bytes of each UDP 2222 buffer: a datagram per connection with assemblies of up to
+/// 180 bytes, or two datagrams with the largest assembly. (A full transmit buffer makes the
+/// I/O future wait for the network runner to send, not drop data.)
+pub const IO_BUFFER_LEN: usize = 2048;
+/// The largest Class 1 datagram: I/O header, sequence count, run/idle header, assembly.
+const LARGEST_IO_DATAGRAM: usize = HEADER_LEN + 2 + 4 + MAX_ASSEMBLY_SIZE;
+const _: () = assert!(IO_BUFFER_LEN >= 2 * LARGEST_IO_DATAGRAM);
 
-/// Buffers of one UDP 2222 socket.
-pub(crate) struct IoSocketBuffers {
-    pub rx_meta: [PacketMetadata; IO_PACKETS],
-    pub rx: [u8; IO_BUFFER_LEN],
+/// Buffers of one UDP 2222 socket: receive side `RX_PACKETS` datagrams in `RX_LEN` bytes,
+/// transmit side [`IO_PACKETS`] in [`IO_BUFFER_LEN`].
+pub(crate) struct IoSocketBuffers<const RX_PACKETS: usize, const RX_LEN: usize> {
+    pub rx_meta: [PacketMetadata; RX_PACKETS],
+    pub rx: [u8; RX_LEN],
     pub tx_meta: [PacketMetadata; IO_PACKETS],
     pub tx: [u8; IO_BUFFER_LEN],
 }
 
-/// Buffers of Class 1 I/O: the point-to-point and multicast sockets, and the datagram being built.
+impl<const RX_PACKETS: usize, const RX_LEN: usize> IoSocketBuffers<RX_PACKETS, RX_LEN> {
+    /// Empty buffers, built field by field (a `const` item would be a flash image of them).
+    const fn new() -> Self {
+        IoSocketBuffers {
+            rx_meta: [PacketMetadata::EMPTY; RX_PACKETS],
+            rx: [0; RX_LEN],
+            tx_meta: [PacketMetadata::EMPTY; IO_PACKETS],
+            tx: [0; IO_BUFFER_LEN],
+        }
+    }
+}
+
+/// Buffers of Class 1 I/O: the point-to-point and multicast sockets (T->O datagrams are
+/// built straight into their transmit buffers). smoltcp hands a received datagram to the
+/// first socket bound to its port, the point-to-point one (opened first): the multicast
+/// socket only sends, and its receive side is one empty slot.
 pub(crate) struct IoBuffers {
-    pub unicast: IoSocketBuffers,
-    pub multicast: IoSocketBuffers,
-    pub out: [u8; IO_DATAGRAM_LEN],
+    pub unicast: IoSocketBuffers<IO_PACKETS, IO_BUFFER_LEN>,
+    pub multicast: IoSocketBuffers<1, 0>,
 }
 
 /// Every buffer [`crate::run`] uses; create one with [`Resources::new`] in a `static` cell.
@@ -85,12 +103,6 @@ impl Resources {
             tx: [0; TCP_TX_LEN],
             reply: [0; MAX_ENCAP_FRAME],
         };
-        const IO: IoSocketBuffers = IoSocketBuffers {
-            rx_meta: [PacketMetadata::EMPTY; IO_PACKETS],
-            rx: [0; IO_BUFFER_LEN],
-            tx_meta: [PacketMetadata::EMPTY; IO_PACKETS],
-            tx: [0; IO_BUFFER_LEN],
-        };
         Resources {
             tcp: [TCP; MAX_SESSIONS],
             udp: UdpBuffers {
@@ -101,9 +113,8 @@ impl Resources {
                 reply: [0; MAX_ENCAP_FRAME],
             },
             io: IoBuffers {
-                unicast: IO,
-                multicast: IO,
-                out: [0; IO_DATAGRAM_LEN],
+                unicast: IoSocketBuffers::new(),
+                multicast: IoSocketBuffers::new(),
             },
         }
     }

@@ -1,7 +1,9 @@
-//! The adapter shared between the runtime's futures on one single-threaded executor, and the
-//! wake-up that tells the I/O future its deadline moved.
+//! The adapter shared between the runtime's futures on one single-threaded executor, the
+//! wake-up that tells the I/O future its deadline moved, and the note that explicit traffic
+//! may have changed its connections.
 
 use core::cell::RefCell;
+use core::sync::atomic::{AtomicBool, Ordering};
 
 use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 use embassy_sync::blocking_mutex::Mutex;
@@ -12,6 +14,8 @@ use enip_stack::{Adapter, Device, Instant};
 pub struct SharedAdapter<D: Device> {
     adapter: Mutex<NoopRawMutex, RefCell<Adapter<D>>>,
     io_wake: Signal<NoopRawMutex, ()>,
+    /// Set by every [`with_adapter`]: connections or the TCP/IP object may have changed.
+    explicit: AtomicBool,
 }
 
 /// Wraps `adapter` for [`crate::run`].
@@ -19,6 +23,7 @@ pub const fn share<D: Device>(adapter: Adapter<D>) -> SharedAdapter<D> {
     SharedAdapter {
         adapter: Mutex::new(RefCell::new(adapter)),
         io_wake: Signal::new(),
+        explicit: AtomicBool::new(false),
     }
 }
 
@@ -37,10 +42,17 @@ pub fn with_adapter<D: Device, R>(
         let r = f(&mut a);
         (r, before, a.io_deadline())
     });
+    shared.explicit.store(true, Ordering::Relaxed);
     if earlier(after, before) {
         shared.io_wake.signal(());
     }
     r
+}
+
+/// True (once) if [`with_adapter`] ran since the last call: the I/O future then checks what
+/// only explicit traffic changes (multicast group and TTL).
+pub(crate) fn take_explicit_change<D: Device>(shared: &SharedAdapter<D>) -> bool {
+    shared.explicit.swap(false, Ordering::Relaxed)
 }
 
 /// Like [`with_adapter`] without the wake-up: for the I/O future itself.

@@ -39,11 +39,17 @@ pub(crate) async fn serve<D: Device>(
         }
     }
     loop {
-        let due = with_adapter(adapter, |a| a.udp_deadline())
-            .map_or(embassy_time::Instant::MAX, to_embassy);
+        let due = with_adapter(adapter, |a| a.udp_deadline());
+        // No timer at all while no reply is delayed: a timer in the queue costs every poll.
+        let timer = async {
+            match due {
+                Some(at) => Timer::at(to_embassy(at)).await,
+                None => core::future::pending().await,
+            }
+        };
         let event = select(
             socket.recv_from_with(|data, meta| answer(adapter, data, meta, reply)),
-            Timer::at(due),
+            timer,
         )
         .await;
         match event {

@@ -26,10 +26,10 @@
 use std::path::Path;
 use std::time::Duration;
 
+use enip_lab::scanner::{self as scanner_run, ScannerRun};
 use host_tests::netns::{BOARD_IP, BROADCAST_IP};
 use host_tests::paths;
 use host_tests::peers;
-use host_tests::process::run_bounded;
 use host_tests::rig::{Board, Options, Rig};
 use serde_json::{json, Value};
 
@@ -38,7 +38,7 @@ const ETHERNETIP_RPI_MS: u32 = 10;
 const ETHERNETIP_SECONDS: u64 = 10;
 /// The scanner's run: RPI in µs and duration in s.
 const SCANNER_RPI_US: u32 = 1_000;
-const SCANNER_SECONDS: u64 = 10;
+const SCANNER_SECONDS: u32 = 10;
 /// Its timeout multiplier code: 5 is x128, a 128 ms watchdog at 1 ms. An emulated board on a
 /// shared host can stall for tens of milliseconds when QEMU is not scheduled; that is the
 /// host, not the stack, and the figures show it.
@@ -70,8 +70,14 @@ fn qemu_smoke() {
         log_file: Some(&log),
         ..Options::default()
     };
-    let mut rig = Rig::launch(Board::Qemu { elf: &elf }, &options)
-        .unwrap_or_else(|e| panic!("boot {}: {e}", elf.display()));
+    let mut rig = Rig::launch(
+        Board::Qemu {
+            elf: &elf,
+            extra: &[],
+        },
+        &options,
+    )
+    .unwrap_or_else(|e| panic!("boot {}: {e}", elf.display()));
     if let Err(e) = checks(&mut rig, &dir) {
         panic!(
             "{e}\n--- last lines of {} ---\n{}",
@@ -168,25 +174,16 @@ fn scanner(rig: &Rig, dir: &Path) -> Checked<Value> {
         .map(|b| paths::root().join(b))
         .unwrap_or_else(|| env!("CARGO_BIN_EXE_scanner").into());
     let json_path = dir.join("scanner-1ms.json");
-    let mut cmd = rig.ns().command(&bin);
-    cmd.args(["--target", &BOARD_IP.to_string(), "--connections", "1"])
-        .args(["--rpi-us", &SCANNER_RPI_US.to_string()])
-        .args(["--seconds", &SCANNER_SECONDS.to_string()])
-        .args(["--multiplier", SCANNER_MULTIPLIER, "--json"])
-        .arg(&json_path);
-    let timeout = Duration::from_secs(SCANNER_SECONDS + PEER_SLACK_SECONDS);
-    let out = run_bounded(cmd, None, timeout).map_err(|e| format!("scanner: {e}"))?;
-    print!("{}", String::from_utf8_lossy(&out.stdout));
-    if !out.status.success() {
-        return Err(format!(
-            "the scanner failed ({}): {}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr)
-        ));
-    }
-    let text =
-        std::fs::read_to_string(&json_path).map_err(|e| format!("{}: {e}", json_path.display()))?;
-    let report: Value = serde_json::from_str(&text).map_err(|e| format!("{text}: {e}"))?;
+    let run = ScannerRun {
+        bin: &bin,
+        connections: 1,
+        rpi_us: SCANNER_RPI_US,
+        seconds: SCANNER_SECONDS,
+        multiplier: SCANNER_MULTIPLIER,
+        json: &json_path,
+    };
+    let (table, report) = scanner_run::run(rig.ns(), &run).map_err(|e| format!("scanner: {e}"))?;
+    print!("{table}");
     println!(
         "scanner at {SCANNER_RPI_US} us under emulation: {}",
         peers::scanner_figures(&report)

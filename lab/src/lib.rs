@@ -15,3 +15,4 @@ pub mod paths;
 pub mod peers;
 pub mod process;
 pub mod rig;
+pub mod scanner;

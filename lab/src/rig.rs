@@ -90,6 +90,8 @@ pub enum Board<'a> {
     Qemu {
         /// The `enip-qemu-mps2` ELF.
         elf: &'a Path,
+        /// More arguments for QEMU (e.g. its `-d` tracing).
+        extra: &'a [&'a str],
     },
 }
 
@@ -115,7 +117,7 @@ impl Board<'_> {
                 cmd.env("RUST_LOG", log_level);
                 cmd
             }
-            Board::Qemu { elf } => {
+            Board::Qemu { elf, extra } => {
                 let mut cmd = lab.command("qemu-system-arm");
                 cmd.args(["-M", "mps2-an386", "-nographic", "-kernel"])
                     .arg(elf)
@@ -123,7 +125,8 @@ impl Board<'_> {
                     .arg(format!(
                         "tap,id=n0,ifname={},script=no,downscript=no",
                         lab.tap
-                    ));
+                    ))
+                    .args(extra);
                 cmd
             }
         }
@@ -217,7 +220,10 @@ impl Rig {
 
     /// Boots the emulated board's ELF `elf` in QEMU, capturing into `capture` if given.
     pub fn start_qemu(elf: &Path, capture: Option<&Path>) -> io::Result<Self> {
-        Self::launch(Board::Qemu { elf }, &Options::capturing(capture))
+        Self::launch(
+            Board::Qemu { elf, extra: &[] },
+            &Options::capturing(capture),
+        )
     }
 
     /// The namespace and TAP, the capture, then `board`, which must print that it serves

@@ -10,7 +10,8 @@ use crate::encap::list_identity::DelayedReplies;
 use crate::encap::session::{Need, Sessions};
 use crate::io::consume::{self, Accepted, Discard};
 use crate::io::open::Origin;
-use crate::io::{produce, ConnectionTable};
+use crate::io::produce::{self, IoDue};
+use crate::io::ConnectionTable;
 use crate::net::NetworkConfig;
 use crate::nv::{NvError, NvStore};
 use crate::rng::Rng;
@@ -316,6 +317,25 @@ impl<D: Device> Adapter<D> {
     pub fn poll_io(&mut self, now: Instant, out: &mut [u8]) -> Option<(SocketAddrV4, usize)> {
         self.connections.expire(now, &mut self.device);
         produce::produce_due(&mut self.connections, &mut self.device, now, out)
+    }
+
+    /// Closes connections whose watchdog expired, then returns the most overdue T->O
+    /// datagram, if one is due: its destination and largest length. Build it with
+    /// [`Self::write_io`] straight into a transmit buffer of that length (or drop it with
+    /// `write_io(due, now, None)` when there is nowhere to send it); call again until
+    /// `None`, as with [`Self::poll_io`].
+    pub fn io_due(&mut self, now: Instant) -> Option<IoDue> {
+        self.connections.expire(now, &mut self.device);
+        produce::next_due(&mut self.connections, now)
+    }
+
+    /// Writes the T->O datagram `due` (from [`Self::io_due`], with no other call between)
+    /// into `out`, which holds at least `due.max_len` bytes, and moves its connection to its
+    /// next production; returns the datagram's length (the device may fill less than the
+    /// connection's size). `out` `None` drops the datagram. Returns 0, changing nothing, if
+    /// `out` is too short or the connection is gone.
+    pub fn write_io(&mut self, due: IoDue, now: Instant, out: Option<&mut [u8]>) -> usize {
+        produce::write(&mut self.connections, &mut self.device, due, now, out)
     }
 
     /// Tells the stack that input assembly `instance` has new data: change-of-state and

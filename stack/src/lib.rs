@@ -50,5 +50,6 @@ pub mod wire;
 
 pub use adapter::{Adapter, SocketId, TcpOutcome};
 pub use device::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
+pub use io::produce::IoDue;
 pub use net::NetworkConfig;
 pub use time::{Duration, Instant};

@@ -264,3 +264,58 @@ fn io_traffic_keeps_its_session_alive_and_outlives_it() {
         Some(Instant(4_500_000))
     );
 }
+
+/// The two-step production the runtime uses to build a T->O datagram straight into a
+/// transmit buffer: `io_due` names the datagram and its largest length, `write_io` builds it
+/// and moves the connection on; a too-short buffer changes nothing, `None` drops the
+/// datagram (the sequence still advances), and a closed connection's `due` writes nothing.
+#[test]
+fn io_due_then_write_io_builds_in_place_and_skips_on_request() {
+    let mut h = Harness::new();
+    let ids = open_ten(&mut h);
+    let (_, t_o) = ids[0];
+    let now = Instant(0);
+    let due = h
+        .adapter
+        .io_due(now)
+        .expect("every producer is due at once");
+    assert_eq!(due.to, scanner());
+    assert_eq!(due.max_len, 18 + 2 + 32);
+    let mut short = [0u8; 51];
+    assert_eq!(h.adapter.write_io(due, now, Some(&mut short)), 0);
+    assert_eq!(
+        h.adapter.io_due(now),
+        Some(due),
+        "a short buffer consumed nothing"
+    );
+    let mut buf = [0u8; 52];
+    assert_eq!(h.adapter.write_io(due, now, Some(&mut buf)), 52);
+    let p = Packet::new_checked(&buf[..]).unwrap();
+    assert_eq!(p.connection_id(), t_o);
+    let first = p.encap_sequence();
+    // The same `due` again: the connection already moved on to its next deadline.
+    let next = h.adapter.io_due(now).unwrap();
+    assert_ne!(next, due);
+    // Dropping the remaining nine leaves nothing due until the next RPI.
+    let mut handled = 1;
+    while let Some(d) = h.adapter.io_due(now) {
+        assert_eq!(h.adapter.write_io(d, now, None), 0);
+        handled += 1;
+        assert!(handled <= CONNECTIONS, "a dropped datagram stays due");
+    }
+    assert_eq!(handled, CONNECTIONS);
+    let later = Instant(RPI);
+    let again = h.adapter.io_due(later).unwrap();
+    assert_eq!(h.adapter.write_io(again, later, Some(&mut buf)), 52);
+    assert_eq!(
+        Packet::new_checked(&buf[..]).unwrap().encap_sequence(),
+        first + 1
+    );
+    // A connection closed between `io_due` and `write_io`: nothing written.
+    let stale = h.adapter.io_due(Instant(2 * RPI)).unwrap();
+    h.adapter.close_all(CloseReason::Reset);
+    assert_eq!(
+        h.adapter.write_io(stale, Instant(2 * RPI), Some(&mut buf)),
+        0
+    );
+}

@@ -7,6 +7,8 @@
 //! - nanoseconds per cycle, natively (median of three runs);
 //! - on the host TAP: 10 connections at a 1 ms RPI for 60 s, T->O intervals per connection,
 //!   packets lost and connections timed out, measured by the project's scanner;
+//! - on the emulated Cortex-M board, instructions per Class 1 cycle with a breakdown by part,
+//!   and 10 connections at 1 ms and 2 ms ([`crate::bench_qemu`]);
 //! - beside it, the host's own floor: a plain thread sleeping to 1 ms deadlines for 10 s. On
 //!   a shared virtual machine its p99 already exceeds 1.1 ms, and no program here can beat it.
 
@@ -60,6 +62,7 @@ pub fn run_all() -> Result {
     let baseline = output(Command::new(bin.join("timer_baseline")).arg(BASELINE_SECONDS))
         .ok_or_else(|| util::Error("timer_baseline failed".into()))?;
     let tap = tap_run(&bin)?;
+    let qemu = crate::bench_qemu::run_all()?;
 
     let dir = util::target_dir().join("bench");
     fs::create_dir_all(&dir).map_err(|e| util::Error(format!("{}: {e}", dir.display())))?;
@@ -78,6 +81,7 @@ pub fn run_all() -> Result {
         },
         "timer_baseline": parsed(&baseline),
         "tap": parsed(&tap),
+        "qemu": qemu,
     })
     .to_string();
     let path = dir.join("report.json");

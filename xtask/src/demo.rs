@@ -77,7 +77,10 @@ pub fn run_demo(board: Board) -> Result {
     run(util::cargo().args(["build", "--release", "-p", "host-tests", "--bin", "scanner"]))?;
 
     let launched = match board {
-        Board::Qemu => rig::Board::Qemu { elf: &image },
+        Board::Qemu => rig::Board::Qemu {
+            elf: &image,
+            extra: &[],
+        },
         Board::Host => rig::Board::Host {
             bin: &image,
             profile: PROFILE,

@@ -15,6 +15,7 @@
 #![forbid(unsafe_code)]
 
 mod bench;
+mod bench_qemu;
 mod boards;
 mod demo;
 mod footprint;
@@ -44,13 +45,23 @@ commands:
                       boot the emulated board (QEMU mps2-an386) in netns enip-qemu until Ctrl-C
   demo [--host]       boot the emulated board (--host: the Linux host board) in netns
                       enip-demo; show its identity and a live Class 1 connection
-  bench               boards' footprint; Class 1 cycle cost (callgrind, native) and
-                      10 x 1 ms I/O on the host TAP
+  bench [--qemu]      boards' footprint; Class 1 cycle cost (callgrind, native) and
+                      10 x 1 ms I/O on the host TAP; the emulated board's instructions per
+                      cycle and 10 x 1 ms / 2 ms I/O (--qemu: that part alone)
   footprint           the boards' release image sizes and the F767 budget (part of bench)
   smoke               the QEMU smoke run alone (part of test)
   eds                 regenerate eds/<profile>.eds from every profile's own description
                       (`cargo run -p enip-host -- --eds --profile NAME` prints one)
 ";
+
+/// Which benchmarks `bench` runs.
+#[derive(Debug, PartialEq, Eq)]
+enum BenchPart {
+    /// Every one, with the footprint.
+    All,
+    /// The emulated Cortex-M board's Class 1 cycle only.
+    Qemu,
+}
 
 /// A command line, parsed.
 #[derive(Debug, PartialEq, Eq)]
@@ -61,7 +72,7 @@ enum Command {
     Campaign { minutes: u64 },
     Qemu { profile: String },
     Demo { board: demo::Board },
-    Bench,
+    Bench { part: BenchPart },
     Footprint,
     Smoke,
     Eds,
@@ -89,7 +100,12 @@ fn main() -> ExitCode {
         Command::Campaign { minutes } => fuzz::campaign(minutes),
         Command::Qemu { profile } => qemu::run_interactive(&profile),
         Command::Demo { board } => demo::run_demo(board),
-        Command::Bench => bench::run_all(),
+        Command::Bench {
+            part: BenchPart::All,
+        } => bench::run_all(),
+        Command::Bench {
+            part: BenchPart::Qemu,
+        } => bench_qemu::run_alone(),
         Command::Footprint => footprint::footprint(),
         Command::Smoke => smoke::run_smoke().map(|_| ()),
         // The firmware's EDS test knows every profile; asked to, it rewrites the files.
@@ -134,7 +150,9 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
         "demo" => Command::Demo {
             board: demo::Board::Qemu,
         },
-        "bench" => Command::Bench,
+        "bench" => Command::Bench {
+            part: BenchPart::All,
+        },
         "footprint" => Command::Footprint,
         "smoke" => Command::Smoke,
         "eds" => Command::Eds,
@@ -157,6 +175,7 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
             }
             (Command::Qemu { profile }, Long("profile")) => *profile = parser.value()?.string()?,
             (Command::Demo { board }, Long("host")) => *board = demo::Board::Host,
+            (Command::Bench { part }, Long("qemu")) => *part = BenchPart::Qemu,
             (_, other) => return Err(other.unexpected()),
         }
     }

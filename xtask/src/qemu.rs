@@ -64,7 +64,13 @@ pub fn run_interactive(profile: &str) -> Result {
         log_file: Some(&log),
         ..Options::default()
     };
-    let mut rig = Rig::launch(Board::Qemu { elf: &elf }, &options)?;
+    let mut rig = Rig::launch(
+        Board::Qemu {
+            elf: &elf,
+            extra: &[],
+        },
+        &options,
+    )?;
     print_log_tail(&rig, &log, 5);
     println!(
         "\nThe emulated board runs profile {profile} at {BOARD_CIDR} in namespace {NAMESPACE}. \

@@ -1,8 +1,10 @@
 //! The embassy-time driver of the machine: two CMSDK APB timers clocked at 25 MHz, giving
 //! a 1 MHz time base (one tick = 25 timer counts).
 //!
-//! - Timer 0 counts down from `u32::MAX` forever; its wrap interrupt (every 171.8 s) counts
-//!   periods, which extends it to 64 bits.
+//! - Timer 0 counts down from [`PERIOD_COUNTS`] - 1 forever: a period is exactly 2^27 µs
+//!   (134.2 s), so the time is the period count shifted left plus a 32-bit division of the
+//!   counts into the period (a multiplication: no 64-bit division on every `now`). Its wrap
+//!   interrupt counts periods, which extends it to 64 bits.
 //! - Timer 1 is the alarm: loaded with the counts until the earliest timer of the queue, it
 //!   interrupts once and is stopped.
 
@@ -18,6 +20,10 @@ use crate::mmio::Block;
 
 /// Timer counts per microsecond (the timers run at the 25 MHz system clock).
 const COUNTS_PER_US: u64 = 25;
+/// Microseconds of one period of the free-running timer, as a power of two.
+const PERIOD_US_LOG2: u32 = 27;
+/// Timer counts of one period: 2^27 µs (fits in the 32-bit counter).
+const PERIOD_COUNTS: u32 = (COUNTS_PER_US << PERIOD_US_LOG2) as u32;
 
 /// CMSDK APB timer registers.
 mod reg {
@@ -38,15 +44,20 @@ const CLOCK: Block = Block::at(0x4000_0000);
 /// The alarm timer.
 const ALARM: Block = Block::at(0x4000_1000);
 
-/// The time driver: wrap count and timer queue, shared with the interrupt handlers.
+/// The time driver: wrap count, timer queue and the tick the alarm is armed for, shared
+/// with the interrupt handlers.
 struct Mps2Time {
     periods: Mutex<Cell<u64>>,
     queue: Mutex<RefCell<Queue>>,
+    /// The alarm fires at this tick (`u64::MAX`: not armed); a timer due later needs no
+    /// re-arming, as the queue is walked again when the alarm fires.
+    armed: Mutex<Cell<u64>>,
 }
 
 embassy_time_driver::time_driver_impl!(static DRIVER: Mps2Time = Mps2Time {
     periods: Mutex::new(Cell::new(0)),
     queue: Mutex::new(RefCell::new(Queue::new())),
+    armed: Mutex::new(Cell::new(u64::MAX)),
 });
 
 /// Starts the clock and enables both timer interrupts; call once, first thing in `main`.
@@ -55,15 +66,16 @@ pub fn init() {
     ALARM.write(reg::INTSTATUS, reg::IRQ);
     CLOCK.write(reg::CTRL, 0);
     CLOCK.write(reg::INTSTATUS, reg::IRQ);
-    CLOCK.write(reg::RELOAD, u32::MAX);
+    CLOCK.write(reg::RELOAD, PERIOD_COUNTS - 1);
+    CLOCK.write(reg::VALUE, PERIOD_COUNTS - 1);
     CLOCK.write(reg::CTRL, reg::EN | reg::IRQEN);
     irq::enable(Irq::Timer0);
     irq::enable(Irq::Timer1);
 }
 
 impl Mps2Time {
-    /// Timer counts since [`init`], in a critical section so a pending wrap is seen.
-    fn counts(&self, cs: CriticalSection<'_>) -> u64 {
+    /// Microseconds since [`init`], in a critical section so a pending wrap is seen.
+    fn now_in(&self, cs: CriticalSection<'_>) -> u64 {
         let periods = self.periods.borrow(cs).get();
         let value = CLOCK.read(reg::VALUE);
         // A wrap the handler has not counted yet: re-read, the value is after it.
@@ -72,17 +84,16 @@ impl Mps2Time {
         } else {
             (periods, value)
         };
-        (periods << 32) + u64::from(u32::MAX - value)
-    }
-
-    fn now_in(&self, cs: CriticalSection<'_>) -> u64 {
-        self.counts(cs) / COUNTS_PER_US
+        let into_period = (PERIOD_COUNTS - 1).saturating_sub(value) / COUNTS_PER_US as u32;
+        (periods << PERIOD_US_LOG2) + u64::from(into_period)
     }
 
     /// Arms the alarm for tick `at`; false if `at` is already due (nothing armed).
     fn arm(&self, cs: CriticalSection<'_>, at: u64) -> bool {
         ALARM.write(reg::CTRL, 0);
         ALARM.write(reg::INTSTATUS, reg::IRQ);
+        let armed = self.armed.borrow(cs);
+        armed.set(u64::MAX);
         if at == u64::MAX {
             return true;
         }
@@ -96,6 +107,7 @@ impl Mps2Time {
             .min(u64::from(u32::MAX));
         ALARM.write(reg::RELOAD, counts as u32);
         ALARM.write(reg::CTRL, reg::EN | reg::IRQEN);
+        armed.set(now + counts / COUNTS_PER_US);
         true
     }
 
@@ -118,7 +130,7 @@ impl Driver for Mps2Time {
     fn schedule_wake(&self, at: u64, waker: &Waker) {
         critical_section::with(|cs| {
             let changed = self.queue.borrow_ref_mut(cs).schedule_wake(at, waker);
-            if changed {
+            if changed && at < self.armed.borrow(cs).get() {
                 self.dispatch(cs);
             }
         })
