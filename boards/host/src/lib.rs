@@ -20,6 +20,7 @@ mod options;
 mod runner;
 mod signals;
 mod tap;
+mod tap_driver;
 
 pub use options::{Options, Parsed, DEFAULT_MAC, OPTIONS_USAGE};
 pub use runner::run;
