@@ -3,6 +3,7 @@
 
 pub mod capture;
 pub mod enip;
+pub mod faults;
 pub mod netns;
 pub mod peers;
 pub mod process;
