@@ -10,10 +10,12 @@
 //! - `bench`: benchmarks, written to `target/bench/report.json`, and the boards' footprint,
 //!   written to `target/bench/footprint.json` (`footprint` alone).
 //! - `smoke`: the QEMU smoke run of `test`, alone.
+//! - `faults`: the long fault tests, written to `target/faults/report.json` (not in `test`).
 
 mod bench;
 mod boards;
 mod demo;
+mod faults;
 mod footprint;
 mod fuzz;
 mod json;
@@ -42,6 +44,8 @@ commands:
                       10 x 1 ms I/O on the host TAP
   footprint           the boards' release image sizes and the F767 budget (part of bench)
   smoke               the QEMU smoke run alone (part of test)
+  faults              the long fault tests (link flap, Reset, churn, idle sockets, vanishing
+                      scanner, 10-minute soak); figures in target/faults/report.json
   eds                 regenerate eds/<profile>.eds from every profile's own description
                       (`cargo run -p enip-host -- --eds --profile NAME` prints one)
 ";
@@ -69,6 +73,7 @@ fn main() -> ExitCode {
         ["bench"] => bench::run_all(),
         ["footprint"] => footprint::footprint(),
         ["smoke"] => smoke::run_smoke().map(|_| ()),
+        ["faults"] => faults::run_all(),
         // The firmware's EDS test knows every profile; asked to, it rewrites the files.
         ["eds"] => util::run(
             util::cargo()
