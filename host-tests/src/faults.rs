@@ -39,6 +39,22 @@ pub fn report(name: &str, mut figures: serde_json::Value) {
     println!("{REPORT_PREFIX}{figures}");
 }
 
+/// The largest of number figure `key` over `rounds` (`None` if no round has it).
+pub fn most(rounds: &[serde_json::Value], key: &str) -> Option<f64> {
+    rounds
+        .iter()
+        .filter_map(|r| r[key].as_f64())
+        .reduce(f64::max)
+}
+
+/// The smallest of number figure `key` over `rounds` (`None` if no round has it).
+pub fn least(rounds: &[serde_json::Value], key: &str) -> Option<f64> {
+    rounds
+        .iter()
+        .filter_map(|r| r[key].as_f64())
+        .reduce(f64::min)
+}
+
 /// Milliseconds of `d`, rounded to 0.1 ms, for reports.
 pub fn ms(d: Duration) -> f64 {
     (d.as_secs_f64() * 1e4).round() / 10.0
@@ -120,6 +136,18 @@ mod tests {
         let status = "Name:\tenip-host\nVmPeak:\t  9000 kB\nVmRSS:\t    4711 kB\nThreads:\t1\n";
         assert_eq!(rss_kib(status), Some(4711));
         assert_eq!(rss_kib("Name: x\n"), None);
+    }
+
+    #[test]
+    fn most_and_least_of_rounds() {
+        let rounds = [
+            serde_json::json!({"a": 2.5}),
+            serde_json::json!({"a": -1}),
+            serde_json::json!({}),
+        ];
+        assert_eq!(most(&rounds, "a"), Some(2.5));
+        assert_eq!(least(&rounds, "a"), Some(-1.0));
+        assert_eq!(most(&rounds, "b"), None);
     }
 
     #[test]

@@ -53,6 +53,9 @@ pub struct Traffic {
     pub t_o: Vec<(Instant, u32, u32)>,
     /// Per feed (same order), when its last O->T was handed to the kernel.
     pub last_sent: Vec<Option<Instant>>,
+    /// Per feed, the longest time between two of its O->T while fed (this machine's
+    /// scheduling of the sender).
+    pub max_gap: Vec<Duration>,
     /// O->T sends the kernel refused.
     pub send_errors: u64,
 }
@@ -98,37 +101,33 @@ pub fn drive(udp: &UdpSocket, feeds: &[Feed], end: Instant) -> io::Result<Traffi
                 Err(e) => return Err(e),
             }
         }
-        let (last_sent, send_errors) = send
+        let sent = send
             .join()
             .map_err(|_| io::Error::other("sender panicked"))??;
-        Ok(Traffic {
-            t_o,
-            last_sent,
-            send_errors,
-        })
+        Ok(Traffic { t_o, ..sent })
     })
 }
 
-/// The sender: each feed's O->T at its own absolute deadlines while fed, until `end`.
-fn send_until(
-    udp: &UdpSocket,
-    feeds: &[Feed],
-    end: Instant,
-) -> io::Result<(Vec<Option<Instant>>, u64)> {
+/// The sender: each feed's O->T at its own absolute deadlines while fed, until `end`;
+/// returns what it did (no T->O).
+fn send_until(udp: &UdpSocket, feeds: &[Feed], end: Instant) -> io::Result<Traffic> {
     let to = SocketAddrV4::new(BOARD_IP, IO_PORT);
     let start = Instant::now();
     let mut ticks = vec![0u32; feeds.len()];
-    let mut last_sent = vec![None; feeds.len()];
-    let mut errors = 0u64;
+    let mut sent = Traffic {
+        last_sent: vec![None; feeds.len()],
+        max_gap: vec![Duration::ZERO; feeds.len()],
+        ..Traffic::default()
+    };
     let mut buf = [0u8; 128];
     loop {
         let due = |i: usize| start + feeds[i].rpi * ticks[i];
         let Some(next) = (0..feeds.len()).min_by_key(|&i| due(i)) else {
-            return Ok((last_sent, errors));
+            return Ok(sent);
         };
         let at = due(next);
         if at >= end {
-            return Ok((last_sent, errors));
+            return Ok(sent);
         }
         if let Some(wait) = at.checked_duration_since(Instant::now()) {
             std::thread::sleep(wait);
@@ -147,8 +146,14 @@ fn send_until(
         let n = originator::io_datagram(&mut buf, f.o_t_id, k, k as u16, run, data)
             .map_err(|e| io::Error::other(format!("{e:?}")))?;
         match udp.send_to(&buf[..n], to) {
-            Ok(_) => last_sent[next] = Some(Instant::now()),
-            Err(_) => errors += 1,
+            Ok(_) => {
+                let now = Instant::now();
+                if let Some(prev) = sent.last_sent[next] {
+                    sent.max_gap[next] = sent.max_gap[next].max(now - prev);
+                }
+                sent.last_sent[next] = Some(now);
+            }
+            Err(_) => sent.send_errors += 1,
         }
     }
 }

@@ -6,17 +6,14 @@
 
 use std::io::{self, ErrorKind};
 use std::net::{Ipv4Addr, SocketAddrV4, TcpStream, UdpSocket};
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use crate::common::{self, REPLY};
-use crate::fault_io::{ms_between, IO_PORT};
-use enip_stack::originator;
+use crate::fault_io::{drive, ms_between, Feed, IO_PORT};
 use enip_stack::wire::epath::{LogicalType, Segment};
 use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
-use enip_stack::wire::io_datagram::Packet;
 use host_tests::enip::{command, mr_request, path, register_data, Client, Header};
-use host_tests::faults::{count, ms, pid_in, report, usage};
+use host_tests::faults::{count, least, most, ms, pid_in, report, usage};
 use host_tests::netns::Namespace;
 use host_tests::rig::{board_addr, Rig, BOARD_IP};
 use host_tests::scanner::stats::{connection_stats, quantile};
@@ -212,6 +209,12 @@ fn faults_reconnect_churn() {
     common::finish(rig);
 }
 
+/// A registered session, retrying while the adapter refuses connects (a socket of an earlier
+/// round not listening again yet).
+pub fn session() -> io::Result<Session> {
+    retry_refused(|| Session::connect(BOARD_IP, REPLY)).0
+}
+
 /// Connects, retrying while the adapter refuses (a socket not listening again yet).
 fn connect(ns: &Namespace) -> (Client, Instant) {
     let (c, _) = retry_refused(|| Client::connect(ns, REPLY));
@@ -281,24 +284,15 @@ fn faults_idle_and_half_open_sockets() {
         assert_eq!(r.data, secs.to_le_bytes(), "attribute 13 reads back");
     }
     let figures: Vec<serde_json::Value> = (0..rounds).map(|_| idle_round(ns)).collect();
-    let worst = |key: &str| {
-        figures
-            .iter()
-            .filter_map(|f| f[key].as_f64())
-            .fold(f64::MIN, f64::max)
-    };
     report(
         "idle_and_half_open_sockets",
         serde_json::json!({
             "rounds": rounds,
             "inactivity_timeout_ms": ms(IDLE_TIMEOUT),
-            "idle_closed_earliest_ms": figures
-                .iter()
-                .filter_map(|f| f["idle_closed_min_ms"].as_f64())
-                .fold(f64::MAX, f64::min),
-            "idle_closed_latest_ms": worst("idle_closed_max_ms"),
-            "worst_served_after_idle_ms": worst("served_after_idle_ms"),
-            "worst_served_after_half_frame_ms": worst("served_after_half_frame_ms"),
+            "idle_closed_earliest_ms": least(&figures, "idle_closed_min_ms"),
+            "idle_closed_latest_ms": most(&figures, "idle_closed_max_ms"),
+            "worst_served_after_idle_ms": most(&figures, "served_after_idle_ms"),
+            "worst_served_after_half_frame_ms": most(&figures, "served_after_half_frame_ms"),
             "fourth_client_while_3_idle": figures.first().map(|f| f["fourth_client"].clone()),
         }),
     );
@@ -368,8 +362,8 @@ fn idle_round(ns: &Namespace) -> serde_json::Value {
     serde_json::json!({
         "fourth_client": fourth,
         "idle_closed_ms": closed_ms,
-        "idle_closed_min_ms": closed_ms.iter().copied().fold(f64::MAX, f64::min),
-        "idle_closed_max_ms": closed_ms.iter().copied().fold(f64::MIN, f64::max),
+        "idle_closed_min_ms": closed_ms.iter().copied().reduce(f64::min),
+        "idle_closed_max_ms": closed_ms.iter().copied().reduce(f64::max),
         "served_after_idle_ms": ms(after_idle),
         "served_after_half_frame_ms": ms(after_half),
     })
@@ -424,7 +418,6 @@ fn faults_scanner_vanishes() {
         log.contains("closed (ExclusiveOwner from 198.18.0.1): timeout"),
         "{log}"
     );
-    let all = |key: &'static str| figures.iter().filter_map(move |f| f[key].as_f64());
     report(
         "scanner_vanishes",
         serde_json::json!({
@@ -432,11 +425,11 @@ fn faults_scanner_vanishes() {
             "void_rounds_rerun": void,
             "timeout_ms": ms(VANISH_TIMEOUT),
             "rpi_ms": ms(VANISH_RPI),
-            "closed_after_last_o_t_min_ms": all("last_t_o_after_last_o_t_ms").fold(f64::MAX, f64::min),
-            "closed_after_last_o_t_max_ms": all("closed_by_ms").fold(f64::MIN, f64::max),
-            "worst_reopen_forward_open_ms": all("reopen_forward_open_ms").fold(f64::MIN, f64::max),
-            "other_scanner_lost": all("other_lost").sum::<f64>(),
-            "other_scanner_worst_max_interval_us": all("other_max_us").fold(f64::MIN, f64::max),
+            "closed_after_last_o_t_min_ms": least(&figures, "last_t_o_after_last_o_t_ms"),
+            "closed_after_last_o_t_max_ms": most(&figures, "closed_by_ms"),
+            "worst_reopen_forward_open_ms": most(&figures, "reopen_forward_open_ms"),
+            "other_scanner_lost": figures.iter().filter_map(|f| f["other_lost"].as_u64()).sum::<u64>(),
+            "other_scanner_worst_max_interval_us": most(&figures, "other_max_us"),
             "per_round": figures,
         }),
     );
@@ -459,11 +452,9 @@ fn vanish_round(rig: &Rig) -> Option<serde_json::Value> {
     const STOP_TICK: u32 = 100;
     let run = rig.ns().inside(|| -> io::Result<Vanish> {
         let udp = UdpSocket::bind(SocketAddrV4::new(Ipv4Addr::UNSPECIFIED, IO_PORT))?;
-        udp.set_read_timeout(Some(Duration::from_millis(2)))?;
-        let sender = udp.try_clone()?;
-        let mut owner_session = Session::connect(BOARD_IP, REPLY)?;
-        let mut other = Session::connect(BOARD_IP, REPLY)?;
-        let mut next = Session::connect(BOARD_IP, REPLY)?;
+        let mut owner_session = session()?;
+        let mut other = session()?;
+        let mut next = session()?;
         let timeouts_before = cm_counter(&mut next, 8)?;
         let refused = |e| io::Error::other(format!("Forward_Open refused: {e:?}"));
         let owner = owner_session
@@ -472,7 +463,7 @@ fn vanish_round(rig: &Rig) -> Option<serde_json::Value> {
                 &OWNER_PATH,
                 OWNER_O_T,
                 0,
-                10_000,
+                RPI.as_micros() as u32,
             ))?
             .map_err(refused)?;
         // x16: the other scanner's heartbeat jitter must not matter here.
@@ -482,81 +473,23 @@ fn vanish_round(rig: &Rig) -> Option<serde_json::Value> {
                 &INPUT_ONLY_PATH,
                 HEARTBEAT_O_T,
                 2,
-                10_000,
+                RPI.as_micros() as u32,
             ))?
             .map_err(refused)?;
-        let (stopped_tx, stopped_rx) = mpsc::channel();
+        let feeds = [Feed::new(&owner, RPI, true), Feed::new(&input, RPI, false)];
         let start = Instant::now();
         let end = start + RPI * (TICKS + 5);
-        std::thread::scope(|s| {
-            let send = s.spawn(move || -> io::Result<Duration> {
-                let to = SocketAddrV4::new(BOARD_IP, IO_PORT);
-                let mut buf = [0u8; 128];
-                let mut owner_sent: Option<Instant> = None;
-                let mut owner_gap = Duration::ZERO;
-                let io = |e| io::Error::other(format!("{e:?}"));
-                for k in 1..=TICKS {
-                    if let Some(wait) = (start + RPI * k).checked_duration_since(Instant::now()) {
-                        std::thread::sleep(wait);
-                    }
-                    if k <= STOP_TICK {
-                        let n = originator::io_datagram(
-                            &mut buf,
-                            owner.o_t_connection_id,
-                            k,
-                            k as u16,
-                            Some(true),
-                            &[k as u8; 32],
-                        )
-                        .map_err(io)?;
-                        sender.send_to(&buf[..n], to)?;
-                        let now = Instant::now();
-                        owner_gap = owner_gap.max(owner_sent.map_or(Duration::ZERO, |t| now - t));
-                        owner_sent = Some(now);
-                        if k == STOP_TICK {
-                            let _ = stopped_tx.send(Instant::now());
-                        }
-                    }
-                    let n = originator::io_datagram(
-                        &mut buf,
-                        input.o_t_connection_id,
-                        k,
-                        k as u16,
-                        None,
-                        &[],
-                    )
-                    .map_err(io)?;
-                    sender.send_to(&buf[..n], to)?;
-                }
-                Ok(owner_gap)
-            });
-            let receive = s.spawn(move || -> io::Result<Vec<(Instant, u32, u32)>> {
-                let mut t_o = Vec::new();
-                let mut buf = [0u8; 1500];
-                // Bounded by time: every read times out after 2 ms.
-                while Instant::now() < end {
-                    match udp.recv_from(&mut buf) {
-                        Ok((n, _)) => {
-                            if let Ok(p) = Packet::new_checked(&buf[..n]) {
-                                t_o.push((Instant::now(), p.connection_id(), p.encap_sequence()));
-                            }
-                        }
-                        Err(e)
-                            if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {}
-                        Err(e) => return Err(e),
-                    }
-                }
-                Ok(t_o)
-            });
-            let last_o_t = stopped_rx
-                .recv_timeout(Duration::from_secs(5))
-                .map_err(|_| io::Error::other("the sender never stopped the owner"))?;
+        let (traffic, reopen_at, reopen_took) = std::thread::scope(|s| -> io::Result<_> {
+            let io = s.spawn(|| drive(&udp, &feeds, end));
+            std::thread::sleep(
+                (start + RPI * STOP_TICK + RPI / 2).saturating_duration_since(Instant::now()),
+            );
+            feeds[0].starve();
+            let stopped = Instant::now();
             // The scanner's process is gone: its TCP connection closes too.
             drop(owner_session);
-            let reopen_at = last_o_t + TIMEOUT + MARGIN + Duration::from_millis(10);
-            if let Some(wait) = reopen_at.checked_duration_since(Instant::now()) {
-                std::thread::sleep(wait);
-            }
+            let reopen_at = stopped + TIMEOUT + MARGIN + Duration::from_millis(10);
+            std::thread::sleep(reopen_at.saturating_duration_since(Instant::now()));
             let reopen_at = Instant::now();
             let again = next
                 .forward_open(&forward_open(
@@ -564,7 +497,7 @@ fn vanish_round(rig: &Rig) -> Option<serde_json::Value> {
                     &OWNER_PATH,
                     OWNER_O_T,
                     7,
-                    10_000,
+                    RPI.as_micros() as u32,
                 ))?
                 .map_err(refused)?;
             let reopen_took = reopen_at.elapsed();
@@ -572,27 +505,26 @@ fn vanish_round(rig: &Rig) -> Option<serde_json::Value> {
             if r.general != 0 {
                 return Err(io::Error::other(format!("closing the reopened: {r:?}")));
             }
-            let owner_gap = send
+            let traffic = io
                 .join()
-                .map_err(|_| io::Error::other("sender panicked"))??;
-            let t_o = receive
-                .join()
-                .map_err(|_| io::Error::other("receiver panicked"))??;
-            let r = other.forward_close(input.triad)?;
-            if r.general != 0 {
-                return Err(io::Error::other(format!("closing the input-only: {r:?}")));
-            }
-            Ok(Vanish {
-                owner_gap,
-                timeouts_before,
-                last_o_t,
-                t_o,
-                reopen_at,
-                reopen_took,
-                owner_t_o: owner.t_o_connection_id,
-                input_t_o: input.t_o_connection_id,
-                timeouts: cm_counter(&mut next, 8)?,
-            })
+                .map_err(|_| io::Error::other("I/O thread panicked"))??;
+            Ok((traffic, reopen_at, reopen_took))
+        })?;
+        let r = other.forward_close(input.triad)?;
+        if r.general != 0 {
+            return Err(io::Error::other(format!("closing the input-only: {r:?}")));
+        }
+        Ok(Vanish {
+            owner_gap: traffic.max_gap[0],
+            timeouts_before,
+            last_o_t: traffic.last_sent[0]
+                .ok_or_else(|| io::Error::other("no O->T sent to the owner"))?,
+            t_o: traffic.t_o,
+            reopen_at,
+            reopen_took,
+            owner_t_o: owner.t_o_connection_id,
+            input_t_o: input.t_o_connection_id,
+            timeouts: cm_counter(&mut next, 8)?,
         })
     });
     let v = run

@@ -11,16 +11,15 @@ use std::time::{Duration, Instant};
 
 use serde_json::{json, Value};
 
-use crate::common::{self, REPLY};
+use crate::common;
 use crate::fault_io::{drive, ms_between, Feed, IO_PORT};
 use crate::faults::{
-    cm_counter, forward_open, triad, HEARTBEAT_O_T, INPUT_ONLY_PATH, OWNER_O_T, OWNER_PATH,
+    cm_counter, forward_open, session, triad, HEARTBEAT_O_T, INPUT_ONLY_PATH, OWNER_O_T, OWNER_PATH,
 };
 use enip_stack::wire::epath::{LogicalType, Segment};
-use host_tests::faults::{count, ms, report};
+use host_tests::faults::{count, most, ms, report};
 use host_tests::netns::Namespace;
 use host_tests::rig::{BOARD_IP, TAP};
-use host_tests::scanner::Session;
 
 /// How long the link stays down.
 const OUTAGE: Duration = Duration::from_secs(2);
@@ -54,22 +53,16 @@ fn faults_link_flap() {
         downs >= 2 * flaps as usize,
         "the link state is not tracked: {downs} 'link up false' lines\n{log}"
     );
-    let worst = |key: &str| {
-        rounds
-            .iter()
-            .filter_map(|r| r[key].as_f64())
-            .fold(f64::MIN, f64::max)
-    };
     report(
         "link_flap",
         json!({
             "flaps": flaps,
             "outage_ms": ms(OUTAGE),
-            "worst_session_after_up_ms": worst("session_after_up_ms"),
-            "worst_forward_open_after_up_ms": worst("forward_open_after_up_ms"),
-            "worst_io_resumed_after_up_ms": worst("io_resumed_after_up_ms"),
+            "worst_session_after_up_ms": most(&rounds, "session_after_up_ms"),
+            "worst_forward_open_after_up_ms": most(&rounds, "forward_open_after_up_ms"),
+            "worst_io_resumed_after_up_ms": most(&rounds, "io_resumed_after_up_ms"),
             "unfed_timeout_ms": LONG_TIMEOUT.as_millis() as u64,
-            "worst_unfed_closed_after_ms": worst("unfed_closed_after_ms"),
+            "worst_unfed_closed_after_ms": most(&rounds, "unfed_closed_after_ms"),
             "rounds": rounds,
         }),
     );
@@ -81,7 +74,7 @@ fn faults_link_flap() {
 /// One flap with fresh connections (serials from `round`); returns its figures.
 fn flap(ns: &Namespace, round: u16) -> io::Result<Value> {
     let udp = UdpSocket::bind(SocketAddrV4::new(Ipv4Addr::UNSPECIFIED, IO_PORT))?;
-    let mut s = Session::connect(BOARD_IP, REPLY)?;
+    let mut s = session()?;
     let timeouts_before = cm_counter(&mut s, 8)?;
     let refused = |e| io::Error::other(format!("Forward_Open refused: {e:?}"));
     let serial = 10 * round;
@@ -192,7 +185,7 @@ struct Back {
 /// interface configuration read back.
 fn reconnect(round: u16) -> io::Result<Back> {
     let up = Instant::now();
-    let mut s = Session::connect(BOARD_IP, REPLY)?;
+    let mut s = session()?;
     let session = up.elapsed();
     let opened = s
         .forward_open(&forward_open(
