@@ -76,6 +76,34 @@ pub fn pid_in(ns: &Namespace, comm: &str) -> io::Result<i32> {
         .ok_or_else(|| io::Error::other(format!("no {comm} in namespace {}", ns.name())))
 }
 
+/// Puts the calling thread under the real-time policy SCHED_FIFO at `priority` (threads it
+/// creates afterwards inherit it).
+pub fn real_time_thread(priority: i32) -> io::Result<()> {
+    set_fifo(0, priority)
+}
+
+/// Puts every thread of process `pid` under SCHED_FIFO at `priority`.
+pub fn real_time_process(pid: i32, priority: i32) -> io::Result<()> {
+    for task in std::fs::read_dir(format!("/proc/{pid}/task"))? {
+        if let Some(tid) = task?.file_name().to_str().and_then(|t| t.parse().ok()) {
+            set_fifo(tid, priority)?;
+        }
+    }
+    Ok(())
+}
+
+/// sched_setscheduler(2) with SCHED_FIFO for thread `tid` (0: the calling thread).
+fn set_fifo(tid: i32, priority: i32) -> io::Result<()> {
+    let param = libc::sched_param {
+        sched_priority: priority,
+    };
+    // SAFETY: `param` is a valid sched_param that outlives the call, which only reads it.
+    if unsafe { libc::sched_setscheduler(tid, libc::SCHED_FIFO, &param) } != 0 {
+        return Err(io::Error::last_os_error());
+    }
+    Ok(())
+}
+
 /// CPU time and resident memory of a process at one moment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Usage {
