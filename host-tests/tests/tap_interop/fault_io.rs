@@ -10,11 +10,22 @@ use std::time::{Duration, Instant};
 use enip_stack::originator;
 use enip_stack::wire::forward_open::ForwardOpenReply;
 use enip_stack::wire::io_datagram::Packet;
-use host_tests::faults::ms;
-use host_tests::rig::BOARD_IP;
+use host_tests::faults::{ms, pid_in, real_time_process, real_time_thread};
+use host_tests::rig::{Rig, BOARD_IP};
 
 /// Class 1 UDP port.
 pub const IO_PORT: u16 = 2222;
+/// SCHED_FIFO priority of the scanner's I/O threads and of the board under test.
+pub const SCANNER_PRIORITY: i32 = 10;
+
+/// Puts every thread of the rig's board under SCHED_FIFO [`SCANNER_PRIORITY`], as a device
+/// on its own CPU: at normal priority on this shared VM the board stalls for more than a
+/// 40 ms timeout, and on resuming it times connections out before it reads the O->T
+/// datagrams queued meanwhile.
+pub fn board_real_time(rig: &Rig) {
+    let pid = pid_in(rig.ns(), "enip-host").expect("board pid");
+    real_time_process(pid, SCANNER_PRIORITY).expect("SCHED_FIFO for the board");
+}
 
 /// One connection to feed with O->T.
 #[derive(Debug)]
@@ -81,10 +92,14 @@ impl Traffic {
 }
 
 /// Feeds `feeds` through `udp` (bound to [`IO_PORT`] in the namespace) and records T->O until
-/// `end`, from two threads of the caller's namespace.
+/// `end`, from the calling thread and one more, both under SCHED_FIFO priority
+/// [`SCANNER_PRIORITY`] from now on: this shared VM stalls plain threads for tens of
+/// milliseconds, and a stalled scanner is a silent originator the adapter rightly times out.
 pub fn drive(udp: &UdpSocket, feeds: &[Feed], end: Instant) -> io::Result<Traffic> {
     udp.set_read_timeout(Some(Duration::from_millis(2)))?;
     let sender = udp.try_clone()?;
+    // The sender inherits it.
+    real_time_thread(SCANNER_PRIORITY)?;
     std::thread::scope(|s| {
         let send = s.spawn(move || send_until(&sender, feeds, end));
         let mut t_o = Vec::new();

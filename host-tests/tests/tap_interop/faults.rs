@@ -9,7 +9,7 @@ use std::net::{Ipv4Addr, SocketAddrV4, TcpStream, UdpSocket};
 use std::time::{Duration, Instant};
 
 use crate::common::{self, REPLY};
-use crate::fault_io::{drive, ms_between, Feed, IO_PORT};
+use crate::fault_io::{board_real_time, drive, ms_between, Feed, IO_PORT};
 use enip_stack::wire::epath::{LogicalType, Segment};
 use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
 use host_tests::enip::{command, mr_request, path, register_data, Client, Header};
@@ -399,6 +399,7 @@ struct Vanish {
 fn faults_scanner_vanishes() {
     let rounds = count("ENIP_FAULTS_VANISH_ROUNDS", 1, 10);
     let rig = common::start("faults_scanner_vanishes");
+    board_real_time(&rig);
     // A round is void when this machine stalls the scanner's own sender for a whole timeout;
     // it is run again, at most 3 times in all.
     let mut void = 0;

@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use serde_json::{json, Value};
 
 use crate::common;
-use crate::fault_io::{drive, ms_between, Feed, IO_PORT};
+use crate::fault_io::{board_real_time, drive, ms_between, Feed, IO_PORT};
 use crate::faults::{
     cm_counter, forward_open, session, triad, HEARTBEAT_O_T, INPUT_ONLY_PATH, OWNER_O_T, OWNER_PATH,
 };
@@ -39,6 +39,7 @@ const BACK_BOUND: Duration = Duration::from_secs(1);
 fn faults_link_flap() {
     let flaps = count("ENIP_FAULTS_FLAPS", 1, 5);
     let rig = common::start("faults_link_flap");
+    board_real_time(&rig);
     let ns = rig.ns();
     let rounds: Vec<Value> = (0..flaps)
         .map(|round| {

@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use serde_json::{json, Value};
 
 use crate::common::{self, REPLY};
-use crate::fault_io::{drive, ms_between, Feed, IO_PORT};
+use crate::fault_io::{board_real_time, drive, ms_between, Feed, IO_PORT};
 use crate::faults::{
     cm_counter, forward_open, session, triad, HEARTBEAT_O_T, INPUT_ONLY_PATH, OWNER_O_T, OWNER_PATH,
 };
@@ -64,6 +64,7 @@ fn reset_during_io(kind: u8) {
     let _ = std::fs::remove_file(&file);
     let nv = file.to_str().unwrap();
     let rig = tcpip_nv::start(&name, &["--nv-file", nv], BOARD_IP);
+    board_real_time(&rig);
     let figures: Vec<Value> = (0..rounds)
         .map(|round| {
             rig.ns()

@@ -22,10 +22,10 @@ use std::time::{Duration, Instant};
 use serde_json::{json, Value};
 
 use crate::common::{self, REPLY};
+use crate::fault_io::{board_real_time, SCANNER_PRIORITY};
 use crate::faults::cm_counter;
 use host_tests::faults::{
-    count, long, pid_in, real_time_process, real_time_thread, report, ticks_per_second, usage,
-    Usage,
+    count, long, pid_in, real_time_thread, report, ticks_per_second, usage, Usage,
 };
 use host_tests::process::run_bounded;
 use host_tests::rig::{Rig, BOARD_IP};
@@ -36,7 +36,7 @@ const CONNECTIONS: usize = 10;
 const RPI: Duration = Duration::from_millis(1);
 const MULTIPLIER: u8 = 3;
 /// SCHED_FIFO priority of the board, the scanner and the timer floor.
-const PRIORITY: i32 = 10;
+const PRIORITY: i32 = SCANNER_PRIORITY;
 /// Resident memory the board may gain from the first period to the last, KiB.
 const RSS_SLACK_KIB: u64 = 256;
 /// How much more CPU the board may use in the last third of the periods than in the first.
@@ -54,7 +54,7 @@ fn faults_soak() {
     let period = Duration::from_secs(seconds) / periods as u32;
     let rig = Rig::start(&common::host_bin(), "generic", None).expect("rig");
     let pid = pid_in(rig.ns(), "enip-host").expect("board pid");
-    real_time_process(pid, PRIORITY).expect("SCHED_FIFO for the board");
+    board_real_time(&rig);
     let floor = std::thread::spawn(move || {
         let mut c = Command::new("chrt");
         c.args([
