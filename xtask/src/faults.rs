@@ -81,7 +81,8 @@ fn parse_report(line: &str) -> Option<(String, Value)> {
 }
 
 /// One row per scalar figure (numbers, strings, booleans, short lists of numbers) of each
-/// scenario; per-round details stay in the JSON report.
+/// scenario, those of a nested object too (`object.figure`); per-round details stay in the
+/// JSON report.
 fn table(scenarios: &Map<String, Value>) -> String {
     let mut out = format!("{:<28} {:<44} {:>20}\n", "scenario", "figure", "value");
     for (name, figures) in scenarios {
@@ -92,18 +93,33 @@ fn table(scenarios: &Map<String, Value>) -> String {
             if key == "scenario" {
                 continue;
             }
-            let shown = match value {
-                Value::Number(_) | Value::Bool(_) => value.to_string(),
-                Value::String(s) => format!("{s:?}"),
-                Value::Array(items) if items.len() <= 4 && items.iter().all(Value::is_number) => {
-                    value.to_string()
-                }
-                _ => continue,
+            let rows: Vec<(String, &Value)> = match value {
+                Value::Object(inner) => inner
+                    .iter()
+                    .map(|(k, v)| (format!("{key}.{k}"), v))
+                    .collect(),
+                _ => vec![(key.clone(), value)],
             };
-            out.push_str(&format!("{name:<28} {key:<44} {shown:>20}\n"));
+            for (key, value) in rows {
+                if let Some(shown) = scalar(value) {
+                    out.push_str(&format!("{name:<28} {key:<44} {shown:>20}\n"));
+                }
+            }
         }
     }
     out
+}
+
+/// A figure as the table shows it, or `None` for one that stays in the report only.
+fn scalar(value: &Value) -> Option<String> {
+    match value {
+        Value::Number(_) | Value::Bool(_) => Some(value.to_string()),
+        Value::String(s) => Some(format!("{s:?}")),
+        Value::Array(items) if items.len() <= 4 && items.iter().all(Value::is_number) => {
+            Some(value.to_string())
+        }
+        _ => None,
+    }
 }
 
 #[cfg(test)]
@@ -113,7 +129,8 @@ mod tests {
     #[test]
     fn report_lines_and_table() {
         let line = "test faults::x ... FAULT-REPORT {\"scenario\":\"churn\",\"cycles\":10000,\
-                    \"rss\":[1,2],\"run\":\"long\",\"per_round\":[{\"a\":1}]}";
+                    \"rss\":[1,2],\"run\":\"long\",\"per_round\":[{\"a\":1}],\
+                    \"floor\":{\"p99_us\":1065}}";
         let (name, figures) = parse_report(line).unwrap();
         assert_eq!(name, "churn");
         assert_eq!(figures["cycles"], 10000);
@@ -125,5 +142,6 @@ mod tests {
         assert!(t.contains("cycles") && t.contains("10000"), "{t}");
         assert!(t.contains("[1,2]") && t.contains("\"long\""), "{t}");
         assert!(!t.contains("per_round"), "{t}");
+        assert!(t.contains("floor.p99_us") && t.contains("1065"), "{t}");
     }
 }
