@@ -3,6 +3,7 @@
 //! crate's, re-exported here under the paths the tests use.
 
 pub mod enip;
+pub mod faults;
 pub mod scanner;
 
 pub use enip_lab::{capture, netns, paths, peers, process, rig};

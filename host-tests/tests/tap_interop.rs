@@ -41,8 +41,16 @@ mod concurrency;
 mod example_io_block;
 #[path = "tap_interop/explicit.rs"]
 mod explicit;
+#[path = "tap_interop/fault_io.rs"]
+mod fault_io;
 #[path = "tap_interop/faults.rs"]
 mod faults;
+#[path = "tap_interop/faults_link_flap.rs"]
+mod faults_link_flap;
+#[path = "tap_interop/faults_reset.rs"]
+mod faults_reset;
+#[path = "tap_interop/faults_soak.rs"]
+mod faults_soak;
 #[path = "tap_interop/hostile_cip.rs"]
 mod hostile_cip;
 #[path = "tap_interop/hostile_framing.rs"]

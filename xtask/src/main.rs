@@ -11,6 +11,7 @@
 //! - `bench`: benchmarks, written to `target/bench/report.json`, and the boards' footprint,
 //!   written to `target/bench/footprint.json` (`footprint` alone).
 //! - `smoke`: the QEMU smoke run of `test`, alone.
+//! - `faults`: the long fault tests, written to `target/faults/report.json` (not in `test`).
 
 #![forbid(unsafe_code)]
 
@@ -18,6 +19,7 @@ mod bench;
 mod bench_qemu;
 mod boards;
 mod demo;
+mod faults;
 mod footprint;
 mod fuzz;
 mod json;
@@ -50,6 +52,8 @@ commands:
                       cycle and 10 x 1 ms / 2 ms I/O (--qemu: that part alone)
   footprint           the boards' release image sizes and the F767 budget (part of bench)
   smoke               the QEMU smoke run alone (part of test)
+  faults              the long fault tests (link flap, Reset, churn, idle sockets, vanishing
+                      scanner, 10-minute soak); figures in target/faults/report.json
   eds                 regenerate eds/<profile>.eds from every profile's own description
                       (`cargo run -p enip-host -- --eds --profile NAME` prints one)
 ";
@@ -75,6 +79,7 @@ enum Command {
     Bench { part: BenchPart },
     Footprint,
     Smoke,
+    Faults,
     Eds,
     Help,
 }
@@ -108,6 +113,7 @@ fn main() -> ExitCode {
         } => bench_qemu::run_alone(),
         Command::Footprint => footprint::footprint(),
         Command::Smoke => smoke::run_smoke().map(|_| ()),
+        Command::Faults => faults::run_all(),
         // The firmware's EDS test knows every profile; asked to, it rewrites the files.
         Command::Eds => util::run(
             util::cargo()
@@ -155,6 +161,7 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
         },
         "footprint" => Command::Footprint,
         "smoke" => Command::Smoke,
+        "faults" => Command::Faults,
         "eds" => Command::Eds,
         "help" => Command::Help,
         _ => return Err(format!("unknown command {name:?}").into()),

@@ -21,6 +21,7 @@ mod options;
 mod runner;
 mod signals;
 mod tap;
+mod tap_driver;
 
 pub use nv_file::shared as shared_store;
 pub use options::{Options, Parsed, DEFAULT_MAC, OPTIONS_USAGE};

@@ -4,9 +4,9 @@ use std::future::Future;
 use std::pin::Pin;
 use std::process::exit;
 
+use crate::tap_driver::Tap;
 use embassy_executor::{Executor, Spawner};
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
-use embassy_net_tuntap::TunTapDevice;
 use enip_firmware::Resources;
 use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::nv::SharedStore;
@@ -59,11 +59,11 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
 /// Builds the network stack and the adapter: the network runner, and the adapter's run.
 fn start<D: Device + 'static>(
     device: D,
-    mut tap: TunTapDevice,
+    mut tap: Tap,
     mut store: SharedStore,
     options: Options,
     program: String,
-) -> (Runner<'static, TunTapDevice>, AdapterRun) {
+) -> (Runner<'static, Tap>, AdapterRun) {
     tap.set_hardware_address(options.mac);
     let config = embassy_net::Config::ipv4_static(interface(&mut store, &options));
     let seed = seed();
@@ -163,7 +163,7 @@ fn seed() -> u64 {
 
 /// Moves frames between the TAP device and the network stack.
 #[embassy_executor::task]
-async fn net_task(mut runner: Runner<'static, TunTapDevice>) -> ! {
+async fn net_task(mut runner: Runner<'static, Tap>) -> ! {
     runner.run().await
 }
 

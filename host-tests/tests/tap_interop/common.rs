@@ -37,7 +37,7 @@ const REQUEST_ECHOES: &[&str] = &["Unsupported Logical Segment Format"];
 
 /// The board binary: `ENIP_HOST_BIN` (relative to the workspace root unless absolute),
 /// else the workspace's debug build.
-fn host_bin() -> PathBuf {
+pub fn host_bin() -> PathBuf {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     let bin = std::env::var_os("ENIP_HOST_BIN").unwrap_or("target/debug/enip-host".into());
     root.join(bin)

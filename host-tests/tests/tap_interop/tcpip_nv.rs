@@ -20,7 +20,8 @@ const PEER_TIMEOUT: Duration = Duration::from_secs(60);
 /// The address set through attribute 5.
 const NEW_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 9);
 
-fn start(name: &str, extra: &[&str], at: Ipv4Addr) -> Rig {
+/// Starts the generic board for test `name` with `extra` arguments, answering at `at`.
+pub fn start(name: &str, extra: &[&str], at: Ipv4Addr) -> Rig {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     let bin = std::env::var_os("ENIP_HOST_BIN").unwrap_or("target/debug/enip-host".into());
     let pcap = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))

@@ -1,0 +1,185 @@
+//! What the fault tests (issue 13) share: short or long runs chosen by environment variables,
+//! the one-line figures report `cargo xtask faults` collects, and the board process's CPU time
+//! and resident memory from `/proc`.
+//!
+//! `ENIP_FAULTS_LONG=1` selects the long versions; single figures can be overridden by their
+//! own variables (e.g. `ENIP_FAULTS_CHURN_CYCLES`), see each test.
+
+use std::io;
+use std::process::Command;
+use std::time::Duration;
+
+use crate::netns::Namespace;
+use crate::process::run_bounded;
+
+/// Prefix of a figures line on a test's standard output: `FAULT-REPORT {json}`.
+pub const REPORT_PREFIX: &str = "FAULT-REPORT ";
+
+/// True when the long versions are asked for (`ENIP_FAULTS_LONG=1`).
+pub fn long() -> bool {
+    std::env::var("ENIP_FAULTS_LONG").is_ok_and(|v| v == "1")
+}
+
+/// The number in environment variable `name`, else `long_value` in a long run and
+/// `short_value` otherwise.
+pub fn count(name: &str, short_value: u64, long_value: u64) -> u64 {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(if long() { long_value } else { short_value })
+}
+
+/// Prints `figures` (a JSON object) for scenario `name` as one `FAULT-REPORT` line, with the
+/// run's kind (`short` or `long`) added.
+pub fn report(name: &str, mut figures: serde_json::Value) {
+    if let Some(o) = figures.as_object_mut() {
+        o.insert("scenario".into(), name.into());
+        o.insert("run".into(), if long() { "long" } else { "short" }.into());
+    }
+    println!("{REPORT_PREFIX}{figures}");
+}
+
+/// The largest of number figure `key` over `rounds` (`None` if no round has it).
+pub fn most(rounds: &[serde_json::Value], key: &str) -> Option<f64> {
+    rounds
+        .iter()
+        .filter_map(|r| r[key].as_f64())
+        .reduce(f64::max)
+}
+
+/// The smallest of number figure `key` over `rounds` (`None` if no round has it).
+pub fn least(rounds: &[serde_json::Value], key: &str) -> Option<f64> {
+    rounds
+        .iter()
+        .filter_map(|r| r[key].as_f64())
+        .reduce(f64::min)
+}
+
+/// Milliseconds of `d`, rounded to 0.1 ms, for reports.
+pub fn ms(d: Duration) -> f64 {
+    (d.as_secs_f64() * 1e4).round() / 10.0
+}
+
+/// The process id of the program `comm` (its first 15 bytes, as `/proc/PID/comm` has it)
+/// running inside `ns`.
+pub fn pid_in(ns: &Namespace, comm: &str) -> io::Result<i32> {
+    let mut c = Command::new("ip");
+    c.args(["netns", "pids", ns.name()]);
+    let out = run_bounded(c, None, Duration::from_secs(10))?;
+    let short: String = comm.chars().take(15).collect();
+    String::from_utf8_lossy(&out.stdout)
+        .split_whitespace()
+        .filter_map(|p| p.parse::<i32>().ok())
+        .find(|pid| {
+            std::fs::read_to_string(format!("/proc/{pid}/comm")).is_ok_and(|c| c.trim() == short)
+        })
+        .ok_or_else(|| io::Error::other(format!("no {comm} in namespace {}", ns.name())))
+}
+
+/// Puts the calling thread under the real-time policy SCHED_FIFO at `priority` (threads it
+/// creates afterwards inherit it).
+pub fn real_time_thread(priority: i32) -> io::Result<()> {
+    set_fifo(rustix::thread::gettid().as_raw_nonzero().get(), priority)
+}
+
+/// Puts every thread of process `pid` under SCHED_FIFO at `priority`.
+pub fn real_time_process(pid: i32, priority: i32) -> io::Result<()> {
+    for task in std::fs::read_dir(format!("/proc/{pid}/task"))? {
+        if let Some(tid) = task?.file_name().to_str().and_then(|t| t.parse().ok()) {
+            set_fifo(tid, priority)?;
+        }
+    }
+    Ok(())
+}
+
+/// SCHED_FIFO at `priority` for thread `tid`, set by util-linux's `chrt`.
+fn set_fifo(tid: i32, priority: i32) -> io::Result<()> {
+    let status = std::process::Command::new("chrt")
+        .args(["--fifo", "--pid", &priority.to_string(), &tid.to_string()])
+        .status()?;
+    if !status.success() {
+        return Err(io::Error::other(format!("chrt --fifo {tid}: {status}")));
+    }
+    Ok(())
+}
+
+/// CPU time and resident memory of a process at one moment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Usage {
+    /// User plus system CPU time, in clock ticks.
+    pub cpu_ticks: u64,
+    /// Resident set size, KiB.
+    pub rss_kib: u64,
+}
+
+/// Clock ticks per second of `/proc/PID/stat`'s CPU times.
+pub fn ticks_per_second() -> u64 {
+    Some(rustix::param::clock_ticks_per_second())
+        .filter(|&t| t > 0)
+        .unwrap_or(100)
+}
+
+/// Reads process `pid`'s CPU time (`/proc/PID/stat` utime + stime) and resident memory
+/// (`/proc/PID/status` VmRSS).
+pub fn usage(pid: i32) -> io::Result<Usage> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat"))?;
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status"))?;
+    Ok(Usage {
+        cpu_ticks: cpu_ticks(&stat).ok_or_else(|| io::Error::other(format!("stat: {stat}")))?,
+        rss_kib: rss_kib(&status).ok_or_else(|| io::Error::other("no VmRSS in status"))?,
+    })
+}
+
+/// utime + stime (fields 14 and 15) of a `/proc/PID/stat` line; the command name in
+/// parentheses may contain spaces, so fields are counted after its closing parenthesis.
+fn cpu_ticks(stat: &str) -> Option<u64> {
+    let rest = stat.get(stat.rfind(')')? + 1..)?;
+    let mut fields = rest.split_whitespace().skip(11);
+    let utime: u64 = fields.next()?.parse().ok()?;
+    let stime: u64 = fields.next()?.parse().ok()?;
+    Some(utime + stime)
+}
+
+/// The `VmRSS:` value (KiB) of a `/proc/PID/status` text.
+fn rss_kib(status: &str) -> Option<u64> {
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmRSS:"))?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn proc_fields() {
+        let stat = "4242 (enip host) S 1 2 3 4 5 6 7 8 9 10 250 31 0 0 20 0 3 0 99 1000 200";
+        assert_eq!(cpu_ticks(stat), Some(281));
+        assert_eq!(cpu_ticks("4242 (x) S 1"), None);
+        let status = "Name:\tenip-host\nVmPeak:\t  9000 kB\nVmRSS:\t    4711 kB\nThreads:\t1\n";
+        assert_eq!(rss_kib(status), Some(4711));
+        assert_eq!(rss_kib("Name: x\n"), None);
+    }
+
+    #[test]
+    fn most_and_least_of_rounds() {
+        let rounds = [
+            serde_json::json!({"a": 2.5}),
+            serde_json::json!({"a": -1}),
+            serde_json::json!({}),
+        ];
+        assert_eq!(most(&rounds, "a"), Some(2.5));
+        assert_eq!(least(&rounds, "a"), Some(-1.0));
+        assert_eq!(most(&rounds, "b"), None);
+    }
+
+    #[test]
+    fn own_usage_is_readable() {
+        let u = usage(std::process::id() as i32).unwrap();
+        assert!(u.rss_kib > 0);
+    }
+}
