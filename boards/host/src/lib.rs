@@ -15,13 +15,14 @@
 //! The TCP/IP settings a scanner sets are kept in the non-volatile store, a file with
 //! [`Options::nv_file`] (`--nv-file`), so that a restart comes up at the address set.
 
+mod kernel;
 mod nv_file;
 mod options;
 mod runner;
 mod signals;
 mod tap;
 
-pub use options::{Options, Parsed, DEFAULT_MAC, OPTIONS_USAGE};
+pub use options::{Link, Options, Parsed, TapOptions, DEFAULT_MAC, OPTIONS_USAGE};
 pub use runner::run;
 
 /// The running program's file name, for messages.

@@ -1,0 +1,249 @@
+//! The adapter on the kernel's TCP/IP stack (`--bind A.B.C.D`): the same sans-IO
+//! [`Adapter`] as on a TAP, driven from kernel sockets by one single-threaded event loop.
+//!
+//! Each turn of the loop does what is due (the device's clock, T->O production, delayed
+//! ListIdentity replies, TCP deadlines), then waits in one `ppoll` ([`poll`]) until a socket
+//! is ready or the next deadline, and serves what became ready. Sockets are non-blocking;
+//! datagrams are received into one buffer and built into another, both allocated once;
+//! nothing is allocated per Class 1 cycle. Files: [`tcp`] (sessions on 44818), [`udp`]
+//! (UDP 44818), [`io`] (Class 1 on 2222), [`netif`] (the interface's configuration).
+
+mod io;
+mod netif;
+mod poll;
+mod socket;
+mod tcp;
+mod udp;
+
+use std::net::Ipv4Addr;
+use std::process::exit;
+
+use enip_stack::cip::tcpip::TcpIpState;
+use enip_stack::config::MAX_SESSIONS;
+use enip_stack::{Adapter, Device, Instant};
+
+use crate::nv_file::HostStore;
+use crate::runner::{on_reset, seed};
+use io::Io;
+use netif::{Interface, Watch};
+use poll::{Clock, PollSet, Slot};
+use tcp::Tcp;
+use udp::Udp;
+
+/// Bytes of each datagram buffer: a whole Ethernet payload.
+const DATAGRAM_LEN: usize = 1536;
+
+/// Runs `device` on the kernel's sockets at `ip` until SIGINT or SIGTERM; a start-up error
+/// (no interface with that address, a port in use) is printed and exits 1.
+pub fn run<D: Device>(device: D, ip: Ipv4Addr, mut store: HostStore, program: &str) -> ! {
+    let fail = |e: String| -> ! {
+        eprintln!("{program}: {e}");
+        exit(1)
+    };
+    let iface = Interface::holding(ip).unwrap_or_else(|e| fail(e));
+    warn_if_stored_elsewhere(&mut store, ip);
+    let opened =
+        (|| Ok::<_, std::io::Error>((Tcp::open(ip)?, Udp::open(ip, iface.index)?, Io::open(ip)?)))(
+        );
+    let (tcp, udp, io) = opened.unwrap_or_else(|e| fail(format!("cannot listen on {ip}: {e}")));
+    let watch = Watch::open().unwrap_or_else(|e| fail(format!("cannot watch interfaces: {e}")));
+    let name = device.identity().product_name;
+    let mut adapter = Adapter::new(device, iface.config, seed());
+    if let Err(e) = adapter.attach_store(Box::leak(Box::new(store))) {
+        log::error!("non-volatile store unreadable ({e:?}): factory TCP/IP settings");
+    }
+    eprintln!(
+        "{program}: listening on {ip} (kernel sockets on {}, device {name:?})",
+        iface.name
+    );
+    let mut runtime = Runtime {
+        adapter,
+        clock: Clock::start(),
+        ip,
+        iface,
+        tcp,
+        udp,
+        io,
+        watch,
+        rx: Box::new([0; DATAGRAM_LEN]),
+        tx: Box::new([0; DATAGRAM_LEN]),
+        device_due: Some(Instant::from_micros(0)),
+        poll: PollSet::new(),
+    };
+    runtime.io.track_multicast(&runtime.adapter);
+    loop {
+        if let Err(e) = runtime.turn() {
+            fail(format!("waiting for sockets: {e}"));
+        }
+    }
+}
+
+/// A static interface configuration stored by a scanner cannot be applied to the kernel's
+/// interface: says so when it names another address.
+fn warn_if_stored_elsewhere(store: &mut HostStore, ip: Ipv4Addr) {
+    let stored = TcpIpState::stored(store).ok().flatten();
+    if let Some(i) = stored.as_ref().and_then(|st| st.static_interface()) {
+        if i.ip != ip {
+            log::warn!(
+                "the stored TCP/IP configuration names {}; on kernel sockets the adapter \
+                 serves at {ip} (set the kernel's address to change it)",
+                i.ip
+            );
+        }
+    }
+}
+
+/// The adapter, its sockets, and the buffers of the loop.
+struct Runtime<D: Device> {
+    adapter: Adapter<D>,
+    clock: Clock,
+    ip: Ipv4Addr,
+    iface: Interface,
+    tcp: Tcp,
+    udp: Udp,
+    io: Io,
+    watch: Watch,
+    /// Every received datagram.
+    rx: Box<[u8; DATAGRAM_LEN]>,
+    /// Every datagram built: replies and T->O data.
+    tx: Box<[u8; DATAGRAM_LEN]>,
+    /// When the device's own clock next wants to run.
+    device_due: Option<Instant>,
+    poll: PollSet,
+}
+
+/// Where each socket sits in the poll set of one wait.
+struct Slots {
+    listener: Option<Slot>,
+    sessions: [Option<Slot>; MAX_SESSIONS],
+    udp: Option<Slot>,
+    broadcast: Option<Slot>,
+    io: Option<Slot>,
+    watch: Option<Slot>,
+}
+
+impl<D: Device> Runtime<D> {
+    /// One turn: what is due, one wait, what became ready.
+    fn turn(&mut self) -> std::io::Result<()> {
+        let now = self.clock.now();
+        let connections = self.adapter.connections().len();
+        self.run_due(now);
+        let deadline = [
+            self.adapter.io_deadline(),
+            self.adapter.udp_deadline(),
+            self.device_due,
+            self.tcp.next_deadline(),
+        ]
+        .into_iter()
+        .flatten()
+        .min();
+        let slots = self.watch_sockets();
+        self.poll.wait(deadline.map(|at| self.clock.until(at)))?;
+        let now = self.clock.now();
+        let mut settings_may_change = self.serve_ready(&slots, now);
+        settings_may_change |= self.adapter.connections().len() != connections;
+        if settings_may_change {
+            self.io.track_multicast(&self.adapter);
+        }
+        Ok(())
+    }
+
+    /// Runs the device's clock, produces T->O data, sends delayed replies and checks TCP
+    /// deadlines, as far as each is due at `now`.
+    fn run_due(&mut self, now: Instant) {
+        if self.device_due.is_some_and(|at| at <= now) {
+            self.device_due = self.adapter.poll_device(now);
+        }
+        if self.adapter.io_deadline().is_some_and(|at| at <= now) {
+            self.io
+                .produce(&mut self.adapter, now, self.tx.as_mut_slice());
+        }
+        if self.adapter.udp_deadline().is_some_and(|at| at <= now) {
+            self.udp
+                .send_due(&mut self.adapter, now, self.tx.as_mut_slice());
+        }
+        if self.tcp.next_deadline().is_some_and(|at| at <= now) {
+            self.tcp.check_deadlines(&mut self.adapter, now);
+        }
+    }
+
+    /// Puts every socket in the poll set for the next wait.
+    fn watch_sockets(&mut self) -> Slots {
+        let p = &mut self.poll;
+        p.clear();
+        use std::os::fd::AsRawFd;
+        let listener = self.tcp.listener_fd().and_then(|fd| p.add(fd, true, false));
+        let sessions = self
+            .tcp
+            .interests()
+            .map(|i| i.and_then(|i| p.add(i.fd, i.read, i.write)));
+        Slots {
+            listener,
+            sessions,
+            udp: p.add(self.udp.unicast.as_raw_fd(), true, false),
+            broadcast: p.add(self.udp.broadcast.as_raw_fd(), true, false),
+            io: p.add(self.io.socket.as_raw_fd(), true, false),
+            watch: p.add(self.watch.fd(), true, false),
+        }
+    }
+
+    /// Serves every socket the wait found ready; returns whether encapsulation frames were
+    /// handled or the interface changed (either may change the multicast settings).
+    fn serve_ready(&mut self, slots: &Slots, now: Instant) -> bool {
+        let p = &self.poll;
+        let (rx, tx) = (self.rx.as_mut_slice(), self.tx.as_mut_slice());
+        // Class 1 first: it is the traffic with deadlines.
+        if p.readable(slots.io) {
+            self.io.consume(&mut self.adapter, now, rx);
+        }
+        if p.readable(slots.udp) {
+            self.udp
+                .serve_unicast(&mut self.adapter, &self.clock, rx, tx);
+        }
+        if p.readable(slots.broadcast) {
+            self.udp
+                .serve_broadcast(&mut self.adapter, &self.clock, rx, tx);
+        }
+        let mut changed = false;
+        for (index, slot) in slots.sessions.iter().enumerate() {
+            let (readable, writable) = (p.readable(*slot), p.writable(*slot));
+            if readable || writable {
+                changed |=
+                    self.tcp
+                        .serve(index, readable, writable, &mut self.adapter, now, on_reset);
+            }
+        }
+        if p.readable(slots.listener) {
+            self.tcp.accept(&mut self.adapter, now);
+        }
+        if p.readable(slots.watch) {
+            self.watch.drain(rx);
+            changed |= self.refresh_interface();
+        }
+        changed
+    }
+
+    /// Reads the interface again after a netlink notification; true if it changed.
+    fn refresh_interface(&mut self) -> bool {
+        let now = self.iface.refreshed(self.ip);
+        if now == self.iface {
+            return false;
+        }
+        let old = *self.adapter.network();
+        if old.ip != now.config.ip || old.link_up != now.config.link_up {
+            log::info!(
+                "interface {}: ip {}, link up {}",
+                now.name,
+                now.config.ip,
+                now.config.link_up
+            );
+        }
+        self.adapter.set_network(enip_stack::NetworkConfig {
+            dhcp: old.dhcp,
+            link_speed_mbps: old.link_speed_mbps,
+            ..now.config
+        });
+        self.iface = now;
+        true
+    }
+}
