@@ -26,6 +26,10 @@ pub const BROADCAST_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 255);
 pub const PREFIX: u8 = 24;
 /// The encapsulation port.
 pub const ENCAP_PORT: u16 = 44818;
+/// `ENIP_HOST_LINK=bind` runs the host board on kernel sockets over a veth pair.
+pub const LINK_ENV: &str = "ENIP_HOST_LINK";
+/// The board's end of the veth pair in bind mode (in the board's own namespace).
+const BOARD_VETH: &str = "enipb0";
 /// What the board prints once it serves.
 pub const LISTENING: &str = "enip-host: listening on";
 /// What any `enip_host::run` program prints once it serves (after its own name).
@@ -47,12 +51,14 @@ pub const fn board_addr() -> SocketAddr {
 }
 
 /// A namespace with a TAP link, an optional capture on it, and the board on the other end.
-/// Fields drop in order: board, capture, namespace.
+/// Fields drop in order: board, capture, namespace, the board's own namespace (bind mode).
 #[derive(Debug)]
 pub struct Rig {
     board: LoggedChild,
     capture: Option<Capture>,
     ns: Namespace,
+    /// Held only to be deleted last.
+    _board_ns: Option<Namespace>,
 }
 
 impl Rig {
@@ -72,7 +78,9 @@ impl Rig {
     }
 
     /// Like [`Rig::start_with_args`], for a board that comes up at `board_ip` (in
-    /// 198.18.0.0/24) instead of its `--ip` (e.g. from its `--nv-file`).
+    /// 198.18.0.0/24) instead of its `--ip` (e.g. from its `--nv-file`). With
+    /// `ENIP_HOST_LINK=bind` in the environment the board runs on kernel sockets instead
+    /// ([`Rig::start_bind`]).
     pub fn start_at(
         bin: &Path,
         profile: &str,
@@ -80,6 +88,9 @@ impl Rig {
         capture: Option<&Path>,
         board_ip: Ipv4Addr,
     ) -> io::Result<Self> {
+        if std::env::var_os(LINK_ENV).is_some_and(|v| v == "bind") {
+            return Self::start_bind(bin, profile, extra, capture);
+        }
         Self::launch_at(
             capture,
             "enip-host",
@@ -98,6 +109,59 @@ impl Rig {
                 cmd
             },
         )
+    }
+
+    /// Starts the host board `bin` on kernel sockets (`--bind`): a veth pair between the
+    /// peers' namespace (198.18.0.1/24, the capture's side) and a namespace of the board's own
+    /// (198.18.0.2/24), so every frame crosses a link as on the TAP.
+    pub fn start_bind(
+        bin: &Path,
+        profile: &str,
+        extra: &[&str],
+        capture: Option<&Path>,
+    ) -> io::Result<Self> {
+        let ns = Namespace::create()?;
+        let board_ns = Namespace::create()?;
+        ns.exec_checked(
+            "ip",
+            &[
+                "link",
+                "add",
+                TAP,
+                "type",
+                "veth",
+                "peer",
+                "name",
+                BOARD_VETH,
+                "netns",
+                board_ns.name(),
+            ],
+        )?;
+        for (n, dev, ip) in [(&ns, TAP, HOST_IP), (&board_ns, BOARD_VETH, BOARD_IP)] {
+            n.exec_checked(
+                "ip",
+                &["addr", "add", &format!("{ip}/{PREFIX}"), "dev", dev],
+            )?;
+            n.exec_checked("ip", &["link", "set", dev, "up"])?;
+        }
+        let capture = capture.map(|p| Capture::start(&ns, TAP, p)).transpose()?;
+        let mut cmd = board_ns.command(bin);
+        cmd.args(["--bind", &BOARD_IP.to_string(), "--profile", profile])
+            .args(extra)
+            .env(
+                "RUST_LOG",
+                std::env::var("RUST_LOG").unwrap_or("info".into()),
+            );
+        let mut board = LoggedChild::spawn("enip-host --bind", cmd)?;
+        board.wait_for_line(LISTENING, BOARD_START)?;
+        let rig = Rig {
+            board,
+            capture,
+            ns,
+            _board_ns: Some(board_ns),
+        };
+        rig.wait_reachable(BOARD_IP)?;
+        Ok(rig)
     }
 
     /// Starts `bin`, a program built on `enip_host::run` (its own device, no `--profile`),
@@ -158,7 +222,12 @@ impl Rig {
         let capture = capture.map(|p| Capture::start(&ns, TAP, p)).transpose()?;
         let mut board = LoggedChild::spawn(name, board(&ns))?;
         board.wait_for_line(ready, start)?;
-        let rig = Rig { board, capture, ns };
+        let rig = Rig {
+            board,
+            capture,
+            ns,
+            _board_ns: None,
+        };
         rig.wait_reachable(board_ip)?;
         Ok(rig)
     }

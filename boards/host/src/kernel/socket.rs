@@ -8,7 +8,7 @@ use std::net::{SocketAddrV4, TcpListener, UdpSocket};
 use socket2::{Domain, Protocol, Socket, Type};
 
 /// Connections the kernel may hold before the runtime accepts them.
-const BACKLOG: i32 = 8;
+pub const BACKLOG: usize = 8;
 
 /// A non-blocking UDP socket bound to `addr`.
 pub fn udp_socket(addr: SocketAddrV4) -> io::Result<UdpSocket> {
@@ -25,6 +25,6 @@ pub fn tcp_listener(addr: SocketAddrV4) -> io::Result<TcpListener> {
     s.set_reuse_address(true)?;
     s.set_nonblocking(true)?;
     s.bind(&addr.into())?;
-    s.listen(BACKLOG)?;
+    s.listen(BACKLOG as i32)?;
     Ok(s.into())
 }

@@ -3,7 +3,8 @@
 //!
 //! While every slot is taken the listener is closed, so the kernel refuses a surplus client
 //! with a reset, as the embedded runtime does with no socket listening; it listens again as
-//! soon as a slot is free. Each slot reads into its own buffer only when its previous reply
+//! soon as a slot is free. A client whose handshake the kernel completed just before the
+//! close waits (at most [`WAIT`]) for a slot, then is reset. Each slot reads into its own buffer only when its previous reply
 //! has gone out, hands the bytes to the adapter, writes the reply, and on a close shuts its
 //! side down and waits (bounded) for the peer's FIN before the slot is free again.
 
@@ -17,12 +18,14 @@ use enip_stack::device::CloseReason;
 use enip_stack::{Adapter, Device, Instant, SocketId};
 use socket2::SockRef;
 
-use super::socket::tcp_listener;
+use super::socket::{tcp_listener, BACKLOG};
 
 /// Bytes read from a connection at once.
 const RX_LEN: usize = 2048;
 /// Longest wait for a reply to be taken by the kernel before the connection is reset.
 const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
+/// Longest wait of a connection accepted while every slot was taken.
+const WAIT: Duration = Duration::from_secs(1);
 /// Longest wait for the peer's FIN after ours.
 const LINGER: Duration = Duration::from_secs(2);
 
@@ -32,6 +35,16 @@ pub struct Tcp {
     /// Listening while a slot is free.
     listener: Option<TcpListener>,
     slots: [Slot; MAX_SESSIONS],
+    /// Connections accepted while every slot was taken, until a slot frees or they time out.
+    waiting: [Option<Waiting>; MAX_SESSIONS],
+}
+
+/// A connection waiting for a free slot.
+struct Waiting {
+    stream: TcpStream,
+    peer: SocketAddrV4,
+    /// When it is reset if no slot freed.
+    until: Instant,
 }
 
 /// One session's buffers (allocated once) and connection.
@@ -123,6 +136,7 @@ impl Tcp {
             addr,
             listener: Some(tcp_listener(addr)?),
             slots,
+            waiting: [const { None }; MAX_SESSIONS],
         })
     }
 
@@ -140,46 +154,51 @@ impl Tcp {
         out
     }
 
-    /// Accepts every waiting connection into a free slot; closes the listener once none is
-    /// left.
+    /// Accepts every connection the kernel completed: into a free slot, else into the
+    /// waiting queue; closes the listener once every slot is taken.
     pub fn accept<D: Device>(&mut self, adapter: &mut Adapter<D>, now: Instant) {
-        let Some(listener) = &self.listener else {
-            return;
-        };
-        for slot in self.slots.iter_mut().filter(|s| s.conn.is_none()) {
-            let (stream, peer) = match listener.accept() {
-                Ok((stream, SocketAddr::V4(peer))) => (stream, peer),
-                Ok(_) => continue,
-                Err(e) if e.kind() == io::ErrorKind::WouldBlock => return,
+        // Bounded by what the kernel's backlog can hold.
+        for _ in 0..BACKLOG + MAX_SESSIONS {
+            let Some(listener) = &self.listener else {
+                return;
+            };
+            match listener.accept() {
+                Ok((stream, SocketAddr::V4(peer))) => self.admit(stream, peer, adapter, now),
+                Ok(_) => {}
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
                 Err(e) => {
                     log::warn!("tcp accept: {e}");
-                    return;
+                    break;
                 }
-            };
-            if let Err(e) = stream.set_nonblocking(true) {
-                log::warn!("tcp {peer}: {e}");
-                continue;
             }
-            // Replies are whole frames; send each at once.
-            let _ = stream.set_nodelay(true);
-            log::debug!("tcp socket {}: connection from {peer}", slot.id.0);
-            adapter.tcp_accept(slot.id, peer, now);
-            slot.rx_start = 0;
-            slot.rx_end = 0;
-            slot.out_start = 0;
-            slot.out_end = 0;
-            slot.conn = Some(Conn {
-                stream,
-                state: State::Open {
-                    then: After::Continue,
-                    write_deadline: None,
-                },
-                idle_check: adapter.tcp_deadline(slot.id),
-            });
         }
         if self.slots.iter().all(|s| s.conn.is_some()) {
             // Every session is taken: the kernel refuses the next client.
             self.listener = None;
+        }
+    }
+
+    /// Serves `stream` in a free slot; with none free, lets it wait (a client whose
+    /// handshake the kernel completed just before the listener closed), or resets it.
+    fn admit<D: Device>(
+        &mut self,
+        stream: TcpStream,
+        peer: SocketAddrV4,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+    ) {
+        if let Some(slot) = self.slots.iter_mut().find(|s| s.conn.is_none()) {
+            return slot.start(stream, peer, adapter, now);
+        }
+        match self.waiting.iter_mut().find(|w| w.is_none()) {
+            Some(w) => {
+                *w = Some(Waiting {
+                    stream,
+                    peer,
+                    until: now.add(micros(WAIT)),
+                })
+            }
+            None => reset(stream),
         }
     }
 
@@ -207,7 +226,7 @@ impl Tcp {
                 }
             }
         }
-        self.listen_if_free();
+        self.listen_if_free(adapter, now);
         served
     }
 
@@ -217,19 +236,34 @@ impl Tcp {
         for slot in &mut self.slots {
             slot.check_deadline(adapter, now);
         }
-        self.listen_if_free();
+        for w in &mut self.waiting {
+            if let Some(gone) = w.take_if(|w| w.until <= now) {
+                log::debug!("tcp {}: no session free, reset", gone.peer);
+                reset(gone.stream);
+            }
+        }
+        self.listen_if_free(adapter, now);
     }
 
     /// The earliest instant [`Self::check_deadlines`] has work.
     pub fn next_deadline(&self) -> Option<Instant> {
+        let waiting = self.waiting.iter().flatten().map(|w| w.until);
         self.slots
             .iter()
             .filter_map(|s| s.conn.as_ref().and_then(Conn::deadline))
+            .chain(waiting)
             .min()
     }
 
-    /// Listens again if a slot is free and nothing listens.
-    fn listen_if_free(&mut self) {
+    /// Gives free slots to waiting connections, then listens again if a slot is still free
+    /// and nothing listens.
+    fn listen_if_free<D: Device>(&mut self, adapter: &mut Adapter<D>, now: Instant) {
+        for slot in self.slots.iter_mut().filter(|s| s.conn.is_none()) {
+            let Some(w) = self.waiting.iter_mut().find_map(Option::take) else {
+                break;
+            };
+            slot.start(w.stream, w.peer, adapter, now);
+        }
         if self.listener.is_some() || self.slots.iter().all(|s| s.conn.is_some()) {
             return;
         }
@@ -238,6 +272,11 @@ impl Tcp {
             Err(e) => log::warn!("tcp {}: listen failed: {e}", self.addr),
         }
     }
+}
+
+/// Resets a connection that cannot be served.
+fn reset(stream: TcpStream) {
+    let _ = SockRef::from(&stream).set_linger(Some(Duration::ZERO));
 }
 
 impl Conn {
@@ -258,6 +297,36 @@ impl Conn {
 }
 
 impl Slot {
+    /// Serves the accepted connection `stream` from `peer` in this (free) slot.
+    fn start<D: Device>(
+        &mut self,
+        stream: TcpStream,
+        peer: SocketAddrV4,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+    ) {
+        if let Err(e) = stream.set_nonblocking(true) {
+            log::warn!("tcp {peer}: {e}");
+            return reset(stream);
+        }
+        // Replies are whole frames; send each at once.
+        let _ = stream.set_nodelay(true);
+        log::debug!("tcp socket {}: connection from {peer}", self.id.0);
+        adapter.tcp_accept(self.id, peer, now);
+        self.rx_start = 0;
+        self.rx_end = 0;
+        self.out_start = 0;
+        self.out_end = 0;
+        self.conn = Some(Conn {
+            stream,
+            state: State::Open {
+                then: After::Continue,
+                write_deadline: None,
+            },
+            idle_check: adapter.tcp_deadline(self.id),
+        });
+    }
+
     fn interest(&self) -> Option<Interest> {
         let conn = self.conn.as_ref()?;
         let pending = self.out_start < self.out_end;
@@ -307,7 +376,9 @@ impl Slot {
                 if !readable || !self.receive(adapter, now) {
                     return false;
                 }
-                self.handle(adapter, now, on_reset);
+                if !self.handle(adapter, now, on_reset) {
+                    self.ack_now();
+                }
                 true
             }
         }
@@ -340,15 +411,21 @@ impl Slot {
     }
 
     /// Hands the received bytes to the adapter, frame by frame, writing each reply; stops at
-    /// a reply the kernel cannot take yet.
-    fn handle<D: Device>(&mut self, adapter: &mut Adapter<D>, now: Instant, on_reset: fn(u8)) {
+    /// a reply the kernel cannot take yet. Returns whether any reply was written.
+    fn handle<D: Device>(
+        &mut self,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+        on_reset: fn(u8),
+    ) -> bool {
+        let mut replied = false;
         // Bounded: every round consumes at least one byte or closes.
         for _ in 0..RX_LEN {
             if self.rx_start >= self.rx_end || self.out_start < self.out_end {
-                return;
+                return replied;
             }
             if !self.conn.as_ref().is_some_and(Conn::is_open) {
-                return;
+                return replied;
             }
             let data = self.rx.get(self.rx_start..self.rx_end).unwrap_or(&[]);
             let outcome = adapter.tcp_receive(self.id, data, now, self.reply.as_mut_slice());
@@ -361,6 +438,7 @@ impl Slot {
             };
             self.out_start = 0;
             self.out_end = outcome.reply_len.min(MAX_ENCAP_FRAME);
+            replied |= self.out_end > 0;
             match self.flush(now) {
                 Flush::Done => self.after_reply(then, adapter, now, on_reset),
                 Flush::Pending => {
@@ -371,10 +449,22 @@ impl Slot {
                     {
                         *t = then;
                     }
-                    return;
+                    return replied;
                 }
-                Flush::Failed => return self.close(adapter, now),
+                Flush::Failed => {
+                    self.close(adapter, now);
+                    return replied;
+                }
             }
+        }
+        replied
+    }
+
+    /// Acknowledges what was received at once: part of a frame has no reply to carry the
+    /// acknowledgement, and a delayed one makes the peer retransmit.
+    fn ack_now(&self) {
+        if let Some(conn) = self.conn.as_ref().filter(|c| c.is_open()) {
+            let _ = SockRef::from(&conn.stream).set_tcp_quickack(true);
         }
     }
 
