@@ -61,6 +61,7 @@ pub fn run_all() -> Result {
     let baseline = output(Command::new(bin.join("timer_baseline")).arg(BASELINE_SECONDS))
         .ok_or_else(|| util::Error("timer_baseline failed".into()))?;
     let tap = tap_run(&bin)?;
+    let host_runtime = crate::bench_host::measure()?;
 
     let dir = util::target_dir().join("bench");
     fs::create_dir_all(&dir).map_err(|e| util::Error(format!("{}: {e}", dir.display())))?;
@@ -75,6 +76,7 @@ pub fn run_all() -> Result {
         },
         "timer_baseline": parsed(&baseline),
         "tap": parsed(&tap),
+        "host_runtime": host_runtime,
     })
     .to_string();
     let path = dir.join("report.json");

@@ -12,6 +12,7 @@
 //! - `smoke`: the QEMU smoke run of `test`, alone.
 
 mod bench;
+mod bench_host;
 mod boards;
 mod demo;
 mod footprint;
@@ -39,7 +40,10 @@ commands:
   demo [--host]       boot the emulated board (--host: the Linux host board) in netns
                       enip-demo; show its identity and a live Class 1 connection
   bench               boards' footprint; Class 1 cycle cost (callgrind, native) and
-                      10 x 1 ms I/O on the host TAP
+                      10 x 1 ms I/O on the host TAP; and bench --host
+  bench --host        the host adapter process per Class 1 cycle (instructions, context
+                      switches) and requests/s, TAP vs kernel sockets (vs OpENer when
+                      ENIP_OPENER_BIN names its POSIX build)
   footprint           the boards' release image sizes and the F767 budget (part of bench)
   smoke               the QEMU smoke run alone (part of test)
   eds                 regenerate eds/<profile>.eds from every profile's own description
@@ -67,6 +71,7 @@ fn main() -> ExitCode {
         ["demo"] => demo::run_demo(demo::Board::Qemu),
         ["demo", "--host"] => demo::run_demo(demo::Board::Host),
         ["bench"] => bench::run_all(),
+        ["bench", "--host"] => bench_host::run_all(),
         ["footprint"] => footprint::footprint(),
         ["smoke"] => smoke::run_smoke().map(|_| ()),
         // The firmware's EDS test knows every profile; asked to, it rewrites the files.
