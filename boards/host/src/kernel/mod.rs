@@ -26,7 +26,7 @@ use crate::nv_file::HostStore;
 use crate::runner::{on_reset, seed};
 use io::Io;
 use netif::{Interface, Watch};
-use poll::{Clock, PollSet, Slot};
+use poll::{Clock, PollSet};
 use tcp::Tcp;
 use udp::Udp;
 
@@ -58,7 +58,7 @@ pub fn run<D: Device>(device: D, ip: Ipv4Addr, mut store: HostStore, program: &s
     );
     let mut runtime = Runtime {
         adapter,
-        clock: Clock::start(),
+        clock: Clock,
         ip,
         iface,
         tcp,
@@ -69,11 +69,15 @@ pub fn run<D: Device>(device: D, ip: Ipv4Addr, mut store: HostStore, program: &s
         tx: Box::new([0; DATAGRAM_LEN]),
         device_due: Some(Instant::from_micros(0)),
         poll: PollSet::new(),
+        tcp_changed: true,
     };
+    runtime.watch_fixed();
     runtime.io.track_multicast(&runtime.adapter);
+    let mut now = runtime.clock.now();
     loop {
-        if let Err(e) = runtime.turn() {
-            fail(format!("waiting for sockets: {e}"));
+        match runtime.turn(now) {
+            Ok(next) => now = next,
+            Err(e) => fail(format!("waiting for sockets: {e}")),
         }
     }
 }
@@ -110,113 +114,122 @@ struct Runtime<D: Device> {
     /// When the device's own clock next wants to run.
     device_due: Option<Instant>,
     poll: PollSet,
+    /// The listener or a session changed since the poll set was last told.
+    tcp_changed: bool,
 }
 
-/// Where each socket sits in the poll set of one wait.
-struct Slots {
-    listener: Option<Slot>,
-    sessions: [Option<Slot>; MAX_SESSIONS],
-    udp: Option<Slot>,
-    broadcast: Option<Slot>,
-    io: Option<Slot>,
-    watch: Option<Slot>,
-}
+/// Where each socket sits in the poll set: the fixed ones, then the listener and the
+/// sessions.
+const IO: usize = 0;
+const UDP: usize = 1;
+const BROADCAST: usize = 2;
+const WATCH: usize = 3;
+const LISTENER: usize = 4;
+const SESSIONS: usize = 5;
 
 impl<D: Device> Runtime<D> {
-    /// One turn: what is due, one wait, what became ready.
-    fn turn(&mut self) -> std::io::Result<()> {
-        let now = self.clock.now();
+    /// One turn at `now`: what is due, one wait, what became ready; returns the instant
+    /// the wait ended (the next turn's `now`).
+    fn turn(&mut self, now: Instant) -> std::io::Result<Instant> {
         let connections = self.adapter.connections().len();
-        self.run_due(now);
-        let deadline = [
-            self.adapter.io_deadline(),
-            self.adapter.udp_deadline(),
-            self.device_due,
-            self.tcp.next_deadline(),
-        ]
-        .into_iter()
-        .flatten()
-        .min();
-        let slots = self.watch_sockets();
-        self.poll.wait(deadline.map(|at| self.clock.until(at)))?;
+        let deadline = self.run_due(now);
+        if self.tcp_changed {
+            self.watch_tcp();
+        }
+        self.poll.wait(deadline.map(|at| poll::until(now, at)))?;
         let now = self.clock.now();
-        let mut settings_may_change = self.serve_ready(&slots, now);
+        let mut settings_may_change = self.serve_ready(now);
         settings_may_change |= self.adapter.connections().len() != connections;
         if settings_may_change {
             self.io.track_multicast(&self.adapter);
         }
-        Ok(())
+        Ok(now)
     }
 
     /// Runs the device's clock, produces T->O data, sends delayed replies and checks TCP
-    /// deadlines, as far as each is due at `now`.
-    fn run_due(&mut self, now: Instant) {
-        if self.device_due.is_some_and(|at| at <= now) {
+    /// deadlines, as far as each is due at `now`; returns when the next of them is due.
+    fn run_due(&mut self, now: Instant) -> Option<Instant> {
+        let due = |at: Option<Instant>| at.is_some_and(|at| at <= now);
+        if due(self.device_due) {
             self.device_due = self.adapter.poll_device(now);
         }
-        if self.adapter.io_deadline().is_some_and(|at| at <= now) {
+        let mut io = self.adapter.io_deadline();
+        if due(io) {
             self.io
                 .produce(&mut self.adapter, now, self.tx.as_mut_slice());
+            io = self.adapter.io_deadline();
         }
-        if self.adapter.udp_deadline().is_some_and(|at| at <= now) {
+        let mut udp = self.adapter.udp_deadline();
+        if due(udp) {
             self.udp
                 .send_due(&mut self.adapter, now, self.tx.as_mut_slice());
+            udp = self.adapter.udp_deadline();
         }
-        if self.tcp.next_deadline().is_some_and(|at| at <= now) {
+        let mut tcp = self.tcp.next_deadline();
+        if due(tcp) {
             self.tcp.check_deadlines(&mut self.adapter, now);
+            self.tcp_changed = true;
+            tcp = self.tcp.next_deadline();
         }
+        [io, udp, self.device_due, tcp].into_iter().flatten().min()
     }
 
-    /// Puts every socket in the poll set for the next wait.
-    fn watch_sockets(&mut self) -> Slots {
-        let p = &mut self.poll;
-        p.clear();
+    /// Puts the sockets that live as long as the runtime in the poll set.
+    fn watch_fixed(&mut self) {
         use std::os::fd::AsRawFd;
-        let listener = self.tcp.listener_fd().and_then(|fd| p.add(fd, true, false));
-        let sessions = self
-            .tcp
-            .interests()
-            .map(|i| i.and_then(|i| p.add(i.fd, i.read, i.write)));
-        Slots {
-            listener,
-            sessions,
-            udp: p.add(self.udp.unicast.as_raw_fd(), true, false),
-            broadcast: p.add(self.udp.broadcast.as_raw_fd(), true, false),
-            io: p.add(self.io.socket.as_raw_fd(), true, false),
-            watch: p.add(self.watch.fd(), true, false),
+        let p = &mut self.poll;
+        p.set(IO, Some(self.io.socket.as_raw_fd()), true, false);
+        p.set(UDP, Some(self.udp.unicast.as_raw_fd()), true, false);
+        p.set(BROADCAST, Some(self.udp.broadcast.as_raw_fd()), true, false);
+        p.set(WATCH, Some(self.watch.fd()), true, false);
+        self.watch_tcp();
+    }
+
+    /// Puts the listener and the sessions, as they are now, in the poll set.
+    fn watch_tcp(&mut self) {
+        self.poll.set(LISTENER, self.tcp.listener_fd(), true, false);
+        for index in 0..MAX_SESSIONS {
+            let i = self.tcp.interest(index);
+            self.poll.set(
+                SESSIONS + index,
+                i.as_ref().map(|i| i.fd),
+                i.as_ref().is_some_and(|i| i.read),
+                i.as_ref().is_some_and(|i| i.write),
+            );
         }
+        self.tcp_changed = false;
     }
 
     /// Serves every socket the wait found ready; returns whether encapsulation frames were
     /// handled or the interface changed (either may change the multicast settings).
-    fn serve_ready(&mut self, slots: &Slots, now: Instant) -> bool {
+    fn serve_ready(&mut self, now: Instant) -> bool {
         let p = &self.poll;
         let (rx, tx) = (self.rx.as_mut_slice(), self.tx.as_mut_slice());
         // Class 1 first: it is the traffic with deadlines.
-        if p.readable(slots.io) {
+        if p.readable(IO) {
             self.io.consume(&mut self.adapter, now, rx);
         }
-        if p.readable(slots.udp) {
-            self.udp
-                .serve_unicast(&mut self.adapter, &self.clock, rx, tx);
+        if p.readable(UDP) {
+            self.udp.serve_unicast(&mut self.adapter, now, rx, tx);
         }
-        if p.readable(slots.broadcast) {
-            self.udp
-                .serve_broadcast(&mut self.adapter, &self.clock, rx, tx);
+        if p.readable(BROADCAST) {
+            self.udp.serve_broadcast(&mut self.adapter, now, rx, tx);
         }
         let mut changed = false;
-        for (index, slot) in slots.sessions.iter().enumerate() {
-            let (readable, writable) = (p.readable(*slot), p.writable(*slot));
+        for index in 0..MAX_SESSIONS {
+            let (readable, writable) = (p.readable(SESSIONS + index), p.writable(SESSIONS + index));
             if readable || writable {
+                self.tcp_changed = true;
                 changed |=
                     self.tcp
                         .serve(index, readable, writable, &mut self.adapter, now, on_reset);
             }
         }
-        if p.readable(slots.listener) {
+        if p.readable(LISTENER) {
             self.tcp.accept(&mut self.adapter, now);
+            self.tcp_changed = true;
         }
-        if p.readable(slots.watch) {
+        if p.readable(WATCH) {
             self.watch.drain(rx);
             changed |= self.refresh_interface();
         }

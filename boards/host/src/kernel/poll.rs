@@ -8,52 +8,47 @@
 
 use std::io;
 use std::os::fd::RawFd;
-use std::time::{Duration, Instant as StdInstant};
+use std::time::Duration;
 
 use enip_stack::Instant;
 
-/// Descriptors one wait can watch: listener, 3 TCP connections, 2 UDP 44818 sockets, UDP
-/// 2222, the interface watch.
+/// Descriptors the loop watches: UDP 2222, 2 UDP 44818 sockets, the interface watch, the
+/// listener and 3 TCP connections.
 pub const MAX_FDS: usize = 8;
 
-/// The monotonic clock, as the stack's microsecond [`Instant`] since the runtime started.
+/// The monotonic clock (`CLOCK_MONOTONIC`), as the stack's microsecond [`Instant`].
 #[derive(Debug, Clone, Copy)]
-pub struct Clock {
-    start: StdInstant,
-}
+pub struct Clock;
 
 impl Clock {
-    /// A clock whose zero is now.
-    pub fn start() -> Self {
-        Clock {
-            start: StdInstant::now(),
-        }
-    }
-
     /// The current instant.
     pub fn now(&self) -> Instant {
-        Instant::from_micros(self.start.elapsed().as_micros() as u64)
-    }
-
-    /// How long from now until `at` (zero if it has passed).
-    pub fn until(&self, at: Instant) -> Duration {
-        let at = self.start + Duration::from_micros(at.as_micros());
-        at.saturating_duration_since(StdInstant::now())
+        let mut ts = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        // SAFETY: `ts` is a valid timespec to write; CLOCK_MONOTONIC always exists on Linux,
+        // so the call cannot fail.
+        unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
+        let secs = u64::try_from(ts.tv_sec).unwrap_or(0);
+        let micros = u64::try_from(ts.tv_nsec).unwrap_or(0) / 1_000;
+        Instant::from_micros(secs.saturating_mul(1_000_000).saturating_add(micros))
     }
 }
 
-/// The descriptors of one wait and, after it, what each is ready for.
+/// How long from `now` until `at` (zero if it has passed).
+pub fn until(now: Instant, at: Instant) -> Duration {
+    Duration::from_micros(at.as_micros().saturating_sub(now.as_micros()))
+}
+
+/// The descriptors the loop waits on, each at a fixed index, and after a wait what each is
+/// ready for. An entry without a descriptor (-1) is ignored by `ppoll`.
 pub struct PollSet {
     fds: [libc::pollfd; MAX_FDS],
-    len: usize,
 }
 
-/// Where a descriptor sits in the [`PollSet`] of this wait.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Slot(usize);
-
 impl PollSet {
-    /// An empty set.
+    /// A set watching nothing.
     pub const fn new() -> Self {
         const NONE: libc::pollfd = libc::pollfd {
             fd: -1,
@@ -62,19 +57,15 @@ impl PollSet {
         };
         PollSet {
             fds: [NONE; MAX_FDS],
-            len: 0,
         }
     }
 
-    /// Forgets every descriptor (before the next wait's are added).
-    pub fn clear(&mut self) {
-        self.len = 0;
-    }
-
-    /// Watches `fd` for readability (and, with `write`, room to write); `None` when the set
-    /// is full, which the runtime's fixed descriptor count rules out.
-    pub fn add(&mut self, fd: RawFd, read: bool, write: bool) -> Option<Slot> {
-        let entry = self.fds.get_mut(self.len)?;
+    /// Watches `fd` at `index` for readability (and, with `write`, room to write); `None`
+    /// watches nothing there.
+    pub fn set(&mut self, index: usize, fd: Option<RawFd>, read: bool, write: bool) {
+        let Some(entry) = self.fds.get_mut(index) else {
+            return;
+        };
         let mut events = 0;
         if read {
             events |= libc::POLLIN;
@@ -83,12 +74,10 @@ impl PollSet {
             events |= libc::POLLOUT;
         }
         *entry = libc::pollfd {
-            fd,
+            fd: fd.unwrap_or(-1),
             events,
             revents: 0,
         };
-        self.len += 1;
-        Some(Slot(self.len - 1))
     }
 
     /// Waits until a descriptor is ready or `timeout` passes (`None`: no timeout); a signal
@@ -99,14 +88,13 @@ impl PollSet {
             tv_nsec: t.subsec_nanos() as libc::c_long,
         });
         let ts_ptr = ts.as_ref().map_or(std::ptr::null(), |t| t as *const _);
-        let fds = self.fds.get_mut(..self.len).unwrap_or_default();
-        // SAFETY: `fds` is a valid, exclusively borrowed array of `fds.len()` pollfd entries
-        // and `ts_ptr` is null or points to a timespec that outlives the call; a null signal
-        // mask leaves the mask unchanged.
+        // SAFETY: `fds` is a valid, exclusively borrowed array of MAX_FDS pollfd entries and
+        // `ts_ptr` is null or points to a timespec that outlives the call; a null signal mask
+        // leaves the mask unchanged.
         let n = unsafe {
             libc::ppoll(
-                fds.as_mut_ptr(),
-                fds.len() as libc::nfds_t,
+                self.fds.as_mut_ptr(),
+                MAX_FDS as libc::nfds_t,
                 ts_ptr,
                 std::ptr::null(),
             )
@@ -116,24 +104,24 @@ impl PollSet {
             if e.kind() != io::ErrorKind::Interrupted {
                 return Err(e);
             }
-            fds.iter_mut().for_each(|f| f.revents = 0);
+            self.fds.iter_mut().for_each(|f| f.revents = 0);
         }
         Ok(())
     }
 
-    /// Whether the descriptor at `slot` can be read (or has hung up or failed, which a read
+    /// Whether the descriptor at `index` can be read (or has hung up or failed, which a read
     /// reports).
-    pub fn readable(&self, slot: Option<Slot>) -> bool {
-        self.revents(slot) & (libc::POLLIN | libc::POLLHUP | libc::POLLERR) != 0
+    pub fn readable(&self, index: usize) -> bool {
+        self.revents(index) & (libc::POLLIN | libc::POLLHUP | libc::POLLERR) != 0
     }
 
-    /// Whether the descriptor at `slot` can be written (or has failed, which a write reports).
-    pub fn writable(&self, slot: Option<Slot>) -> bool {
-        self.revents(slot) & (libc::POLLOUT | libc::POLLHUP | libc::POLLERR) != 0
+    /// Whether the descriptor at `index` can be written (or has failed, which a write
+    /// reports).
+    pub fn writable(&self, index: usize) -> bool {
+        self.revents(index) & (libc::POLLOUT | libc::POLLHUP | libc::POLLERR) != 0
     }
 
-    fn revents(&self, slot: Option<Slot>) -> i16 {
-        slot.and_then(|Slot(i)| self.fds.get(i))
-            .map_or(0, |f| f.revents)
+    fn revents(&self, index: usize) -> i16 {
+        self.fds.get(index).map_or(0, |f| f.revents)
     }
 }

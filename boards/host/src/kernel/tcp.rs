@@ -37,6 +37,8 @@ pub struct Tcp {
     slots: [Slot; MAX_SESSIONS],
     /// Connections accepted while every slot was taken, until a slot frees or they time out.
     waiting: [Option<Waiting>; MAX_SESSIONS],
+    /// The earliest deadline of a connection, as of the last change.
+    deadline: Option<Instant>,
 }
 
 /// A connection waiting for a free slot.
@@ -137,6 +139,7 @@ impl Tcp {
             listener: Some(tcp_listener(addr)?),
             slots,
             waiting: [const { None }; MAX_SESSIONS],
+            deadline: None,
         })
     }
 
@@ -145,13 +148,9 @@ impl Tcp {
         self.listener.as_ref().map(AsRawFd::as_raw_fd)
     }
 
-    /// What each connection waits for, by slot.
-    pub fn interests(&self) -> [Option<Interest>; MAX_SESSIONS] {
-        let mut out = [const { None }; MAX_SESSIONS];
-        for (o, slot) in out.iter_mut().zip(&self.slots) {
-            *o = slot.interest();
-        }
-        out
+    /// What the connection in slot `index` waits for, if there is one.
+    pub fn interest(&self, index: usize) -> Option<Interest> {
+        self.slots.get(index)?.interest()
     }
 
     /// Accepts every connection the kernel completed: into a free slot, else into the
@@ -176,6 +175,7 @@ impl Tcp {
             // Every session is taken: the kernel refuses the next client.
             self.listener = None;
         }
+        self.settle(adapter, now);
     }
 
     /// Serves `stream` in a free slot; with none free, lets it wait (a client whose
@@ -226,7 +226,7 @@ impl Tcp {
                 }
             }
         }
-        self.listen_if_free(adapter, now);
+        self.settle(adapter, now);
         served
     }
 
@@ -242,17 +242,25 @@ impl Tcp {
                 reset(gone.stream);
             }
         }
-        self.listen_if_free(adapter, now);
+        self.settle(adapter, now);
     }
 
     /// The earliest instant [`Self::check_deadlines`] has work.
     pub fn next_deadline(&self) -> Option<Instant> {
+        self.deadline
+    }
+
+    /// After any change: gives free slots to waiting connections, listens again if a slot is
+    /// still free, and notes the next deadline.
+    fn settle<D: Device>(&mut self, adapter: &mut Adapter<D>, now: Instant) {
+        self.listen_if_free(adapter, now);
         let waiting = self.waiting.iter().flatten().map(|w| w.until);
-        self.slots
+        self.deadline = self
+            .slots
             .iter()
             .filter_map(|s| s.conn.as_ref().and_then(Conn::deadline))
             .chain(waiting)
-            .min()
+            .min();
     }
 
     /// Gives free slots to waiting connections, then listens again if a slot is still free

@@ -13,9 +13,8 @@ use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4, UdpSocket};
 use std::os::fd::AsRawFd;
 
 use enip_stack::config::ENCAP_PORT;
-use enip_stack::{Adapter, Device};
+use enip_stack::{Adapter, Device, Instant};
 
-use super::poll::Clock;
 use super::socket::udp_socket;
 
 /// The sockets of UDP port 44818.
@@ -61,7 +60,7 @@ impl Udp {
     pub fn serve_unicast<D: Device>(
         &self,
         adapter: &mut Adapter<D>,
-        clock: &Clock,
+        now: Instant,
         rx: &mut [u8],
         tx: &mut [u8],
     ) {
@@ -70,7 +69,7 @@ impl Udp {
             Ok(_) => return,
             Err(e) => return log_error("udp 44818 receive", &e),
         };
-        self.answer(adapter, clock, rx.get(..len).unwrap_or(&[]), from, to, tx);
+        self.answer(adapter, now, rx.get(..len).unwrap_or(&[]), from, to, tx);
     }
 
     /// Answers one broadcast waiting on the wildcard socket, if any (ignored unless it came
@@ -78,13 +77,13 @@ impl Udp {
     pub fn serve_broadcast<D: Device>(
         &self,
         adapter: &mut Adapter<D>,
-        clock: &Clock,
+        now: Instant,
         rx: &mut [u8],
         tx: &mut [u8],
     ) {
         match recv_with_destination(&self.broadcast, rx) {
             Ok(Some((len, from, to, index))) if index == self.if_index => {
-                self.answer(adapter, clock, rx.get(..len).unwrap_or(&[]), from, to, tx)
+                self.answer(adapter, now, rx.get(..len).unwrap_or(&[]), from, to, tx)
             }
             Ok(_) => {}
             Err(e) => log_error("udp 44818 broadcast receive", &e),
@@ -92,12 +91,7 @@ impl Udp {
     }
 
     /// Sends every delayed reply that is due at `now`.
-    pub fn send_due<D: Device>(
-        &self,
-        adapter: &mut Adapter<D>,
-        now: enip_stack::Instant,
-        tx: &mut [u8],
-    ) {
+    pub fn send_due<D: Device>(&self, adapter: &mut Adapter<D>, now: Instant, tx: &mut [u8]) {
         // Bounded by the stack's queue of delayed replies.
         for _ in 0..enip_stack::config::MAX_PENDING_LIST_IDENTITY {
             let Some((to, len)) = adapter.poll_udp(now, tx) else {
@@ -110,13 +104,13 @@ impl Udp {
     fn answer<D: Device>(
         &self,
         adapter: &mut Adapter<D>,
-        clock: &Clock,
+        now: Instant,
         data: &[u8],
         from: SocketAddrV4,
         to: Ipv4Addr,
         tx: &mut [u8],
     ) {
-        let len = adapter.udp_receive(from, to, data, clock.now(), tx);
+        let len = adapter.udp_receive(from, to, data, now, tx);
         if len > 0 {
             self.send(tx.get(..len).unwrap_or(&[]), from);
         }
