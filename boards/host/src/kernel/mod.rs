@@ -11,6 +11,7 @@
 mod io;
 mod netif;
 mod poll;
+mod session;
 mod socket;
 mod tcp;
 mod udp;
