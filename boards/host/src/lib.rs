@@ -24,6 +24,7 @@ mod options;
 mod runner;
 mod signals;
 mod tap;
+mod tap_device;
 
 pub use options::{Link, Options, Parsed, TapOptions, DEFAULT_MAC, OPTIONS_USAGE};
 pub use runner::run;

@@ -6,9 +6,9 @@ use std::path::Path;
 use std::pin::Pin;
 use std::process::exit;
 
+use crate::tap_device::TapDevice;
 use embassy_executor::{Executor, Spawner};
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
-use embassy_net_tuntap::TunTapDevice;
 use enip_firmware::Resources;
 use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::{Adapter, Device};
@@ -67,7 +67,7 @@ fn open_store(options: &Options, program: &str) -> HostStore {
 /// Runs `device` on `tap` on the embassy std executor, forever.
 fn run_tap<D: Device + 'static>(
     device: D,
-    tap: TunTapDevice,
+    tap: TapDevice,
     store: HostStore,
     link: &TapOptions,
     nv_file: Option<&Path>,
@@ -93,12 +93,12 @@ fn run_tap<D: Device + 'static>(
 /// Builds the network stack and the adapter: the network runner, and the adapter's run.
 fn start<D: Device + 'static>(
     device: D,
-    mut tap: TunTapDevice,
+    mut tap: TapDevice,
     mut store: HostStore,
     link: &TapOptions,
     nv_file: Option<&Path>,
     program: String,
-) -> (Runner<'static, TunTapDevice>, AdapterRun) {
+) -> (Runner<'static, TapDevice>, AdapterRun) {
     tap.set_hardware_address(link.mac);
     let config = embassy_net::Config::ipv4_static(interface(&mut store, link, nv_file));
     let seed = seed();
@@ -195,7 +195,7 @@ pub(crate) fn seed() -> u64 {
 
 /// Moves frames between the TAP device and the network stack.
 #[embassy_executor::task]
-async fn net_task(mut runner: Runner<'static, TunTapDevice>) -> ! {
+async fn net_task(mut runner: Runner<'static, TapDevice>) -> ! {
     runner.run().await
 }
 
