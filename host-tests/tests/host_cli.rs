@@ -1,6 +1,7 @@
 //! `enip-host` start-up errors (no root needed): a missing interface or one that is not a
 //! TAP ends the program at once with status 1 and a message naming the interface, instead
-//! of a new TAP being created or the program running unreachable.
+//! of a new TAP being created or the program running unreachable; so does `--bind` to an
+//! address no interface holds, and `--bind` with TAP options is a usage error (status 2).
 //!
 //! ```text
 //! cargo build -p enip-host
@@ -90,4 +91,24 @@ fn an_interface_that_is_not_a_tap_is_an_error() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "stderr: {stderr}");
     assert!(stderr.contains("\"lo\""), "stderr: {stderr}");
+}
+
+#[test]
+fn bind_to_an_address_no_interface_has_is_an_error() {
+    // In the child's own namespace only `lo` exists, so no interface holds this address.
+    let out = run_host(&["--bind", "198.18.0.2"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "stderr: {stderr}");
+    assert!(
+        stderr.contains("no interface has the address 198.18.0.2"),
+        "stderr: {stderr}"
+    );
+}
+
+#[test]
+fn bind_with_tap_options_is_a_usage_error() {
+    let out = run_host(&["--bind", "198.18.0.2", "--tap", "enip0"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
+    assert!(stderr.contains("--bind"), "stderr: {stderr}");
 }

@@ -22,6 +22,9 @@ use crate::process::{run_bounded, signal, SIGKILL};
 
 /// How long one `ip` command may take.
 const IP_TIMEOUT: Duration = Duration::from_secs(10);
+/// How often, and how many times, a new link is checked for its carrier.
+const CARRIER_POLL: Duration = Duration::from_millis(20);
+const CARRIER_POLLS: u32 = 100;
 
 /// The kernel's address on the TAP (where every peer runs).
 pub const HOST_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
@@ -130,14 +133,21 @@ impl Drop for Namespace {
     }
 }
 
-/// A namespace holding one TAP device, up at [`HOST_IP`]/[`PREFIX`]: the link a board
-/// attaches to. Deleted, with everything in it, when dropped.
+/// A namespace holding the link a board attaches to, up at [`HOST_IP`]/[`PREFIX`]: a TAP
+/// device, or one end of a veth pair whose other end, at [`BOARD_IP`], is in a namespace of
+/// the board's own (a board on the kernel's sockets). Deleted, with everything in it, when
+/// dropped.
 #[derive(Debug)]
 pub struct Lab {
-    /// The TAP device's name inside the namespace.
+    /// The link device's name inside the namespace (the TAP, or the peers' veth end).
     pub tap: String,
     ns: Namespace,
+    /// The board's own namespace, with the other veth end (none on a TAP); deleted last.
+    board_ns: Option<Namespace>,
 }
+
+/// The board's end of the veth pair, in its own namespace.
+pub const BOARD_VETH: &str = "enipb0";
 
 impl Lab {
     /// Creates the namespace `name` (replacing a stale one) with the TAP `tap`.
@@ -159,6 +169,32 @@ impl Lab {
         Ok(Lab {
             tap: tap.to_string(),
             ns,
+            board_ns: None,
+        })
+    }
+
+    /// Creates a namespace with a name of its own holding the veth end `link` at
+    /// [`HOST_IP`], and the board's namespace holding the other end, [`BOARD_VETH`], at
+    /// [`BOARD_IP`]: every frame crosses a link, as on a TAP.
+    pub fn create_veth(link: &str) -> io::Result<Self> {
+        let ns = Namespace::create()?;
+        let board_ns = Namespace::create()?;
+        let peer = ["peer", "name", BOARD_VETH, "netns", board_ns.name()];
+        let mut add = vec!["link", "add", link, "type", "veth"];
+        add.extend(peer);
+        ns.exec_checked("ip", &add)?;
+        for (n, dev, ip) in [(&ns, link, HOST_IP), (&board_ns, BOARD_VETH, BOARD_IP)] {
+            n.exec_checked(
+                "ip",
+                &["addr", "add", &format!("{ip}/{PREFIX}"), "dev", dev],
+            )?;
+            n.exec_checked("ip", &["link", "set", dev, "up"])?;
+        }
+        wait_carrier(&board_ns, BOARD_VETH)?;
+        Ok(Lab {
+            tap: link.to_string(),
+            ns,
+            board_ns: Some(board_ns),
         })
     }
 
@@ -171,6 +207,28 @@ impl Lab {
     pub fn command(&self, program: impl AsRef<OsStr>) -> Command {
         self.ns.command(program)
     }
+
+    /// A command that runs `program` where the board runs: its own namespace on a veth pair,
+    /// else the namespace.
+    pub fn board_command(&self, program: impl AsRef<OsStr>) -> Command {
+        self.board_ns.as_ref().unwrap_or(&self.ns).command(program)
+    }
+}
+
+/// Waits (bounded) until `dev` in `ns` is operationally up with its carrier, as a cable
+/// plugged in before the board starts (the kernel reports a new veth up a moment later).
+fn wait_carrier(ns: &Namespace, dev: &str) -> io::Result<()> {
+    for _ in 0..CARRIER_POLLS {
+        let mut c = ns.command("ip");
+        c.args(["-brief", "link", "show", dev]);
+        let out = run_bounded(c, None, IP_TIMEOUT)?;
+        let text = String::from_utf8_lossy(&out.stdout);
+        if text.split_whitespace().nth(1) == Some("UP") && !text.contains("NO-CARRIER") {
+            return Ok(());
+        }
+        std::thread::sleep(CARRIER_POLL);
+    }
+    Err(io::Error::other(format!("{dev}: no carrier")))
 }
 
 /// Runs `ip args` in the test's own namespace (only `netns` management is done this way).

@@ -21,6 +21,9 @@ pub use crate::netns::{BOARD_CIDR, BOARD_IP, BROADCAST_IP, HOST_IP, PREFIX};
 
 /// The TAP device's name inside the namespace (unless [`Options::tap`] names another).
 pub const TAP: &str = "enip0";
+/// `ENIP_HOST_LINK=bind` runs every host board the tests start on kernel sockets
+/// ([`Board::HostBind`]) instead of a TAP.
+pub const LINK_ENV: &str = "ENIP_HOST_LINK";
 /// The encapsulation port.
 pub const ENCAP_PORT: u16 = enip_stack::config::ENCAP_PORT;
 /// What the host board prints once it serves.
@@ -80,6 +83,17 @@ pub enum Board<'a> {
         /// The address it answers at.
         answers_at: Ipv4Addr,
     },
+    /// The host board `bin` on the kernel's sockets (`--bind 198.18.0.2`) running
+    /// `profile` with `extra` arguments, in a namespace of its own joined to the peers' by a
+    /// veth pair.
+    HostBind {
+        /// The `enip-host` binary.
+        bin: &'a Path,
+        /// Its `--profile`.
+        profile: &'a str,
+        /// More arguments.
+        extra: &'a [&'a str],
+    },
     /// A program built on `enip_host::run` (its own device, no `--profile`).
     Program {
         /// The program.
@@ -112,6 +126,17 @@ impl Board<'_> {
                     .env("RUST_LOG", log_level);
                 cmd
             }
+            Board::HostBind {
+                bin,
+                profile,
+                extra,
+            } => {
+                let mut cmd = lab.board_command(bin);
+                cmd.args(["--bind", &BOARD_IP.to_string(), "--profile", profile])
+                    .args(extra)
+                    .env("RUST_LOG", log_level);
+                cmd
+            }
             Board::Program { bin } => {
                 let mut cmd = host_command(lab, bin);
                 cmd.env("RUST_LOG", log_level);
@@ -136,6 +161,7 @@ impl Board<'_> {
     fn start_up(&self) -> (&'static str, &'static str, Duration) {
         match self {
             Board::Host { .. } => ("enip-host", LISTENING, BOARD_START),
+            Board::HostBind { .. } => ("enip-host --bind", LISTENING, BOARD_START),
             Board::Program { .. } => ("program", PROGRAM_READY, BOARD_START),
             Board::Qemu { .. } => ("qemu", QEMU_READY, QEMU_BOOT),
         }
@@ -144,7 +170,7 @@ impl Board<'_> {
     fn answers_at(&self) -> Ipv4Addr {
         match self {
             Board::Host { answers_at, .. } => *answers_at,
-            Board::Program { .. } | Board::Qemu { .. } => BOARD_IP,
+            Board::HostBind { .. } | Board::Program { .. } | Board::Qemu { .. } => BOARD_IP,
         }
     }
 }
@@ -195,7 +221,9 @@ impl Rig {
     }
 
     /// Like [`Rig::start_with_args`], for a board that comes up at `board_ip` (in
-    /// 198.18.0.0/24) instead of its `--ip` (e.g. from its `--nv-file`).
+    /// 198.18.0.0/24) instead of its `--ip` (e.g. from its `--nv-file`). With
+    /// `ENIP_HOST_LINK=bind` ([`LINK_ENV`]) the board runs on kernel sockets instead
+    /// ([`Board::HostBind`]), always at 198.18.0.2.
     pub fn start_at(
         bin: &Path,
         profile: &str,
@@ -203,6 +231,14 @@ impl Rig {
         capture: Option<&Path>,
         board_ip: Ipv4Addr,
     ) -> io::Result<Self> {
+        if std::env::var_os(LINK_ENV).is_some_and(|v| v == "bind") {
+            let board = Board::HostBind {
+                bin,
+                profile,
+                extra,
+            };
+            return Self::launch(board, &Options::capturing(capture));
+        }
         let board = Board::Host {
             bin,
             profile,
@@ -230,9 +266,10 @@ impl Rig {
     /// within its start-up bound and then answer a ListIdentity.
     pub fn launch(board: Board<'_>, options: &Options<'_>) -> io::Result<Self> {
         let tap = options.tap.unwrap_or(TAP);
-        let lab = match options.namespace {
-            Some(name) => Lab::create(name, tap)?,
-            None => Lab::create_unique(tap)?,
+        let lab = match (&board, options.namespace) {
+            (Board::HostBind { .. }, _) => Lab::create_veth(tap)?,
+            (_, Some(name)) => Lab::create(name, tap)?,
+            (_, None) => Lab::create_unique(tap)?,
         };
         let capture = options
             .capture

@@ -63,6 +63,7 @@ pub fn run_all() -> Result {
         .ok_or_else(|| util::Error("timer_baseline failed".into()))?;
     let tap = tap_run(&bin)?;
     let qemu = crate::bench_qemu::run_all()?;
+    let host_runtime = crate::bench_host::measure()?;
 
     let dir = util::target_dir().join("bench");
     fs::create_dir_all(&dir).map_err(|e| util::Error(format!("{}: {e}", dir.display())))?;
@@ -82,6 +83,7 @@ pub fn run_all() -> Result {
         "timer_baseline": parsed(&baseline),
         "tap": parsed(&tap),
         "qemu": qemu,
+        "host_runtime": host_runtime,
     })
     .to_string();
     let path = dir.join("report.json");

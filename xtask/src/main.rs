@@ -16,6 +16,7 @@
 #![forbid(unsafe_code)]
 
 mod bench;
+mod bench_host;
 mod bench_qemu;
 mod boards;
 mod demo;
@@ -47,9 +48,13 @@ commands:
                       boot the emulated board (QEMU mps2-an386) in netns enip-qemu until Ctrl-C
   demo [--host]       boot the emulated board (--host: the Linux host board) in netns
                       enip-demo; show its identity and a live Class 1 connection
-  bench [--qemu]      boards' footprint; Class 1 cycle cost (callgrind, native) and
+  bench [--qemu | --host]
+                      boards' footprint; Class 1 cycle cost (callgrind, native) and
                       10 x 1 ms I/O on the host TAP; the emulated board's instructions per
-                      cycle and 10 x 1 ms / 2 ms I/O (--qemu: that part alone)
+                      cycle and 10 x 1 ms / 2 ms I/O (--qemu: that part alone); the host
+                      adapter process per Class 1 cycle (instructions, context switches) and
+                      requests/s, TAP vs kernel sockets, vs OpENer when ENIP_OPENER_BIN names
+                      its POSIX build (--host: that part alone)
   footprint           the boards' release image sizes and the F767 budget (part of bench)
   smoke               the QEMU smoke run alone (part of test)
   faults              the long fault tests (link flap, Reset, churn, idle sockets, vanishing
@@ -65,6 +70,8 @@ enum BenchPart {
     All,
     /// The emulated Cortex-M board's Class 1 cycle only.
     Qemu,
+    /// The host adapter processes (TAP and kernel sockets, OpENer) only.
+    Host,
 }
 
 /// A command line, parsed.
@@ -111,6 +118,9 @@ fn main() -> ExitCode {
         Command::Bench {
             part: BenchPart::Qemu,
         } => bench_qemu::run_alone(),
+        Command::Bench {
+            part: BenchPart::Host,
+        } => bench_host::run_all(),
         Command::Footprint => footprint::footprint(),
         Command::Smoke => smoke::run_smoke().map(|_| ()),
         Command::Faults => faults::run_all(),
@@ -183,6 +193,7 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
             (Command::Qemu { profile }, Long("profile")) => *profile = parser.value()?.string()?,
             (Command::Demo { board }, Long("host")) => *board = demo::Board::Host,
             (Command::Bench { part }, Long("qemu")) => *part = BenchPart::Qemu,
+            (Command::Bench { part }, Long("host")) => *part = BenchPart::Host,
             (_, other) => return Err(other.unexpected()),
         }
     }

@@ -1,5 +1,6 @@
-//! `enip_host`: any [`enip_stack::Device`] as an EtherNet/IP adapter on a Linux TAP device, with
-//! one call.
+//! `enip_host`: any [`enip_stack::Device`] as an EtherNet/IP adapter on Linux, with one call:
+//! on a TAP device with its own TCP/IP stack (`--tap`), or on the kernel's sockets at one of
+//! the host's addresses (`--bind`, [`Link::Kernel`]).
 //!
 //! ```no_run
 //! # use enip_stack::Device;
@@ -8,23 +9,26 @@
 //! enip_host::run(my_device(), options)
 //! ```
 //!
-//! [`run`] opens the TAP (refusing one that does not exist, unless
-//! [`Options::create_tap`]), builds the embassy-net stack with
-//! [`enip_firmware::SOCKETS`] sockets, wraps the device in a [`enip_stack::Adapter`], logs to stderr
+//! On a TAP, [`run`] opens it (refusing one that does not exist, unless
+//! [`TapOptions::create`]), builds the embassy-net stack with [`enip_firmware::SOCKETS`]
+//! sockets and runs the firmware runtime on the embassy std executor; on kernel sockets it
+//! drives the same [`enip_stack::Adapter`] from one `ppoll` event loop (TCP and UDP 44818,
+//! UDP 2222). Either way it wraps the device in a [`enip_stack::Adapter`], logs to stderr
 //! (`RUST_LOG`, default `info`), exits 0 on SIGINT or SIGTERM and 1 on any start-up error.
 //! The TCP/IP settings a scanner sets are kept in the non-volatile store, a file with
 //! [`Options::nv_file`] (`--nv-file`), so that a restart comes up at the address set; a
 //! device profile keeps its saved settings in the same store ([`shared_store`]).
 
+mod kernel;
 mod nv_file;
 mod options;
 mod runner;
 mod signals;
 mod tap;
-mod tap_driver;
+mod tap_device;
 
 pub use nv_file::shared as shared_store;
-pub use options::{Options, Parsed, DEFAULT_MAC, OPTIONS_USAGE};
+pub use options::{Link, Options, Parsed, TapOptions, DEFAULT_MAC, OPTIONS_USAGE};
 pub use runner::run;
 
 /// The running program's file name, for messages.

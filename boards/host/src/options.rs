@@ -18,6 +18,8 @@ pub const OPTIONS_USAGE: &str =
                      lost at exit)
   --create-tap       create IFNAME if there is none (needs root or CAP_NET_ADMIN); it is
                      down, has no host address and disappears when the program exits
+  --bind A.B.C.D     instead of a TAP: serve on the kernel's TCP/IP stack at this local
+                     address (TCP and UDP 44818, UDP 2222), on the interface that holds it
 
 Logs go to stderr; set RUST_LOG to change the level (default: info).";
 
@@ -36,11 +38,29 @@ pub enum Parsed {
     Help,
 }
 
-/// How a host adapter attaches to the network.
+/// How a host adapter attaches to the network, and where it keeps its settings.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Options {
+    /// The network it attaches to.
+    pub link: Link,
+    /// `--nv-file`: the file of the non-volatile store (none: in RAM).
+    pub nv_file: Option<PathBuf>,
+}
+
+/// The network a host adapter attaches to.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Link {
+    /// A TAP device, with the adapter's own TCP/IP stack (`--tap`).
+    Tap(TapOptions),
+    /// The kernel's TCP/IP stack, on the interface holding this address (`--bind`).
+    Kernel(Ipv4Addr),
+}
+
+/// The adapter on a TAP device, with its own address.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TapOptions {
     /// TAP interface name.
-    pub tap: String,
+    pub name: String,
     /// Static address.
     pub ip: Ipv4Addr,
     /// Prefix length of the address.
@@ -50,21 +70,29 @@ pub struct Options {
     /// MAC address.
     pub mac: [u8; 6],
     /// Create the TAP interface if there is none.
-    pub create_tap: bool,
-    /// `--nv-file`: the file of the non-volatile store (none: in RAM).
-    pub nv_file: Option<PathBuf>,
+    pub create: bool,
 }
 
 impl Options {
     /// The adapter on TAP `tap` at `ip`/`prefix_len`, with the defaults for the rest.
     pub fn new(tap: &str, ip: Ipv4Addr, prefix_len: u8) -> Self {
         Options {
-            tap: tap.into(),
-            ip,
-            prefix_len,
-            gateway: None,
-            mac: DEFAULT_MAC,
-            create_tap: false,
+            link: Link::Tap(TapOptions {
+                name: tap.into(),
+                ip,
+                prefix_len,
+                gateway: None,
+                mac: DEFAULT_MAC,
+                create: false,
+            }),
+            nv_file: None,
+        }
+    }
+
+    /// The adapter on the kernel's sockets, at the local address `ip`.
+    pub fn bind(ip: Ipv4Addr) -> Self {
+        Options {
+            link: Link::Kernel(ip),
             nv_file: None,
         }
     }
@@ -78,14 +106,15 @@ impl Options {
         let mut tap = None;
         let mut ip = None;
         let mut gateway = None;
-        let mut mac = DEFAULT_MAC;
-        let mut create_tap = false;
+        let mut mac = None;
+        let mut create = false;
+        let mut bind = None;
         let mut nv_file = None;
         while let Some(flag) = args.next() {
             match flag.as_str() {
                 "-h" | "--help" => return Ok(Parsed::Help),
                 "--create-tap" => {
-                    create_tap = true;
+                    create = true;
                     continue;
                 }
                 _ => {}
@@ -95,22 +124,38 @@ impl Options {
                 "--tap" => tap = Some(parse_ifname(value)?),
                 "--ip" => ip = Some(parse_cidr(&value)?),
                 "--gateway" => gateway = Some(parse_ip(&value)?),
-                "--mac" => mac = parse_mac(&value)?,
+                "--mac" => mac = Some(parse_mac(&value)?),
+                "--bind" => bind = Some(parse_ip(&value)?),
                 "--nv-file" => nv_file = Some(PathBuf::from(value)),
                 _ if extra(&flag, value)? => {}
                 _ => return Err(format!("unknown option {flag:?}")),
             }
         }
-        let (ip, prefix_len) = ip.ok_or("--ip is required")?;
-        Ok(Parsed::Run(Options {
-            tap: tap.ok_or("--tap is required")?,
-            ip,
-            prefix_len,
-            gateway,
-            mac,
-            create_tap,
-            nv_file,
-        }))
+        let link = match bind {
+            Some(_) if tap.is_some() || ip.is_some() || gateway.is_some() => {
+                return Err(
+                    "--bind uses the kernel's interface and address: no --tap, --ip \
+                            or --gateway with it"
+                        .into(),
+                )
+            }
+            Some(_) if mac.is_some() || create => {
+                return Err("--mac and --create-tap are for a TAP, not --bind".into())
+            }
+            Some(addr) => Link::Kernel(addr),
+            None => {
+                let (ip, prefix_len) = ip.ok_or("--ip is required (or --bind)")?;
+                Link::Tap(TapOptions {
+                    name: tap.ok_or("--tap is required (or --bind)")?,
+                    ip,
+                    prefix_len,
+                    gateway,
+                    mac: mac.unwrap_or(DEFAULT_MAC),
+                    create,
+                })
+            }
+        };
+        Ok(Parsed::Run(Options { link, nv_file }))
     }
 
     /// The options of this process's command line (`extra` as in [`Options::parse`]); on
@@ -202,9 +247,17 @@ mod tests {
         }
     }
 
+    /// Parses `args`, which must ask for a TAP.
+    fn tap(args: &[&str]) -> Result<TapOptions, String> {
+        match run(args)?.link {
+            Link::Tap(t) => Ok(t),
+            Link::Kernel(_) => Err("kernel".into()),
+        }
+    }
+
     #[test]
     fn parses_a_full_command_line() {
-        let a = run(&[
+        let a = tap(&[
             "--tap",
             "tap0",
             "--ip",
@@ -217,21 +270,45 @@ mod tests {
             "02:00:00:00:00:2a",
         ])
         .unwrap();
-        assert_eq!(a.tap, "tap0");
+        assert_eq!(a.name, "tap0");
         assert_eq!((a.ip, a.prefix_len), (Ipv4Addr::new(198, 18, 0, 2), 24));
         assert_eq!(a.gateway, Some(Ipv4Addr::new(198, 18, 0, 1)));
         assert_eq!(a.mac, [2, 0, 0, 0, 0, 0x2a]);
-        assert!(!a.create_tap);
-        assert_eq!(a.nv_file, None);
-        let a = run(&["--create-tap", "--tap", "tap0", "--ip", "198.18.0.2/24"]).unwrap();
-        assert!(a.create_tap);
+        assert!(!a.create);
+        let a = tap(&["--create-tap", "--tap", "tap0", "--ip", "198.18.0.2/24"]).unwrap();
+        assert!(a.create);
         let a = run(&["--tap", "t", "--ip", "198.18.0.2/24", "--nv-file", "/x/nv"]).unwrap();
         assert_eq!(a.nv_file, Some(PathBuf::from("/x/nv")));
     }
 
     #[test]
+    fn bind_takes_the_kernel_interface() {
+        let a = run(&[
+            "--bind",
+            "198.18.0.2",
+            "--nv-file",
+            "/x/nv",
+            "--profile",
+            "generic",
+        ]);
+        assert_eq!(
+            a,
+            Ok(Options {
+                link: Link::Kernel(Ipv4Addr::new(198, 18, 0, 2)),
+                nv_file: Some(PathBuf::from("/x/nv")),
+            })
+        );
+        assert!(run(&["--bind", "198.18.0.2/24"]).is_err());
+        assert!(run(&["--bind", "198.18.0.2", "--tap", "t"]).is_err());
+        assert!(run(&["--bind", "198.18.0.2", "--ip", "198.18.0.2/24"]).is_err());
+        assert!(run(&["--bind", "198.18.0.2", "--gateway", "198.18.0.1"]).is_err());
+        assert!(run(&["--bind", "198.18.0.2", "--mac", "02:00:00:00:00:01"]).is_err());
+        assert!(run(&["--bind", "198.18.0.2", "--create-tap"]).is_err());
+    }
+
+    #[test]
     fn interface_names() {
-        let tap = |name: &str| run(&["--tap", name, "--ip", "198.18.0.2/24"]).map(|a| a.tap);
+        let tap = |name: &str| tap(&["--tap", name, "--ip", "198.18.0.2/24"]).map(|a| a.name);
         assert_eq!(tap("enip0").as_deref(), Ok("enip0"));
         assert_eq!(tap("a23456789012345").as_deref(), Ok("a23456789012345"));
         for bad in [
@@ -250,7 +327,7 @@ mod tests {
 
     #[test]
     fn defaults_and_errors() {
-        let a = run(&["--tap", "t", "--ip", "198.18.0.2/24"]).unwrap();
+        let a = tap(&["--tap", "t", "--ip", "198.18.0.2/24"]).unwrap();
         assert_eq!((a.gateway, a.mac), (None, DEFAULT_MAC));
         assert!(run(&["--ip", "198.18.0.2/24"]).is_err());
         assert!(run(&["--tap", "t", "--ip", "198.18.0.2"]).is_err());

@@ -1,10 +1,12 @@
-//! [`run`]: a device on the TAP, on the embassy std executor.
+//! [`run`]: a device on the TAP, on the embassy std executor, or on the kernel's sockets
+//! ([`crate::kernel`]).
 
 use std::future::Future;
+use std::path::Path;
 use std::pin::Pin;
 use std::process::exit;
 
-use crate::tap_driver::Tap;
+use crate::tap_device::TapDevice;
 use embassy_executor::{Executor, Spawner};
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
 use enip_firmware::Resources;
@@ -13,7 +15,8 @@ use enip_stack::nv::SharedStore;
 use enip_stack::{Adapter, Device};
 
 use crate::nv_file;
-use crate::{program_name, signals, tap, Options};
+use crate::options::{Link, TapOptions};
+use crate::{kernel, program_name, signals, tap, Options};
 
 /// Sockets of the embassy-net stack: what the adapter needs, and none to spare.
 const SOCKETS: usize = enip_firmware::SOCKETS;
@@ -21,8 +24,8 @@ const SOCKETS: usize = enip_firmware::SOCKETS;
 /// The adapter's whole run, type-erased so that one (non-generic) task can drive it.
 type AdapterRun = Pin<&'static mut dyn Future<Output = ()>>;
 
-/// Runs `device` on the TAP interface `options` names until SIGINT or SIGTERM (exit 0);
-/// any start-up error is printed and exits 1.
+/// Runs `device` on the TAP interface or the kernel address `options` names until SIGINT or
+/// SIGTERM (exit 0); any start-up error is printed and exits 1.
 pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
     let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
         .try_init();
@@ -31,15 +34,47 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
         eprintln!("{program}: cannot install signal handlers: {e}");
         exit(1);
     }
-    let tap = tap::open(&options.tap, options.create_tap).unwrap_or_else(|e| {
+    match options.link {
+        Link::Tap(ref link) => {
+            let tap = tap::open(&link.name, link.create).unwrap_or_else(|e| {
+                eprintln!("{program}: {e}");
+                exit(1);
+            });
+            let store = open_store(&options, &program);
+            run_tap(
+                device,
+                tap,
+                store,
+                link,
+                options.nv_file.as_deref(),
+                program,
+            )
+        }
+        Link::Kernel(ip) => {
+            let store = open_store(&options, &program);
+            kernel::run(device, ip, store, &program)
+        }
+    }
+}
+
+/// The non-volatile store `--nv-file` names (or one in RAM); exits 1 if it cannot be opened.
+fn open_store(options: &Options, program: &str) -> SharedStore {
+    nv_file::shared(options.nv_file.as_deref()).unwrap_or_else(|e| {
         eprintln!("{program}: {e}");
         exit(1);
-    });
-    let store = nv_file::shared(options.nv_file.as_deref()).unwrap_or_else(|e| {
-        eprintln!("{program}: {e}");
-        exit(1);
-    });
-    let adapter_run = start(device, tap, store, options, program);
+    })
+}
+
+/// Runs `device` on `tap` on the embassy std executor, forever.
+fn run_tap<D: Device + 'static>(
+    device: D,
+    tap: TapDevice,
+    store: SharedStore,
+    link: &TapOptions,
+    nv_file: Option<&Path>,
+    program: String,
+) -> ! {
+    let adapter_run = start(device, tap, store, link, nv_file, program);
     let executor: &'static mut Executor = Box::leak(Box::new(Executor::new()));
     executor.run(|spawner: Spawner| {
         let (net, adapter) = adapter_run;
@@ -59,13 +94,14 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
 /// Builds the network stack and the adapter: the network runner, and the adapter's run.
 fn start<D: Device + 'static>(
     device: D,
-    mut tap: Tap,
+    mut tap: TapDevice,
     mut store: SharedStore,
-    options: Options,
+    link: &TapOptions,
+    nv_file: Option<&Path>,
     program: String,
-) -> (Runner<'static, Tap>, AdapterRun) {
-    tap.set_hardware_address(options.mac);
-    let config = embassy_net::Config::ipv4_static(interface(&mut store, &options));
+) -> (Runner<'static, TapDevice>, AdapterRun) {
+    tap.set_hardware_address(link.mac);
+    let config = embassy_net::Config::ipv4_static(interface(&mut store, link, nv_file));
     let seed = seed();
     let resources: &'static mut StackResources<SOCKETS> =
         Box::leak(Box::new(enip_firmware::stack_resources()));
@@ -81,7 +117,7 @@ fn start<D: Device + 'static>(
     }
     let adapter = Box::leak(Box::new(enip_firmware::share(adapter)));
     let buffers: &'static mut Resources = Box::leak(Box::new(Resources::new()));
-    let tap_name = options.tap;
+    let tap_name = link.name.clone();
     let run = async move {
         let announce = async {
             net.wait_config_up().await;
@@ -104,11 +140,8 @@ fn start<D: Device + 'static>(
 
 /// The address to start with: the static interface configuration in the store, else
 /// `--ip` and `--gateway`; says which in the log.
-fn interface(store: &mut SharedStore, options: &Options) -> StaticConfigV4 {
-    let from = options
-        .nv_file
-        .as_deref()
-        .map_or_else(|| "RAM".into(), |p| p.display().to_string());
+fn interface(store: &mut SharedStore, link: &TapOptions, nv_file: Option<&Path>) -> StaticConfigV4 {
+    let from = nv_file.map_or_else(|| "RAM".into(), |p| p.display().to_string());
     let stored = TcpIpState::stored(store).unwrap_or_else(|e| {
         log::error!("non-volatile store {from}: {e:?}");
         None
@@ -122,12 +155,12 @@ fn interface(store: &mut SharedStore, options: &Options) -> StaticConfigV4 {
     let Some(i) = stored.as_ref().and_then(|st| st.static_interface()) else {
         log::info!(
             "interface {}/{} from --ip (nothing stored in {from})",
-            options.ip,
-            options.prefix_len
+            link.ip,
+            link.prefix_len
         );
         return StaticConfigV4 {
-            address: Ipv4Cidr::new(options.ip, options.prefix_len),
-            gateway: options.gateway,
+            address: Ipv4Cidr::new(link.ip, link.prefix_len),
+            gateway: link.gateway,
             dns_servers: Default::default(),
         };
     };
@@ -137,8 +170,8 @@ fn interface(store: &mut SharedStore, options: &Options) -> StaticConfigV4 {
          (--ip {}/{} not used)",
         i.ip,
         i.gateway,
-        options.ip,
-        options.prefix_len
+        link.ip,
+        link.prefix_len
     );
     StaticConfigV4 {
         address: Ipv4Cidr::new(i.ip, prefix),
@@ -153,7 +186,7 @@ fn interface(store: &mut SharedStore, options: &Options) -> StaticConfigV4 {
 }
 
 /// A random seed for the network stack and the adapter, from the OS or else the clock.
-fn seed() -> u64 {
+pub(crate) fn seed() -> u64 {
     getrandom::u64().unwrap_or_else(|_| {
         std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
@@ -163,7 +196,7 @@ fn seed() -> u64 {
 
 /// Moves frames between the TAP device and the network stack.
 #[embassy_executor::task]
-async fn net_task(mut runner: Runner<'static, Tap>) -> ! {
+async fn net_task(mut runner: Runner<'static, TapDevice>) -> ! {
     runner.run().await
 }
 
@@ -174,6 +207,6 @@ async fn adapter_task(run: AdapterRun) {
 }
 
 /// Identity Reset: a host process does not restart itself, so it only reports the request.
-fn on_reset(kind: u8) {
+pub(crate) fn on_reset(kind: u8) {
     log::warn!("identity reset (type {kind}) requested; a host adapter does not restart");
 }

@@ -9,10 +9,10 @@
 use std::ffi::CString;
 use std::io;
 
-use crate::tap_driver::Tap;
+use crate::tap_device::TapDevice;
 
 /// Opens the TAP interface `name`; creates it only if it does not exist and `create` is set.
-pub fn open(name: &str, create: bool) -> Result<Tap, String> {
+pub fn open(name: &str, create: bool) -> Result<TapDevice, String> {
     if !create && !exists(name)? {
         return Err(format!(
             "there is no network interface {name:?}; create the TAP first, typically inside \
@@ -20,7 +20,7 @@ pub fn open(name: &str, create: bool) -> Result<Tap, String> {
              up\n(or pass --create-tap to have enip-host create it)"
         ));
     }
-    Tap::open(name).map_err(|e| open_error(name, &e))
+    TapDevice::open(name).map_err(|e| open_error(name, &e))
 }
 
 /// Whether the process's network namespace has an interface called `name`.

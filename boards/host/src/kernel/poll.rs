@@ -1,0 +1,127 @@
+//! The event loop's wait: a fixed set of file descriptors handed to `ppoll(2)` with a
+//! timeout to the next deadline, and the clock deadlines are counted on.
+//!
+//! `ppoll` rather than epoll: the runtime watches at most [`MAX_FDS`] descriptors, so one
+//! `ppoll` per wait costs no more than `epoll_wait` and needs no registration calls when the
+//! interest changes (a TCP reply waiting for room, the listener closed while every session
+//! is taken); its timeout is a `timespec`, so deadlines are kept to the microsecond.
+
+use std::io;
+use std::os::fd::RawFd;
+use std::time::Duration;
+
+use enip_stack::Instant;
+
+/// Descriptors the loop watches: UDP 2222, 2 UDP 44818 sockets, the interface watch, the
+/// listener and 3 TCP connections.
+pub const MAX_FDS: usize = 8;
+
+/// The monotonic clock (`CLOCK_MONOTONIC`), as the stack's microsecond [`Instant`].
+#[derive(Debug, Clone, Copy)]
+pub struct Clock;
+
+impl Clock {
+    /// The current instant.
+    pub fn now(&self) -> Instant {
+        let mut ts = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        // SAFETY: `ts` is a valid timespec to write; CLOCK_MONOTONIC always exists on Linux,
+        // so the call cannot fail.
+        unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
+        let secs = u64::try_from(ts.tv_sec).unwrap_or(0);
+        let micros = u64::try_from(ts.tv_nsec).unwrap_or(0) / 1_000;
+        Instant::from_micros(secs.saturating_mul(1_000_000).saturating_add(micros))
+    }
+}
+
+/// How long from `now` until `at` (zero if it has passed).
+pub fn until(now: Instant, at: Instant) -> Duration {
+    Duration::from_micros(at.as_micros().saturating_sub(now.as_micros()))
+}
+
+/// The descriptors the loop waits on, each at a fixed index, and after a wait what each is
+/// ready for. An entry without a descriptor (-1) is ignored by `ppoll`.
+pub struct PollSet {
+    fds: [libc::pollfd; MAX_FDS],
+}
+
+impl PollSet {
+    /// A set watching nothing.
+    pub const fn new() -> Self {
+        const NONE: libc::pollfd = libc::pollfd {
+            fd: -1,
+            events: 0,
+            revents: 0,
+        };
+        PollSet {
+            fds: [NONE; MAX_FDS],
+        }
+    }
+
+    /// Watches `fd` at `index` for readability (and, with `write`, room to write); `None`
+    /// watches nothing there.
+    pub fn set(&mut self, index: usize, fd: Option<RawFd>, read: bool, write: bool) {
+        let Some(entry) = self.fds.get_mut(index) else {
+            return;
+        };
+        let mut events = 0;
+        if read {
+            events |= libc::POLLIN;
+        }
+        if write {
+            events |= libc::POLLOUT;
+        }
+        *entry = libc::pollfd {
+            fd: fd.unwrap_or(-1),
+            events,
+            revents: 0,
+        };
+    }
+
+    /// Waits until a descriptor is ready or `timeout` passes (`None`: no timeout); a signal
+    /// ends the wait early, as a timeout does.
+    pub fn wait(&mut self, timeout: Option<Duration>) -> io::Result<()> {
+        let ts = timeout.map(|t| libc::timespec {
+            tv_sec: libc::time_t::try_from(t.as_secs()).unwrap_or(libc::time_t::MAX),
+            tv_nsec: t.subsec_nanos() as libc::c_long,
+        });
+        let ts_ptr = ts.as_ref().map_or(std::ptr::null(), |t| t as *const _);
+        // SAFETY: `fds` is a valid, exclusively borrowed array of MAX_FDS pollfd entries and
+        // `ts_ptr` is null or points to a timespec that outlives the call; a null signal mask
+        // leaves the mask unchanged.
+        let n = unsafe {
+            libc::ppoll(
+                self.fds.as_mut_ptr(),
+                MAX_FDS as libc::nfds_t,
+                ts_ptr,
+                std::ptr::null(),
+            )
+        };
+        if n < 0 {
+            let e = io::Error::last_os_error();
+            if e.kind() != io::ErrorKind::Interrupted {
+                return Err(e);
+            }
+            self.fds.iter_mut().for_each(|f| f.revents = 0);
+        }
+        Ok(())
+    }
+
+    /// Whether the descriptor at `index` can be read (or has hung up or failed, which a read
+    /// reports).
+    pub fn readable(&self, index: usize) -> bool {
+        self.revents(index) & (libc::POLLIN | libc::POLLHUP | libc::POLLERR) != 0
+    }
+
+    /// Whether the descriptor at `index` can be written (or has failed, which a write
+    /// reports).
+    pub fn writable(&self, index: usize) -> bool {
+        self.revents(index) & (libc::POLLOUT | libc::POLLHUP | libc::POLLERR) != 0
+    }
+
+    fn revents(&self, index: usize) -> i16 {
+        self.fds.get(index).map_or(0, |f| f.revents)
+    }
+}

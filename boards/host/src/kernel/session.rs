@@ -1,0 +1,443 @@
+//! One encapsulation session's connection on port 44818 ([`Slot`]): reads into its own
+//! buffer only when its previous reply has gone out, hands the bytes to the adapter frame by
+//! frame, writes each reply, performs an Identity Reset once its reply is out, and on a close
+//! shuts its side down and waits (bounded) for the peer's FIN.
+
+use std::io::{self, Read, Write};
+use std::net::{Shutdown, SocketAddrV4, TcpStream};
+use std::os::fd::{AsRawFd, RawFd};
+use std::time::Duration;
+
+use enip_stack::config::MAX_ENCAP_FRAME;
+use enip_stack::device::CloseReason;
+use enip_stack::{Adapter, Device, Instant, SocketId};
+use socket2::SockRef;
+
+/// Bytes read from a connection at once.
+const RX_LEN: usize = 2048;
+/// Longest wait for a reply to be taken by the kernel before the connection is reset.
+const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
+/// Longest wait for the peer's FIN after ours.
+const LINGER: Duration = Duration::from_secs(2);
+
+/// One session's buffers (allocated once) and connection.
+pub struct Slot {
+    id: SocketId,
+    rx: Box<[u8; RX_LEN]>,
+    /// Unconsumed received bytes: `rx[rx_start..rx_end]`.
+    rx_start: usize,
+    rx_end: usize,
+    reply: Box<[u8; MAX_ENCAP_FRAME]>,
+    /// Reply bytes not yet taken by the kernel: `reply[out_start..out_end]`.
+    out_start: usize,
+    out_end: usize,
+    conn: Option<Conn>,
+}
+
+/// A connection in a slot.
+struct Conn {
+    stream: TcpStream,
+    state: State,
+    /// When the adapter's inactivity timeout is to be checked.
+    idle_check: Option<Instant>,
+}
+
+/// Where a connection is in its life.
+#[derive(Clone, Copy)]
+enum State {
+    /// Serving frames; `then` is what to do once the pending reply is out, and
+    /// `write_deadline` when that reply must be out.
+    Open {
+        then: After,
+        write_deadline: Option<Instant>,
+    },
+    /// Our FIN is sent; reading until the peer's, at most until `until`.
+    Closing { until: Instant },
+}
+
+/// What follows a reply.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum After {
+    /// Serve the next frame.
+    Continue,
+    /// Close the connection.
+    Close,
+    /// Perform an Identity Reset of this type (then close the connection if `close`).
+    Reset { kind: u8, close: bool },
+}
+
+/// How far a reply got.
+enum Flush {
+    /// All of it is with the kernel.
+    Done,
+    /// The kernel took part of it; the rest waits for room.
+    Pending,
+    /// The connection failed.
+    Failed,
+}
+
+/// What the loop watches of one descriptor, and for what.
+pub struct Interest {
+    /// The descriptor.
+    pub fd: RawFd,
+    /// Wait until readable.
+    pub read: bool,
+    /// Wait until writable.
+    pub write: bool,
+}
+
+impl Conn {
+    fn is_open(&self) -> bool {
+        matches!(self.state, State::Open { .. })
+    }
+
+    fn deadline(&self) -> Option<Instant> {
+        match self.state {
+            State::Open {
+                write_deadline: Some(at),
+                ..
+            } => Some(at),
+            State::Open { .. } => self.idle_check,
+            State::Closing { until } => Some(until),
+        }
+    }
+}
+
+impl Slot {
+    /// The free slot of session `id`, its buffers allocated.
+    pub fn new(id: SocketId) -> Self {
+        Slot {
+            id,
+            rx: Box::new([0; RX_LEN]),
+            rx_start: 0,
+            rx_end: 0,
+            reply: Box::new([0; MAX_ENCAP_FRAME]),
+            out_start: 0,
+            out_end: 0,
+            conn: None,
+        }
+    }
+
+    /// Whether no connection is in the slot.
+    pub fn is_free(&self) -> bool {
+        self.conn.is_none()
+    }
+
+    /// When [`Self::check_deadline`] next has work, if ever.
+    pub fn deadline(&self) -> Option<Instant> {
+        self.conn.as_ref().and_then(Conn::deadline)
+    }
+
+    /// Asks the adapter again when the open connection's inactivity timeout is due.
+    pub fn recheck_idle<D: Device>(&mut self, adapter: &Adapter<D>) {
+        if let Some(c) = self.conn.as_mut().filter(|c| c.is_open()) {
+            c.idle_check = adapter.tcp_deadline(self.id);
+        }
+    }
+
+    /// Serves the accepted connection `stream` from `peer` in this (free) slot.
+    pub fn start<D: Device>(
+        &mut self,
+        stream: TcpStream,
+        peer: SocketAddrV4,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+    ) {
+        if let Err(e) = stream.set_nonblocking(true) {
+            log::warn!("tcp {peer}: {e}");
+            return reset(stream);
+        }
+        // Replies are whole frames; send each at once.
+        let _ = stream.set_nodelay(true);
+        log::debug!("tcp socket {}: connection from {peer}", self.id.0);
+        adapter.tcp_accept(self.id, peer, now);
+        self.rx_start = 0;
+        self.rx_end = 0;
+        self.out_start = 0;
+        self.out_end = 0;
+        self.conn = Some(Conn {
+            stream,
+            state: State::Open {
+                then: After::Continue,
+                write_deadline: None,
+            },
+            idle_check: adapter.tcp_deadline(self.id),
+        });
+    }
+
+    /// What the connection waits for: a read, or room for the rest of its reply.
+    pub fn interest(&self) -> Option<Interest> {
+        let conn = self.conn.as_ref()?;
+        let pending = self.out_start < self.out_end;
+        Some(Interest {
+            fd: conn.stream.as_raw_fd(),
+            read: !pending,
+            write: pending,
+        })
+    }
+
+    /// Serves the connection after its descriptor became readable and/or writable; returns
+    /// whether frames were handled (or the connection closed on a failed write).
+    pub fn serve<D: Device>(
+        &mut self,
+        readable: bool,
+        writable: bool,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+        on_reset: fn(u8),
+    ) -> bool {
+        let Some(conn) = self.conn.as_mut() else {
+            return false;
+        };
+        match conn.state {
+            State::Closing { .. } => {
+                if readable {
+                    self.drain_closing();
+                }
+                false
+            }
+            State::Open { then, .. } if self.out_start < self.out_end => {
+                if !writable {
+                    return false;
+                }
+                match self.flush(now) {
+                    Flush::Done => {
+                        self.after_reply(then, adapter, now, on_reset);
+                        self.handle(adapter, now, on_reset);
+                        true
+                    }
+                    Flush::Pending => false,
+                    Flush::Failed => {
+                        self.close(adapter, now);
+                        true
+                    }
+                }
+            }
+            State::Open { .. } => {
+                if !readable || !self.receive(adapter, now) {
+                    return false;
+                }
+                if !self.handle(adapter, now, on_reset) {
+                    self.ack_now();
+                }
+                true
+            }
+        }
+    }
+
+    /// Reads what arrived into the empty receive buffer; false if nothing did (a closed or
+    /// failed connection is closed here).
+    fn receive<D: Device>(&mut self, adapter: &mut Adapter<D>, now: Instant) -> bool {
+        let Some(conn) = self.conn.as_mut() else {
+            return false;
+        };
+        match conn.stream.read(self.rx.as_mut_slice()) {
+            Ok(0) => {
+                log::debug!("tcp socket {}: closed by the peer", self.id.0);
+                self.close(adapter, now);
+                false
+            }
+            Ok(n) => {
+                self.rx_start = 0;
+                self.rx_end = n;
+                true
+            }
+            Err(e) if e.kind() == io::ErrorKind::WouldBlock => false,
+            Err(e) => {
+                log::debug!("tcp socket {}: {e}", self.id.0);
+                self.close(adapter, now);
+                false
+            }
+        }
+    }
+
+    /// Hands the received bytes to the adapter, frame by frame, writing each reply; stops at
+    /// a reply the kernel cannot take yet. Returns whether any reply was written.
+    fn handle<D: Device>(
+        &mut self,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+        on_reset: fn(u8),
+    ) -> bool {
+        let mut replied = false;
+        // Bounded: every round consumes at least one byte or closes.
+        for _ in 0..RX_LEN {
+            if self.rx_start >= self.rx_end || self.out_start < self.out_end {
+                return replied;
+            }
+            if !self.conn.as_ref().is_some_and(Conn::is_open) {
+                return replied;
+            }
+            let data = self.rx.get(self.rx_start..self.rx_end).unwrap_or(&[]);
+            let outcome = adapter.tcp_receive(self.id, data, now, self.reply.as_mut_slice());
+            self.rx_start += outcome.consumed.min(data.len());
+            let close = outcome.close || outcome.consumed == 0;
+            let then = match adapter.take_reset() {
+                Some(kind) => After::Reset { kind, close },
+                None if close => After::Close,
+                None => After::Continue,
+            };
+            self.out_start = 0;
+            self.out_end = outcome.reply_len.min(MAX_ENCAP_FRAME);
+            replied |= self.out_end > 0;
+            match self.flush(now) {
+                Flush::Done => self.after_reply(then, adapter, now, on_reset),
+                Flush::Pending => {
+                    if let Some(Conn {
+                        state: State::Open { then: t, .. },
+                        ..
+                    }) = self.conn.as_mut()
+                    {
+                        *t = then;
+                    }
+                    return replied;
+                }
+                Flush::Failed => {
+                    self.close(adapter, now);
+                    return replied;
+                }
+            }
+        }
+        replied
+    }
+
+    /// Acknowledges what was received at once: part of a frame has no reply to carry the
+    /// acknowledgement, and a delayed one makes the peer retransmit.
+    fn ack_now(&self) {
+        if let Some(conn) = self.conn.as_ref().filter(|c| c.is_open()) {
+            let _ = SockRef::from(&conn.stream).set_tcp_quickack(true);
+        }
+    }
+
+    /// Writes the pending reply.
+    fn flush(&mut self, now: Instant) -> Flush {
+        let Some(conn) = self.conn.as_mut() else {
+            return Flush::Failed;
+        };
+        while self.out_start < self.out_end {
+            let out = self.reply.get(self.out_start..self.out_end).unwrap_or(&[]);
+            match conn.stream.write(out) {
+                Ok(n) if n > 0 => self.out_start += n,
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
+                    if let State::Open { write_deadline, .. } = &mut conn.state {
+                        write_deadline.get_or_insert(now.add(micros(WRITE_TIMEOUT)));
+                    }
+                    return Flush::Pending;
+                }
+                _ => {
+                    self.out_start = self.out_end;
+                    return Flush::Failed;
+                }
+            }
+        }
+        if let State::Open { write_deadline, .. } = &mut conn.state {
+            *write_deadline = None;
+        }
+        Flush::Done
+    }
+
+    /// Does what follows a reply that went out.
+    fn after_reply<D: Device>(
+        &mut self,
+        then: After,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+        on_reset: fn(u8),
+    ) {
+        if let Some(Conn {
+            state: State::Open { then: t, .. },
+            ..
+        }) = self.conn.as_mut()
+        {
+            *t = After::Continue;
+        }
+        match then {
+            After::Continue => {}
+            After::Close => self.close(adapter, now),
+            After::Reset { kind, close } => {
+                log::info!(
+                    "identity reset type {kind} requested on tcp socket {}",
+                    self.id.0
+                );
+                adapter.close_all(CloseReason::Reset);
+                on_reset(kind);
+                if close {
+                    self.close(adapter, now);
+                }
+            }
+        }
+    }
+
+    /// Ends the session and sends our FIN; the slot frees once the peer's FIN arrives or
+    /// [`LINGER`] passes.
+    fn close<D: Device>(&mut self, adapter: &mut Adapter<D>, now: Instant) {
+        let Some(conn) = self.conn.as_mut() else {
+            return;
+        };
+        if conn.is_open() {
+            adapter.tcp_close(self.id, now);
+        }
+        let _ = conn.stream.shutdown(Shutdown::Write);
+        conn.state = State::Closing {
+            until: now.add(micros(LINGER)),
+        };
+        self.out_start = self.out_end;
+        self.rx_start = self.rx_end;
+    }
+
+    /// Discards what arrives after our FIN; frees the slot at the peer's FIN or an error.
+    fn drain_closing(&mut self) {
+        let Some(conn) = self.conn.as_mut() else {
+            return;
+        };
+        match conn.stream.read(self.rx.as_mut_slice()) {
+            Ok(n) if n > 0 => {}
+            Err(e) if e.kind() == io::ErrorKind::WouldBlock => {}
+            _ => {
+                self.conn = None;
+                log::debug!("tcp socket {}: closed", self.id.0);
+            }
+        }
+    }
+
+    /// Closes the connection if its inactivity timeout passed, resets it if its reply or its
+    /// close did not complete in time.
+    pub fn check_deadline<D: Device>(&mut self, adapter: &mut Adapter<D>, now: Instant) {
+        let Some(conn) = self.conn.as_mut() else {
+            return;
+        };
+        match conn.state {
+            State::Closing { until } if until <= now => {
+                // The peer never finished: reset rather than wait.
+                let _ = SockRef::from(&conn.stream).set_linger(Some(Duration::ZERO));
+                self.conn = None;
+                log::debug!("tcp socket {}: closed (reset)", self.id.0);
+            }
+            State::Open {
+                write_deadline: Some(at),
+                ..
+            } if at <= now => {
+                log::warn!("tcp socket {}: reply not sent in time", self.id.0);
+                self.close(adapter, now);
+            }
+            State::Open { .. } if conn.idle_check.is_some_and(|at| at <= now) => {
+                conn.idle_check = adapter.tcp_deadline(self.id);
+                if conn.idle_check.is_some_and(|at| at <= now) {
+                    log::debug!("tcp socket {}: inactivity timeout", self.id.0);
+                    self.close(adapter, now);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Resets a connection that cannot be served.
+pub fn reset(stream: TcpStream) {
+    let _ = SockRef::from(&stream).set_linger(Some(Duration::ZERO));
+}
+
+/// A standard duration as the stack's.
+pub fn micros(d: Duration) -> enip_stack::time::Duration {
+    enip_stack::time::Duration::from_micros(d.as_micros() as u64)
+}

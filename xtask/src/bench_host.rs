@@ -1,0 +1,417 @@
+//! `cargo xtask bench --host`: the whole host adapter process per Class 1 cycle, on the TAP
+//! (`enip-host --tap`, its own TCP/IP stack) and on kernel sockets (`enip-host --bind`, over
+//! a veth pair), and OpENer's POSIX build beside them when `ENIP_OPENER_BIN` names one.
+//!
+//! For each board, in namespaces of its own (198.18.0.1 the peers, 198.18.0.2 the board):
+//! - instructions per cycle: the board under `valgrind --tool=callgrind` (user space, every
+//!   thread), the project's scanner holding one exclusive owner at 10 ms for
+//!   [`SHORT_SECONDS`] and then [`LONG_SECONDS`]; per cycle = difference of the two totals /
+//!   difference of the T->O datagrams received, so start-up and shut-down cancel out;
+//! - context switches per cycle: the same two runs natively, summing `voluntary_ctxt_switches`
+//!   and `nonvoluntary_ctxt_switches` of every thread from `/proc/PID/task/*/status`;
+//! - explicit messaging: back-to-back Get_Attribute_Single on 1 and on 3 sessions for
+//!   [`RATE_SECONDS`] (`request_rate`), requests per second.
+//!
+//! Needs root (namespaces), valgrind, and the release builds of `enip-host`, `scanner` and
+//! `request_rate`, which [`run_all`] makes.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::thread::sleep;
+use std::time::{Duration, Instant};
+
+use serde_json::{json, Value};
+
+use crate::util::{self, cargo, err, run, Error, Result};
+
+/// Seconds of Class 1 traffic in the short and the long run.
+const SHORT_SECONDS: u64 = 5;
+const LONG_SECONDS: u64 = 15;
+/// The connection measured: one exclusive owner at this RPI.
+const RPI_US: &str = "10000";
+/// Seconds of each request-rate run.
+const RATE_SECONDS: &str = "5";
+/// The peers' and the board's namespaces, and their ends of the link.
+const PEER_NS: &str = "enip-hb-peer";
+const BOARD_NS: &str = "enip-hb-board";
+const PEER_IF: &str = "hbp0";
+const BOARD_IF: &str = "hbb0";
+/// The peers' address and the board's.
+const PEER_CIDR: &str = "198.18.0.1/24";
+const BOARD_IP: &str = "198.18.0.2";
+/// Bound for a board to start answering (valgrind makes start-up slow).
+const START: Duration = Duration::from_secs(60);
+
+/// The adapters measured.
+#[derive(Clone)]
+enum Board {
+    /// `enip-host --tap`: the adapter's own TCP/IP stack on a TAP in the peers' namespace.
+    Tap(PathBuf),
+    /// `enip-host --bind`: kernel sockets, in its own namespace over a veth pair.
+    Bind(PathBuf),
+    /// OpENer's POSIX sample application, the same way.
+    Opener(PathBuf),
+}
+
+impl Board {
+    fn name(&self) -> &'static str {
+        match self {
+            Board::Tap(_) => "enip-host --tap",
+            Board::Bind(_) => "enip-host --bind",
+            Board::Opener(_) => "OpENer",
+        }
+    }
+
+    /// The namespace the board runs in.
+    fn ns(&self) -> &'static str {
+        match self {
+            Board::Tap(_) => PEER_NS,
+            Board::Bind(_) | Board::Opener(_) => BOARD_NS,
+        }
+    }
+
+    /// The board's program and arguments.
+    fn argv(&self) -> Vec<String> {
+        let s = |p: &Path| p.display().to_string();
+        match self {
+            Board::Tap(bin) => vec![s(bin), "--tap".into(), BOARD_IF.into()]
+                .into_iter()
+                .chain(["--ip".into(), format!("{BOARD_IP}/24")])
+                .collect(),
+            Board::Bind(bin) => vec![s(bin), "--bind".into(), BOARD_IP.into()],
+            Board::Opener(bin) => vec![s(bin), BOARD_IF.into()],
+        }
+    }
+}
+
+/// The namespaces of one board: the peers', and the board's own (veth) unless it is on a TAP.
+struct Link;
+
+impl Link {
+    fn create(board: &Board) -> Result<Link> {
+        Link::delete();
+        let ip = |ns: &str, args: &[&str]| {
+            util::run_quiet(Command::new("ip").args(["-n", ns]).args(args))
+        };
+        util::run_quiet(Command::new("ip").args(["netns", "add", PEER_NS]))?;
+        ip(PEER_NS, &["link", "set", "lo", "up"])?;
+        if let Board::Tap(_) = board {
+            ip(PEER_NS, &["tuntap", "add", "dev", BOARD_IF, "mode", "tap"])?;
+            ip(PEER_NS, &["addr", "add", PEER_CIDR, "dev", BOARD_IF])?;
+            ip(PEER_NS, &["link", "set", BOARD_IF, "up"])?;
+            return Ok(Link);
+        }
+        util::run_quiet(Command::new("ip").args(["netns", "add", BOARD_NS]))?;
+        ip(BOARD_NS, &["link", "set", "lo", "up"])?;
+        ip(
+            PEER_NS,
+            &[
+                "link", "add", PEER_IF, "type", "veth", "peer", "name", BOARD_IF, "netns", BOARD_NS,
+            ],
+        )?;
+        ip(PEER_NS, &["addr", "add", PEER_CIDR, "dev", PEER_IF])?;
+        ip(
+            BOARD_NS,
+            &["addr", "add", &format!("{BOARD_IP}/24"), "dev", BOARD_IF],
+        )?;
+        ip(PEER_NS, &["link", "set", PEER_IF, "up"])?;
+        ip(BOARD_NS, &["link", "set", BOARD_IF, "up"])?;
+        Ok(Link)
+    }
+
+    fn delete() {
+        for ns in [BOARD_NS, PEER_NS] {
+            let _ = Command::new("ip")
+                .args(["netns", "pids", ns])
+                .output()
+                .map(|out| {
+                    for pid in String::from_utf8_lossy(&out.stdout).split_whitespace() {
+                        let _ = Command::new("kill").args(["-9", pid]).status();
+                    }
+                });
+            let _ = Command::new("ip")
+                .args(["netns", "del", ns])
+                .stderr(Stdio::null())
+                .status();
+        }
+    }
+}
+
+impl Drop for Link {
+    fn drop(&mut self) {
+        Link::delete();
+    }
+}
+
+/// One run of a board with Class 1 traffic.
+struct Sample {
+    /// T->O datagrams the scanner received.
+    cycles: u64,
+    /// Instructions of the whole process (callgrind runs only).
+    instructions: Option<u64>,
+    /// Context switches of every thread of the process while the scanner ran.
+    switches: u64,
+}
+
+/// The release binaries the benchmark runs.
+struct Bins {
+    scanner: PathBuf,
+    request_rate: PathBuf,
+}
+
+/// Builds what the benchmark runs, measures every board and prints the table; writes
+/// `target/bench/host.json`.
+pub fn run_all() -> Result {
+    let report = measure()?;
+    let path = util::target_dir().join("bench").join("host.json");
+    fs::write(&path, report.to_string()).map_err(|e| Error(format!("{}: {e}", path.display())))?;
+    println!("report: {}", path.display());
+    Ok(())
+}
+
+/// Measures every board; returns the JSON report (also printed as a table).
+pub fn measure() -> Result<Value> {
+    if !util::is_root() {
+        return err("the host runtime benchmark needs root (network namespaces)");
+    }
+    run(cargo().args([
+        "build",
+        "--release",
+        "-p",
+        "enip-host",
+        "-p",
+        "host-tests",
+        "--bins",
+    ]))?;
+    let dir = util::target_dir().join("release");
+    let bins = Bins {
+        scanner: dir.join("scanner"),
+        request_rate: dir.join("request_rate"),
+    };
+    let host = dir.join("enip-host");
+    let mut boards = vec![Board::Tap(host.clone()), Board::Bind(host)];
+    match std::env::var_os("ENIP_OPENER_BIN") {
+        Some(p) => boards.push(Board::Opener(PathBuf::from(p))),
+        None => println!("OpENer: not measured (set ENIP_OPENER_BIN to its POSIX build)"),
+    }
+    let _ = fs::create_dir_all(util::target_dir().join("bench"));
+    let mut report = serde_json::Map::new();
+    println!(
+        "{:<18} {:>14} {:>14} {:>12} {:>12}",
+        "board", "instr/cycle", "ctx sw/cycle", "1 sess rq/s", "3 sess rq/s"
+    );
+    for board in &boards {
+        let r = measure_board(board, &bins)?;
+        let cell = |k: &str| r[k].as_f64().map_or("?".into(), |v| format!("{v:.1}"));
+        println!(
+            "{:<18} {:>14} {:>14} {:>12} {:>12}",
+            board.name(),
+            cell("instructions_per_cycle"),
+            cell("context_switches_per_cycle"),
+            cell("requests_per_second_1_session"),
+            cell("requests_per_second_3_sessions"),
+        );
+        report.insert(board.name().into(), r);
+    }
+    Ok(Value::Object(report))
+}
+
+/// Every figure of one board.
+fn measure_board(board: &Board, bins: &Bins) -> Result<Value> {
+    let short = sample(board, bins, SHORT_SECONDS, true)?;
+    let long = sample(board, bins, LONG_SECONDS, true)?;
+    let native_short = sample(board, bins, SHORT_SECONDS, false)?;
+    let native_long = sample(board, bins, LONG_SECONDS, false)?;
+    let per = |a: u64, b: u64, ca: u64, cb: u64| {
+        (b.saturating_sub(a)) as f64 / (cb.saturating_sub(ca)).max(1) as f64
+    };
+    let instructions = match (short.instructions, long.instructions) {
+        (Some(a), Some(b)) => per(a, b, short.cycles, long.cycles),
+        _ => return err(format!("{}: no instruction count", board.name())),
+    };
+    let switches = per(
+        native_short.switches,
+        native_long.switches,
+        native_short.cycles,
+        native_long.cycles,
+    );
+    let (one, three) = rates(board, bins)?;
+    Ok(json!({
+        "instructions_per_cycle": (instructions * 10.0).round() / 10.0,
+        "callgrind_runs": [[short.cycles, short.instructions], [long.cycles, long.instructions]],
+        "context_switches_per_cycle": (switches * 100.0).round() / 100.0,
+        "native_runs": [[native_short.cycles, native_short.switches],
+                        [native_long.cycles, native_long.switches]],
+        "requests_per_second_1_session": one,
+        "requests_per_second_3_sessions": three,
+    }))
+}
+
+/// Starts `board`, holds one exclusive owner at 10 ms on it for `seconds`, stops it.
+fn sample(board: &Board, bins: &Bins, seconds: u64, callgrind: bool) -> Result<Sample> {
+    let _link = Link::create(board)?;
+    let out = util::target_dir().join("bench").join(format!(
+        "host-{}-{seconds}.callgrind",
+        board.name().replace([' ', '-'], "_")
+    ));
+    let _ = fs::remove_file(&out);
+    let mut child = start(board, callgrind.then_some(out.as_path()))?;
+    let pid = child.id();
+    let before = switches(pid);
+    let json = util::target_dir().join("bench").join("host-scanner.json");
+    let status = Command::new("ip")
+        .args(["netns", "exec", PEER_NS])
+        .arg(&bins.scanner)
+        .args([
+            "--target",
+            BOARD_IP,
+            "--connections",
+            "1",
+            "--rpi-us",
+            RPI_US,
+        ])
+        .args(["--seconds", &seconds.to_string(), "--json"])
+        .arg(&json)
+        .stdout(Stdio::null())
+        .status();
+    let after = switches(pid);
+    stop(&mut child);
+    match status {
+        Ok(s) if s.success() => {}
+        other => return err(format!("{}: scanner failed: {other:?}", board.name())),
+    }
+    let doc: Value = fs::read_to_string(&json)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .unwrap_or_default();
+    let cycles = doc["connections"][0]["received"].as_u64().unwrap_or(0);
+    let instructions = if callgrind {
+        Some(callgrind_total(&out)?)
+    } else {
+        None
+    };
+    Ok(Sample {
+        cycles,
+        instructions,
+        switches: after.saturating_sub(before),
+    })
+}
+
+/// Starts `board` in its namespace (under callgrind writing `callgrind` if given) and waits
+/// until it serves a session.
+fn start(board: &Board, callgrind: Option<&Path>) -> Result<Child> {
+    let mut cmd = Command::new("ip");
+    cmd.args(["netns", "exec", board.ns()]);
+    if let Some(out) = callgrind {
+        cmd.args(["valgrind", "--tool=callgrind"])
+            .arg(format!("--callgrind-out-file={}", out.display()));
+    }
+    // OpENer keeps its non-volatile data in the working directory.
+    let work = util::target_dir().join("bench").join("board-cwd");
+    let _ = fs::create_dir_all(&work);
+    let log = fs::File::create(util::target_dir().join("bench").join("host-board.log"))
+        .map_err(|e| Error(format!("board log: {e}")))?;
+    let mut child = cmd
+        .args(board.argv())
+        .current_dir(&work)
+        .stdout(Stdio::null())
+        .stderr(log)
+        .spawn()
+        .map_err(|e| Error(format!("{}: {e}", board.name())))?;
+    let deadline = Instant::now() + START;
+    while Instant::now() < deadline {
+        sleep(Duration::from_millis(500));
+        let probe = Command::new("ip")
+            .args(["netns", "exec", PEER_NS])
+            .arg(util::target_dir().join("release").join("request_rate"))
+            .args(["--target", BOARD_IP, "--seconds", "0"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status();
+        if probe.is_ok_and(|s| s.success()) {
+            return Ok(child);
+        }
+    }
+    stop(&mut child);
+    err(format!("{} did not start within {START:?}", board.name()))
+}
+
+/// Stops a board with SIGINT (callgrind writes its profile at exit), waiting up to 30 s.
+fn stop(child: &mut Child) {
+    let _ = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while Instant::now() < deadline {
+        if let Ok(Some(_)) = child.try_wait() {
+            return;
+        }
+        sleep(Duration::from_millis(100));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+}
+
+/// Context switches so far of every thread of process `pid`.
+fn switches(pid: u32) -> u64 {
+    let Ok(tasks) = fs::read_dir(format!("/proc/{pid}/task")) else {
+        return 0;
+    };
+    tasks
+        .flatten()
+        .filter_map(|t| fs::read_to_string(t.path().join("status")).ok())
+        .flat_map(|status| {
+            status
+                .lines()
+                .filter(|l| l.contains("ctxt_switches:"))
+                .filter_map(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
+                .collect::<Vec<_>>()
+        })
+        .sum()
+}
+
+/// The total instruction count of a callgrind profile (its `totals:` or `summary:` line).
+fn callgrind_total(path: &Path) -> Result<u64> {
+    let text = fs::read_to_string(path).map_err(|e| Error(format!("{}: {e}", path.display())))?;
+    text.lines()
+        .find_map(|l| {
+            l.strip_prefix("totals:")
+                .or_else(|| l.strip_prefix("summary:"))
+        })
+        .and_then(|v| v.split_whitespace().next()?.parse().ok())
+        .ok_or_else(|| Error(format!("{}: no totals line", path.display())))
+}
+
+/// Requests per second answered on 1 and on 3 sessions at once.
+fn rates(board: &Board, bins: &Bins) -> Result<(f64, f64)> {
+    let _link = Link::create(board)?;
+    let mut child = start(board, None)?;
+    let rate = |sessions: &str| -> Result<f64> {
+        let out = Command::new("ip")
+            .args(["netns", "exec", PEER_NS])
+            .arg(&bins.request_rate)
+            .args([
+                "--target",
+                BOARD_IP,
+                "--sessions",
+                sessions,
+                "--seconds",
+                RATE_SECONDS,
+            ])
+            .output()
+            .map_err(|e| Error(format!("request_rate: {e}")))?;
+        serde_json::from_slice::<Value>(&out.stdout)
+            .ok()
+            .and_then(|v| v["per_second"].as_f64())
+            .ok_or_else(|| {
+                Error(format!(
+                    "request_rate: {}",
+                    String::from_utf8_lossy(&out.stderr)
+                ))
+            })
+    };
+    let result = rate("1").and_then(|one| Ok((one, rate("3")?)));
+    stop(&mut child);
+    result
+}
