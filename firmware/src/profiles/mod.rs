@@ -2,6 +2,9 @@
 //! one of those compiled in by name at run time.
 //!
 //! A firmware of its own device enables none of them and compiles none of them.
+// Requests reach the profiles' arithmetic: none may overflow outside the tests (each allowed
+// site says why it cannot).
+#![cfg_attr(not(test), deny(clippy::arithmetic_side_effects))]
 
 #[cfg(feature = "profile-ametek-pls")]
 pub mod ametek_pls;

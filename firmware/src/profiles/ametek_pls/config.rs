@@ -131,6 +131,10 @@ pub struct Program {
 
 impl Config {
     /// Power-up defaults: scale factor 360 in every group, everything else 0 (\[R\] 19).
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "indices within the fixed word arrays (group < GROUPS, word < stride, input < INPUTS); attribute IDs matched to their range first"
+    )]
     pub const fn new() -> Self {
         let mut pls = [0; PLS_WORDS];
         let mut g = 0;
@@ -153,6 +157,10 @@ impl Config {
     }
 
     /// The words of stored attribute `a` (1-35, 38).
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "indices within the fixed word arrays (group < GROUPS, word < stride, input < INPUTS); attribute IDs matched to their range first"
+    )]
     pub fn words(&self, a: u16) -> Option<&[u16]> {
         Some(match a {
             attr::PLS => &self.pls,
@@ -166,6 +174,10 @@ impl Config {
     }
 
     /// The words of stored attribute `a`, to write.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "indices within the fixed word arrays (group < GROUPS, word < stride, input < INPUTS); attribute IDs matched to their range first"
+    )]
     pub fn words_mut(&mut self, a: u16) -> Option<&mut [u16]> {
         Some(match a {
             attr::PLS => &mut self.pls,
@@ -179,16 +191,28 @@ impl Config {
     }
 
     /// Scale factor of group `g` (0-based).
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "indices within the fixed word arrays (group < GROUPS, word < stride, input < INPUTS); attribute IDs matched to their range first"
+    )]
     pub fn scale(&self, g: usize) -> u16 {
         self.pls.get(6 * g).copied().unwrap_or(DEFAULT_SCALE).max(2)
     }
 
     /// Group word `k` (0 = scale ... 5 = min speed mask) of group `g` (0-based).
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "indices within the fixed word arrays (group < GROUPS, word < stride, input < INPUTS); attribute IDs matched to their range first"
+    )]
     pub fn group_word(&self, g: usize, k: usize) -> u16 {
         self.pls.get(6 * g + k).copied().unwrap_or(0)
     }
 
     /// The group (0-based) output `o` (0-based) belongs to.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "indices within the fixed word arrays (group < GROUPS, word < stride, input < INPUTS); attribute IDs matched to their range first"
+    )]
     pub fn group_of_output(&self, o: usize) -> Option<usize> {
         let (k, bit) = if o < HIGH_SPEED {
             (1, o)
@@ -204,6 +228,10 @@ impl Config {
     }
 
     /// The setpoint program of output `o` (0-based).
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "indices within the fixed word arrays (group < GROUPS, word < stride, input < INPUTS); attribute IDs matched to their range first"
+    )]
     pub fn program(&self, o: usize) -> Program {
         let (words, base): (&[u16], usize) = match o {
             0..=15 => (self.high.get(o).map_or(&[][..], |w| &w[..]), 6),
@@ -230,6 +258,10 @@ impl Config {
     }
 
     /// Input `i`'s (0-based) seven words: bit register, high mask, low mask, type, P1-P3.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "indices within the fixed word arrays (group < GROUPS, word < stride, input < INPUTS); attribute IDs matched to their range first"
+    )]
     pub fn input(&self, i: usize) -> [u16; INPUT_STRIDE] {
         let mut out = [0; INPUT_STRIDE];
         if let Some(w) = self.inputs.get(INPUT_STRIDE * i..INPUT_STRIDE * (i + 1)) {

@@ -37,6 +37,10 @@ pub const ACKNOWLEDGE: u16 = 1 << 2;
 
 impl OutputData {
     /// Decodes the 14 bytes of the output assembly.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     pub fn decode(data: &[u8]) -> Self {
         let w = |i: usize| {
             data.get(2 * i..2 * i + 2)
@@ -52,12 +56,20 @@ impl OutputData {
     }
 
     /// The force code (0 unforce, 1 on, 2 off; 3 reserved = unforce) of output `o`.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     fn force_of(&self, o: usize) -> u16 {
         let word = self.force.get(o / 8).copied().unwrap_or(0);
         code((word >> (2 * (o % 8))) & 3)
     }
 
     /// The force code of group `g`.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     fn group_force_of(&self, g: usize) -> u16 {
         code((self.group_force >> (2 * (g % 8))) & 3)
     }
@@ -269,11 +281,19 @@ impl Engine {
     }
 
     /// The resolver's position in group `g`'s counts, without offset.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     fn raw(&self, cfg: &Config, g: usize) -> u16 {
         ((u64::from(self.angle) * u64::from(cfg.scale(g))) >> 32) as u16
     }
 
     /// Recomputes every group position from the angle and the offsets.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     fn refresh_positions(&mut self, cfg: &Config) {
         let raws: [u16; GROUPS] = core::array::from_fn(|g| self.raw(cfg, g));
         let groups = self.positions.iter_mut().zip(&self.group_offset).zip(raws);
@@ -285,6 +305,10 @@ impl Engine {
 
     /// Applies the offset object (§2.8), already validated: 01 home, 10 absolute,
     /// 11 relative; positions wrap modulo SF.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     pub fn apply_offsets(&mut self, cfg: &Config, words: &[u16]) {
         let mask = words.first().copied().unwrap_or(0);
         for g in 0..GROUPS {
@@ -317,6 +341,10 @@ impl Engine {
     }
 
     /// Restores group offsets saved with the program.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     pub fn set_group_offsets(&mut self, cfg: &Config, offsets: [u16; GROUPS]) {
         for (g, (slot, o)) in self.group_offset.iter_mut().zip(offsets).enumerate() {
             *slot = o % cfg.scale(g);
@@ -393,6 +421,10 @@ impl Engine {
     }
 
     /// The leading edge of input `i`: its function acts.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     fn trigger(&mut self, cfg: &Config, i: usize) {
         let [_, _, _, kind, p1, p2, p3] = cfg.input(i);
         let Some(g) = cfg.group_of_input(i) else {
@@ -482,6 +514,10 @@ impl Engine {
     }
 
     /// Advances the resolver and the add-on test to `now` and recomputes everything.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     pub fn tick(&mut self, cfg: &Config, now: Instant) {
         let dt = self
             .last
@@ -607,6 +643,10 @@ impl Engine {
     }
 
     /// Output `o`'s position: its group's, or its own after a reset to preset of a subset.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     fn output_position(&self, cfg: &Config, o: usize, g: usize) -> u16 {
         match self.output_offset.get(o).copied().flatten() {
             Some(offset) => {
@@ -618,6 +658,10 @@ impl Engine {
     }
 
     /// Output `o`'s setpoint pattern at position `pos` and speed `rpm` (§2.4, 2.5).
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     fn pattern(&self, cfg: &Config, o: usize, pos: u16, sf: u16, rpm: u16) -> bool {
         let prog = cfg.program(o);
         if prog.count == 0 {
@@ -670,6 +714,10 @@ impl Engine {
     }
 
     /// Recomputes the output status from the configuration, the inputs and the output data.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+    )]
     pub fn compute(&mut self, cfg: &Config) {
         let data = self.data;
         let rpm = self.rpm();
@@ -782,12 +830,20 @@ impl Engine {
 
 /// The counts of angle (2^32 per revolution) `rpm` travels in `dt_us`, with the remainder
 /// carried from the last call.
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+)]
 fn advance(rpm: u16, dt_us: u64, rem: u128) -> (u64, u128) {
     let total = u128::from(rpm) * u128::from(dt_us) * (1u128 << 32) + rem;
     ((total / US_PER_MIN) as u64, total % US_PER_MIN)
 }
 
 /// `p` moved earlier by `counts` (advance), modulo `sf`.
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+)]
 fn shift(p: u16, counts: i32, sf: u16) -> u16 {
     (i32::from(p) - counts).rem_euclid(i32::from(sf.max(1))) as u16
 }
@@ -803,6 +859,10 @@ pub fn window(pos: u16, on: u16, off: u16) -> bool {
 }
 
 /// True if position `x` was reached during the last `travel` counts that ended at `pos`.
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+)]
 fn crossed(pos: u16, travel: u32, x: u16, sf: u16) -> bool {
     if travel == 0 {
         return false;
@@ -813,6 +873,10 @@ fn crossed(pos: u16, travel: u32, x: u16, sf: u16) -> bool {
 
 /// Linear speed compensation: `start` counts at `rpm_start` and below, `end` at `rpm_end`
 /// and above, linear between (\[R\] 14: clamped).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "u16 positions, offsets and scale factors widened to u32/i32/u64, moduli at least 2 (Config::scale): nothing leaves the wider type"
+)]
 fn interpolate(rpm: u16, rpm_start: u16, rpm_end: u16, start: u16, end: u16) -> i32 {
     let (s, e) = (i32::from(start), i32::from(end));
     if rpm <= rpm_start || rpm_end <= rpm_start {

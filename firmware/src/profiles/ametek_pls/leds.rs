@@ -68,7 +68,7 @@ impl Leds {
     pub fn connection_event(&mut self, event: &ConnectionEvent) {
         match event {
             ConnectionEvent::Opened(_) => {
-                self.connections += 1;
+                self.connections = self.connections.saturating_add(1);
                 self.timed_out = false;
             }
             ConnectionEvent::Closed(c, reason) => {

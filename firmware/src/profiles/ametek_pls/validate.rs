@@ -55,6 +55,10 @@ pub mod input_type {
 
 /// Checks the words of a Set of attribute `a` against the rules and the current
 /// configuration `cfg` (scale factors and group membership).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "word indices from constants: group < 8, entry < 6, input < INPUTS, attribute IDs matched to their range first"
+)]
 pub fn check(cfg: &Config, a: u16, w: &[u16], resolver_fault: bool) -> Result<(), Violation> {
     match a {
         attr::PLS => pls(w),
@@ -86,6 +90,10 @@ fn range(ok: bool, n: usize) -> Result<(), Violation> {
 /// Attribute 1 (§2.3): scale factors 2-65535, min speed 0-2048, min speed mask inside the
 /// group's high speed outputs (code 1); an output or input in two groups (code 2, reported
 /// at the later group's word).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "word indices from constants: group < 8, entry < 6, input < INPUTS, attribute IDs matched to their range first"
+)]
 fn pls(w: &[u16]) -> Result<(), Violation> {
     for g in 0..GROUPS {
         let base = 6 * g;
@@ -106,6 +114,10 @@ fn pls(w: &[u16]) -> Result<(), Violation> {
 
 /// Attributes 2-33 (§2.4, 2.5): output `o` (0-based); `base` is the 0-based index of the
 /// "number of setpoints" word (6 for high speed, 0 for low speed).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "word indices from constants: group < 8, entry < 6, input < INPUTS, attribute IDs matched to their range first"
+)]
 fn output(cfg: &Config, o: usize, w: &[u16], base: usize) -> Result<(), Violation> {
     let limit = cfg.group_of_output(o).map_or(u16::MAX, |g| cfg.scale(g));
     let position = |i: usize| range(word(w, i) < limit, i + 1);
@@ -148,6 +160,10 @@ fn output(cfg: &Config, o: usize, w: &[u16], base: usize) -> Result<(), Violatio
 
 /// Attribute 34 (§2.6): per input, capture update 0-2, a known type, parameters in range
 /// (code 1); output masks only with outputs of the input's own group (code 2).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "word indices from constants: group < 8, entry < 6, input < INPUTS, attribute IDs matched to their range first"
+)]
 fn inputs(cfg: &Config, w: &[u16]) -> Result<(), Violation> {
     use input_type as t;
     for i in 0..INPUTS {
@@ -205,6 +221,10 @@ fn inputs(cfg: &Config, w: &[u16]) -> Result<(), Violation> {
 
 /// Attribute 36 (§2.8): a home value must be a position of its group (\[R\]); nothing can be
 /// offset while the resolver has a fault (code 3).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "word indices from constants: group < 8, entry < 6, input < INPUTS, attribute IDs matched to their range first"
+)]
 fn offset(cfg: &Config, w: &[u16], resolver_fault: bool) -> Result<(), Violation> {
     if resolver_fault {
         return Err((RESOLVER, 1));

@@ -157,9 +157,9 @@ impl Command<'_> {
     pub fn dint(&self, i: usize) -> i32 {
         i32::from_le_bytes([
             self.byte(i),
-            self.byte(i + 1),
-            self.byte(i + 2),
-            self.byte(i + 3),
+            self.byte(i.saturating_add(1)),
+            self.byte(i.saturating_add(2)),
+            self.byte(i.saturating_add(3)),
         ])
     }
     /// Byte 0, the control word.
@@ -196,7 +196,7 @@ impl Command<'_> {
     }
     /// Bytes 24-31.
     pub fn parameter_data(&self) -> [u8; 8] {
-        core::array::from_fn(|i| self.byte(24 + i))
+        core::array::from_fn(|i| self.byte(i.saturating_add(24)))
     }
     /// Byte 32: the Position Controller attribute to report in response bytes 24-31.
     pub fn attribute_to_get(&self) -> u8 {
@@ -208,7 +208,7 @@ impl Command<'_> {
     }
     /// Bytes 36-63: the command dynamic map.
     pub fn dynamic_map(&self) -> [u8; dynamic_map::LEN] {
-        core::array::from_fn(|i| self.byte(dynamic_map::START + i))
+        core::array::from_fn(|i| self.byte(i.saturating_add(dynamic_map::START)))
     }
 }
 

@@ -206,6 +206,10 @@ impl Default for Drive {
 }
 
 /// Integer square root (floor).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "Newton steps from above: x + n / x <= 2x <= n + 1"
+)]
 fn isqrt(n: u128) -> u128 {
     if n < 2 {
         return n;
@@ -370,7 +374,7 @@ impl Drive {
         while next <= now && ticks < MAX_CATCH_UP {
             self.tick();
             next = next.add(TICK);
-            ticks += 1;
+            ticks = ticks.saturating_add(1);
         }
         if next <= now {
             next = now.add(TICK);
@@ -385,6 +389,10 @@ impl Drive {
     }
 
     /// One control tick.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "velocities stay within ±MAX_VELOCITY (< 2^39, clamped at every start and ramp), accelerations within 1..=i64::MAX and torque within ±MAX_TORQUE_MA: nothing here leaves i64"
+    )]
     pub fn tick(&mut self) {
         let before = self.velocity;
         if self.enabled {
@@ -398,12 +406,20 @@ impl Drive {
         }
     }
 
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "velocities stay within ±MAX_VELOCITY (< 2^39, clamped at every start and ramp), accelerations within 1..=i64::MAX and torque within ±MAX_TORQUE_MA: nothing here leaves i64"
+    )]
     fn advance(&mut self) {
         let total = self.velocity + self.position_rem;
         self.position = self.position.saturating_add(total / TICKS_PER_S);
         self.position_rem = total % TICKS_PER_S;
     }
 
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "velocities stay within ±MAX_VELOCITY (< 2^39, clamped at every start and ramp), accelerations within 1..=i64::MAX and torque within ±MAX_TORQUE_MA: nothing here leaves i64"
+    )]
     fn motion_step(&mut self) {
         match self.motion {
             Motion::Idle => self.velocity = 0,
@@ -445,6 +461,10 @@ impl Drive {
     }
 
     /// Ramps the velocity towards `v` with `acc` (speeding up) or `dec` (slowing down).
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "velocities stay within ±MAX_VELOCITY (< 2^39, clamped at every start and ramp), accelerations within 1..=i64::MAX and torque within ±MAX_TORQUE_MA: nothing here leaves i64"
+    )]
     fn ramp(&mut self, v: i64, acc: i64, dec: i64) {
         let cur = self.velocity;
         let speeding_up = v.signum() * cur.signum() >= 0 && v.abs() > cur.abs();
@@ -458,6 +478,10 @@ impl Drive {
 
     /// One tick of a trapezoidal move: the speed the remaining distance allows at `dec`,
     /// reached with `acc`; the last tick lands exactly on the target.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "velocities stay within ±MAX_VELOCITY (< 2^39, clamped at every start and ramp), accelerations within 1..=i64::MAX and torque within ±MAX_TORQUE_MA: nothing here leaves i64"
+    )]
     fn move_step(&mut self, target: i64, v: i64, acc: i64, dec: i64) {
         let remaining = target.saturating_sub(self.position);
         let dir = remaining.signum();
@@ -565,6 +589,10 @@ impl Drive {
         self.position
     }
     /// The commanded velocity, counts/s: the velocity the motion aims for.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "velocities stay within ±MAX_VELOCITY (< 2^39, clamped at every start and ramp), accelerations within 1..=i64::MAX and torque within ±MAX_TORQUE_MA: nothing here leaves i64"
+    )]
     pub fn commanded_velocity(&self) -> i64 {
         match self.motion {
             Motion::Move { target, v, .. } => v * target.saturating_sub(self.position).signum(),
@@ -582,6 +610,10 @@ impl Drive {
         self.torque_command
     }
     /// Actual torque (current), mA.
+    #[allow(
+        clippy::arithmetic_side_effects,
+        reason = "velocities stay within ±MAX_VELOCITY (< 2^39, clamped at every start and ramp), accelerations within 1..=i64::MAX and torque within ±MAX_TORQUE_MA: nothing here leaves i64"
+    )]
     pub fn torque(&self) -> i32 {
         if !self.enabled {
             return 0;

@@ -222,7 +222,8 @@ fn load<S: NvStorage>(akd: &mut KollmorgenAkd<S>, cmd: &Command<'_>) -> Result<(
             let acc = s.check_profile(i64::from(cmd.acceleration()), true)?;
             let dec = s.check_profile(i64::from(cmd.deceleration()), true)?;
             if mode != Mode::Torque {
-                s.drive.start_jog(if positive { v } else { -v }, acc, dec);
+                s.drive
+                    .start_jog(if positive { v } else { v.saturating_neg() }, acc, dec);
             }
         }
         ty::SET_ATTRIBUTE => {

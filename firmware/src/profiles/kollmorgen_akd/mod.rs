@@ -214,7 +214,9 @@ impl<S: NvStorage> Device for KollmorgenAkd<S> {
 
     fn instance_count(&self, class: &ClassDef) -> u32 {
         match class.id {
-            parameter::CLASS => params::instances().count() as u32 + maps::INSTANCES,
+            parameter::CLASS => {
+                (params::instances().count() as u32).saturating_add(maps::INSTANCES)
+            }
             _ => 1,
         }
     }

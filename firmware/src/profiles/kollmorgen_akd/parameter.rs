@@ -88,11 +88,11 @@ pub fn decode(view: &View, data: &[u8]) -> CipResult<i64> {
     for (dst, src) in raw.iter_mut().zip(data) {
         *dst = *src;
     }
-    let bits = 8 * data.len() as u32;
+    let bits = (data.len() as u32).saturating_mul(8);
     let unsigned = u64::from_le_bytes(raw);
     let signed = view.param.signed || view.low_word;
     Ok(if signed && bits < 64 {
-        let shift = 64 - bits;
+        let shift = 64u32.saturating_sub(bits);
         ((unsigned << shift) as i64) >> shift
     } else {
         unsigned as i64

@@ -325,7 +325,7 @@ pub fn view(instance: u32) -> Option<View> {
 /// Every instance that exists, in order.
 pub fn instances() -> impl Iterator<Item = u16> {
     TABLE.iter().flat_map(|p| {
-        let low = (p.len == 8).then_some(p.instance + 1);
+        let low = (p.len == 8).then_some(p.instance.saturating_add(1));
         core::iter::once(p.instance).chain(low)
     })
 }
@@ -401,8 +401,8 @@ pub fn write(state: &mut State, param: &Param, value: i64) -> CipResult {
         other => {
             let fits = match param.len {
                 1 | 2 | 4 if param.signed => {
-                    let bits = 8 * u32::from(param.len) - 1;
-                    (-(1i64 << bits)..(1i64 << bits)).contains(&value)
+                    let half = 1i64 << u32::from(param.len).saturating_mul(8).saturating_sub(1);
+                    (half.saturating_neg()..half).contains(&value)
                 }
                 1 | 2 | 4 => (0..(1i64 << (8 * u32::from(param.len)))).contains(&value),
                 _ => true,

@@ -110,7 +110,9 @@ impl State {
     }
     /// Counts/s (counts/s²) to velocity (acceleration) units, 64 bits (towards zero).
     pub fn prof_units64(&self, counts: i64) -> i64 {
-        counts / i64::from(self.pc.profile_units.max(1))
+        counts
+            .checked_div(i64::from(self.pc.profile_units.max(1)))
+            .unwrap_or(0)
     }
     /// Counts/s to velocity units, saturated to 32 bits.
     pub fn prof_units(&self, counts: i64) -> i32 {
@@ -161,7 +163,7 @@ impl State {
                 self.drive.start_move(target, v, acc, dec)
             }
             Mode::Velocity => {
-                let v = if positive { v } else { -v };
+                let v = if positive { v } else { v.saturating_neg() };
                 Ok(self.drive.start_jog(v, acc, dec))
             }
             Mode::Torque => Ok(false),

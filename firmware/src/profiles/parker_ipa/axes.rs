@@ -24,6 +24,10 @@ pub struct Axes {
     residue: [i64; AXES],
 }
 
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "axis < AXES and index < AXIS_STRIDE: far below u32::MAX"
+)]
 fn slot(axis: usize, index: u32) -> Option<Slot> {
     Slot::of(AXIS_FIRST + axis as u32 * AXIS_STRIDE + index)
 }
@@ -48,7 +52,7 @@ impl Axes {
             moving = true;
             *residue = residue.saturating_add((f64::from(velocity) * elapsed as f64) as i64);
             let whole = *residue / MICRO;
-            *residue -= whole * MICRO;
+            *residue %= MICRO;
             if whole == 0 {
                 continue;
             }

@@ -70,7 +70,12 @@ fn read_group(ipa: &mut ParkerIpa, instance: u32, data: &[u8], w: &mut Writer<'_
         return Err(CipError::new(General::PathDestinationUnknown));
     }
     let n = count(data, MAX_GROUP_BLOCK)?;
-    let elements = (0..n as u32).map(|k| instance + k * AXIS_STRIDE);
+    // An element past P(2^32 - 1) does not exist: the check below refuses it.
+    let elements = (0..n as u32).map(|k| {
+        k.checked_mul(AXIS_STRIDE)
+            .and_then(|o| instance.checked_add(o))
+            .unwrap_or(u32::MAX)
+    });
     let mut values = [None; MAX_GROUP_BLOCK];
     for (slot, p) in values.iter_mut().zip(elements) {
         *slot = Some(

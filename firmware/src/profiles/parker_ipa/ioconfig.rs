@@ -134,7 +134,7 @@ impl Layout {
         direction: Direction,
     ) -> impl Iterator<Item = (u32, params::Kind)> + '_ {
         self.groups(direction)
-            .flat_map(|g| (0..u32::from(g.count)).map(move |k| (g.start + k, g.wire)))
+            .flat_map(|g| (0..u32::from(g.count)).map(move |k| (g.start.saturating_add(k), g.wire)))
     }
 }
 
@@ -187,7 +187,8 @@ pub fn validate(
             return Err(here(start, status::BAD_PARAMETER));
         }
         let first = start as u32;
-        if let Some(missing) = (first..first + count as u32).find(|&p| params::kind(p).is_none()) {
+        let end = first.saturating_add(count as u32);
+        if let Some(missing) = (first..end).find(|&p| params::kind(p).is_none()) {
             return Err(here(missing as i32, status::BAD_PARAMETER));
         }
         let group = Group {
@@ -208,12 +209,12 @@ pub fn validate(
         (Direction::Produce, status::TOO_MANY_PRODUCED),
         (Direction::Consume, status::TOO_MANY_CONSUMED),
     ] {
-        let mut sum = 0;
+        let mut sum = 0usize;
         for (g, group) in layout.groups.iter().enumerate() {
             if group.direction != direction {
                 continue;
             }
-            sum += usize::from(group.count);
+            sum = sum.saturating_add(usize::from(group.count));
             if sum > MAX_LONGS {
                 return Err(ConfigError {
                     status: code,

@@ -120,7 +120,7 @@ impl ParkerIpa {
         self.check(first, n)?;
         for k in 0..n as u32 {
             let value = self
-                .get(first + k)
+                .get(first.saturating_add(k))
                 .ok_or(CipError::new(General::PathDestinationUnknown))?;
             class64::put(w, value, kind)?;
         }
@@ -132,7 +132,11 @@ impl ParkerIpa {
         self.check(first, data.len() / 4)?;
         for (k, chunk) in data.chunks_exact(4).enumerate() {
             if let Ok(bytes) = <[u8; 4]>::try_from(chunk) {
-                self.set(first + k as u32, Value::from_le_bytes(kind, bytes));
+                // `check` found every P(first + k).
+                self.set(
+                    first.saturating_add(k as u32),
+                    Value::from_le_bytes(kind, bytes),
+                );
             }
         }
         Ok(())
@@ -198,7 +202,7 @@ impl Device for ParkerIpa {
             return true;
         }
         match ioconfig::validate(self.store.groups_in_use(), &self.store.config()) {
-            Ok(layout) => layout.longs(direction) * 4 <= data,
+            Ok(layout) => layout.longs(direction).saturating_mul(4) <= data,
             Err(_) => true,
         }
     }
@@ -285,7 +289,7 @@ impl Device for ParkerIpa {
     fn connection_event(&mut self, event: ConnectionEvent) {
         match event {
             ConnectionEvent::Opened(c) if c.kind == ConnectionKind::Explicit => {
-                self.status.class3_open += 1;
+                self.status.class3_open = self.status.class3_open.saturating_add(1);
             }
             ConnectionEvent::Opened(c) => self.status.opened(c.slot, c.t_o_rpi_us, c.o_t_rpi_us),
             ConnectionEvent::Closed(c, _) if c.kind == ConnectionKind::Explicit => {

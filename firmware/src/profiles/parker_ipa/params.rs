@@ -84,6 +84,8 @@ pub const AXIS_FIRST: u32 = 12288;
 pub const AXIS_STRIDE: u32 = 256;
 /// Axes of the simulated controller.
 pub const AXES: usize = 8;
+/// Parameters of all axes, from [`AXIS_FIRST`].
+const AXIS_SPAN: usize = AXES * AXIS_STRIDE as usize;
 /// Axis parameter indexes below this are longs, the others floats \[R\].
 pub const AXIS_LONGS: u32 = 16;
 /// First CIP status parameter (Table 2, p.5).
@@ -144,7 +146,7 @@ impl Slot {
         if let Some(i) = within(FLAGS_FIRST, FLAGS_COUNT) {
             return Some(Slot::Flag(i));
         }
-        if let Some(i) = within(AXIS_FIRST, AXES * AXIS_STRIDE as usize) {
+        if let Some(i) = within(AXIS_FIRST, AXIS_SPAN) {
             return Some(Slot::Axis(i));
         }
         if let Some(i) = within(STATUS_FIRST, STATUS_COUNT) {
@@ -217,7 +219,8 @@ impl Store {
         }
         for (g, entry) in super::ioconfig::AOI_GROUPS.iter().enumerate() {
             for (k, v) in entry.iter().enumerate() {
-                if let Some(c) = s.config.get_mut(4 * g + k) {
+                // g < 16 groups of 4 entries.
+                if let Some(c) = s.config.get_mut(g.saturating_mul(4).saturating_add(k)) {
                     *c = *v as u32;
                 }
             }

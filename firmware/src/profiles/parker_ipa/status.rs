@@ -96,7 +96,8 @@ impl CipStatus {
     }
     /// Open connections, Class 1 and Class 3.
     pub fn connections(&self) -> u32 {
-        self.class3_open + u32::from(self.class1_slot.is_some())
+        self.class3_open
+            .saturating_add(u32::from(self.class1_slot.is_some()))
     }
     /// The value of status parameter P(37424 + `i`) (`groups_in_use` is P37434).
     pub fn param(&self, i: usize, groups_in_use: i32) -> i32 {

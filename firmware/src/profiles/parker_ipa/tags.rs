@@ -55,7 +55,10 @@ pub fn parameter(name: &[u8]) -> Option<u32> {
         if !d.is_ascii_digit() {
             return None;
         }
-        n = n * 10 + u32::from(d - b'0');
+        // At most 5 digits: below 100 000.
+        n = n
+            .saturating_mul(10)
+            .saturating_add(u32::from(d.saturating_sub(b'0')));
     }
     (n <= 0xFFFF).then_some(n)
 }
@@ -83,7 +86,7 @@ fn serve(ipa: &mut ParkerIpa, symbol: &[u8], req: &Request<'_>, w: &mut Writer<'
 }
 
 fn uint(data: &[u8], at: usize) -> CipResult<u16> {
-    match data.get(at..at + 2) {
+    match data.get(at..at.saturating_add(2)) {
         Some(&[a, b]) => Ok(u16::from_le_bytes([a, b])),
         _ => Err(err(General::NotEnoughData)),
     }

@@ -81,6 +81,10 @@ pub struct Assembly {
     pub words: &'static [Word],
 }
 
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "called for the const assembly table only: an overflow fails the build"
+)]
 const fn assembly(instance: u16, role: AssemblyRole, words: &'static [Word]) -> Assembly {
     Assembly {
         info: AssemblyInfo {
@@ -176,10 +180,10 @@ fn encode(vars: &Variables, word: Word) -> [u8; 4] {
 /// Copies assembly `instance` into `out`; returns the length.
 pub fn read(vars: &Variables, instance: u16, out: &mut [u8]) -> CipResult<usize> {
     let a = find(instance)?;
-    let mut n = 0;
+    let mut n = 0usize;
     for (chunk, word) in out.chunks_exact_mut(4).zip(a.words) {
         chunk.copy_from_slice(&encode(vars, *word));
-        n += 4;
+        n = n.saturating_add(4);
     }
     Ok(n)
 }

@@ -48,11 +48,19 @@ impl Link {
 }
 
 /// The control variable of input link `n` (0 = A).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "n < LINKS (8): eight IDs after LINK_A_IN"
+)]
 pub const fn input(n: usize) -> u16 {
     id::LINK_A_IN + n as u16
 }
 
 /// The control variable of output link `n` (0 = A).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "n < LINKS (8): eight IDs after LINK_A_OUT"
+)]
 pub const fn output(n: usize) -> u16 {
     id::LINK_A_OUT + n as u16
 }

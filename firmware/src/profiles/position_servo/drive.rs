@@ -255,7 +255,7 @@ impl Drive {
         while next <= now && ticks < MAX_CATCH_UP {
             self.tick(&s);
             next = next.add(TICK);
-            ticks += 1;
+            ticks = ticks.saturating_add(1);
         }
         if next <= now {
             next = now.add(TICK);
@@ -291,7 +291,7 @@ impl Drive {
         if let Some(slot) = self.lag.get_mut(self.lag_head) {
             self.actual = core::mem::replace(slot, self.command);
         }
-        self.lag_head = (self.lag_head + 1) % LAG_TICKS;
+        self.lag_head = self.lag_head.saturating_add(1) % LAG_TICKS;
         self.actual_velocity = self.actual.saturating_sub(last);
         if self.enabled && self.command.saturating_sub(self.actual).abs() > POSITION_ERROR_LIMIT {
             self.fault = true;
@@ -354,7 +354,8 @@ impl Drive {
             self.profile = target;
             self.velocity = 0;
         } else {
-            let v = speed as i64 * remaining.signum();
+            // speed < distance <= 2^64, and a u64 distance means an i64 remaining.
+            let v = (speed as i64).saturating_mul(remaining.signum());
             self.profile = self.profile.saturating_add(v);
             self.velocity = v;
         }
@@ -365,10 +366,11 @@ impl Drive {
         if let Some(slot) = self.history.get_mut(self.head) {
             *slot = self.profile;
         }
-        self.head = (self.head + 1) % S_CURVE_TICKS;
+        self.head = self.head.saturating_add(1) % S_CURVE_TICKS;
         self.command = if self.s_curve && self.target.is_some() {
             let sum: i128 = self.history.iter().map(|&p| i128::from(p)).sum();
-            (sum / S_CURVE_TICKS as i128) as i64
+            // The mean of i64 values is an i64.
+            sum.checked_div(S_CURVE_TICKS as i128).unwrap_or(0) as i64
         } else {
             self.profile
         };
@@ -379,7 +381,9 @@ impl Drive {
             (false, _) => 0,
             (true, Mode::Torque) => scaled(s.reference.abs(), 1e3),
             (true, _) => {
-                IDLE_MA + self.actual_velocity.abs() / 1_000_000 * MA_PER_VELOCITY + accel / 1_000
+                let moving = (self.actual_velocity.saturating_abs() / 1_000_000)
+                    .saturating_mul(MA_PER_VELOCITY);
+                IDLE_MA.saturating_add(moving).saturating_add(accel / 1_000)
             }
         };
         self.current_limited = demand > s.current_limit_ma;

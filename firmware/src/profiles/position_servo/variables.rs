@@ -239,8 +239,9 @@ pub const COUNT: usize = HEAD.len() + USER + MIDDLE.len() + LINKS + TAIL.len();
 /// The variable table, sorted by ID.
 pub const TABLE: [Variable; COUNT] = build();
 
-// Only evaluated for the `const` TABLE, so an out-of-range index is a compile error, not a panic.
-#[allow(clippy::indexing_slicing)]
+// Only evaluated for the `const` TABLE, so an out-of-range index or an overflow is a compile
+// error, not a panic.
+#[allow(clippy::indexing_slicing, clippy::arithmetic_side_effects)]
 const fn build() -> [Variable; COUNT] {
     let mut t = [var(0, Int, RO, false, 0); COUNT];
     let mut i = 0;
