@@ -49,12 +49,12 @@ fn respond_to<D: Device>(
     finish(w, start, req.service, result)
 }
 
+/// Completes the response that starts at `start`: patches the header reserved there, or
+/// replaces what was written with an error header (keeping the data where the error says so).
 #[allow(
     clippy::arithmetic_side_effects,
     reason = "`start` is where this response's 4-byte header was reserved in the writer, and at most MAX_ADDITIONAL words follow it"
 )]
-/// Completes the response that starts at `start`: patches the header reserved there, or
-/// replaces what was written with an error header (keeping the data where the error says so).
 fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> wire::Result<()> {
     let general = match result {
         Ok(()) => 0u8,
