@@ -8,5 +8,6 @@ pub mod frames;
 pub mod io_script;
 pub mod profile;
 pub mod script;
+pub mod store;
 
 pub use device::TestDevice;

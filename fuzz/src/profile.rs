@@ -2,8 +2,8 @@
 //! unconnected through `Adapter::execute` (the profile's vendor classes, symbolic paths,
 //! text/float conversion, configuration validation), Class 1 data and configuration through
 //! `Device::write_assembly`, and the device's own time, with one shipped profile as the
-//! device. Also the seeds: requests from each profile's manual (the byte strings of its
-//! unit tests).
+//! device, its saved settings in an erased non-volatile store ([`crate::store`]). Also the
+//! seeds: requests from each profile's manual (the byte strings of its unit tests).
 //!
 //! Op byte: bits 0-1 kind, bits 2-7 argument `a`:
 //! 0 a request (`u16` length, then the bytes) answered into a 512-byte buffer, or a 40-byte
@@ -49,7 +49,8 @@ pub type Statuses = Vec<(Vec<u8>, u8)>;
 
 /// Plays a profile script against the profile called `name`. Panics on a broken invariant.
 pub fn run(name: &str, script: &[u8]) -> Statuses {
-    let device = Profile::from_name(name).expect("a compiled-in profile");
+    let mut device = Profile::from_name(name).expect("a compiled-in profile");
+    device.attach_store(crate::store::erased());
     let mut adapter = adapter(device);
     let mut statuses = Vec::new();
     let mut now = Instant::from_micros(1_000_000);

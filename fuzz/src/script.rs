@@ -2,8 +2,8 @@
 //! [`Adapter`] while checking the entry points' invariants.
 //!
 //! A script's first byte picks the device ([`device_byte`]): the small [`crate::device::TestDevice`] or one of
-//! the shipped profiles (`enip_firmware::Profile::NAMES`), so every adapter target runs with
-//! every device that ships. The rest is a sequence of operations, each starting with one op byte, so libFuzzer splits
+//! the shipped profiles (`enip_firmware::Profile::NAMES`, saving to an erased
+//! [`crate::store`]), so every adapter target runs with every device that ships. The rest is a sequence of operations, each starting with one op byte, so libFuzzer splits
 //! the stream into accept/close/data events and chunk boundaries on its own.
 //!
 //! TCP op byte: bits 0-1 socket (3 is outside the adapter's sockets), bits 2-3 kind
@@ -97,7 +97,8 @@ macro_rules! with_device {
                 let $adapter = $crate::script::adapter($crate::device::TestDevice::new());
                 $body
             }
-            (Some(p), $rest) => {
+            (Some(mut p), $rest) => {
+                p.attach_store($crate::store::erased());
                 let $adapter = $crate::script::adapter(p);
                 $body
             }

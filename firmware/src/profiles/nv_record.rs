@@ -42,7 +42,14 @@ impl Record {
 }
 
 /// Stores for the profiles' tests, and the power-cut check of a profile's record.
-#[cfg(test)]
+#[cfg(all(
+    test,
+    any(
+        feature = "profile-position-servo",
+        feature = "profile-kollmorgen-akd",
+        feature = "profile-ametek-pls"
+    )
+))]
 pub(crate) mod testing {
     use core::cell::RefCell;
     use core::fmt::Debug;

@@ -123,9 +123,11 @@ impl Profile {
                     store,
                 ));
             }
-            // The profiles with nothing to save (none, when only those are compiled in).
+            // The profiles with nothing to save (`store` unused when only those are compiled).
             #[allow(unreachable_patterns)]
-            _ => {}
+            _ => {
+                let _ = store;
+            }
         }
     }
 

@@ -81,6 +81,10 @@ pub(crate) fn handle<D: Device>(
 /// 0 is an invalid parameter (0x20), an offset table or an offset beyond the data not enough
 /// data (0x13), more services than [`MAX_MULTIPLE_SERVICES`] resource unavailable (0x02),
 /// offsets into the table or not increasing an invalid parameter (0x20).
+#[allow(
+    clippy::arithmetic_side_effects,
+    reason = "count is at most MAX_MULTIPLE_SERVICES (checked first); offsets are positions in the writer, after `base`; depth is below MAX_DEPTH"
+)]
 fn multiple_service_packet<D: Device>(
     ctx: &mut Ctx<'_, D>,
     data: &[u8],
