@@ -111,6 +111,7 @@ pub fn run_all() -> bool {
             footprint::footprint().map(|()| Outcome::Passed)
         }) && steps.run("fuzz", || fuzz::run_all(FUZZ_SECONDS))
             && steps.run("TAP interop", tap_interop)
+            && steps.run("interop on kernel sockets (enip-host --bind)", bind_interop)
             && steps.run("QEMU smoke run", smoke::run_smoke);
     steps.summary()
 }
@@ -125,8 +126,6 @@ fn tap_interop() -> Result<Outcome> {
         return Ok(Outcome::Skipped);
     }
     run(util::cargo().args(["build", "-p", "enip-host", "-p", "io-block-host"]))?;
-    let host_bin = util::target_dir().join("debug/enip-host");
-    let example_bin = util::target_dir().join("debug/io-block-host");
     // The profiles' scenarios also run on the emulated board: a copy of its ELF per profile
     // but the default one (ENIP_QEMU_<PROFILE>_ELF), since the smoke run rebuilds the same
     // path with the default profile.
@@ -137,24 +136,42 @@ fn tap_interop() -> Result<Outcome> {
         std::fs::copy(boards::build(boards::QEMU, profile)?, &elf)?;
         elves.push((rig::qemu_elf_var(profile), elf));
     }
-    let python = peers::venv_python();
-    run(util::cargo()
-        .args([
-            "test",
-            "-p",
-            "host-tests",
-            "--test",
-            "tap_interop",
-            "--",
-            "--ignored",
-            "--test-threads=1",
-        ])
-        .env("ENIP_PEER_PYTHON", &python)
-        .env("ENIP_HOST_BIN", &host_bin)
-        .env("ENIP_EXAMPLE_BIN", &example_bin)
-        .env("ENIP_PEER_NPM_DIR", peers::npm_dir())
-        .envs(elves))?;
+    run(interop(&[]).envs(elves))?;
     Ok(Outcome::Passed)
+}
+
+/// The same peers against `enip-host --bind` on kernel sockets over a veth pair (the lab's
+/// `ENIP_HOST_LINK=bind`): explicit messaging (pycomm3, cpppo), Class 1 (ethernetip,
+/// st-ethernet-ip, listen-only multicast), Class 3, the fourth client refused, UDP, and the
+/// hostile battery.
+fn bind_interop() -> Result<Outcome> {
+    let filters = [
+        "explicit::",
+        "class1::",
+        "class3::",
+        "concurrency::",
+        "udp::",
+        "hostile_",
+    ];
+    run(interop(&filters).env(rig::LINK_ENV, "bind"))?;
+    Ok(Outcome::Passed)
+}
+
+/// `cargo test` of the TAP interop suite, one test at a time, with the tests matching
+/// `filters` (all without), and where the boards and peers are.
+fn interop(filters: &[&str]) -> std::process::Command {
+    let mut cmd = util::cargo();
+    cmd.args(["test", "-p", "host-tests", "--test", "tap_interop", "--"])
+        .args(filters)
+        .args(["--ignored", "--test-threads=1"])
+        .env("ENIP_PEER_PYTHON", peers::venv_python())
+        .env("ENIP_HOST_BIN", util::target_dir().join("debug/enip-host"))
+        .env(
+            "ENIP_EXAMPLE_BIN",
+            util::target_dir().join("debug/io-block-host"),
+        )
+        .env("ENIP_PEER_NPM_DIR", peers::npm_dir());
+    cmd
 }
 
 /// Removes what an earlier `cargo publish --dry-run` left in cargo's registry cache: the
