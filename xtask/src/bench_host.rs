@@ -21,6 +21,8 @@ use std::process::{Child, Command, Stdio};
 use std::thread::sleep;
 use std::time::{Duration, Instant};
 
+use enip_lab::netns::{Lab, BOARD_VETH};
+use enip_lab::scanner::{self as scanner_run, ScannerRun};
 use serde_json::{json, Value};
 
 use crate::util::{self, cargo, err, run, Error, Result};
@@ -29,16 +31,14 @@ use crate::util::{self, cargo, err, run, Error, Result};
 const SHORT_SECONDS: u64 = 5;
 const LONG_SECONDS: u64 = 15;
 /// The connection measured: one exclusive owner at this RPI.
-const RPI_US: &str = "10000";
+const RPI_US: u32 = 10_000;
+/// Its watchdog multiplier code: 2 (x16), the scanner's default.
+const SCANNER_MULTIPLIER: &str = "2";
 /// Seconds of each request-rate run.
 const RATE_SECONDS: &str = "5";
-/// The peers' and the board's namespaces, and their ends of the link.
-const PEER_NS: &str = "enip-hb-peer";
-const BOARD_NS: &str = "enip-hb-board";
-const PEER_IF: &str = "hbp0";
-const BOARD_IF: &str = "hbb0";
-/// The peers' address and the board's.
-const PEER_CIDR: &str = "198.18.0.1/24";
+/// The link device on the peers' side.
+const LINK: &str = "enipbench0";
+/// The board's address.
 const BOARD_IP: &str = "198.18.0.2";
 /// Bound for a board to start answering (valgrind makes start-up slow).
 const START: Duration = Duration::from_secs(60);
@@ -63,84 +63,29 @@ impl Board {
         }
     }
 
-    /// The namespace the board runs in.
-    fn ns(&self) -> &'static str {
-        match self {
-            Board::Tap(_) => PEER_NS,
-            Board::Bind(_) | Board::Opener(_) => BOARD_NS,
-        }
+    /// The lab the board runs in: a TAP in the peers' namespace, or a veth pair to a
+    /// namespace of the board's own.
+    fn lab(&self) -> Result<Lab> {
+        Ok(match self {
+            Board::Tap(_) => Lab::create_unique(LINK)?,
+            Board::Bind(_) | Board::Opener(_) => Lab::create_veth(LINK)?,
+        })
     }
 
-    /// The board's program and arguments.
-    fn argv(&self) -> Vec<String> {
+    /// The board's program and arguments in `lab`.
+    fn argv(&self, lab: &Lab) -> Vec<String> {
         let s = |p: &Path| p.display().to_string();
         match self {
-            Board::Tap(bin) => vec![s(bin), "--tap".into(), BOARD_IF.into()]
-                .into_iter()
-                .chain(["--ip".into(), format!("{BOARD_IP}/24")])
-                .collect(),
-            Board::Bind(bin) => vec![s(bin), "--bind".into(), BOARD_IP.into()],
-            Board::Opener(bin) => vec![s(bin), BOARD_IF.into()],
-        }
-    }
-}
-
-/// The namespaces of one board: the peers', and the board's own (veth) unless it is on a TAP.
-struct Link;
-
-impl Link {
-    fn create(board: &Board) -> Result<Link> {
-        Link::delete();
-        let ip = |ns: &str, args: &[&str]| {
-            util::run_quiet(Command::new("ip").args(["-n", ns]).args(args))
-        };
-        util::run_quiet(Command::new("ip").args(["netns", "add", PEER_NS]))?;
-        ip(PEER_NS, &["link", "set", "lo", "up"])?;
-        if let Board::Tap(_) = board {
-            ip(PEER_NS, &["tuntap", "add", "dev", BOARD_IF, "mode", "tap"])?;
-            ip(PEER_NS, &["addr", "add", PEER_CIDR, "dev", BOARD_IF])?;
-            ip(PEER_NS, &["link", "set", BOARD_IF, "up"])?;
-            return Ok(Link);
-        }
-        util::run_quiet(Command::new("ip").args(["netns", "add", BOARD_NS]))?;
-        ip(BOARD_NS, &["link", "set", "lo", "up"])?;
-        ip(
-            PEER_NS,
-            &[
-                "link", "add", PEER_IF, "type", "veth", "peer", "name", BOARD_IF, "netns", BOARD_NS,
+            Board::Tap(bin) => vec![
+                s(bin),
+                "--tap".into(),
+                lab.tap.clone(),
+                "--ip".into(),
+                format!("{BOARD_IP}/24"),
             ],
-        )?;
-        ip(PEER_NS, &["addr", "add", PEER_CIDR, "dev", PEER_IF])?;
-        ip(
-            BOARD_NS,
-            &["addr", "add", &format!("{BOARD_IP}/24"), "dev", BOARD_IF],
-        )?;
-        ip(PEER_NS, &["link", "set", PEER_IF, "up"])?;
-        ip(BOARD_NS, &["link", "set", BOARD_IF, "up"])?;
-        Ok(Link)
-    }
-
-    fn delete() {
-        for ns in [BOARD_NS, PEER_NS] {
-            let _ = Command::new("ip")
-                .args(["netns", "pids", ns])
-                .output()
-                .map(|out| {
-                    for pid in String::from_utf8_lossy(&out.stdout).split_whitespace() {
-                        let _ = Command::new("kill").args(["-9", pid]).status();
-                    }
-                });
-            let _ = Command::new("ip")
-                .args(["netns", "del", ns])
-                .stderr(Stdio::null())
-                .status();
+            Board::Bind(bin) => vec![s(bin), "--bind".into(), BOARD_IP.into()],
+            Board::Opener(bin) => vec![s(bin), BOARD_VETH.into()],
         }
-    }
-}
-
-impl Drop for Link {
-    fn drop(&mut self) {
-        Link::delete();
     }
 }
 
@@ -250,41 +195,29 @@ fn measure_board(board: &Board, bins: &Bins) -> Result<Value> {
 
 /// Starts `board`, holds one exclusive owner at 10 ms on it for `seconds`, stops it.
 fn sample(board: &Board, bins: &Bins, seconds: u64, callgrind: bool) -> Result<Sample> {
-    let _link = Link::create(board)?;
+    let lab = board.lab()?;
     let out = util::target_dir().join("bench").join(format!(
         "host-{}-{seconds}.callgrind",
         board.name().replace([' ', '-'], "_")
     ));
     let _ = fs::remove_file(&out);
-    let mut child = start(board, callgrind.then_some(out.as_path()))?;
+    let mut child = start(board, &lab, bins, callgrind.then_some(out.as_path()))?;
     let pid = child.id();
     let before = switches(pid);
     let json = util::target_dir().join("bench").join("host-scanner.json");
-    let status = Command::new("ip")
-        .args(["netns", "exec", PEER_NS])
-        .arg(&bins.scanner)
-        .args([
-            "--target",
-            BOARD_IP,
-            "--connections",
-            "1",
-            "--rpi-us",
-            RPI_US,
-        ])
-        .args(["--seconds", &seconds.to_string(), "--json"])
-        .arg(&json)
-        .stdout(Stdio::null())
-        .status();
+    let run = ScannerRun {
+        bin: &bins.scanner,
+        connections: 1,
+        rpi_us: RPI_US,
+        seconds: seconds as u32,
+        multiplier: SCANNER_MULTIPLIER,
+        json: &json,
+    };
+    let scanned = scanner_run::run(lab.ns(), &run);
     let after = switches(pid);
     stop(&mut child);
-    match status {
-        Ok(s) if s.success() => {}
-        other => return err(format!("{}: scanner failed: {other:?}", board.name())),
-    }
-    let doc: Value = fs::read_to_string(&json)
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok())
-        .unwrap_or_default();
+    let (_, doc) =
+        scanned.map_err(|e| Error(format!("{}: scanner failed: {e}", board.name())))?;
     let cycles = doc["connections"][0]["received"].as_u64().unwrap_or(0);
     let instructions = if callgrind {
         Some(callgrind_total(&out)?)
@@ -298,22 +231,30 @@ fn sample(board: &Board, bins: &Bins, seconds: u64, callgrind: bool) -> Result<S
     })
 }
 
-/// Starts `board` in its namespace (under callgrind writing `callgrind` if given) and waits
-/// until it serves a session.
-fn start(board: &Board, callgrind: Option<&Path>) -> Result<Child> {
-    let mut cmd = Command::new("ip");
-    cmd.args(["netns", "exec", board.ns()]);
-    if let Some(out) = callgrind {
-        cmd.args(["valgrind", "--tool=callgrind"])
-            .arg(format!("--callgrind-out-file={}", out.display()));
-    }
+/// Starts `board` in `lab` (under callgrind writing `callgrind` if given) and waits until it
+/// serves a session.
+fn start(board: &Board, lab: &Lab, bins: &Bins, callgrind: Option<&Path>) -> Result<Child> {
+    let argv = board.argv(lab);
+    let mut cmd = match callgrind {
+        Some(out) => {
+            let mut cmd = lab.board_command("valgrind");
+            cmd.arg("--tool=callgrind")
+                .arg(format!("--callgrind-out-file={}", out.display()))
+                .args(&argv);
+            cmd
+        }
+        None => {
+            let mut cmd = lab.board_command(&argv[0]);
+            cmd.args(&argv[1..]);
+            cmd
+        }
+    };
     // OpENer keeps its non-volatile data in the working directory.
     let work = util::target_dir().join("bench").join("board-cwd");
     let _ = fs::create_dir_all(&work);
     let log = fs::File::create(util::target_dir().join("bench").join("host-board.log"))
         .map_err(|e| Error(format!("board log: {e}")))?;
     let mut child = cmd
-        .args(board.argv())
         .current_dir(&work)
         .stdout(Stdio::null())
         .stderr(log)
@@ -322,9 +263,8 @@ fn start(board: &Board, callgrind: Option<&Path>) -> Result<Child> {
     let deadline = Instant::now() + START;
     while Instant::now() < deadline {
         sleep(Duration::from_millis(500));
-        let probe = Command::new("ip")
-            .args(["netns", "exec", PEER_NS])
-            .arg(util::target_dir().join("release").join("request_rate"))
+        let probe = lab
+            .command(&bins.request_rate)
             .args(["--target", BOARD_IP, "--seconds", "0"])
             .stdout(Stdio::null())
             .stderr(Stdio::null())
@@ -385,12 +325,11 @@ fn callgrind_total(path: &Path) -> Result<u64> {
 
 /// Requests per second answered on 1 and on 3 sessions at once.
 fn rates(board: &Board, bins: &Bins) -> Result<(f64, f64)> {
-    let _link = Link::create(board)?;
-    let mut child = start(board, None)?;
+    let lab = board.lab()?;
+    let mut child = start(board, &lab, bins, None)?;
     let rate = |sessions: &str| -> Result<f64> {
-        let out = Command::new("ip")
-            .args(["netns", "exec", PEER_NS])
-            .arg(&bins.request_rate)
+        let out = lab
+            .command(&bins.request_rate)
             .args([
                 "--target",
                 BOARD_IP,
