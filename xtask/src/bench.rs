@@ -14,11 +14,11 @@
 
 use std::fs;
 use std::process::{Command, Stdio};
-use std::thread::sleep;
-use std::time::Duration;
 
 use crate::util::{self, cargo, err, output, run, Result};
-use enip_lab::netns::{Lab, BOARD_CIDR, BOARD_IP};
+use enip_lab::netns::BOARD_IP;
+use enip_lab::rig::{Board, Options, Rig};
+use enip_lab::scanner::{self as scanner_run, ScannerRun};
 
 /// Cycles of the short and long callgrind runs.
 const CALLGRIND_CYCLES: (u64, u64) = (1_000, 11_000);
@@ -180,63 +180,39 @@ fn native_ns(cycle: &str) -> Result<f64> {
         .ok_or_else(|| util::Error(format!("io_cycle printed {out:?}")))
 }
 
-/// The host board in a namespace, and the scanner's 60 s run against it; returns its JSON.
+/// The host board on a TAP with [`TAP_CONNECTIONS`] at [`TAP_RPI_US`] for [`TAP_SECONDS`],
+/// measured by the project's scanner; returns its JSON report.
 fn tap_run(bin: &std::path::Path) -> Result<String> {
     if !util::is_root() {
         return err("the TAP benchmark needs root (network namespaces)");
     }
-    let lab = Lab::create("enip-bench", "enipbench0")?;
+    let dir = util::target_dir().join("bench");
+    let log = dir.join("board.log");
     let host = bin.join("enip-host");
-    let log = util::target_dir().join("bench").join("board.log");
-    let log_file =
-        fs::File::create(&log).map_err(|e| util::Error(format!("{}: {e}", log.display())))?;
-    let mut board = lab
-        .command(host.to_str().unwrap_or("enip-host"))
-        .args(["--tap", &lab.tap, "--ip", BOARD_CIDR])
-        .stdout(Stdio::null())
-        .stderr(log_file)
-        .spawn()
-        .map_err(|e| util::Error(format!("enip-host: {e}")))?;
-    sleep(Duration::from_millis(1500));
-    let json = util::target_dir().join("bench").join("tap.json");
-    let scanner = bin.join("scanner");
-    let status = lab
-        .command("timeout")
-        .args([
-            &(TAP_SECONDS + 60).to_string(),
-            scanner.to_str().unwrap_or("scanner"),
-        ])
-        .args([
-            "--target",
-            &BOARD_IP.to_string(),
-            "--connections",
-            &TAP_CONNECTIONS.to_string(),
-        ])
-        .args([
-            "--rpi-us",
-            &TAP_RPI_US.to_string(),
-            "--seconds",
-            &TAP_SECONDS.to_string(),
-        ])
-        .args([
-            "--multiplier",
-            TAP_MULTIPLIER,
-            "--json",
-            json.to_str().unwrap_or("tap.json"),
-        ])
-        .status();
-    let _ = board.kill();
-    let _ = board.wait();
-    drop(lab);
-    match status {
-        Ok(s) if s.success() => {}
-        Ok(s) => {
-            return err(format!(
-                "scanner failed ({s}); board log: {}",
-                log.display()
-            ))
-        }
-        Err(e) => return err(format!("scanner: {e}")),
-    }
-    fs::read_to_string(&json).map_err(|e| util::Error(format!("{}: {e}", json.display())))
+    let board = Board::Host {
+        bin: &host,
+        profile: "generic",
+        extra: &[],
+        answers_at: BOARD_IP,
+    };
+    let options = Options {
+        namespace: Some("enip-bench"),
+        tap: Some("enipbench0"),
+        capture: None,
+        log_file: Some(&log),
+    };
+    let mut rig = Rig::launch(board, &options)?;
+    let json = dir.join("tap.json");
+    let run = ScannerRun {
+        bin: &bin.join("scanner"),
+        connections: TAP_CONNECTIONS,
+        rpi_us: TAP_RPI_US,
+        seconds: TAP_SECONDS,
+        multiplier: TAP_MULTIPLIER,
+        json: &json,
+    };
+    let (_, report) = scanner_run::run(rig.ns(), &run)
+        .map_err(|e| util::Error(format!("scanner: {e}; board log: {}", log.display())))?;
+    rig.check_alive()?;
+    Ok(report.to_string())
 }

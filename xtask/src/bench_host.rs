@@ -216,8 +216,7 @@ fn sample(board: &Board, bins: &Bins, seconds: u64, callgrind: bool) -> Result<S
     let scanned = scanner_run::run(lab.ns(), &run);
     let after = switches(pid);
     stop(&mut child);
-    let (_, doc) =
-        scanned.map_err(|e| Error(format!("{}: scanner failed: {e}", board.name())))?;
+    let (_, doc) = scanned.map_err(|e| Error(format!("{}: scanner failed: {e}", board.name())))?;
     let cycles = doc["connections"][0]["received"].as_u64().unwrap_or(0);
     let instructions = if callgrind {
         Some(callgrind_total(&out)?)
