@@ -5,7 +5,7 @@
 //! #[embassy_executor::main]
 //! async fn main(spawner: embassy_executor::Spawner) {
 //!     let network = enip_nucleo_f767zi::static_ipv4([192, 168, 1, 10], 24, None);
-//!     enip_nucleo_f767zi::run(spawner, my_device::MyDevice::new(), network).await
+//!     enip_nucleo_f767zi::run(spawner, |_store| my_device::MyDevice::new(), network).await
 //! }
 //! ```
 //!
@@ -23,6 +23,7 @@ pub mod nv_flash;
 
 use core::net::Ipv4Addr;
 
+use core::cell::RefCell;
 use defmt::{info, panic, warn};
 use embassy_executor::Spawner;
 use embassy_net::{Runner, StackResources};
@@ -33,7 +34,7 @@ use embassy_stm32::rng::{self, Rng};
 use embassy_stm32::{bind_interrupts, uid};
 use enip_firmware::Resources;
 use enip_stack::cip::tcpip::TcpIpState;
-use enip_stack::nv::AbStore;
+use enip_stack::nv::{AbStore, SharedStore};
 use enip_stack::{Adapter, Device};
 use leds::NucleoLeds;
 use nv_flash::OnChipFlash;
@@ -59,8 +60,10 @@ static PACKETS: ConstStaticCell<PacketQueue<TX_PACKETS, RX_PACKETS>> =
 static NET_RESOURCES: ConstStaticCell<StackResources<SOCKETS>> =
     ConstStaticCell::new(enip_firmware::stack_resources());
 static FIRMWARE_RESOURCES: StaticCell<Resources> = StaticCell::new();
-/// The non-volatile store (TCP/IP settings) on the on-chip flash.
-static NV_STORE: StaticCell<AbStore<OnChipFlash>> = StaticCell::new();
+/// The non-volatile store on the on-chip flash: the TCP/IP settings and the device's own.
+static NV_STORE: StaticCell<RefCell<AbStore<OnChipFlash>>> = StaticCell::new();
+/// The adapter's handle to it.
+static NV_HANDLE: StaticCell<SharedStore> = StaticCell::new();
 
 /// A static IPv4 configuration: address, prefix length, optional gateway.
 pub fn static_ipv4(
@@ -81,9 +84,14 @@ pub fn dhcp() -> embassy_net::Config {
     embassy_net::Config::dhcpv4(Default::default())
 }
 
-/// Runs `device` on the board with the interface configuration `network`; never returns.
-/// Call it once, from the firmware's `main` task.
-pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::Config) -> ! {
+/// Runs the device `device` builds from the board's non-volatile store (on the on-chip
+/// flash; a device with nothing to save ignores it) with the interface configuration
+/// `network`; never returns. Call it once, from the firmware's `main` task.
+pub async fn run<D: Device>(
+    spawner: Spawner,
+    device: impl FnOnce(SharedStore) -> D,
+    network: embassy_net::Config,
+) -> ! {
     let p = embassy_stm32::init(clocks::config());
     let leds = NucleoLeds {
         ld1_green: Output::new(p.PB0, Level::Low, Speed::Low),
@@ -107,8 +115,9 @@ pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::C
         mac,
         phy,
     );
-    let mut store = nv_flash::store(p.FLASH);
+    let mut store = SharedStore::new(NV_STORE.init(RefCell::new(nv_flash::store(p.FLASH))));
     let network = stored_network(&mut store).unwrap_or(network);
+    let device = device(store);
     let dhcp = is_dhcp(&network);
     let (net, runner) = embassy_net::new(driver, network, NET_RESOURCES.take(), seed);
     let mut interface = enip_firmware::network_config(net);
@@ -116,7 +125,7 @@ pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::C
     // Built inside the call, so the main task's future holds one adapter, not two.
     let adapter = enip_firmware::share(with_store(
         Adapter::new(device, interface, seed.rotate_left(32)),
-        NV_STORE.init(store),
+        NV_HANDLE.init(store),
     ));
     match net_task(runner) {
         Ok(net) => spawner.spawn(net),
@@ -133,10 +142,7 @@ pub async fn run<D: Device>(spawner: Spawner, device: D, network: embassy_net::C
 }
 
 /// `adapter` with the flash store attached (its TCP/IP settings loaded from it).
-fn with_store<D: Device>(
-    mut adapter: Adapter<D>,
-    store: &'static mut AbStore<OnChipFlash>,
-) -> Adapter<D> {
+fn with_store<D: Device>(mut adapter: Adapter<D>, store: &'static mut SharedStore) -> Adapter<D> {
     match adapter.attach_store(store) {
         Ok(true) => info!("TCP/IP settings loaded from flash"),
         Ok(false) => info!("no TCP/IP settings in flash: factory defaults"),
@@ -147,7 +153,7 @@ fn with_store<D: Device>(
 
 /// The static interface configuration stored in flash (TCP/IP attribute 5, set by a
 /// scanner and applied here, at the next boot), if configuration control says static.
-fn stored_network(store: &mut AbStore<OnChipFlash>) -> Option<embassy_net::Config> {
+fn stored_network(store: &mut SharedStore) -> Option<embassy_net::Config> {
     let stored = match TcpIpState::stored(store) {
         Ok(s) => s?,
         Err(e) => {

@@ -18,11 +18,12 @@ mod network {
 }
 
 use embassy_executor::Spawner;
+use enip_firmware::profiles::PoweredUp;
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     defmt::info!("enip-nucleo-f767zi: booting (profile {})", profile::NAME);
-    enip_nucleo_f767zi::run(spawner, profile::Chosen::new(), net_config()).await
+    enip_nucleo_f767zi::run(spawner, profile::Chosen::powered_up, net_config()).await
 }
 
 /// The interface configuration: DHCP with the `dhcp` feature, else the build-time address.

@@ -5,7 +5,7 @@
 //! ```ignore
 //! #[embassy_executor::main]
 //! async fn main(spawner: embassy_executor::Spawner) {
-//!     let device = my_device::MyDevice::new();
+//!     let device = |_store| my_device::MyDevice::new();
 //!     enip_qemu_mps2::run(spawner, "my device", device, [198, 18, 0, 2], 24, None).await
 //! }
 //! ```
@@ -21,12 +21,13 @@ mod mmio;
 pub mod time;
 pub mod uart;
 
+use core::cell::RefCell;
 use core::net::Ipv4Addr;
 
 use embassy_executor::Spawner;
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
 use enip_firmware::Resources;
-use enip_stack::nv::{AbStore, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE};
+use enip_stack::nv::{AbStore, RamFlash, SharedStore, IMAGE_SIZE, MAX_WRITE_SIZE};
 use enip_stack::{Adapter, Device};
 use lan9118::Lan9118;
 use static_cell::{ConstStaticCell, StaticCell};
@@ -37,17 +38,22 @@ const SOCKETS: usize = enip_firmware::SOCKETS;
 static NET_RESOURCES: ConstStaticCell<StackResources<SOCKETS>> =
     ConstStaticCell::new(enip_firmware::stack_resources());
 static FIRMWARE_RESOURCES: StaticCell<Resources> = StaticCell::new();
-/// The non-volatile store, in RAM: TCP/IP settings last until QEMU exits.
-static NV_STORE: StaticCell<AbStore<RamFlash<NV_SECTOR>>> = StaticCell::new();
+/// The non-volatile store, in RAM: the TCP/IP settings and the device's own last until QEMU
+/// exits.
+static NV_STORE: StaticCell<RefCell<AbStore<RamFlash<NV_SECTOR>>>> = StaticCell::new();
+/// The adapter's handle to it.
+static NV_HANDLE: StaticCell<SharedStore> = StaticCell::new();
 /// Bytes of a sector of the store's RAM flash: what one copy needs.
 const NV_SECTOR: usize = MAX_WRITE_SIZE + IMAGE_SIZE;
 
-/// Runs `device` (profile `name` in the log) at the static address `address`/`prefix_len`
-/// (gateway optional); never returns. Call it once, from the firmware's `main` task.
+/// Runs the device `device` builds from the board's non-volatile store (in RAM; a device
+/// with nothing to save ignores it), named `name` in the log, at the static address
+/// `address`/`prefix_len` (gateway optional); never returns. Call it once, from the
+/// firmware's `main` task.
 pub async fn run<D: Device>(
     spawner: Spawner,
     name: &str,
-    device: D,
+    device: impl FnOnce(SharedStore) -> D,
     address: [u8; 4],
     prefix_len: u8,
     gateway: Option<[u8; 4]>,
@@ -68,12 +74,16 @@ pub async fn run<D: Device>(
     });
     let seed = seed(mac);
     let (net, runner) = embassy_net::new(driver, config, NET_RESOURCES.take(), seed);
+    let store = SharedStore::new(NV_STORE.init(RefCell::new(AbStore::mount(RamFlash::new()))));
     // Built inside the call, so the main task's future holds one adapter, not two.
-    let adapter = enip_firmware::share(with_store(Adapter::new(
-        device,
-        enip_firmware::network_config(net),
-        seed.rotate_left(32),
-    )));
+    let adapter = enip_firmware::share(with_store(
+        Adapter::new(
+            device(store),
+            enip_firmware::network_config(net),
+            seed.rotate_left(32),
+        ),
+        NV_HANDLE.init(store),
+    ));
     match net_task(runner) {
         Ok(task) => spawner.spawn(task),
         Err(e) => panic!("cannot spawn the network task: {e:?}"),
@@ -89,8 +99,8 @@ pub async fn run<D: Device>(
 }
 
 /// `adapter` with the RAM store attached (settings kept until power-off).
-fn with_store<D: Device>(mut adapter: Adapter<D>) -> Adapter<D> {
-    if let Err(e) = adapter.attach_store(NV_STORE.init(AbStore::mount(RamFlash::new()))) {
+fn with_store<D: Device>(mut adapter: Adapter<D>, store: &'static mut SharedStore) -> Adapter<D> {
+    if let Err(e) = adapter.attach_store(store) {
         log::warn!("non-volatile store: {e:?}");
     }
     adapter

@@ -16,10 +16,11 @@ mod network {
 }
 
 use embassy_executor::Spawner;
+use enip_firmware::profiles::PoweredUp;
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
-    let device = profile::Chosen::new();
+    let device = profile::Chosen::powered_up;
     let (address, prefix_len, gateway) = (network::ADDRESS, network::PREFIX_LEN, network::GATEWAY);
     enip_qemu_mps2::run(spawner, profile::NAME, device, address, prefix_len, gateway).await
 }

@@ -12,5 +12,6 @@ use embassy_executor::Spawner;
 async fn main(spawner: Spawner) {
     defmt::info!("io-block-nucleo: booting");
     let network = enip_nucleo_f767zi::static_ipv4([192, 168, 1, 10], 24, None);
-    enip_nucleo_f767zi::run(spawner, io_block::IoBlock::new(), network).await
+    // The I/O block saves nothing: it leaves the non-volatile store to the adapter.
+    enip_nucleo_f767zi::run(spawner, |_store| io_block::IoBlock::new(), network).await
 }

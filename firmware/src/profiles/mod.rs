@@ -17,6 +17,8 @@ pub mod position_servo;
 #[cfg(feature = "_any-profile")]
 pub mod nv_record;
 #[cfg(feature = "_any-profile")]
+mod powered_up;
+#[cfg(feature = "_any-profile")]
 mod select;
 
 #[cfg(feature = "profile-ametek-pls")]
@@ -29,5 +31,7 @@ pub use kollmorgen_akd::KollmorgenAkd;
 pub use parker_ipa::ParkerIpa;
 #[cfg(feature = "profile-position-servo")]
 pub use position_servo::PositionServo;
+#[cfg(feature = "_any-profile")]
+pub use powered_up::PoweredUp;
 #[cfg(feature = "_any-profile")]
 pub use select::Profile;

@@ -93,42 +93,10 @@ profiles! {
 impl Profile {
     /// Keeps the profile's saved settings (PositionServo EPM, AKD DRV.NVSAVE parameters,
     /// Ametek NVRAM program) in `store` from now on, each in its own record: the profile
-    /// powers up again from what the store holds. Generic and Parker IPA save nothing.
-    // Built with neither of the profiles that save, nothing takes the store.
-    #[cfg_attr(
-        not(any(
-            feature = "profile-position-servo",
-            feature = "profile-kollmorgen-akd",
-            feature = "profile-ametek-pls"
-        )),
-        allow(unused_variables)
-    )]
+    /// powers up again from what the store holds ([`super::PoweredUp`]). Generic and Parker
+    /// IPA save nothing.
     pub fn attach_store(&mut self, store: SharedStore) {
-        match self {
-            #[cfg(feature = "profile-position-servo")]
-            Profile::PositionServo(p) => {
-                *p = super::PositionServo::with_storage(
-                    super::position_servo::storage::RamEpm::in_store(store),
-                );
-            }
-            #[cfg(feature = "profile-kollmorgen-akd")]
-            Profile::KollmorgenAkd(p) => {
-                *p = super::KollmorgenAkd::with_storage(
-                    super::kollmorgen_akd::storage::RamNv::in_store(store),
-                );
-            }
-            #[cfg(feature = "profile-ametek-pls")]
-            Profile::AmetekPls(p) => {
-                *p = super::AmetekPls::with_nvram(super::ametek_pls::nvram::RamNvram::in_store(
-                    store,
-                ));
-            }
-            // The profiles with nothing to save (`store` unused when only those are compiled).
-            #[allow(unreachable_patterns)]
-            _ => {
-                let _ = store;
-            }
-        }
+        dispatch!(self, p => *p = super::PoweredUp::powered_up(store))
     }
 
     /// The profile's EDS file.
