@@ -17,7 +17,8 @@ pub const INTERFACE_FIXED: u16 = 20;
 /// Layout version of the stored record: 2 adds attributes 8 and 9 to version 1's.
 const RECORD_VERSION: u8 = 2;
 /// Largest stored record.
-const RECORD_MAX: usize = 1 + 4 + 20 + 1 + MAX_DOMAIN_NAME + 1 + MAX_HOST_NAME + 2 + 1 + 8;
+pub(crate) const RECORD_MAX: usize =
+    1 + 4 + 20 + 1 + MAX_DOMAIN_NAME + 1 + MAX_HOST_NAME + 2 + 1 + 8;
 
 /// Attribute 5: the interface configuration (all zero: none configured).
 #[derive(Debug, Clone, PartialEq, Eq)]

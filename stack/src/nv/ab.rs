@@ -11,8 +11,17 @@ use super::flash::{Flash, MAX_WRITE_SIZE};
 use super::{crc32, records, NvError, NvStore};
 
 /// Bytes of one copy in RAM and in flash (body with header and CRC), a multiple of
-/// [`MAX_WRITE_SIZE`]; a sector must hold [`MAX_WRITE_SIZE`] more.
-pub const IMAGE_SIZE: usize = 4096;
+/// [`MAX_WRITE_SIZE`]; a sector must hold [`MAX_WRITE_SIZE`] more. Room for the TCP/IP
+/// record and the largest shipped profile's (the Ametek program, 1 818 bytes): see
+/// [`PROFILE_RECORD_ROOM`].
+pub const IMAGE_SIZE: usize = 2048;
+/// The largest record a device profile can keep beside the TCP/IP settings: what a copy
+/// holds once its header and CRC, the TCP/IP record and both record headers are counted.
+pub const PROFILE_RECORD_ROOM: usize = IMAGE_SIZE
+    - HEADER
+    - CRC
+    - 2 * super::records::RECORD_HEADER
+    - crate::cip::tcpip_nv::RECORD_MAX;
 /// The commit word: the copy in this sector is complete.
 const MAGIC: u32 = 0x4E56_4331; // "NVC1"
 /// Version of the body layout.

@@ -4,7 +4,7 @@
 use super::NvError;
 
 /// Bytes before each record's value.
-const RECORD_HEADER: usize = 4;
+pub(crate) const RECORD_HEADER: usize = 4;
 
 /// The records of `area` as (key, value), up to the first malformed one.
 fn iter(area: &[u8]) -> impl Iterator<Item = (usize, u16, &[u8])> {

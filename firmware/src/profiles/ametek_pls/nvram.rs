@@ -9,6 +9,10 @@ use crate::profiles::nv_record::Record;
 
 /// Bytes of the saved image: attributes 1-35 and 38, then the 8 group offsets.
 pub const IMAGE_BYTES: usize = CONFIG_BYTES + 2 * GROUPS;
+const _: () = assert!(
+    IMAGE_BYTES <= enip_stack::nv::PROFILE_RECORD_ROOM,
+    "the program must fit in the store beside the TCP/IP settings"
+);
 
 /// Why the image could not be stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -25,6 +25,10 @@ pub trait NvStorage {
 
 /// Bytes of the saved record: every value, little-endian.
 const RECORD_BYTES: usize = 8 * TABLE.len();
+const _: () = assert!(
+    RECORD_BYTES <= enip_stack::nv::PROFILE_RECORD_ROOM,
+    "the saved parameters must fit in the store beside the TCP/IP settings"
+);
 
 /// The saved values in RAM and, given the adapter's store ([`RamNv::in_store`]), in a record
 /// there: without one they survive an Identity Reset type 0, not a power cycle.

@@ -30,6 +30,10 @@ pub trait EpmStorage {
 
 /// Bytes of the saved record: a stored flag (0 or 1) per variable, then every value.
 const RECORD_BYTES: usize = COUNT * 5;
+const _: () = assert!(
+    RECORD_BYTES <= enip_stack::nv::PROFILE_RECORD_ROOM,
+    "the EPM must fit in the store beside the TCP/IP settings"
+);
 
 /// An [`EpmStorage`] in RAM, a slot for every variable of the table that has an EPM copy,
 /// saved to a store record when it has one.
