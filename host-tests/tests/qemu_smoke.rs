@@ -64,20 +64,12 @@ fn qemu_smoke() {
     let dir = paths::target_dir().join("qemu-smoke");
     std::fs::create_dir_all(&dir).expect("create the report directory");
     let log = dir.join("board.log");
-    let options = Options {
-        namespace: Some("enip-smoke"),
-        tap: Some("enipsmoke0"),
-        log_file: Some(&log),
-        ..Options::default()
+    let board = Board::Qemu {
+        elf: &elf,
+        extra: &[],
     };
-    let mut rig = Rig::launch(
-        Board::Qemu {
-            elf: &elf,
-            extra: &[],
-        },
-        &options,
-    )
-    .unwrap_or_else(|e| panic!("boot {}: {e}", elf.display()));
+    let mut rig = Rig::launch(board, &Options::named("enip-smoke", "enipsmoke0", &log))
+        .unwrap_or_else(|e| panic!("boot {}: {e}", elf.display()));
     if let Err(e) = checks(&mut rig, &dir) {
         panic!(
             "{e}\n--- last lines of {} ---\n{}",

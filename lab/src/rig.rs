@@ -373,6 +373,17 @@ impl<'a> Options<'a> {
             ..Options::default()
         }
     }
+
+    /// The fixed namespace `namespace` with the TAP `tap`, the board's output copied to `log`
+    /// (what a command run by hand uses, so its names are known and its log kept).
+    pub fn named(namespace: &'a str, tap: &'a str, log: &'a Path) -> Self {
+        Options {
+            namespace: Some(namespace),
+            tap: Some(tap),
+            capture: None,
+            log_file: Some(log),
+        }
+    }
 }
 
 #[cfg(test)]

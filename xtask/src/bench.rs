@@ -195,13 +195,7 @@ fn tap_run(bin: &std::path::Path) -> Result<String> {
         extra: &[],
         answers_at: BOARD_IP,
     };
-    let options = Options {
-        namespace: Some("enip-bench"),
-        tap: Some("enipbench0"),
-        capture: None,
-        log_file: Some(&log),
-    };
-    let mut rig = Rig::launch(board, &options)?;
+    let mut rig = Rig::launch(board, &Options::named("enip-bench", "enipbench0", &log))?;
     let json = dir.join("tap.json");
     let run = ScannerRun {
         bin: &bin.join("scanner"),

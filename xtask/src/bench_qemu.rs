@@ -329,12 +329,7 @@ fn timing_run(elf: &Path, dir: &Path, rpi_us: u32) -> Result<serde_json::Value> 
 
 /// Where the board runs, its output copied to `log`.
 fn options(log: &Path) -> Options<'_> {
-    Options {
-        namespace: Some(NAMESPACE),
-        tap: Some(TAP),
-        capture: None,
-        log_file: Some(log),
-    }
+    Options::named(NAMESPACE, TAP, log)
 }
 
 /// The project's scanner (release build) in `ns`: `connections` at `rpi_us` for `seconds`

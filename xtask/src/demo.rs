@@ -93,13 +93,7 @@ pub fn run_demo(board: Board) -> Result {
         image.display(),
         log.display()
     );
-    let options = Options {
-        namespace: Some(NAMESPACE),
-        tap: Some(TAP),
-        log_file: Some(&log),
-        ..Options::default()
-    };
-    let mut rig = Rig::launch(launched, &options)?;
+    let mut rig = Rig::launch(launched, &Options::named(NAMESPACE, TAP, &log))?;
     println!("demo: the board runs profile {PROFILE} at {BOARD_CIDR} in namespace {NAMESPACE}\n");
     let result = show(&mut rig);
     if result.is_err() {

@@ -58,19 +58,11 @@ pub fn run_interactive(profile: &str) -> Result {
     fs::create_dir_all(&dir)?;
     let log = dir.join("board.log");
     println!("qemu: booting {} (log: {})", elf.display(), log.display());
-    let options = Options {
-        namespace: Some(NAMESPACE),
-        tap: Some(TAP),
-        log_file: Some(&log),
-        ..Options::default()
+    let board = Board::Qemu {
+        elf: &elf,
+        extra: &[],
     };
-    let mut rig = Rig::launch(
-        Board::Qemu {
-            elf: &elf,
-            extra: &[],
-        },
-        &options,
-    )?;
+    let mut rig = Rig::launch(board, &Options::named(NAMESPACE, TAP, &log))?;
     print_log_tail(&rig, &log, 5);
     println!(
         "\nThe emulated board runs profile {profile} at {BOARD_CIDR} in namespace {NAMESPACE}. \
