@@ -18,6 +18,13 @@ use super::ParkerIpa;
 const P2P: u16 = 0x4800;
 /// Multicast, scheduled, fixed.
 const MULTICAST: u16 = 0x2800;
+/// A 4-group configuration, two groups each way: P = 16, C = 20 bytes.
+const FOUR_GROUPS: [[i32; 4]; 4] = [
+    [38912, 2, 0, 1],
+    [39168, 2, 0, 2],
+    [39000, 3, 1, 1],
+    [39300, 2, 1, 2],
+];
 /// Connection path 3/102/101 (configuration, consumed, produced).
 const IO_PATH: [u8; 8] = [0x20, 0x04, 0x24, 0x03, 0x2C, 0x66, 0x2C, 0x65];
 
@@ -194,12 +201,7 @@ fn rslogix_example_with_the_aoi_configuration() {
 #[test]
 fn four_groups_both_ways() {
     let mut rig = Rig::new();
-    rig.configure(&[
-        [38912, 2, 0, 1],
-        [39168, 2, 0, 2],
-        [39000, 3, 1, 1],
-        [39300, 2, 1, 2],
-    ]);
+    rig.configure(&FOUR_GROUPS);
     let open = rig.forward_open(&fo(1, 400, 400, 1_000, 1_000));
     assert_eq!(open.general, 0);
     rig.o_t(open.o_t_id, true, &[0; 400]);
@@ -419,12 +421,7 @@ fn intervals_are_reported_per_direction() {
 #[test]
 fn exact_configured_sizes_connect() {
     let mut rig = Rig::new();
-    rig.configure(&[
-        [38912, 2, 0, 1],
-        [39168, 2, 0, 2],
-        [39000, 3, 1, 1],
-        [39300, 2, 1, 2],
-    ]);
+    rig.configure(&FOUR_GROUPS);
     let short = rig.forward_open(&fo(1, 16, 16, 10_000, 10_000));
     assert_eq!((short.general, short.extended), (0x01, Some(0x0127)));
     let short = rig.forward_open(&fo(2, 20, 12, 10_000, 10_000));
