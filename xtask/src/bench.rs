@@ -159,11 +159,26 @@ fn callgrind(bin: &str, cycles: u64) -> Result<u64> {
         .stdout(Stdio::null())
         .output()
         .map_err(|e| util::Error(format!("valgrind: {e}")))?;
-    let text = String::from_utf8_lossy(&o.stderr);
+    if !o.status.success() {
+        return err(format!(
+            "valgrind {bin}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        ));
+    }
+    callgrind_total(&out_file)
+}
+
+/// The total instruction count of a callgrind profile (its `totals:` or `summary:` line).
+pub(crate) fn callgrind_total(path: &std::path::Path) -> Result<u64> {
+    let text =
+        fs::read_to_string(path).map_err(|e| util::Error(format!("{}: {e}", path.display())))?;
     text.lines()
-        .find_map(|l| l.split("Collected :").nth(1))
-        .and_then(|n| n.trim().replace(',', "").parse().ok())
-        .ok_or_else(|| util::Error(format!("no instruction count from callgrind:\n{text}")))
+        .find_map(|l| {
+            l.strip_prefix("totals:")
+                .or_else(|| l.strip_prefix("summary:"))
+        })
+        .and_then(|v| v.split_whitespace().next()?.parse().ok())
+        .ok_or_else(|| util::Error(format!("{}: no totals line", path.display())))
 }
 
 /// Nanoseconds per cycle of one native run.

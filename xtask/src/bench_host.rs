@@ -17,11 +17,12 @@
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Stdio};
 use std::thread::sleep;
 use std::time::{Duration, Instant};
 
 use enip_lab::netns::{Lab, BOARD_VETH};
+use enip_lab::process::{signal, SIGINT};
 use enip_lab::scanner::{self as scanner_run, ScannerRun};
 use serde_json::{json, Value};
 
@@ -219,7 +220,7 @@ fn sample(board: &Board, bins: &Bins, seconds: u64, callgrind: bool) -> Result<S
     let (_, doc) = scanned.map_err(|e| Error(format!("{}: scanner failed: {e}", board.name())))?;
     let cycles = doc["connections"][0]["received"].as_u64().unwrap_or(0);
     let instructions = if callgrind {
-        Some(callgrind_total(&out)?)
+        Some(crate::bench::callgrind_total(&out)?)
     } else {
         None
     };
@@ -278,9 +279,7 @@ fn start(board: &Board, lab: &Lab, bins: &Bins, callgrind: Option<&Path>) -> Res
 
 /// Stops a board with SIGINT (callgrind writes its profile at exit), waiting up to 30 s.
 fn stop(child: &mut Child) {
-    let _ = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status();
+    signal(child.id() as i32, SIGINT);
     let deadline = Instant::now() + Duration::from_secs(30);
     while Instant::now() < deadline {
         if let Ok(Some(_)) = child.try_wait() {
@@ -308,18 +307,6 @@ fn switches(pid: u32) -> u64 {
                 .collect::<Vec<_>>()
         })
         .sum()
-}
-
-/// The total instruction count of a callgrind profile (its `totals:` or `summary:` line).
-fn callgrind_total(path: &Path) -> Result<u64> {
-    let text = fs::read_to_string(path).map_err(|e| Error(format!("{}: {e}", path.display())))?;
-    text.lines()
-        .find_map(|l| {
-            l.strip_prefix("totals:")
-                .or_else(|| l.strip_prefix("summary:"))
-        })
-        .and_then(|v| v.split_whitespace().next()?.parse().ok())
-        .ok_or_else(|| Error(format!("{}: no totals line", path.display())))
 }
 
 /// Requests per second answered on 1 and on 3 sessions at once.
