@@ -32,6 +32,9 @@ pub const APT_PACKAGES: &[(&str, &[&str])] = &[
     ("iproute2", &["ip", "-V"]),
     ("valgrind", &["valgrind", "--version"]),
     ("python3-venv", &["python3", "-c", "import venv, ensurepip"]),
+    // The npm peer (st-ethernet-ip) and the fault tests' real-time priority (`chrt`).
+    ("npm", &["npm", "--version"]),
+    ("util-linux", &["chrt", "--version"]),
 ];
 
 /// Everything: Rust target and toolchains, Debian packages, Python and npm peers.
