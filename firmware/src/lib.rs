@@ -1,11 +1,16 @@
 //! The EtherNet/IP adapter runtime on embassy-net, and the device profiles.
 //!
-//! A board builds an [`embassy_net::Stack`], wraps a [`enip_stack::Adapter`] over a device profile
-//! with [`share`], and awaits [`run`] next to the stack's runner:
+//! A board builds an [`embassy_net::Stack`] over a [`link::NetDriver`], shares an
+//! [`enip_stack::Adapter`] over a device profile in an [`AdapterCell`], spawns the link task
+//! with its Ethernet driver, and awaits [`run`] next to the stack's runner:
 //!
 //! - [`run`] serves the three encapsulation TCP sockets and the UDP socket on port 44818,
-//!   Class 1 I/O, keeps the adapter's view of the interface current, and runs the device's
-//!   own clock (`Device::poll`, e.g. a simulated drive's control tick);
+//!   keeps the adapter's view of the interface current, and runs the device's own clock
+//!   (`Device::poll`, e.g. a simulated drive's control tick);
+//! - [`link`] is Class 1 I/O at the Ethernet frame level: the board's driver belongs to the
+//!   link task ([`link::run`]), which hands O->T datagrams to the adapter and sends T->O
+//!   data straight from it, and passes every other frame to embassy-net through a
+//!   [`link::NetDriver`];
 //! - [`profiles`] holds the shipped device profiles (each behind its `profile-NAME` feature)
 //!   and `Profile`, which picks one of them by name;
 //! - [`Resources`] are the socket buffers, which the board places (usually in a `static`),
@@ -34,7 +39,8 @@ mod fmt;
 mod clock;
 mod device_tick;
 pub mod indicators;
-mod io;
+pub mod link;
+mod multicast;
 mod netif;
 pub mod profiles;
 mod resources;
@@ -48,4 +54,4 @@ pub use netif::network_config;
 pub use profiles::Profile;
 pub use resources::{stack_resources, Resources, SOCKETS};
 pub use runtime::run;
-pub use shared::{share, with_adapter, SharedAdapter};
+pub use shared::{share, with_adapter, AdapterCell, SharedAdapter};

@@ -1,61 +1,95 @@
-//! The adapter shared between the runtime's futures on one single-threaded executor, the
-//! wake-up that tells the I/O future its deadline moved, and the note that explicit traffic
-//! may have changed its connections.
+//! The adapter shared between the runtime's tasks on one single-threaded executor: the
+//! wake-up that tells the link task its deadline moved, the note that the multicast group
+//! may have changed, and its Class 1 calls as an [`IoPort`].
 
-use core::cell::RefCell;
-use core::sync::atomic::{AtomicBool, Ordering};
+use core::cell::{Cell, RefCell};
+use core::net::SocketAddrV4;
+use core::task::{Context, Poll};
 
 use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::signal::Signal;
-use enip_stack::{Adapter, Device, Instant};
+use embassy_sync::waitqueue::WakerRegistration;
+use enip_stack::{Adapter, Device, Instant, IoDue};
+use static_cell::StaticCell;
 
-/// An [`Adapter`] shared by the socket futures; never borrowed across an `.await`.
+use crate::link::{Interface, IoPort};
+
+/// An [`Adapter`] shared by the runtime's futures and the link task; never borrowed across
+/// an `.await`.
 pub struct SharedAdapter<D: Device> {
     adapter: Mutex<NoopRawMutex, RefCell<Adapter<D>>>,
-    io_wake: Signal<NoopRawMutex, ()>,
-    /// Set by every [`with_adapter`]: connections or the TCP/IP object may have changed.
-    explicit: AtomicBool,
+    /// Set when a call brought the I/O deadline forward; the link task's waker.
+    io_moved: Cell<bool>,
+    io_waker: RefCell<WakerRegistration>,
+    /// Signalled when the multicast group T->O data goes to may have changed.
+    membership: Signal<NoopRawMutex, ()>,
 }
 
-/// Wraps `adapter` for [`crate::run`].
+/// Wraps `adapter` for [`crate::run`] and the link task.
 pub const fn share<D: Device>(adapter: Adapter<D>) -> SharedAdapter<D> {
     SharedAdapter {
         adapter: Mutex::new(RefCell::new(adapter)),
-        io_wake: Signal::new(),
-        explicit: AtomicBool::new(false),
+        io_moved: Cell::new(false),
+        io_waker: RefCell::new(WakerRegistration::new()),
+        membership: Signal::new(),
+    }
+}
+
+/// A `static` home for the shared adapter: the link task is a task of its own and needs it
+/// for the whole run. A firmware declares one for its device type, e.g.
+/// `static ADAPTER: AdapterCell<MyDevice> = AdapterCell::new();`, and hands it to its board.
+pub struct AdapterCell<D: Device>(StaticCell<SharedAdapter<D>>);
+
+impl<D: Device> AdapterCell<D> {
+    /// An empty cell.
+    pub const fn new() -> Self {
+        AdapterCell(StaticCell::new())
+    }
+
+    /// Shares `adapter` for the rest of the program; `None` if the cell was used before.
+    pub fn share(&'static self, adapter: Adapter<D>) -> Option<&'static SharedAdapter<D>> {
+        self.0.try_init(share(adapter)).map(|a| &*a)
+    }
+}
+
+impl<D: Device> Default for AdapterCell<D> {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
 /// Runs `f` with exclusive access to the shared adapter. If `f` brought the I/O deadline
-/// forward (a Forward_Open, a trigger), the I/O future is woken to honour it.
+/// forward (a Forward_Open, a trigger), the link task is woken to honour it; if it changed
+/// the multicast group, the runtime joins the new one.
 ///
 /// The borrow cannot be taken twice: every caller returns before its next `.await`, and the
-/// executor runs one future at a time.
+/// executor runs one task at a time.
 pub fn with_adapter<D: Device, R>(
     shared: &SharedAdapter<D>,
     f: impl FnOnce(&mut Adapter<D>) -> R,
 ) -> R {
-    let (r, before, after) = shared.adapter.lock(|cell| {
+    let (r, moved, regrouped) = shared.adapter.lock(|cell| {
         let mut a = cell.borrow_mut();
-        let before = a.io_deadline();
+        let (deadline, group) = (a.io_deadline(), a.multicast_group());
         let r = f(&mut a);
-        (r, before, a.io_deadline())
+        (
+            r,
+            earlier(a.io_deadline(), deadline),
+            a.multicast_group() != group,
+        )
     });
-    shared.explicit.store(true, Ordering::Relaxed);
-    if earlier(after, before) {
-        shared.io_wake.signal(());
+    if moved {
+        shared.io_moved.set(true);
+        shared.io_waker.borrow_mut().wake();
+    }
+    if regrouped {
+        shared.membership.signal(());
     }
     r
 }
 
-/// True (once) if [`with_adapter`] ran since the last call: the I/O future then checks what
-/// only explicit traffic changes (multicast group and TTL).
-pub(crate) fn take_explicit_change<D: Device>(shared: &SharedAdapter<D>) -> bool {
-    shared.explicit.swap(false, Ordering::Relaxed)
-}
-
-/// Like [`with_adapter`] without the wake-up: for the I/O future itself.
+/// Like [`with_adapter`] without the wake-ups: for the link task and the indicators.
 pub(crate) fn with_adapter_quiet<D: Device, R>(
     shared: &SharedAdapter<D>,
     f: impl FnOnce(&mut Adapter<D>) -> R,
@@ -63,9 +97,60 @@ pub(crate) fn with_adapter_quiet<D: Device, R>(
     shared.adapter.lock(|cell| f(&mut cell.borrow_mut()))
 }
 
-/// Waits until another future brought the I/O deadline forward.
-pub(crate) async fn io_deadline_moved<D: Device>(shared: &SharedAdapter<D>) {
-    shared.io_wake.wait().await
+/// Waits until the multicast group may have changed.
+pub(crate) async fn membership_changed<D: Device>(shared: &SharedAdapter<D>) {
+    shared.membership.wait().await
+}
+
+impl<D: Device> IoPort for SharedAdapter<D> {
+    fn interface(&self) -> Interface {
+        with_adapter_quiet(self, |a| {
+            let n = a.network();
+            Interface {
+                ip: n.ip,
+                netmask: n.netmask,
+                gateway: n.gateway,
+            }
+        })
+    }
+
+    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant) {
+        // A discarded datagram is counted by the adapter; nothing to answer.
+        let _ = with_adapter_quiet(self, |a| a.io_receive(from, data, now));
+    }
+
+    fn due(&self, now: Instant) -> Option<IoDue> {
+        let (due, expired) = with_adapter_quiet(self, |a| {
+            let before = a.connections().timeouts();
+            let due = a.io_due(now);
+            (due, a.connections().timeouts() != before)
+        });
+        if expired {
+            // A multicast connection may have been the last.
+            self.membership.signal(());
+        }
+        due
+    }
+
+    fn write(&self, due: IoDue, now: Instant, out: Option<&mut [u8]>) -> usize {
+        with_adapter_quiet(self, |a| a.write_io(due, now, out))
+    }
+
+    fn deadline(&self) -> Option<Instant> {
+        with_adapter_quiet(self, |a| a.io_deadline())
+    }
+
+    fn multicast_ttl(&self) -> u8 {
+        with_adapter_quiet(self, |a| a.multicast_ttl())
+    }
+
+    fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()> {
+        if self.io_moved.replace(false) {
+            return Poll::Ready(());
+        }
+        self.io_waker.borrow_mut().register(cx.waker());
+        Poll::Pending
+    }
 }
 
 /// True if deadline `a` comes before `b` (`None` is never).

@@ -36,7 +36,7 @@ use crate::util::{self, err, output, run, Result};
 /// commit's, for a before/after comparison).
 const ELF_VAR: &str = "ENIP_QEMU_BENCH_ELF";
 /// The function called once per O->T datagram: the cycle counter.
-pub const MARKER: &str = "enip_firmware::io::consume";
+pub const MARKER: &str = "enip_firmware::link::pump::consume";
 /// O->T datagrams per connection before counting starts (connections settle, ARP done).
 const WARMUP: u64 = 100;
 /// O->T datagrams per connection counted.

@@ -9,6 +9,7 @@ use std::process::exit;
 use crate::tap_device::TapDevice;
 use embassy_executor::{Executor, Spawner};
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
+use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
 use enip_firmware::Resources;
 use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::nv::SharedStore;
@@ -77,10 +78,15 @@ fn run_tap<D: Device + 'static>(
     let adapter_run = start(device, tap, store, link, nv_file, program);
     let executor: &'static mut Executor = Box::leak(Box::new(Executor::new()));
     executor.run(|spawner: Spawner| {
-        let (net, adapter) = adapter_run;
-        match (net_task(net), adapter_task(adapter)) {
-            (Ok(net), Ok(adapter)) => {
+        let Started {
+            runner,
+            link,
+            adapter,
+        } = adapter_run;
+        match (net_task(runner), link_task(link), adapter_task(adapter)) {
+            (Ok(net), Ok(link), Ok(adapter)) => {
                 spawner.spawn(net);
+                spawner.spawn(link);
                 spawner.spawn(adapter);
             }
             _ => {
@@ -91,7 +97,25 @@ fn run_tap<D: Device + 'static>(
     })
 }
 
-/// Builds the network stack and the adapter: the network runner, and the adapter's run.
+/// What the three tasks of the TAP board run.
+struct Started {
+    /// The TCP/IP stack on the frames the link task passes on.
+    runner: Runner<'static, NetDriver<'static>>,
+    /// The link task: the TAP, Class 1 I/O and every other frame.
+    link: LinkShare,
+    /// The adapter's explicit side.
+    adapter: AdapterRun,
+}
+
+/// The link task's share: the TAP, the frames it passes to the stack, the adapter.
+struct LinkShare {
+    tap: TapDevice,
+    frames: &'static LinkFrames,
+    io: &'static dyn IoPort,
+}
+
+/// Builds the network stack and the adapter: the network runner, the link task's share and
+/// the adapter's run.
 fn start<D: Device + 'static>(
     device: D,
     mut tap: TapDevice,
@@ -99,13 +123,14 @@ fn start<D: Device + 'static>(
     link: &TapOptions,
     nv_file: Option<&Path>,
     program: String,
-) -> (Runner<'static, TapDevice>, AdapterRun) {
+) -> Started {
     tap.set_hardware_address(link.mac);
     let config = embassy_net::Config::ipv4_static(interface(&mut store, link, nv_file));
     let seed = seed();
     let resources: &'static mut StackResources<SOCKETS> =
         Box::leak(Box::new(enip_firmware::stack_resources()));
-    let (net, runner) = embassy_net::new(tap, config, resources, seed);
+    let frames: &'static LinkFrames = Box::leak(Box::new(LinkFrames::new()));
+    let (net, runner) = embassy_net::new(NetDriver::new(frames, &tap), config, resources, seed);
     let name = device.identity().product_name;
     let mut adapter = Adapter::new(
         device,
@@ -115,7 +140,7 @@ fn start<D: Device + 'static>(
     if let Err(e) = adapter.attach_store(Box::leak(Box::new(store))) {
         log::error!("non-volatile store unreadable ({e:?}): factory TCP/IP settings");
     }
-    let adapter = Box::leak(Box::new(enip_firmware::share(adapter)));
+    let adapter: &'static _ = Box::leak(Box::new(enip_firmware::share(adapter)));
     let buffers: &'static mut Resources = Box::leak(Box::new(Resources::new()));
     let tap_name = link.name.clone();
     let run = async move {
@@ -135,7 +160,15 @@ fn start<D: Device + 'static>(
         .await;
     };
     let run: &'static mut dyn Future<Output = ()> = Box::leak(Box::new(run));
-    (runner, Pin::static_mut(run))
+    Started {
+        runner,
+        link: LinkShare {
+            tap,
+            frames,
+            io: adapter,
+        },
+        adapter: Pin::static_mut(run),
+    }
 }
 
 /// The address to start with: the static interface configuration in the store, else
@@ -194,10 +227,16 @@ pub(crate) fn seed() -> u64 {
     })
 }
 
-/// Moves frames between the TAP device and the network stack.
+/// Runs the TCP/IP stack on the frames the link task passes on.
 #[embassy_executor::task]
-async fn net_task(mut runner: Runner<'static, TapDevice>) -> ! {
+async fn net_task(mut runner: Runner<'static, NetDriver<'static>>) -> ! {
     runner.run().await
+}
+
+/// Owns the TAP: Class 1 I/O, and every other frame to and from the network stack.
+#[embassy_executor::task]
+async fn link_task(link: LinkShare) -> ! {
+    enip_firmware::link::run(link.tap, link.frames, link.io).await
 }
 
 /// Drives the adapter's run (it never ends).

@@ -2,17 +2,22 @@
 //! NUCLEO-F767ZI, with one call from the firmware's `main`:
 //!
 //! ```ignore
+//! static ADAPTER: enip_nucleo_f767zi::AdapterCell<my_device::MyDevice> =
+//!     enip_nucleo_f767zi::AdapterCell::new();
+//!
 //! #[embassy_executor::main]
 //! async fn main(spawner: embassy_executor::Spawner) {
 //!     let network = enip_nucleo_f767zi::static_ipv4([192, 168, 1, 10], 24, None);
-//!     enip_nucleo_f767zi::run(spawner, |_store| my_device::MyDevice::new(), network).await
+//!     let device = |_store| my_device::MyDevice::new();
+//!     enip_nucleo_f767zi::run(spawner, &ADAPTER, device, network).await
 //! }
 //! ```
 //!
 //! [`run`] initialises the chip (216 MHz), builds the embassy-net stack over the on-chip
 //! Ethernet MAC (RMII to the LAN8742A PHY at address 0, `GenericPhy` over MDIO) with the MAC
-//! address derived from the chip's unique ID and the network seed from the RNG, runs the
-//! adapter and shows the ODVA Module and Network Status on the LEDs ([`leds`]). Logs are
+//! address derived from the chip's unique ID and the network seed from the RNG, gives the
+//! MAC to the link task (Class 1 I/O, then every other frame on to embassy-net), runs the
+//! adapter (shared in the firmware's `static` [`AdapterCell`]) and shows the ODVA Module and Network Status on the LEDs ([`leds`]). Logs are
 //! defmt over RTT; an Identity Reset restarts the chip. The firmware's build script links
 //! with `memory.x` (the STM32F767ZI map), cortex-m-rt's `link.x` and defmt's `defmt.x`.
 #![no_std]
@@ -32,6 +37,8 @@ use embassy_stm32::gpio::{Level, Output, Speed};
 use embassy_stm32::peripherals::{ETH, ETH_SMA, RNG};
 use embassy_stm32::rng::{self, Rng};
 use embassy_stm32::{bind_interrupts, uid};
+use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
+pub use enip_firmware::AdapterCell;
 use enip_firmware::Resources;
 use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::nv::{AbStore, SharedStore};
@@ -60,6 +67,7 @@ static PACKETS: ConstStaticCell<PacketQueue<TX_PACKETS, RX_PACKETS>> =
 static NET_RESOURCES: ConstStaticCell<StackResources<SOCKETS>> =
     ConstStaticCell::new(enip_firmware::stack_resources());
 static FIRMWARE_RESOURCES: StaticCell<Resources> = StaticCell::new();
+static LINK_FRAMES: ConstStaticCell<LinkFrames> = ConstStaticCell::new(LinkFrames::new());
 /// The non-volatile store on the on-chip flash: the TCP/IP settings and the device's own.
 static NV_STORE: StaticCell<RefCell<AbStore<OnChipFlash>>> = StaticCell::new();
 /// The adapter's handle to it.
@@ -85,10 +93,11 @@ pub fn dhcp() -> embassy_net::Config {
 }
 
 /// Runs the device `device` builds from the board's non-volatile store (on the on-chip
-/// flash; a device with nothing to save ignores it) with the interface configuration
-/// `network`; never returns. Call it once, from the firmware's `main` task.
+/// flash; a device with nothing to save ignores it), shared in `home`, with the interface
+/// configuration `network`; never returns. Call it once, from the firmware's `main` task.
 pub async fn run<D: Device>(
     spawner: Spawner,
+    home: &'static AdapterCell<D>,
     device: impl FnOnce(SharedStore) -> D,
     network: embassy_net::Config,
 ) -> ! {
@@ -119,23 +128,31 @@ pub async fn run<D: Device>(
     let network = stored_network(&mut store).unwrap_or(network);
     let device = device(store);
     let dhcp = is_dhcp(&network);
-    let (net, runner) = embassy_net::new(driver, network, NET_RESOURCES.take(), seed);
+    let frames: &'static LinkFrames = LINK_FRAMES.take();
+    let net_driver = NetDriver::new(frames, &driver);
+    let (net, runner) = embassy_net::new(net_driver, network, NET_RESOURCES.take(), seed);
     let mut interface = enip_firmware::network_config(net);
     interface.dhcp = dhcp;
     // Built inside the call, so the main task's future holds one adapter, not two.
-    let adapter = enip_firmware::share(with_store(
+    let adapter = with_store(
         Adapter::new(device, interface, seed.rotate_left(32)),
         NV_HANDLE.init(store),
-    ));
-    match net_task(runner) {
-        Ok(net) => spawner.spawn(net),
-        Err(_) => panic!("cannot spawn the network task"),
+    );
+    let Some(adapter) = home.share(adapter) else {
+        panic!("enip_nucleo_f767zi::run called twice");
+    };
+    match (net_task(runner), link_task(driver, frames, adapter)) {
+        (Ok(net), Ok(link)) => {
+            spawner.spawn(net);
+            spawner.spawn(link);
+        }
+        _ => panic!("cannot spawn the network and link tasks"),
     }
     info!("enip-nucleo-f767zi: MAC {=[u8]:02x}", mac);
     let resources = FIRMWARE_RESOURCES.init_with(Resources::new);
     let (never, _) = embassy_futures::join::join(
-        enip_firmware::run(net, &adapter, resources, on_reset),
-        enip_firmware::indicators::indicate(&adapter, leds),
+        enip_firmware::run(net, adapter, resources, on_reset),
+        enip_firmware::indicators::indicate(adapter, leds),
     )
     .await;
     never
@@ -200,8 +217,14 @@ fn mac_from_uid(uid: [u8; 12]) -> [u8; 6] {
 
 /// Moves frames between the Ethernet MAC and the network stack.
 #[embassy_executor::task]
-async fn net_task(mut runner: Runner<'static, Driver>) -> ! {
+async fn net_task(mut runner: Runner<'static, NetDriver<'static>>) -> ! {
     runner.run().await
+}
+
+/// Owns the Ethernet MAC: Class 1 I/O, and every other frame to and from the network stack.
+#[embassy_executor::task]
+async fn link_task(driver: Driver, frames: &'static LinkFrames, adapter: &'static dyn IoPort) -> ! {
+    enip_firmware::link::run(driver, frames, adapter).await
 }
 
 /// Identity Reset: restart the microcontroller.

@@ -19,11 +19,16 @@ mod network {
 
 use embassy_executor::Spawner;
 use enip_firmware::profiles::PoweredUp;
+use enip_firmware::AdapterCell;
+
+/// The adapter over the chosen profile, for the whole run.
+static ADAPTER: AdapterCell<profile::Chosen> = AdapterCell::new();
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     defmt::info!("enip-nucleo-f767zi: booting (profile {})", profile::NAME);
-    enip_nucleo_f767zi::run(spawner, profile::Chosen::powered_up, net_config()).await
+    let device = profile::Chosen::powered_up;
+    enip_nucleo_f767zi::run(spawner, &ADAPTER, device, net_config()).await
 }
 
 /// The interface configuration: DHCP with the `dhcp` feature, else the build-time address.

@@ -5,12 +5,16 @@
 //! ```ignore
 //! #[embassy_executor::main]
 //! async fn main(spawner: embassy_executor::Spawner) {
+//!     static ADAPTER: enip_qemu_mps2::AdapterCell<my_device::MyDevice> =
+//!         enip_qemu_mps2::AdapterCell::new();
 //!     let device = |_store| my_device::MyDevice::new();
-//!     enip_qemu_mps2::run(spawner, "my device", device, [198, 18, 0, 2], 24, None).await
+//!     let address = ([198, 18, 0, 2], 24, None);
+//!     enip_qemu_mps2::run(spawner, &ADAPTER, "my device", device, address).await
 //! }
 //! ```
 //!
-//! [`run`] builds the embassy-net stack over the [`lan9118`] driver and runs the adapter.
+//! [`run`] gives the [`lan9118`] driver to the link task (Class 1 I/O, then every other
+//! frame on to embassy-net), builds the embassy-net stack and runs the adapter.
 //! Time comes from the CMSDK timers ([`time`]), logs go to UART0 ([`uart`], QEMU's
 //! standard output with `-nographic`); a panic is reported there too.
 #![no_std]
@@ -26,6 +30,8 @@ use core::net::Ipv4Addr;
 
 use embassy_executor::Spawner;
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
+use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
+pub use enip_firmware::AdapterCell;
 use enip_firmware::Resources;
 use enip_stack::nv::{AbStore, RamFlash, SharedStore, IMAGE_SIZE, MAX_WRITE_SIZE};
 use enip_stack::{Adapter, Device};
@@ -38,6 +44,8 @@ const SOCKETS: usize = enip_firmware::SOCKETS;
 static NET_RESOURCES: ConstStaticCell<StackResources<SOCKETS>> =
     ConstStaticCell::new(enip_firmware::stack_resources());
 static FIRMWARE_RESOURCES: StaticCell<Resources> = StaticCell::new();
+/// The frames between the link task and embassy-net.
+static LINK_FRAMES: ConstStaticCell<LinkFrames> = ConstStaticCell::new(LinkFrames::new());
 /// The non-volatile store, in RAM: the TCP/IP settings and the device's own last until QEMU
 /// exits.
 static NV_STORE: StaticCell<RefCell<AbStore<RamFlash<NV_SECTOR>>>> = StaticCell::new();
@@ -47,16 +55,15 @@ static NV_HANDLE: StaticCell<SharedStore> = StaticCell::new();
 const NV_SECTOR: usize = MAX_WRITE_SIZE + IMAGE_SIZE;
 
 /// Runs the device `device` builds from the board's non-volatile store (in RAM; a device
-/// with nothing to save ignores it), named `name` in the log, at the static address
-/// `address`/`prefix_len` (gateway optional); never returns. Call it once, from the
+/// with nothing to save ignores it), shared in `home`, named `name` in the log, at the
+/// static address `(address, prefix_len, gateway)`; never returns. Call it once, from the
 /// firmware's `main` task.
 pub async fn run<D: Device>(
     spawner: Spawner,
+    home: &'static AdapterCell<D>,
     name: &str,
     device: impl FnOnce(SharedStore) -> D,
-    address: [u8; 4],
-    prefix_len: u8,
-    gateway: Option<[u8; 4]>,
+    (address, prefix_len, gateway): ([u8; 4], u8, Option<[u8; 4]>),
 ) -> ! {
     time::init();
     uart::init(log::LevelFilter::Info);
@@ -73,25 +80,32 @@ pub async fn run<D: Device>(
         dns_servers: Default::default(),
     });
     let seed = seed(mac);
-    let (net, runner) = embassy_net::new(driver, config, NET_RESOURCES.take(), seed);
+    let frames: &'static LinkFrames = LINK_FRAMES.take();
+    let net_driver = NetDriver::new(frames, &driver);
+    let (net, runner) = embassy_net::new(net_driver, config, NET_RESOURCES.take(), seed);
     let store = SharedStore::new(NV_STORE.init(RefCell::new(AbStore::mount(RamFlash::new()))));
-    // Built inside the call, so the main task's future holds one adapter, not two.
-    let adapter = enip_firmware::share(with_store(
+    let adapter = with_store(
         Adapter::new(
             device(store),
             enip_firmware::network_config(net),
             seed.rotate_left(32),
         ),
         NV_HANDLE.init(store),
-    ));
-    match net_task(runner) {
-        Ok(task) => spawner.spawn(task),
-        Err(e) => panic!("cannot spawn the network task: {e:?}"),
+    );
+    let Some(adapter) = home.share(adapter) else {
+        panic!("enip_qemu_mps2::run called twice");
+    };
+    match (net_task(runner), link_task(driver, frames, adapter)) {
+        (Ok(net), Ok(link)) => {
+            spawner.spawn(net);
+            spawner.spawn(link);
+        }
+        _ => panic!("cannot spawn the network and link tasks"),
     }
     log::info!("enip-qemu-mps2: MAC {mac:02x?}, listening on {address}/{prefix_len}");
     enip_firmware::run(
         net,
-        &adapter,
+        adapter,
         FIRMWARE_RESOURCES.init_with(Resources::new),
         on_reset,
     )
@@ -116,10 +130,20 @@ fn seed(mac: [u8; 6]) -> u64 {
     (u64::from_le_bytes(bytes) ^ count.rotate_left(40)).wrapping_mul(0x9E37_79B9_7F4A_7C15)
 }
 
-/// Moves frames between the LAN9118 and the network stack.
+/// Runs the TCP/IP stack on the frames the link task passes on.
 #[embassy_executor::task]
-async fn net_task(mut runner: Runner<'static, Lan9118>) -> ! {
+async fn net_task(mut runner: Runner<'static, NetDriver<'static>>) -> ! {
     runner.run().await
+}
+
+/// Owns the LAN9118: Class 1 I/O, and every other frame to and from the network stack.
+#[embassy_executor::task]
+async fn link_task(
+    driver: Lan9118,
+    frames: &'static LinkFrames,
+    adapter: &'static dyn IoPort,
+) -> ! {
+    enip_firmware::link::run(driver, frames, adapter).await
 }
 
 /// Identity Reset: restart the machine (QEMU resets it, or exits with `-no-reboot`).

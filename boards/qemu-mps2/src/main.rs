@@ -17,10 +17,14 @@ mod network {
 
 use embassy_executor::Spawner;
 use enip_firmware::profiles::PoweredUp;
+use enip_firmware::AdapterCell;
+
+/// The adapter over the chosen profile, for the whole run.
+static ADAPTER: AdapterCell<profile::Chosen> = AdapterCell::new();
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     let device = profile::Chosen::powered_up;
-    let (address, prefix_len, gateway) = (network::ADDRESS, network::PREFIX_LEN, network::GATEWAY);
-    enip_qemu_mps2::run(spawner, profile::NAME, device, address, prefix_len, gateway).await
+    let address = (network::ADDRESS, network::PREFIX_LEN, network::GATEWAY);
+    enip_qemu_mps2::run(spawner, &ADAPTER, profile::NAME, device, address).await
 }

@@ -7,11 +7,16 @@
 #![no_main]
 
 use embassy_executor::Spawner;
+use enip_nucleo_f767zi::AdapterCell;
+
+/// The adapter over the I/O block, for the whole run.
+static ADAPTER: AdapterCell<io_block::IoBlock> = AdapterCell::new();
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     defmt::info!("io-block-nucleo: booting");
     let network = enip_nucleo_f767zi::static_ipv4([192, 168, 1, 10], 24, None);
     // The I/O block saves nothing: it leaves the non-volatile store to the adapter.
-    enip_nucleo_f767zi::run(spawner, |_store| io_block::IoBlock::new(), network).await
+    let device = |_store| io_block::IoBlock::new();
+    enip_nucleo_f767zi::run(spawner, &ADAPTER, device, network).await
 }

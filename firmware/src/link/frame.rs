@@ -1,0 +1,382 @@
+//! Ethernet frames as the link task sees them: which received frames are O->T datagrams
+//! for this adapter (IPv4, UDP port 2222, not fragmented, checksums good) and who sent
+//! them, and the Ethernet, IPv4 and UDP headers in front of a T->O datagram or an ARP
+//! request. Parsing and writing are smoltcp's `wire` codecs, length-checked.
+
+use core::net::{Ipv4Addr, SocketAddrV4};
+use core::ops::Range;
+
+use enip_stack::config::IO_PORT;
+use smoltcp::phy::ChecksumCapabilities;
+use smoltcp::wire::{
+    ArpOperation, ArpPacket, ArpRepr, EthernetAddress, EthernetFrame, EthernetProtocol,
+    EthernetRepr, IpAddress, IpProtocol, Ipv4Packet, Ipv4Repr, UdpPacket, UdpRepr,
+    ETHERNET_HEADER_LEN, IPV4_HEADER_LEN, UDP_HEADER_LEN,
+};
+
+/// Bytes in front of a T->O datagram's payload: Ethernet, IPv4 (no options) and UDP headers.
+pub(crate) const HEADERS_LEN: usize = ETHERNET_HEADER_LEN + IPV4_HEADER_LEN + UDP_HEADER_LEN;
+/// Bytes of an ARP request for an IPv4 address over Ethernet.
+pub(crate) const ARP_REQUEST_LEN: usize = ETHERNET_HEADER_LEN + 28;
+/// Hop limit of point-to-point T->O datagrams (smoltcp's default for every other packet).
+pub(crate) const UNICAST_TTL: u8 = 64;
+
+/// What a received frame holds for the link task.
+#[derive(Debug, Default, PartialEq, Eq)]
+pub(crate) struct Seen {
+    /// The sender's IPv4 address and the MAC address it came from, for a frame addressed to
+    /// this adapter's IPv4 address (an IPv4 packet or an ARP message) whose checksum held:
+    /// where T->O data for that address goes next.
+    pub sender: Option<(Ipv4Addr, [u8; 6])>,
+    /// An O->T datagram: its source and where its UDP payload lies in the frame.
+    pub o_t: Option<(SocketAddrV4, Range<usize>)>,
+}
+
+/// Looks at `frame` for an adapter at `me`; `verify` says which checksums the driver left
+/// to software. Anything that is not a well-formed O->T datagram for `me` has `o_t` `None`
+/// and goes to the network stack, which deals with it as before.
+pub(crate) fn inspect(frame: &[u8], me: Ipv4Addr, verify: &ChecksumCapabilities) -> Seen {
+    let Ok(eth) = EthernetFrame::new_checked(frame) else {
+        return Seen::default();
+    };
+    let mac = eth.src_addr();
+    match eth.ethertype() {
+        EthernetProtocol::Ipv4 => inspect_ipv4(eth.payload(), mac, me, verify),
+        EthernetProtocol::Arp => Seen {
+            sender: arp_sender(eth.payload(), me),
+            o_t: None,
+        },
+        _ => Seen::default(),
+    }
+}
+
+/// The IPv4 part of [`inspect`].
+fn inspect_ipv4(
+    packet: &[u8],
+    mac: EthernetAddress,
+    me: Ipv4Addr,
+    verify: &ChecksumCapabilities,
+) -> Seen {
+    let Ok(ip) = Ipv4Packet::new_checked(packet) else {
+        return Seen::default();
+    };
+    if ip.dst_addr() != me || (verify.ipv4.rx() && !ip.verify_checksum()) {
+        return Seen::default();
+    }
+    let src = ip.src_addr();
+    let sender = (is_unicast(mac) && is_host(src)).then_some((src, mac.0));
+    let unfragmented = !ip.more_frags() && ip.frag_offset() == 0;
+    if ip.next_header() != IpProtocol::Udp || !unfragmented {
+        return Seen { sender, o_t: None };
+    }
+    let Ok(udp) = UdpPacket::new_checked(ip.payload()) else {
+        return Seen { sender, o_t: None };
+    };
+    let good = !verify.udp.rx() || udp.verify_checksum(&IpAddress::Ipv4(src), &IpAddress::Ipv4(me));
+    if udp.dst_port() != IO_PORT || !good || sender.is_none() {
+        return Seen { sender, o_t: None };
+    }
+    // The payload's place in the frame: behind the Ethernet, IPv4 (with its options) and
+    // UDP headers, as long as the UDP length says.
+    let start = usize::from(ip.header_len()).saturating_add(ETHERNET_HEADER_LEN + UDP_HEADER_LEN);
+    let end = start.saturating_add(udp.payload().len());
+    Seen {
+        sender,
+        o_t: Some((SocketAddrV4::new(src, udp.src_port()), start..end)),
+    }
+}
+
+/// The sender of an ARP message asking for or answering about `me`.
+fn arp_sender(packet: &[u8], me: Ipv4Addr) -> Option<(Ipv4Addr, [u8; 6])> {
+    let arp = ArpPacket::new_checked(packet).ok()?;
+    let Ok(ArpRepr::EthernetIpv4 {
+        source_hardware_addr: mac,
+        source_protocol_addr: ip,
+        target_protocol_addr,
+        ..
+    }) = ArpRepr::parse(&arp)
+    else {
+        return None;
+    };
+    (target_protocol_addr == me && is_host(ip) && is_unicast(mac)).then_some((ip, mac.0))
+}
+
+/// A MAC address of one station (not group, not zero).
+fn is_unicast(mac: EthernetAddress) -> bool {
+    mac.is_unicast() && mac.0 != [0; 6]
+}
+
+/// An IPv4 address of one host: not zero, broadcast or multicast.
+fn is_host(ip: Ipv4Addr) -> bool {
+    !(ip.is_unspecified() || ip.is_broadcast() || ip.is_multicast())
+}
+
+/// The Ethernet group address of IPv4 multicast group `group` (RFC 1112 section 6.4).
+pub(crate) fn multicast_mac(group: Ipv4Addr) -> [u8; 6] {
+    let [_, b, c, d] = group.octets();
+    [0x01, 0x00, 0x5E, b & 0x7F, c, d]
+}
+
+/// The addresses of one T->O datagram.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Route {
+    /// This adapter's MAC and IPv4 addresses.
+    pub from: ([u8; 6], Ipv4Addr),
+    /// The next hop's MAC address and the datagram's destination.
+    pub to: ([u8; 6], SocketAddrV4),
+    /// IPv4 time to live.
+    pub ttl: u8,
+}
+
+/// Writes the headers of a T->O datagram of `payload_len` bytes into the front of `frame`,
+/// whose payload (from [`HEADERS_LEN`]) is already written; `fill` says which checksums
+/// software computes. Returns `false`, writing nothing, if `frame` is too short.
+pub(crate) fn write_t_o_headers(
+    frame: &mut [u8],
+    route: &Route,
+    payload_len: usize,
+    fill: &ChecksumCapabilities,
+) -> bool {
+    let udp_len = payload_len.saturating_add(UDP_HEADER_LEN);
+    let frame_len = udp_len.saturating_add(ETHERNET_HEADER_LEN + IPV4_HEADER_LEN);
+    let Some(frame) = frame.get_mut(..frame_len) else {
+        return false;
+    };
+    let mut eth = EthernetFrame::new_unchecked(&mut *frame);
+    EthernetRepr {
+        src_addr: EthernetAddress(route.from.0),
+        dst_addr: EthernetAddress(route.to.0),
+        ethertype: EthernetProtocol::Ipv4,
+    }
+    .emit(&mut eth);
+    let src = route.from.1;
+    let dst = *route.to.1.ip();
+    let mut ip = Ipv4Packet::new_unchecked(eth.payload_mut());
+    Ipv4Repr {
+        src_addr: src,
+        dst_addr: dst,
+        next_header: IpProtocol::Udp,
+        payload_len: udp_len,
+        hop_limit: route.ttl,
+    }
+    .emit(&mut ip, fill);
+    let mut udp = UdpPacket::new_unchecked(ip.payload_mut());
+    UdpRepr {
+        src_port: IO_PORT,
+        dst_port: route.to.1.port(),
+    }
+    .emit(
+        &mut udp,
+        &IpAddress::Ipv4(src),
+        &IpAddress::Ipv4(dst),
+        payload_len,
+        |_| {},
+        fill,
+    );
+    true
+}
+
+/// Writes an ARP request from `from` (MAC, IPv4) for `target` into `frame` (at least
+/// [`ARP_REQUEST_LEN`] bytes); `false` if it is too short.
+pub(crate) fn write_arp_request(
+    frame: &mut [u8],
+    from: ([u8; 6], Ipv4Addr),
+    target: Ipv4Addr,
+) -> bool {
+    let Some(frame) = frame.get_mut(..ARP_REQUEST_LEN) else {
+        return false;
+    };
+    let mut eth = EthernetFrame::new_unchecked(&mut *frame);
+    EthernetRepr {
+        src_addr: EthernetAddress(from.0),
+        dst_addr: EthernetAddress::BROADCAST,
+        ethertype: EthernetProtocol::Arp,
+    }
+    .emit(&mut eth);
+    let mut arp = ArpPacket::new_unchecked(eth.payload_mut());
+    ArpRepr::EthernetIpv4 {
+        operation: ArpOperation::Request,
+        source_hardware_addr: EthernetAddress(from.0),
+        source_protocol_addr: from.1,
+        target_hardware_addr: EthernetAddress([0; 6]),
+        target_protocol_addr: target,
+    }
+    .emit(&mut arp);
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use std::vec::Vec;
+
+    const ME: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
+    const MY_MAC: [u8; 6] = [2, 0, 0, 0, 0, 2];
+    const PEER: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
+    const PEER_MAC: [u8; 6] = [2, 0, 0, 0, 0, 1];
+
+    fn software() -> ChecksumCapabilities {
+        ChecksumCapabilities::default()
+    }
+
+    /// A UDP datagram from the peer's `port` to `to`:2222 as the peer would send it.
+    fn datagram(to: Ipv4Addr, port: u16, payload: &[u8]) -> Vec<u8> {
+        let mut frame = std::vec![0u8; HEADERS_LEN + payload.len()];
+        frame[HEADERS_LEN..].copy_from_slice(payload);
+        let route = Route {
+            from: (PEER_MAC, PEER),
+            to: (MY_MAC, SocketAddrV4::new(to, IO_PORT)),
+            ttl: 64,
+        };
+        assert!(write_t_o_headers(
+            &mut frame,
+            &route,
+            payload.len(),
+            &software()
+        ));
+        // The peer's source port.
+        frame[34..36].copy_from_slice(&port.to_be_bytes());
+        let mut ip = Ipv4Packet::new_unchecked(&mut frame[14..]);
+        let mut udp = UdpPacket::new_unchecked(ip.payload_mut());
+        udp.fill_checksum(&IpAddress::Ipv4(PEER), &IpAddress::Ipv4(to));
+        frame
+    }
+
+    #[test]
+    fn an_o_t_datagram_for_this_adapter_is_found_with_its_sender() {
+        let frame = datagram(ME, 2222, b"o->t data");
+        let seen = inspect(&frame, ME, &software());
+        assert_eq!(seen.sender, Some((PEER, PEER_MAC)));
+        let (from, range) = seen.o_t.expect("an O->T datagram");
+        assert_eq!(from, SocketAddrV4::new(PEER, 2222));
+        assert_eq!(&frame[range], b"o->t data");
+    }
+
+    #[test]
+    fn ethernet_padding_is_not_payload() {
+        let mut frame = datagram(ME, 2222, b"x");
+        frame.resize(60, 0);
+        let (_, range) = inspect(&frame, ME, &software()).o_t.expect("O->T");
+        assert_eq!(&frame[range], b"x");
+    }
+
+    #[test]
+    fn everything_else_goes_to_the_stack() {
+        let good = datagram(ME, 2222, b"data");
+        // Not for this adapter: nothing learned either.
+        assert_eq!(
+            inspect(&good, Ipv4Addr::new(198, 18, 0, 3), &software()),
+            Seen::default()
+        );
+        // Another UDP port: the sender is learned, the frame is the stack's.
+        let other_port = {
+            let mut f = good.clone();
+            f[36..38].copy_from_slice(&44818u16.to_be_bytes());
+            let mut ip = Ipv4Packet::new_unchecked(&mut f[14..]);
+            let mut udp = UdpPacket::new_unchecked(ip.payload_mut());
+            udp.fill_checksum(&IpAddress::Ipv4(PEER), &IpAddress::Ipv4(ME));
+            f
+        };
+        let seen = inspect(&other_port, ME, &software());
+        assert_eq!((seen.sender, seen.o_t), (Some((PEER, PEER_MAC)), None));
+        // A bad UDP checksum, unless the driver checked it.
+        let mut bad_udp = good.clone();
+        *bad_udp.last_mut().unwrap() ^= 0xFF;
+        assert_eq!(inspect(&bad_udp, ME, &software()).o_t, None);
+        let mut offloaded = software();
+        offloaded.udp = smoltcp::phy::Checksum::None;
+        assert!(inspect(&bad_udp, ME, &offloaded).o_t.is_some());
+        // A bad IPv4 header checksum: not even the sender is believed.
+        let mut bad_ip = good.clone();
+        bad_ip[14 + 10] ^= 0xFF;
+        assert_eq!(inspect(&bad_ip, ME, &software()), Seen::default());
+        // A fragment (more fragments set, header checksum refreshed).
+        let mut fragment = good.clone();
+        {
+            let mut ip = Ipv4Packet::new_unchecked(&mut fragment[14..]);
+            ip.set_more_frags(true);
+            ip.fill_checksum();
+        }
+        assert_eq!(inspect(&fragment, ME, &software()).o_t, None);
+        // From a broadcast source MAC: no neighbour entry, and not Class 1 either.
+        let mut group_mac = good.clone();
+        group_mac[6] |= 1;
+        assert_eq!(inspect(&group_mac, ME, &software()), Seen::default());
+    }
+
+    #[test]
+    fn every_truncation_is_handled() {
+        let frame = datagram(ME, 2222, b"0123456789");
+        for len in 0..frame.len() {
+            assert_eq!(
+                inspect(&frame[..len], ME, &software()).o_t,
+                None,
+                "{len} bytes"
+            );
+        }
+    }
+
+    #[test]
+    fn arp_about_this_adapter_names_its_sender() {
+        let mut frame = [0u8; ARP_REQUEST_LEN];
+        assert!(write_arp_request(&mut frame, (PEER_MAC, PEER), ME));
+        let seen = inspect(&frame, ME, &software());
+        assert_eq!(
+            seen,
+            Seen {
+                sender: Some((PEER, PEER_MAC)),
+                o_t: None
+            }
+        );
+        // About another host: nothing.
+        assert_eq!(
+            inspect(&frame, Ipv4Addr::new(198, 18, 0, 9), &software()),
+            Seen::default()
+        );
+        assert!(!write_arp_request(
+            &mut frame[..ARP_REQUEST_LEN - 1],
+            (PEER_MAC, PEER),
+            ME
+        ));
+    }
+
+    #[test]
+    fn t_o_headers_parse_back_with_good_checksums() {
+        let group = Ipv4Addr::new(239, 192, 1, 0);
+        let payload = b"t->o payload";
+        let mut frame = std::vec![0u8; HEADERS_LEN + payload.len() + 4];
+        frame[HEADERS_LEN..HEADERS_LEN + payload.len()].copy_from_slice(payload);
+        let route = Route {
+            from: (MY_MAC, ME),
+            to: (multicast_mac(group), SocketAddrV4::new(group, 2222)),
+            ttl: 7,
+        };
+        assert!(write_t_o_headers(
+            &mut frame,
+            &route,
+            payload.len(),
+            &software()
+        ));
+        let eth = EthernetFrame::new_checked(&frame[..]).unwrap();
+        assert_eq!(eth.dst_addr().0, [0x01, 0x00, 0x5E, 0x40, 1, 0]);
+        assert_eq!(eth.src_addr().0, MY_MAC);
+        let ip = Ipv4Packet::new_checked(eth.payload()).unwrap();
+        assert!(ip.verify_checksum());
+        assert_eq!(
+            (ip.src_addr(), ip.dst_addr(), ip.hop_limit()),
+            (ME, group, 7)
+        );
+        let udp = UdpPacket::new_checked(ip.payload()).unwrap();
+        assert!(udp.verify_checksum(&IpAddress::Ipv4(ME), &IpAddress::Ipv4(group)));
+        assert_eq!((udp.src_port(), udp.dst_port()), (2222, 2222));
+        assert_eq!(udp.payload(), payload);
+        // Too short a frame is refused.
+        assert!(!write_t_o_headers(
+            &mut frame[..HEADERS_LEN],
+            &route,
+            1,
+            &software()
+        ));
+    }
+}

@@ -1,0 +1,39 @@
+//! [`IoPort`]: the adapter's Class 1 calls the link task makes, without naming the device
+//! type (the link task is one non-generic task of the board).
+
+use core::net::{Ipv4Addr, SocketAddrV4};
+use core::task::{Context, Poll};
+
+use enip_stack::{Instant, IoDue};
+
+/// The interface addresses T->O datagrams go out with.
+#[derive(Debug, Clone, Copy)]
+pub struct Interface {
+    /// This adapter's IPv4 address (unspecified while it has none).
+    pub ip: Ipv4Addr,
+    /// Its netmask.
+    pub netmask: Ipv4Addr,
+    /// Its default gateway (unspecified: none).
+    pub gateway: Ipv4Addr,
+}
+
+/// Class 1 I/O of an adapter shared with the other tasks of the runtime; implemented by
+/// [`crate::SharedAdapter`].
+pub trait IoPort {
+    /// The interface addresses now.
+    fn interface(&self) -> Interface;
+    /// Feeds one O->T datagram from `from` (`Adapter::io_receive`).
+    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant);
+    /// Closes expired connections, then names the most overdue T->O datagram
+    /// (`Adapter::io_due`).
+    fn due(&self, now: Instant) -> Option<IoDue>;
+    /// Writes (or with `None` drops) the datagram `due` named (`Adapter::write_io`).
+    fn write(&self, due: IoDue, now: Instant, out: Option<&mut [u8]>) -> usize;
+    /// The next production or watchdog expiry (`Adapter::io_deadline`).
+    fn deadline(&self) -> Option<Instant>;
+    /// Time to live of multicast T->O datagrams (TCP/IP attribute 8).
+    fn multicast_ttl(&self) -> u8;
+    /// Ready (once) when another task brought the deadline forward since the last call;
+    /// otherwise wakes `cx` when one does.
+    fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()>;
+}

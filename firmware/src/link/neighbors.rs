@@ -1,0 +1,148 @@
+//! Where T->O data goes next: the MAC address each IPv4 host's frames last came from, as
+//! the link task saw them (an originator always talks to the adapter before its first T->O
+//! datagram: the Forward_Open, then O->T data or heartbeats), and when to ask by ARP for
+//! a host it has not heard from.
+
+use core::net::Ipv4Addr;
+
+use enip_stack::config::{MAX_CONNECTIONS, MAX_SESSIONS};
+use enip_stack::Instant;
+
+/// Hosts remembered: one per session and per connection.
+pub(crate) const NEIGHBORS: usize = MAX_SESSIONS + MAX_CONNECTIONS;
+/// Shortest time between two ARP requests of the link task, microseconds.
+const ARP_INTERVAL_US: u64 = 100_000;
+
+/// IPv4 host -> MAC address, learned from received frames; the least recently learned entry
+/// makes room for a new host.
+#[derive(Debug, Default)]
+pub(crate) struct Neighbors {
+    entries: [Option<Entry>; NEIGHBORS],
+    /// Learn count, to find the least recently learned entry.
+    clock: u32,
+    /// The last ARP request sent: when.
+    asked: Option<Instant>,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    ip: Ipv4Addr,
+    mac: [u8; 6],
+    learned: u32,
+}
+
+impl Neighbors {
+    /// Notes that `ip`'s frames come from `mac`.
+    pub fn learn(&mut self, ip: Ipv4Addr, mac: [u8; 6]) {
+        self.clock = self.clock.wrapping_add(1);
+        let learned = self.clock;
+        let slot = match self
+            .entries
+            .iter()
+            .position(|e| e.is_some_and(|e| e.ip == ip))
+        {
+            Some(i) => i,
+            None => self.oldest(),
+        };
+        if let Some(e) = self.entries.get_mut(slot) {
+            *e = Some(Entry { ip, mac, learned });
+        }
+    }
+
+    /// The MAC address of `ip`'s frames, if any came.
+    pub fn get(&self, ip: Ipv4Addr) -> Option<[u8; 6]> {
+        self.entries
+            .iter()
+            .flatten()
+            .find(|e| e.ip == ip)
+            .map(|e| e.mac)
+    }
+
+    /// Whether an ARP request may go out at `now` (none in the last 100 ms); notes it did.
+    pub fn may_ask(&mut self, now: Instant) -> bool {
+        let quiet = self
+            .asked
+            .is_none_or(|at| now.as_micros().saturating_sub(at.as_micros()) >= ARP_INTERVAL_US);
+        if quiet {
+            self.asked = Some(now);
+        }
+        quiet
+    }
+
+    /// The free entry, else the least recently learned one.
+    fn oldest(&self) -> usize {
+        let age = |e: &Option<Entry>| e.map_or(u32::MAX, |e| self.clock.wrapping_sub(e.learned));
+        (0..NEIGHBORS)
+            .max_by_key(|&i| self.entries.get(i).map_or(0, age))
+            .unwrap_or(0)
+    }
+}
+
+/// The next hop towards `to` from an interface at `ip`/`netmask` with `gateway`
+/// (unspecified: none): `to` itself on the link, else the gateway.
+pub(crate) fn next_hop(
+    to: Ipv4Addr,
+    ip: Ipv4Addr,
+    netmask: Ipv4Addr,
+    gateway: Ipv4Addr,
+) -> Ipv4Addr {
+    let mask = u32::from(netmask);
+    let on_link = u32::from(to) & mask == u32::from(ip) & mask;
+    if on_link || gateway.is_unspecified() {
+        to
+    } else {
+        gateway
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const A: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
+
+    #[test]
+    fn learns_updates_and_forgets_the_oldest() {
+        let mut n = Neighbors::default();
+        assert_eq!(n.get(A), None);
+        n.learn(A, [2, 0, 0, 0, 0, 1]);
+        n.learn(A, [2, 0, 0, 0, 0, 2]);
+        assert_eq!(n.get(A), Some([2, 0, 0, 0, 0, 2]));
+        for i in 0..NEIGHBORS as u8 {
+            n.learn(Ipv4Addr::new(198, 18, 1, i), [2, 0, 0, 0, 1, i]);
+        }
+        // A was the oldest of NEIGHBORS + 1 hosts.
+        assert_eq!(n.get(A), None);
+        assert_eq!(
+            n.get(Ipv4Addr::new(198, 18, 1, 0)),
+            Some([2, 0, 0, 0, 1, 0])
+        );
+        // Learning an existing host again moves it to the newest.
+        n.learn(Ipv4Addr::new(198, 18, 1, 0), [2, 0, 0, 0, 1, 0]);
+        n.learn(A, [2, 0, 0, 0, 0, 3]);
+        assert_eq!(
+            n.get(Ipv4Addr::new(198, 18, 1, 0)),
+            Some([2, 0, 0, 0, 1, 0])
+        );
+        assert_eq!(n.get(Ipv4Addr::new(198, 18, 1, 1)), None);
+    }
+
+    #[test]
+    fn asks_at_most_every_100_ms() {
+        let mut n = Neighbors::default();
+        assert!(n.may_ask(Instant::from_micros(1_000)));
+        assert!(!n.may_ask(Instant::from_micros(100_999)));
+        assert!(n.may_ask(Instant::from_micros(101_000)));
+    }
+
+    #[test]
+    fn next_hop_is_the_gateway_off_the_link() {
+        let ip = Ipv4Addr::new(198, 18, 0, 2);
+        let mask = Ipv4Addr::new(255, 255, 255, 0);
+        let gw = Ipv4Addr::new(198, 18, 0, 254);
+        assert_eq!(next_hop(A, ip, mask, gw), A);
+        let far = Ipv4Addr::new(198, 19, 0, 9);
+        assert_eq!(next_hop(far, ip, mask, gw), gw);
+        assert_eq!(next_hop(far, ip, mask, Ipv4Addr::UNSPECIFIED), far);
+    }
+}

@@ -1,0 +1,301 @@
+//! The link task's loop: it owns the board's Ethernet driver. Each wake-up it reads the
+//! received frames, hands O->T datagrams straight to the adapter and every other frame to
+//! the network stack, sends the stack's frames, and writes each T->O datagram that is due
+//! straight into the driver's transmit buffer behind its headers. It sleeps until the
+//! adapter's next production or watchdog expiry, a frame, or another task's wake-up.
+
+use core::convert::Infallible;
+use core::future::{poll_fn, Future};
+use core::net::SocketAddrV4;
+use core::pin::Pin;
+use core::task::{Context, Poll};
+
+use embassy_net_driver::{Checksum, Driver, HardwareAddress, RxToken, TxToken};
+use embassy_time::Timer;
+use enip_stack::config::MAX_CONNECTIONS;
+use enip_stack::{Instant, IoDue};
+use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
+
+use super::frame::{self, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
+use super::frames::{LinkFrames, RX_FRAMES, TX_FRAMES};
+use super::io_port::{Interface, IoPort};
+use super::neighbors::{next_hop, Neighbors};
+use crate::clock::{now, to_embassy};
+
+/// Rounds of receive, send and produce in one wake-up, each handling what is ready then.
+const ROUNDS: usize = 4;
+/// Frames read from the driver in one round.
+const RX_BURST: usize = 8;
+
+/// Runs the link task forever: `driver` is the board's, `frames` the queues shared with the
+/// [`super::NetDriver`] given to embassy-net, `io` the adapter.
+pub async fn run<D: Driver>(mut driver: D, frames: &LinkFrames, io: &dyn IoPort) -> ! {
+    let mut pump = Pump::new(&driver);
+    let never: Infallible = poll_fn(|cx| {
+        pump.poll(cx, &mut driver, frames, io);
+        Poll::Pending
+    })
+    .await;
+    match never {}
+}
+
+/// The link task's state between wake-ups.
+struct Pump {
+    mac: [u8; 6],
+    /// Checksums software verifies on receive and fills on send (what the driver leaves).
+    sums: ChecksumCapabilities,
+    neighbors: Neighbors,
+    /// The timer of the adapter's next deadline, and that deadline.
+    timer: Option<(Instant, Timer)>,
+    /// A T->O datagram is due but the driver had no room: its wake-up comes from the driver.
+    blocked: bool,
+}
+
+impl Pump {
+    fn new(driver: &impl Driver) -> Self {
+        let caps = driver.capabilities();
+        let mut sums = ChecksumCapabilities::default();
+        sums.ipv4 = software(caps.checksum.ipv4);
+        sums.udp = software(caps.checksum.udp);
+        #[allow(unreachable_patterns)] // other media exist only with other driver features
+        let mac = match driver.hardware_address() {
+            HardwareAddress::Ethernet(mac) => mac,
+            _ => [0; 6],
+        };
+        Pump {
+            mac,
+            sums,
+            neighbors: Neighbors::default(),
+            timer: None,
+            blocked: false,
+        }
+    }
+
+    /// One wake-up. Never inlined: `cargo xtask bench` names the link task's own work by it.
+    #[inline(never)]
+    fn poll<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        frames: &LinkFrames,
+        io: &dyn IoPort,
+    ) {
+        frames.set_link_state(driver.link_state(cx));
+        let me = io.interface();
+        let at = now();
+        for _ in 0..ROUNDS {
+            let received = self.receive(cx, driver, frames, io, &me, at);
+            let sent = self.send_stack_frames(cx, driver, frames);
+            let produced = self.produce(cx, driver, io, &me, at);
+            if !(received || sent || produced) {
+                break;
+            }
+        }
+        frames.register_link(cx.waker());
+        let moved = io.poll_deadline_moved(cx).is_ready();
+        if moved || !self.sleep_until(io.deadline(), cx) {
+            cx.waker().wake_by_ref();
+        }
+    }
+
+    /// Reads what the driver received; true if it read any frame.
+    fn receive<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        frames: &LinkFrames,
+        io: &dyn IoPort,
+        me: &Interface,
+        at: Instant,
+    ) -> bool {
+        let mut read = false;
+        let mut passed = false;
+        for _ in 0..RX_BURST {
+            // A full queue waits for the stack, which wakes this task when it takes a frame.
+            if frames.rx.is_full() {
+                break;
+            }
+            let Some((rx, _)) = driver.receive(cx) else {
+                break;
+            };
+            read = true;
+            passed |= rx.consume(|frame| self.ingest(frame, frames, io, me, at));
+        }
+        if passed {
+            frames.wake_stack();
+        }
+        read
+    }
+
+    /// One received frame: O->T data to the adapter, anything else to the stack (true).
+    fn ingest(
+        &mut self,
+        frame: &[u8],
+        frames: &LinkFrames,
+        io: &dyn IoPort,
+        me: &Interface,
+        at: Instant,
+    ) -> bool {
+        let seen = frame::inspect(frame, me.ip, &self.sums);
+        if let Some((ip, mac)) = seen.sender {
+            self.neighbors.learn(ip, mac);
+        }
+        let o_t = seen
+            .o_t
+            .and_then(|(from, range)| Some((from, frame.get(range)?)));
+        match o_t {
+            Some((from, data)) => {
+                consume(io, from, data, at);
+                false
+            }
+            None => {
+                // A frame longer than a queue slot is cut short, and the stack drops it.
+                let _ = frames.rx.push(frame.len(), |room| copy(room, frame));
+                true
+            }
+        }
+    }
+
+    /// Sends the frames the stack queued; true if it sent any.
+    fn send_stack_frames<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        frames: &LinkFrames,
+    ) -> bool {
+        let mut sent = false;
+        for _ in 0..TX_FRAMES {
+            if frames.tx.is_empty() {
+                break;
+            }
+            let Some(tx) = driver.transmit(cx) else {
+                break;
+            };
+            let _ = frames
+                .tx
+                .pop(|frame| tx.consume(frame.len(), |out| copy(out, frame)));
+            sent = true;
+        }
+        if sent {
+            frames.wake_stack();
+        }
+        sent
+    }
+
+    /// Sends every T->O datagram due at `at`; true if it sent or dropped any.
+    fn produce<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        io: &dyn IoPort,
+        me: &Interface,
+        at: Instant,
+    ) -> bool {
+        self.blocked = false;
+        let mut any = false;
+        // Bounded: each round sends or drops one datagram, and each producer is due once.
+        for _ in 0..MAX_CONNECTIONS.saturating_mul(2) {
+            let Some(due) = io.due(at) else {
+                break;
+            };
+            let Some(tx) = driver.transmit(cx) else {
+                self.blocked = true;
+                break;
+            };
+            any = true;
+            let to = *due.to.ip();
+            let hop = next_hop(to, me.ip, me.netmask, me.gateway);
+            let mac = if to.is_multicast() {
+                Some(frame::multicast_mac(to))
+            } else {
+                self.neighbors.get(to).or_else(|| self.neighbors.get(hop))
+            };
+            let Some(mac) = mac else {
+                // Nobody to send it to yet: dropped, and the next hop asked for by ARP.
+                io.write(due, at, None);
+                if self.neighbors.may_ask(at) {
+                    let from = (self.mac, me.ip);
+                    tx.consume(ARP_REQUEST_LEN, |buf| {
+                        frame::write_arp_request(buf, from, hop)
+                    });
+                }
+                continue;
+            };
+            let route = Route {
+                from: (self.mac, me.ip),
+                to: (mac, due.to),
+                ttl: if to.is_multicast() {
+                    io.multicast_ttl()
+                } else {
+                    UNICAST_TTL
+                },
+            };
+            let len = HEADERS_LEN.saturating_add(due.max_len);
+            tx.consume(len, |buf| self.write_t_o(buf, io, due, &route, at));
+        }
+        any
+    }
+
+    /// Writes the T->O datagram `due` into `buf`: the adapter's payload, then the headers.
+    fn write_t_o(&self, buf: &mut [u8], io: &dyn IoPort, due: IoDue, route: &Route, at: Instant) {
+        let Some(payload) = buf.get_mut(HEADERS_LEN..) else {
+            io.write(due, at, None);
+            return;
+        };
+        let len = io.write(due, at, Some(&mut *payload));
+        if len == 0 {
+            // The driver's buffer was short of the connection's size: dropped.
+            io.write(due, at, None);
+        }
+        // The device may fill less than the connection's size: the rest is padding.
+        if let Some(rest) = payload.get_mut(len..) {
+            rest.fill(0);
+        }
+        frame::write_t_o_headers(buf, route, len, &self.sums);
+    }
+
+    /// Arms the timer for `deadline`; false if it is due already and nothing blocks it.
+    fn sleep_until(&mut self, deadline: Option<Instant>, cx: &mut Context<'_>) -> bool {
+        let Some(at) = deadline else {
+            self.timer = None;
+            return true;
+        };
+        if self.blocked {
+            // Due, but waiting for the driver's room: its wake-up comes first.
+            return true;
+        }
+        let timer = match &mut self.timer {
+            Some((armed, timer)) if *armed == at => timer,
+            slot => &mut slot.insert((at, Timer::at(to_embassy(at)))).1,
+        };
+        Pin::new(timer).poll(cx).is_pending()
+    }
+}
+
+/// Hands one O->T datagram to the adapter. Never inlined: `cargo xtask bench` counts its
+/// calls as the Class 1 cycles of the emulated board.
+#[inline(never)]
+fn consume(io: &dyn IoPort, from: SocketAddrV4, data: &[u8], at: Instant) {
+    io.receive(from, data, at);
+}
+
+/// Copies `from` into `to` as far as both go.
+fn copy(to: &mut [u8], from: &[u8]) {
+    let n = to.len().min(from.len());
+    if let (Some(to), Some(from)) = (to.get_mut(..n), from.get(..n)) {
+        to.copy_from_slice(from);
+    }
+}
+
+/// What software does about a checksum the driver does `hardware` about.
+fn software(hardware: Checksum) -> Sums {
+    match hardware {
+        // The driver computes and checks it: software neither.
+        Checksum::None => Sums::None,
+        Checksum::Tx => Sums::Tx,
+        Checksum::Rx => Sums::Rx,
+        Checksum::Both => Sums::Both,
+    }
+}
+
+const _: () = assert!(RX_FRAMES >= 1 && TX_FRAMES >= 1);
