@@ -13,6 +13,7 @@
 //! the explicit-messaging side, and the TCP/IP stack keeps ARP, ICMP, IGMP, DHCP, TCP and
 //! UDP 44818 as before.
 
+mod checksum;
 mod frame;
 mod frames;
 mod io_port;

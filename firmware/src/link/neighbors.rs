@@ -20,6 +20,8 @@ pub(crate) struct Neighbors {
     entries: [Option<Entry>; NEIGHBORS],
     /// Learn count, to find the least recently learned entry.
     clock: u32,
+    /// The entry learned or found last (most frames come from the same few hosts).
+    last: usize,
     /// The last ARP request sent: when.
     asked: Option<Instant>,
 }
@@ -36,26 +38,30 @@ impl Neighbors {
     pub fn learn(&mut self, ip: Ipv4Addr, mac: [u8; 6]) {
         self.clock = self.clock.wrapping_add(1);
         let learned = self.clock;
-        let slot = match self
-            .entries
-            .iter()
-            .position(|e| e.is_some_and(|e| e.ip == ip))
-        {
+        let slot = match self.find(ip) {
             Some(i) => i,
             None => self.oldest(),
         };
         if let Some(e) = self.entries.get_mut(slot) {
             *e = Some(Entry { ip, mac, learned });
+            self.last = slot;
         }
     }
 
     /// The MAC address of `ip`'s frames, if any came.
-    pub fn get(&self, ip: Ipv4Addr) -> Option<[u8; 6]> {
-        self.entries
-            .iter()
-            .flatten()
-            .find(|e| e.ip == ip)
-            .map(|e| e.mac)
+    pub fn get(&mut self, ip: Ipv4Addr) -> Option<[u8; 6]> {
+        let i = self.find(ip)?;
+        self.last = i;
+        self.entries.get(i).copied().flatten().map(|e| e.mac)
+    }
+
+    /// The entry of `ip`: the last one used, else the first that matches.
+    fn find(&self, ip: Ipv4Addr) -> Option<usize> {
+        let is = |e: &Option<Entry>| e.is_some_and(|e| e.ip == ip);
+        if self.entries.get(self.last).is_some_and(is) {
+            return Some(self.last);
+        }
+        self.entries.iter().position(is)
     }
 
     /// Whether an ARP request may go out at `now` (none in the last 100 ms); notes it did.

@@ -22,8 +22,9 @@ use super::io_port::{Interface, IoPort};
 use super::neighbors::{next_hop, Neighbors};
 use crate::clock::{now, to_embassy};
 
-/// Rounds of receive, send and produce in one wake-up, each handling what is ready then.
-const ROUNDS: usize = 4;
+/// Passes of receive, send and produce in one wake-up at most (then the task yields to the
+/// others and runs again).
+const PASSES: usize = 4;
 /// Frames read from the driver in one round.
 const RX_BURST: usize = 8;
 
@@ -82,23 +83,26 @@ impl Pump {
     ) {
         frames.set_link_state(driver.link_state(cx));
         let me = io.interface();
-        let at = now();
-        for _ in 0..ROUNDS {
-            let received = self.receive(cx, driver, frames, io, &me, at);
-            let sent = self.send_stack_frames(cx, driver, frames);
-            let produced = self.produce(cx, driver, io, &me, at);
-            if !(received || sent || produced) {
+        // Each pass handles what is ready; another runs only if the driver had more to read
+        // than a burst or a production came due meanwhile (an input the O->T data changed).
+        let mut settled = false;
+        for _ in 0..PASSES {
+            let at = now();
+            let more_frames = self.receive(cx, driver, frames, io, &me, at);
+            self.send_stack_frames(cx, driver, frames);
+            self.produce(cx, driver, io, &me, at);
+            settled = !more_frames && self.sleep_until(io.deadline(), cx);
+            if settled {
                 break;
             }
         }
         frames.register_link(cx.waker());
-        let moved = io.poll_deadline_moved(cx).is_ready();
-        if moved || !self.sleep_until(io.deadline(), cx) {
+        if io.poll_deadline_moved(cx).is_ready() || !settled {
             cx.waker().wake_by_ref();
         }
     }
 
-    /// Reads what the driver received; true if it read any frame.
+    /// Reads what the driver received; true if it read a whole burst (more may wait).
     fn receive<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -108,23 +112,21 @@ impl Pump {
         me: &Interface,
         at: Instant,
     ) -> bool {
-        let mut read = false;
         let mut passed = false;
+        let mut whole_burst = true;
         for _ in 0..RX_BURST {
             // A full queue waits for the stack, which wakes this task when it takes a frame.
-            if frames.rx.is_full() {
-                break;
-            }
-            let Some((rx, _)) = driver.receive(cx) else {
+            let frame = (!frames.rx.is_full()).then(|| driver.receive(cx)).flatten();
+            let Some((rx, _)) = frame else {
+                whole_burst = false;
                 break;
             };
-            read = true;
             passed |= rx.consume(|frame| self.ingest(frame, frames, io, me, at));
         }
         if passed {
             frames.wake_stack();
         }
-        read
+        whole_burst
     }
 
     /// One received frame: O->T data to the adapter, anything else to the stack (true).
@@ -156,13 +158,13 @@ impl Pump {
         }
     }
 
-    /// Sends the frames the stack queued; true if it sent any.
+    /// Sends the frames the stack queued.
     fn send_stack_frames<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
         driver: &mut D,
         frames: &LinkFrames,
-    ) -> bool {
+    ) {
         let mut sent = false;
         for _ in 0..TX_FRAMES {
             if frames.tx.is_empty() {
@@ -179,10 +181,9 @@ impl Pump {
         if sent {
             frames.wake_stack();
         }
-        sent
     }
 
-    /// Sends every T->O datagram due at `at`; true if it sent or dropped any.
+    /// Sends (or drops) every T->O datagram due at `at`.
     fn produce<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -190,9 +191,8 @@ impl Pump {
         io: &dyn IoPort,
         me: &Interface,
         at: Instant,
-    ) -> bool {
+    ) {
         self.blocked = false;
-        let mut any = false;
         // Bounded: each round sends or drops one datagram, and each producer is due once.
         for _ in 0..MAX_CONNECTIONS.saturating_mul(2) {
             let Some(due) = io.due(at) else {
@@ -202,7 +202,6 @@ impl Pump {
                 self.blocked = true;
                 break;
             };
-            any = true;
             let to = *due.to.ip();
             let hop = next_hop(to, me.ip, me.netmask, me.gateway);
             let mac = if to.is_multicast() {
@@ -233,7 +232,6 @@ impl Pump {
             let len = HEADERS_LEN.saturating_add(due.max_len);
             tx.consume(len, |buf| self.write_t_o(buf, io, due, &route, at));
         }
-        any
     }
 
     /// Writes the T->O datagram `due` into `buf`: the adapter's payload, then the headers.
@@ -254,7 +252,8 @@ impl Pump {
         frame::write_t_o_headers(buf, route, len, &self.sums);
     }
 
-    /// Arms the timer for `deadline`; false if it is due already and nothing blocks it.
+    /// Arms the timer for `deadline`; false if it is due already and nothing blocks it (the
+    /// caller then runs another pass).
     fn sleep_until(&mut self, deadline: Option<Instant>, cx: &mut Context<'_>) -> bool {
         let Some(at) = deadline else {
             self.timer = None;
@@ -264,11 +263,17 @@ impl Pump {
             // Due, but waiting for the driver's room: its wake-up comes first.
             return true;
         }
-        let timer = match &mut self.timer {
-            Some((armed, timer)) if *armed == at => timer,
-            slot => &mut slot.insert((at, Timer::at(to_embassy(at)))).1,
-        };
-        Pin::new(timer).poll(cx).is_pending()
+        if now() >= at {
+            return false;
+        }
+        match &mut self.timer {
+            // Armed for this deadline already, and not yet fired: the wake-up stands.
+            Some((armed, _)) if *armed == at => true,
+            slot => {
+                let (_, timer) = slot.insert((at, Timer::at(to_embassy(at))));
+                Pin::new(timer).poll(cx).is_pending()
+            }
+        }
     }
 }
 

@@ -230,10 +230,21 @@ impl TxToken for Tx<'_> {
         let result = f(frame);
         LAN.write(TX_DATA, tx_command_a(len));
         LAN.write(TX_DATA, tx_command_b(len));
-        for chunk in frame.chunks(4) {
-            let mut word = [0u8; 4];
-            word[..chunk.len()].copy_from_slice(chunk);
-            LAN.write(TX_DATA, u32::from_le_bytes(word));
+        // Whole words, then the last one padded (no variable-length copy per word).
+        let mut words = frame.chunks_exact(4);
+        for word in &mut words {
+            LAN.write(
+                TX_DATA,
+                u32::from_le_bytes([word[0], word[1], word[2], word[3]]),
+            );
+        }
+        let rest = words.remainder();
+        if !rest.is_empty() {
+            let mut last = [0u8; 4];
+            for (to, from) in last.iter_mut().zip(rest) {
+                *to = *from;
+            }
+            LAN.write(TX_DATA, u32::from_le_bytes(last));
         }
         result
     }
