@@ -91,7 +91,7 @@ impl Pump {
             let more_frames = self.receive(cx, driver, frames, io, &me, at);
             self.send_stack_frames(cx, driver, frames);
             self.produce(cx, driver, io, &me, at);
-            settled = !more_frames && self.sleep_until(io.deadline(), cx);
+            settled = !more_frames && self.sleep_until(io.deadline(), at, cx);
             if settled {
                 break;
             }
@@ -252,10 +252,17 @@ impl Pump {
         frame::write_t_o_headers(buf, route, len, &self.sums);
     }
 
-    /// Arms the timer for `deadline`; false if it is due already and nothing blocks it (the
-    /// caller then runs another pass).
-    fn sleep_until(&mut self, deadline: Option<Instant>, cx: &mut Context<'_>) -> bool {
-        let Some(at) = deadline else {
+    /// Arms the timer for `deadline`; false if it is due already at `at` (the pass's start)
+    /// and nothing blocks it (the caller then runs another pass). A deadline passed during
+    /// the pass is caught by its timer: one armed before fires and wakes the task, a new one
+    /// is found expired when polled.
+    fn sleep_until(
+        &mut self,
+        deadline: Option<Instant>,
+        at: Instant,
+        cx: &mut Context<'_>,
+    ) -> bool {
+        let Some(deadline) = deadline else {
             self.timer = None;
             return true;
         };
@@ -263,14 +270,14 @@ impl Pump {
             // Due, but waiting for the driver's room: its wake-up comes first.
             return true;
         }
-        if now() >= at {
+        if at >= deadline {
             return false;
         }
         match &mut self.timer {
             // Armed for this deadline already, and not yet fired: the wake-up stands.
-            Some((armed, _)) if *armed == at => true,
+            Some((armed, _)) if *armed == deadline => true,
             slot => {
-                let (_, timer) = slot.insert((at, Timer::at(to_embassy(at))));
+                let (_, timer) = slot.insert((deadline, Timer::at(to_embassy(deadline))));
                 Pin::new(timer).poll(cx).is_pending()
             }
         }

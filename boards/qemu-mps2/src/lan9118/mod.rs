@@ -164,11 +164,15 @@ impl Driver for Lan9118 {
     type TxToken<'a> = Tx<'a>;
 
     fn receive(&mut self, cx: &mut Context<'_>) -> Option<(Rx<'_>, Tx<'_>)> {
-        WAKER.register(cx.waker());
-        if !self.tx_ready() {
-            return None;
-        }
-        let len = self.pop_frame()?;
+        // The waker is registered only when there is nothing to return, before looking
+        // again: a frame that arrives in between still wakes the task.
+        let len = match self.tx_ready().then(|| self.pop_frame()).flatten() {
+            Some(len) => len,
+            None => {
+                WAKER.register(cx.waker());
+                self.tx_ready().then(|| self.pop_frame()).flatten()?
+            }
+        };
         Some((
             Rx {
                 frame: &mut self.rx[..len],
@@ -178,8 +182,13 @@ impl Driver for Lan9118 {
     }
 
     fn transmit(&mut self, cx: &mut Context<'_>) -> Option<Tx<'_>> {
-        WAKER.register(cx.waker());
-        self.tx_ready().then_some(Tx { buf: &mut self.tx })
+        if !self.tx_ready() {
+            WAKER.register(cx.waker());
+            if !self.tx_ready() {
+                return None;
+            }
+        }
+        Some(Tx { buf: &mut self.tx })
     }
 
     fn link_state(&mut self, cx: &mut Context<'_>) -> LinkState {
