@@ -5,7 +5,7 @@ use core::net::{Ipv4Addr, SocketAddrV4};
 use crate::cip::context::RequestContext;
 use crate::cip::{Ctx, ObjectState};
 use crate::config::{MAX_ENCAP_FRAME, MAX_SESSIONS};
-use crate::device::{CloseReason, Device};
+use crate::device::{CloseReason, Device, InputChanges};
 use crate::encap::list_identity::DelayedReplies;
 use crate::encap::session::{Need, Sessions};
 use crate::io::consume::{self, Accepted, Discard};
@@ -326,7 +326,7 @@ impl<D: Device> Adapter<D> {
     /// `None`, as with [`Self::poll_io`].
     pub fn io_due(&mut self, now: Instant) -> Option<IoDue> {
         self.connections.expire(now, &mut self.device);
-        produce::next_due(&mut self.connections, now)
+        produce::next_due(&self.connections, now)
     }
 
     /// Writes the T->O datagram `due` (from [`Self::io_due`], with no other call between)
@@ -407,21 +407,25 @@ impl<D: Device> Adapter<D> {
         self.apply_input_changes();
     }
 
-    /// Triggers production of the input assemblies the device says changed.
+    /// Triggers production of the input assemblies the device says changed: a look at the
+    /// device's set on every datagram and request, the triggering only when it holds some.
+    #[inline]
     fn apply_input_changes(&mut self) {
-        let Some(changes) = self.device.input_changes() else {
-            return;
-        };
-        if changes.is_empty() {
-            return;
+        if let Some(changes) = self.device.input_changes().filter(|c| !c.is_empty()) {
+            trigger_changes(&mut self.connections, changes);
         }
-        if changes.all() {
-            produce::trigger_all(&mut self.connections);
-        } else {
-            for instance in changes.iter() {
-                produce::trigger(&mut self.connections, instance);
-            }
-        }
-        changes.clear();
     }
+}
+
+/// Triggers production of the input assemblies in `changes`, and clears it.
+#[inline(never)]
+fn trigger_changes(connections: &mut ConnectionTable, changes: &mut InputChanges) {
+    if changes.all() {
+        produce::trigger_all(connections);
+    } else {
+        for instance in changes.iter() {
+            produce::trigger(connections, instance);
+        }
+    }
+    changes.clear();
 }

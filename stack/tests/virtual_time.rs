@@ -9,8 +9,9 @@ use std::net::SocketAddrV4;
 use common::*;
 use enip_stack::device::{CloseReason, ConnectionEvent};
 use enip_stack::io::consume::{Accepted, Discard};
-use enip_stack::wire::forward_open::ForwardOpenReply;
+use enip_stack::wire::forward_open::{ForwardClose, ForwardOpenReply};
 use enip_stack::wire::io_datagram::Packet;
+use enip_stack::wire::Writer;
 use enip_stack::Instant;
 
 const RPI: u64 = 1_000;
@@ -318,4 +319,72 @@ fn io_due_then_write_io_builds_in_place_and_skips_on_request() {
         h.adapter.write_io(stale, Instant(2 * RPI), Some(&mut buf)),
         0
     );
+}
+
+/// Producers of different RPIs each keep their own grid, whichever comes first, and equal
+/// deadlines go in slot order; a closed producer leaves the others' grids as they were and a
+/// new one in its slot starts at once; `poll_io` with a buffer too short for the datagram
+/// changes nothing.
+#[test]
+fn mixed_rpis_keep_their_grids_through_a_close_and_an_open() {
+    let mut h = Harness::new();
+    // (serial, RPI): serial n opens into slot n - 1.
+    let open = |h: &mut Harness, serial: u16, rpi: u32| {
+        let path = io_path(None, 110 + u32::from(serial), 100 + u32::from(serial), None);
+        let (g, _, data) = status(&h.forward_open(&fo(serial, &path, rpi)));
+        assert_eq!(g, 0);
+        (
+            ForwardOpenReply::parse(&data).unwrap().t_o_connection_id,
+            rpi,
+        )
+    };
+    let mut live: Vec<(u32, u32)> = [(1, 3_000), (2, 1_000), (3, 7_000), (4, 1_000)]
+        .into_iter()
+        .map(|(serial, rpi)| open(&mut h, serial, rpi))
+        .collect();
+    let mut out = [0u8; 128];
+    assert_eq!(h.adapter.poll_io(Instant(0), &mut out[..51]), None);
+    assert_eq!(h.adapter.next_deadline(), Some(Instant(0)), "still due");
+
+    // Runs the adapter to `end` at its own deadlines; every production as (time, T->O ID).
+    let mut run = |h: &mut Harness, end: u64| {
+        let mut produced = Vec::new();
+        while let Some(at) = h.adapter.next_deadline().filter(|d| d.as_micros() < end) {
+            while let Some((_, len)) = h.adapter.poll_io(at, &mut out) {
+                let id = Packet::new_checked(&out[..len]).unwrap().connection_id();
+                produced.push((at.as_micros(), id));
+            }
+        }
+        produced
+    };
+    // Each (ID, RPI) of `live`, in slot order, on its grid from `start`, between `from` and `to`.
+    let expected = |live: &[(u32, u32)], start: &[u64], from: u64, to: u64| {
+        let mut e = Vec::new();
+        for t in (from..to).step_by(1_000) {
+            for (&(id, rpi), &s) in live.iter().zip(start) {
+                if t >= s && (t - s) % u64::from(rpi) == 0 {
+                    e.push((t, id));
+                }
+            }
+        }
+        e
+    };
+    assert_eq!(run(&mut h, 21_000), expected(&live, &[0; 4], 0, 21_000));
+
+    // The 1 ms producer in slot 1 closes at 21 ms; a 2 ms one opens into its slot.
+    let fc = ForwardClose {
+        priority_tick: 0x0A,
+        timeout_ticks: 0x0E,
+        triad: fo(2, &[], 1_000).triad,
+        path: &[],
+    };
+    let mut data = [0u8; 32];
+    let mut w = Writer::new(&mut data);
+    fc.emit(&mut w).unwrap();
+    let n = w.len();
+    h.now = Instant(21_000);
+    assert_eq!(status(&h.request(0x4E, &cm_path(), &data[..n])).0, 0);
+    live[1] = open(&mut h, 5, 2_000);
+    let start = [0, 21_000, 0, 0];
+    assert_eq!(run(&mut h, 50_000), expected(&live, &start, 21_000, 50_000));
 }

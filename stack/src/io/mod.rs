@@ -6,6 +6,7 @@ pub mod consume;
 pub mod explicit;
 pub mod open;
 pub mod produce;
+mod schedule;
 pub mod status;
 pub mod table;
 

@@ -7,8 +7,7 @@ use super::connection::{Producer, Transport, Trigger};
 use super::table::ConnectionTable;
 use crate::device::Device;
 use crate::time::{Duration, Instant};
-use crate::wire::bytes::put_u16;
-use crate::wire::io_datagram::{emit_header, HEADER_LEN, SEQUENCE_LEN};
+use crate::wire::io_datagram::{sequenced_header, HEADER_LEN, SEQUENCE_LEN};
 
 /// The first deadline on the grid `previous + k * rpi` that is after `now` (k >= 1).
 fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
@@ -36,33 +35,27 @@ pub struct IoDue {
     pub max_len: usize,
     slot: usize,
     t_o_id: u32,
-    /// When the next of the other producers is due.
-    others: Instant,
-    /// The table's production bound when this was picked.
-    bound: Instant,
 }
 
-/// The most overdue producer at `now`, or `None` if none is due (the table then remembers
-/// when one will be).
-pub fn next_due(table: &mut ConnectionTable, now: Instant) -> Option<IoDue> {
-    if now < table.production_bound {
-        return None;
-    }
-    // The most overdue producer, and when the next of the others is due.
-    let (slot, first, others) = table.earliest_due();
-    if first > now {
-        table.production_bound = first;
+/// Length of a datagram carrying `size` bytes of application data.
+fn datagram_len(size: u16) -> usize {
+    // A u16 and a small constant: no overflow.
+    (HEADER_LEN + SEQUENCE_LEN).saturating_add(usize::from(size))
+}
+
+/// The most overdue producer at `now`, or `None` if none is due.
+pub fn next_due(table: &ConnectionTable, now: Instant) -> Option<IoDue> {
+    let (slot, at) = table.next_producer();
+    if now < at {
         return None;
     }
     let conn = table.get(slot)?;
     let p = conn.producer()?;
     Some(IoDue {
         to: p.destination,
-        max_len: (HEADER_LEN + SEQUENCE_LEN).saturating_add(usize::from(p.size)),
+        max_len: datagram_len(p.size),
         slot,
         t_o_id: conn.t_o_id,
-        others,
-        bound: table.production_bound,
     })
 }
 
@@ -80,7 +73,6 @@ pub fn write<D: Device>(
     if out.as_ref().is_some_and(|o| o.len() < due.max_len) {
         return 0;
     }
-    let bound = table.production_bound;
     let Some(conn) = table.get_mut(due.slot).filter(|c| c.t_o_id == due.t_o_id) else {
         return 0;
     };
@@ -91,13 +83,59 @@ pub fn write<D: Device>(
     else {
         return 0;
     };
+    let len = produce(device, p, due.t_o_id, rpi, now, out);
+    let due_at = p.due_at();
+    table.set_due(due.slot, due_at);
+    len
+}
+
+/// Writes the most overdue datagram into `out` and returns where it goes and its length;
+/// `None` if nothing is due at `now` (or `out` is too short for it).
+pub fn produce_due<D: Device>(
+    table: &mut ConnectionTable,
+    device: &mut D,
+    now: Instant,
+    out: &mut [u8],
+) -> Option<(SocketAddrV4, usize)> {
+    let (slot, at) = table.next_producer();
+    if now < at {
+        return None;
+    }
+    let conn = table.get_mut(slot)?;
+    let (rpi, t_o_id) = (conn.t_o_rpi, conn.t_o_id);
+    let Transport::Class1 {
+        producer: Some(p), ..
+    } = &mut conn.transport
+    else {
+        return None;
+    };
+    if out.len() < datagram_len(p.size) {
+        return None;
+    }
+    let to = p.destination;
+    let len = produce(device, p, t_o_id, rpi, now, Some(out));
+    let due_at = p.due_at();
+    table.set_due(slot, due_at);
+    (len > 0).then_some((to, len))
+}
+
+/// One production of `p` at `now`: counts it, builds its datagram into `out` (if any, of at
+/// least its largest length) and moves it to its next deadline; returns the datagram's length.
+fn produce<D: Device>(
+    device: &mut D,
+    p: &mut Producer,
+    t_o_id: u32,
+    rpi: u32,
+    now: Instant,
+    out: Option<&mut [u8]>,
+) -> usize {
     let triggered = p.triggered;
     if p.trigger == Trigger::Cyclic || triggered {
         p.sequence = p.sequence.wrapping_add(1);
     }
     p.encap_sequence = p.encap_sequence.wrapping_add(1);
     let len = match out {
-        Some(out) => emit(device, p, due.t_o_id, out),
+        Some(out) => emit(device, p, t_o_id, out),
         None => 0,
     };
     if triggered {
@@ -107,22 +145,16 @@ pub fn write<D: Device>(
     } else {
         p.next = advance(p.next, rpi, now);
     }
-    let due_at = p.due_at();
-    let exact = due.others.min(due_at);
-    // A connection opened or a trigger since `due` was picked lowered the bound: keep it.
-    table.production_bound = if bound == due.bound {
-        exact
-    } else {
-        bound.min(exact)
-    };
-    table.set_due(due.slot, due_at);
     len
 }
 
 /// Builds the datagram of producer `p` (already counted) into `out`; returns its length.
+#[inline(always)]
 fn emit<D: Device>(device: &mut D, p: &Producer, t_o_id: u32, out: &mut [u8]) -> usize {
-    let data_at = HEADER_LEN + SEQUENCE_LEN;
-    let Some(data) = out.get_mut(data_at..data_at.saturating_add(usize::from(p.size))) else {
+    let Some((head, rest)) = out.split_first_chunk_mut::<{ HEADER_LEN + SEQUENCE_LEN }>() else {
+        return 0;
+    };
+    let Some(data) = rest.get_mut(..usize::from(p.size)) else {
         return 0;
     };
     // The device's length is honoured (never more than the connection's size); an error
@@ -134,26 +166,12 @@ fn emit<D: Device>(device: &mut D, p: &Producer, t_o_id: u32, out: &mut [u8]) ->
             data.len()
         }
     };
-    // `size` is at most the connection's u16 size: no overflow in these sums.
-    let connected = SEQUENCE_LEN.saturating_add(size);
-    if emit_header(out, t_o_id, p.encap_sequence, connected).is_err() {
+    // `size` is at most the connection's u16 size.
+    let Ok(connected) = u16::try_from(SEQUENCE_LEN.saturating_add(size)) else {
         return 0;
-    }
-    put_u16(out, HEADER_LEN, p.sequence);
-    data_at.saturating_add(size)
-}
-
-/// Writes the most overdue datagram into `out` and returns where it goes and its length;
-/// `None` if nothing is due at `now` (or `out` is too short for it).
-pub fn produce_due<D: Device>(
-    table: &mut ConnectionTable,
-    device: &mut D,
-    now: Instant,
-    out: &mut [u8],
-) -> Option<(SocketAddrV4, usize)> {
-    let due = next_due(table, now)?;
-    let len = write(table, device, due, now, Some(out));
-    (len > 0).then_some((due.to, len))
+    };
+    *head = sequenced_header(t_o_id, p.encap_sequence, connected, p.sequence);
+    head.len().saturating_add(size)
 }
 
 /// Marks the producers of assembly `instance` with a change-of-state or application trigger

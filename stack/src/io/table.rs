@@ -1,6 +1,7 @@
 //! The fixed-size connection table: lookup, ID allocation, closing with dependants.
 
 use super::connection::{Connection, Kind, Producer, Transport};
+use super::schedule::Schedule;
 use crate::config::{MAX_CONNECTIONS, MAX_EXPLICIT_CONNECTED};
 use crate::device::{CloseReason, ConnectionEvent, ConnectionInfo, Device};
 use crate::time::Instant;
@@ -37,19 +38,16 @@ pub struct ConnectionTable {
     /// Exclusive-owner connections closed by their watchdog so far (wrapping).
     owner_timeouts: u32,
     timeouts: u16,
-    /// Per slot: when its producer is next due (`Instant::NEVER` for none). Kept beside the
-    /// connections so the earliest deadline is a scan of one small array.
-    due: [Instant; MAX_CONNECTIONS],
+    /// When each producer is next due, and which comes first.
+    schedule: Schedule,
     /// Per slot: when its watchdog fires (`Instant::NEVER` for an empty slot); mirrors
     /// [`Connection::expires`], kept by `insert` and [`ConnectionTable::set_expiry`].
     expiry: [Instant; MAX_CONNECTIONS],
     /// No watchdog fires before this instant: a lower bound that every move of an expiry
-    /// keeps, so [`ConnectionTable::expire`] looks at the slots only once it is reached.
+    /// keeps, so [`ConnectionTable::expire`] looks at the slots only once it is reached, and
+    /// [`ConnectionTable::next_deadline`] only while it is not after the next production.
     expiry_bound: Instant,
-    /// No producer is due before this instant: exact after each production, lowered when a
-    /// producer's due time moves earlier.
-    pub(crate) production_bound: Instant,
-    /// One past the highest occupied slot: the deadline scans stop there.
+    /// One past the highest occupied slot: the watchdog scans stop there.
     used: usize,
     /// Some connection produces to a multicast group.
     multicast: bool,
@@ -65,10 +63,9 @@ impl ConnectionTable {
             replies: [const { heapless::Vec::new() }; MAX_CONNECTIONS],
             owner_timeouts: 0,
             timeouts: 0,
-            due: [Instant::NEVER; MAX_CONNECTIONS],
+            schedule: Schedule::new(),
             expiry: [Instant::NEVER; MAX_CONNECTIONS],
             expiry_bound: Instant::NEVER,
-            production_bound: Instant::NEVER,
             used: 0,
             multicast: false,
         }
@@ -139,26 +136,14 @@ impl ConnectionTable {
         }
         self.expiry_bound = self.expiry_bound.min(at);
     }
-    /// The producer in `slot` is next due `at` (produced, triggered, opened).
+    /// The producer in `slot` is next due `at` (produced, triggered, opened, closed).
     pub(crate) fn set_due(&mut self, slot: usize, at: Instant) {
-        if let Some(d) = self.due.get_mut(slot) {
-            *d = at;
-        }
-        self.production_bound = self.production_bound.min(at);
+        self.schedule.set(slot, at);
     }
-    /// The slot whose producer is due first with its time, and when the next of the others
-    /// is due.
-    pub(crate) fn earliest_due(&self) -> (usize, Instant, Instant) {
-        let (mut slot, mut first, mut second) = (0, Instant::NEVER, Instant::NEVER);
-        let used = self.due.get(..self.used).unwrap_or(&self.due);
-        for (i, &at) in used.iter().enumerate() {
-            if at < first {
-                (slot, first, second) = (i, at, first);
-            } else if at < second {
-                second = at;
-            }
-        }
-        (slot, first, second)
+    /// The producer due first, and when: the lowest slot of the earliest deadline
+    /// (`Instant::NEVER` if none produces).
+    pub(crate) fn next_producer(&self) -> (usize, Instant) {
+        self.schedule.first()
     }
     /// The slot [`ConnectionTable::insert`] will use next, if one is free.
     pub fn free_slot(&self) -> Option<usize> {
@@ -222,9 +207,15 @@ impl ConnectionTable {
     }
     /// The earliest watchdog expiry or production deadline.
     pub fn next_deadline(&self) -> Option<Instant> {
-        let due = self.due.get(..self.used).unwrap_or(&self.due);
-        let expiry = self.expiry.get(..self.used).unwrap_or(&self.expiry);
-        let at = due.iter().chain(expiry).copied().min()?;
+        // No watchdog fires before `expiry_bound`: while that is after the next production,
+        // the production is the answer and the expiries need no look.
+        let (_, production) = self.schedule.first();
+        let at = if production < self.expiry_bound {
+            production
+        } else {
+            let expiry = self.expiry.get(..self.used).unwrap_or(&self.expiry);
+            expiry.iter().fold(production, |a, &b| a.min(b))
+        };
         (at != Instant::NEVER).then_some(at)
     }
     /// Closes the connection in `slot` and the listen-only connections that follow its
@@ -233,7 +224,7 @@ impl ConnectionTable {
         let Some(conn) = self.slots.get_mut(slot).and_then(Option::take) else {
             return;
         };
-        Self::clear_deadlines(&mut self.due, &mut self.expiry, slot);
+        self.clear_deadlines(slot);
         info!(
             "connection {} closed ({:?} from {}): {}",
             slot,
@@ -247,12 +238,12 @@ impl ConnectionTable {
         ));
         let had_owner = !self.owned.is_empty();
         if conn.producer().is_some() {
-            for (i, s) in self.slots.iter_mut().enumerate() {
-                let follows = s.as_ref().is_some_and(|c| {
+            for i in self.slots_in_use() {
+                let follows = |c: &mut Connection| {
                     c.kind == Kind::ListenOnly && c.t_o_id == conn.t_o_id && c.producer().is_none()
-                });
-                if let Some(c) = s.take_if(|_| follows) {
-                    Self::clear_deadlines(&mut self.due, &mut self.expiry, i);
+                };
+                if let Some(c) = self.slots.get_mut(i).and_then(|s| s.take_if(follows)) {
+                    self.clear_deadlines(i);
                     info!(
                         "connection {} closed: {}",
                         i,
@@ -357,14 +348,11 @@ impl ConnectionTable {
     }
 
     /// An emptied slot is never due and never expires.
-    fn clear_deadlines(
-        due: &mut [Instant; MAX_CONNECTIONS],
-        expiry: &mut [Instant; MAX_CONNECTIONS],
-        slot: usize,
-    ) {
-        if let (Some(d), Some(e)) = (due.get_mut(slot), expiry.get_mut(slot)) {
-            (*d, *e) = (Instant::NEVER, Instant::NEVER);
+    fn clear_deadlines(&mut self, slot: usize) {
+        if let Some(e) = self.expiry.get_mut(slot) {
+            *e = Instant::NEVER;
         }
+        self.set_due(slot, Instant::NEVER);
     }
     /// Recomputes what the open connections add up to (after an open or a close): the owned
     /// outputs, and whether any produces multicast.

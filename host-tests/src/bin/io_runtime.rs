@@ -1,0 +1,68 @@
+//! `io_runtime N`: drives the sans-IO adapter with the generic profile through N Class 1
+//! cycles the way the firmware runtime (`enip_firmware`'s I/O loop) does, each entry point
+//! called out of line: an O->T datagram wakes the loop (`io_receive`, then `io_due` finding
+//! nothing due, then the queries of every loop: `io_deadline`, the watchdog count,
+//! `multicast_group`, `multicast_ttl`), and the production deadline wakes it (`io_due`,
+//! `write_io` into the transmit buffer, `io_due` again, the queries). Run under callgrind
+//! like `io_cycle` (two runs of different N) for the stack's instructions per cycle inside a
+//! running adapter.
+
+use std::hint::black_box;
+
+use enip_firmware::profiles::generic::Generic;
+use enip_stack::{Adapter, Instant};
+use host_tests::cycle::{exclusive_owner, o_t_datagram, scanner_address, RPI_US};
+
+/// The queries the runtime makes on every pass of its loop.
+#[inline(never)]
+fn queries(a: &mut Adapter<Generic>) {
+    black_box(a.io_deadline());
+    black_box(a.connections().timeouts());
+    black_box(a.multicast_group());
+    black_box(a.multicast_ttl());
+}
+
+/// One O->T datagram handed to the adapter.
+#[inline(never)]
+fn receive(a: &mut Adapter<Generic>, rx: &[u8], now: Instant) {
+    let _ = black_box(a.io_receive(scanner_address(), black_box(rx), now));
+}
+
+/// Every T->O datagram due at `now`, each built into the transmit buffer `tx`; how many.
+#[inline(never)]
+fn produce(a: &mut Adapter<Generic>, now: Instant, tx: &mut [u8]) -> u64 {
+    let mut n = 0;
+    while let Some(due) = a.io_due(now) {
+        let len = a.write_io(due, now, tx.get_mut(..due.max_len));
+        black_box(&tx[..len]);
+        n += 1;
+    }
+    n
+}
+
+fn main() {
+    let cycles: u64 = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(1_000_000);
+    let (mut scanner, o_t) = exclusive_owner();
+    let adapter = scanner.adapter_mut();
+    let mut rx = [0u8; 64];
+    let n = o_t_datagram(&mut rx, o_t);
+    let mut tx = [0u8; 128];
+    let mut produced = 0u64;
+    for k in 1..=cycles {
+        // The O->T datagram arrives half-way between two productions.
+        let received = Instant(k * RPI_US - RPI_US / 2);
+        rx[10..14].copy_from_slice(&(k as u32).to_le_bytes());
+        rx[18..20].copy_from_slice(&(k as u16).to_le_bytes());
+        receive(adapter, &rx[..n], received);
+        produced += produce(adapter, received, &mut tx);
+        queries(adapter);
+        let due = Instant(k * RPI_US);
+        produced += produce(adapter, due, &mut tx);
+        queries(adapter);
+    }
+    assert!(produced >= cycles, "every cycle produces");
+    println!("{{\"cycles\":{cycles},\"produced\":{produced}}}");
+}
