@@ -15,28 +15,21 @@
 use std::fs;
 use std::process::{Command, Stdio};
 
+use crate::bench_scale::Scale;
 use crate::util::{self, cargo, err, output, run, Result};
 use enip_lab::netns::BOARD_IP;
 use enip_lab::rig::{Board, Options, Rig};
 use enip_lab::scanner::{self as scanner_run, ScannerRun};
 
-/// Cycles of the short and long callgrind runs.
-const CALLGRIND_CYCLES: (u64, u64) = (1_000, 11_000);
-/// Cycles of each native timing run.
-const NATIVE_CYCLES: u64 = 2_000_000;
-/// The TAP run: connections, RPI and duration.
+/// The TAP run: connections and RPI (its length is the [`Scale`]'s).
 const TAP_CONNECTIONS: u32 = 10;
 const TAP_RPI_US: u32 = 1_000;
-const TAP_SECONDS: u32 = 60;
 /// The TAP run's watchdog: multiplier code 3 is x32, 32 ms at a 1 ms RPI. This machine's own
 /// scheduling stalls reach 15-20 ms (see the timer baseline), which a x16 watchdog mistakes
 /// for a dead originator.
 const TAP_MULTIPLIER: &str = "3";
-/// Seconds of the timer baseline.
-const BASELINE_SECONDS: &str = "10";
-
-/// Runs every benchmark and writes the report.
-pub fn run_all() -> Result {
+/// Runs every benchmark at `scale` and writes the report.
+pub fn run_all(scale: Scale) -> Result {
     crate::footprint::footprint()?;
     // Two builds: together, cargo would build the stack with the host board's `log` feature
     // for the drivers too, and the counts are the stack's as a device builds it by default.
@@ -46,34 +39,46 @@ pub fn run_all() -> Result {
     let cycle = bin.join("io_cycle");
     let cycle = cycle.to_str().unwrap_or("io_cycle");
 
-    let (short, long, per_cycle) = per_iteration(cycle)?;
-    let explicit = bin.join("explicit_cycle");
-    let explicit = per_iteration(explicit.to_str().unwrap_or("explicit_cycle"))?;
-
-    let mut ns: Vec<f64> = (0..3).map(|_| native_ns(cycle)).collect::<Result<_>>()?;
-    ns.sort_by(f64::total_cmp);
-    let ns_median = ns[1];
-
-    let baseline = output(Command::new(bin.join("timer_baseline")).arg(BASELINE_SECONDS))
-        .ok_or_else(|| util::Error("timer_baseline failed".into()))?;
-    let tap = tap_run(&bin)?;
-    let qemu = crate::bench_qemu::run_all()?;
-    let host_runtime = crate::bench_host::measure()?;
-
-    let dir = util::target_dir().join("bench");
+    let dir = scale.dir();
     fs::create_dir_all(&dir).map_err(|e| util::Error(format!("{}: {e}", dir.display())))?;
+    let (short, long, per_cycle) = per_iteration(cycle, scale)?;
+    let explicit = bin.join("explicit_cycle");
+    let explicit = per_iteration(explicit.to_str().unwrap_or("explicit_cycle"), scale)?;
+    let in_runtime = bin.join("io_runtime");
+    let in_runtime = per_iteration(in_runtime.to_str().unwrap_or("io_runtime"), scale)?;
+
+    let (native_cycles, native_runs) = scale.native();
+    let mut ns: Vec<f64> = (0..native_runs)
+        .map(|_| native_ns(cycle, native_cycles))
+        .collect::<Result<_>>()?;
+    ns.sort_by(f64::total_cmp);
+    let ns_median = ns[ns.len() / 2];
+
+    let (tap_seconds, baseline_seconds) = scale.tap_seconds();
+    let baseline =
+        output(Command::new(bin.join("timer_baseline")).arg(baseline_seconds.to_string()))
+            .ok_or_else(|| util::Error("timer_baseline failed".into()))?;
+    let tap = tap_run(&bin, &dir, tap_seconds)?;
+    let qemu = crate::bench_qemu::run_all(scale)?;
+    let host_runtime = crate::bench_host::measure(scale)?;
+
     let parsed =
         |doc: &str| serde_json::from_str::<serde_json::Value>(doc.trim()).unwrap_or_default();
+    let cycles = scale.callgrind_cycles();
     let report = serde_json::json!({
         "class1_cycle": {
             "instructions_per_cycle": (per_cycle * 10.0).round() / 10.0,
-            "callgrind_runs": [[CALLGRIND_CYCLES.0, short], [CALLGRIND_CYCLES.1, long]],
+            "callgrind_runs": [[cycles.0, short], [cycles.1, long]],
             "ns_per_cycle_median": (ns_median * 10.0).round() / 10.0,
             "ns_per_cycle_runs": ns,
         },
+        "class1_cycle_as_the_link_task_calls": {
+            "instructions_per_cycle": (in_runtime.2 * 10.0).round() / 10.0,
+            "callgrind_runs": [[cycles.0, in_runtime.0], [cycles.1, in_runtime.1]],
+        },
         "explicit_request": {
             "instructions_per_get_attribute_single": (explicit.2 * 10.0).round() / 10.0,
-            "callgrind_runs": [[CALLGRIND_CYCLES.0, explicit.0], [CALLGRIND_CYCLES.1, explicit.1]],
+            "callgrind_runs": [[cycles.0, explicit.0], [cycles.1, explicit.1]],
         },
         "timer_baseline": parsed(&baseline),
         "tap": parsed(&tap),
@@ -91,7 +96,11 @@ pub fn run_all() -> Result {
     );
     println!(
         "{:<52} {:>12.1}",
-        "ns per Class 1 cycle (native, median of 3)", ns_median
+        "the same as the link task calls it (io_runtime)", in_runtime.2
+    );
+    println!(
+        "{:<52} {:>12.1}",
+        "ns per Class 1 cycle (native, median)", ns_median
     );
     println!(
         "{:<52} {:>12.1}",
@@ -133,22 +142,71 @@ pub fn run_all() -> Result {
     Ok(())
 }
 
-/// Instructions per iteration of the driver program `bin` (`io_cycle`, `explicit_cycle`):
+/// The figures every report must hold, as JSON pointers.
+const FIGURES: [&str; 19] = [
+    "/class1_cycle/instructions_per_cycle",
+    "/class1_cycle/ns_per_cycle_median",
+    "/class1_cycle_as_the_link_task_calls/instructions_per_cycle",
+    "/explicit_request/instructions_per_get_attribute_single",
+    "/timer_baseline/p99_us",
+    "/tap/worst_p99_us",
+    "/tap/total_lost",
+    "/tap/timeouts",
+    "/qemu/instructions_per_cycle/0/per_cycle",
+    "/qemu/instructions_per_cycle/1/per_cycle",
+    "/qemu/timing/0/worst_p99_us",
+    "/qemu/timing/1/worst_p99_us",
+    "/host_runtime/enip-host --tap/instructions_per_cycle",
+    "/host_runtime/enip-host --tap/context_switches_per_cycle",
+    "/host_runtime/enip-host --tap/requests_per_second_3_sessions",
+    "/host_runtime/enip-host --bind/instructions_per_cycle",
+    "/host_runtime/enip-host --bind/context_switches_per_cycle",
+    "/host_runtime/enip-host --bind/requests_per_second_1_session",
+    "/host_runtime/enip-host --bind/requests_per_second_3_sessions",
+];
+
+/// `cargo xtask bench --check` (a step of `cargo xtask test`): every part of the benchmark
+/// once and briefly, then that its report holds every figure as a number. What the figures
+/// say is the benchmark's business, not a test's.
+pub fn check() -> Result {
+    run_all(Scale::Check)?;
+    let path = Scale::Check.dir().join("report.json");
+    let text =
+        fs::read_to_string(&path).map_err(|e| util::Error(format!("{}: {e}", path.display())))?;
+    let report: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| util::Error(format!("{}: {e}", path.display())))?;
+    let missing: Vec<&str> = FIGURES
+        .iter()
+        .copied()
+        .filter(|f| report.pointer(f).and_then(|v| v.as_f64()).is_none())
+        .collect();
+    if missing.is_empty() {
+        println!("bench check: all {} figures reported", FIGURES.len());
+        Ok(())
+    } else {
+        err(format!(
+            "{}: no figure at {}",
+            path.display(),
+            missing.join(", ")
+        ))
+    }
+}
+
+/// Instructions per iteration of the driver program `bin` (`io_cycle`, `io_runtime`,
+/// `explicit_cycle`):
 /// the short and long runs' totals and their difference per iteration.
-fn per_iteration(bin: &str) -> Result<(u64, u64, f64)> {
-    let short = callgrind(bin, CALLGRIND_CYCLES.0)?;
-    let long = callgrind(bin, CALLGRIND_CYCLES.1)?;
-    let per = long.saturating_sub(short) as f64 / (CALLGRIND_CYCLES.1 - CALLGRIND_CYCLES.0) as f64;
+fn per_iteration(bin: &str, scale: Scale) -> Result<(u64, u64, f64)> {
+    let (a, b) = scale.callgrind_cycles();
+    let short = callgrind(bin, a, scale)?;
+    let long = callgrind(bin, b, scale)?;
+    let per = long.saturating_sub(short) as f64 / (b - a) as f64;
     Ok((short, long, per))
 }
 
 /// Total instructions of `bin cycles` under callgrind.
-fn callgrind(bin: &str, cycles: u64) -> Result<u64> {
+fn callgrind(bin: &str, cycles: u64, scale: Scale) -> Result<u64> {
     let name = bin.rsplit('/').next().unwrap_or(bin);
-    let out_file = util::target_dir()
-        .join("bench")
-        .join(format!("callgrind.{name}.{cycles}.out"));
-    let _ = fs::create_dir_all(util::target_dir().join("bench"));
+    let out_file = scale.dir().join(format!("callgrind.{name}.{cycles}.out"));
     let o = Command::new("valgrind")
         .args([
             "--tool=callgrind",
@@ -182,21 +240,20 @@ pub(crate) fn callgrind_total(path: &std::path::Path) -> Result<u64> {
 }
 
 /// Nanoseconds per cycle of one native run.
-fn native_ns(cycle: &str) -> Result<f64> {
-    let out = output(Command::new(cycle).arg(NATIVE_CYCLES.to_string()))
+fn native_ns(cycle: &str, cycles: u64) -> Result<f64> {
+    let out = output(Command::new(cycle).arg(cycles.to_string()))
         .ok_or_else(|| util::Error("io_cycle failed".into()))?;
     crate::json::find(&out, "ns_per_cycle")
         .and_then(|v| v.as_f64())
         .ok_or_else(|| util::Error(format!("io_cycle printed {out:?}")))
 }
 
-/// The host board on a TAP with [`TAP_CONNECTIONS`] at [`TAP_RPI_US`] for [`TAP_SECONDS`],
-/// measured by the project's scanner; returns its JSON report.
-fn tap_run(bin: &std::path::Path) -> Result<String> {
+/// The host board on a TAP with [`TAP_CONNECTIONS`] at [`TAP_RPI_US`] for `seconds`,
+/// measured by the project's scanner (files in `dir`); returns its JSON report.
+fn tap_run(bin: &std::path::Path, dir: &std::path::Path, seconds: u32) -> Result<String> {
     if !util::is_root() {
         return err("the TAP benchmark needs root (network namespaces)");
     }
-    let dir = util::target_dir().join("bench");
     let log = dir.join("board.log");
     let host = bin.join("enip-host");
     let board = Board::Host {
@@ -211,7 +268,7 @@ fn tap_run(bin: &std::path::Path) -> Result<String> {
         bin: &bin.join("scanner"),
         connections: TAP_CONNECTIONS,
         rpi_us: TAP_RPI_US,
-        seconds: TAP_SECONDS,
+        seconds,
         multiplier: TAP_MULTIPLIER,
         json: &json,
     };

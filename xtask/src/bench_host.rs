@@ -4,13 +4,13 @@
 //!
 //! For each board, in namespaces of its own (198.18.0.1 the peers, 198.18.0.2 the board):
 //! - instructions per cycle: the board under `valgrind --tool=callgrind` (user space, every
-//!   thread), the project's scanner holding one exclusive owner at 10 ms for
-//!   [`SHORT_SECONDS`] and then [`LONG_SECONDS`]; per cycle = difference of the two totals /
+//!   thread), the project's scanner holding one exclusive owner at 10 ms for 5 s and then
+//!   15 s ([`Scale::host_seconds`]); per cycle = difference of the two totals /
 //!   difference of the T->O datagrams received, so start-up and shut-down cancel out;
 //! - context switches per cycle: the same two runs natively, summing `voluntary_ctxt_switches`
 //!   and `nonvoluntary_ctxt_switches` of every thread from `/proc/PID/task/*/status`;
 //! - explicit messaging: back-to-back Get_Attribute_Single on 1 and on 3 sessions for
-//!   [`RATE_SECONDS`] (`request_rate`), requests per second.
+//!   5 s (`request_rate`), requests per second.
 //!
 //! Needs root (namespaces), valgrind, and the release builds of `enip-host`, `scanner` and
 //! `request_rate`, which [`run_all`] makes.
@@ -26,17 +26,13 @@ use enip_lab::process::{signal, SIGINT};
 use enip_lab::scanner::{self as scanner_run, ScannerRun};
 use serde_json::{json, Value};
 
+use crate::bench_scale::Scale;
 use crate::util::{self, cargo, err, run, Error, Result};
 
-/// Seconds of Class 1 traffic in the short and the long run.
-const SHORT_SECONDS: u64 = 5;
-const LONG_SECONDS: u64 = 15;
 /// The connection measured: one exclusive owner at this RPI.
 const RPI_US: u32 = 10_000;
 /// Its watchdog multiplier code: 2 (x16), the scanner's default.
 const SCANNER_MULTIPLIER: &str = "2";
-/// Seconds of each request-rate run.
-const RATE_SECONDS: &str = "5";
 /// The link device on the peers' side.
 const LINK: &str = "enipbench0";
 /// The board's address.
@@ -100,24 +96,27 @@ struct Sample {
     switches: u64,
 }
 
-/// The release binaries the benchmark runs.
+/// The release binaries the benchmark runs, where its files go and how long it measures.
 struct Bins {
     scanner: PathBuf,
     request_rate: PathBuf,
+    dir: PathBuf,
+    /// Seconds of the short and long Class 1 runs and of each request-rate run.
+    seconds: (u64, u64, u64),
 }
 
 /// Builds what the benchmark runs, measures every board and prints the table; writes
 /// `target/bench/host.json`.
 pub fn run_all() -> Result {
-    let report = measure()?;
-    let path = util::target_dir().join("bench").join("host.json");
+    let report = measure(Scale::Full)?;
+    let path = Scale::Full.dir().join("host.json");
     fs::write(&path, report.to_string()).map_err(|e| Error(format!("{}: {e}", path.display())))?;
     println!("report: {}", path.display());
     Ok(())
 }
 
-/// Measures every board; returns the JSON report (also printed as a table).
-pub fn measure() -> Result<Value> {
+/// Measures every board at `scale`; returns the JSON report (also printed as a table).
+pub fn measure(scale: Scale) -> Result<Value> {
     if !util::is_root() {
         return err("the host runtime benchmark needs root (network namespaces)");
     }
@@ -134,6 +133,8 @@ pub fn measure() -> Result<Value> {
     let bins = Bins {
         scanner: dir.join("scanner"),
         request_rate: dir.join("request_rate"),
+        dir: scale.dir(),
+        seconds: scale.host_seconds(),
     };
     let host = dir.join("enip-host");
     let mut boards = vec![Board::Tap(host.clone()), Board::Bind(host)];
@@ -141,7 +142,7 @@ pub fn measure() -> Result<Value> {
         Some(p) => boards.push(Board::Opener(PathBuf::from(p))),
         None => println!("OpENer: not measured (set ENIP_OPENER_BIN to its POSIX build)"),
     }
-    let _ = fs::create_dir_all(util::target_dir().join("bench"));
+    let _ = fs::create_dir_all(&bins.dir);
     let mut report = serde_json::Map::new();
     println!(
         "{:<18} {:>14} {:>14} {:>12} {:>12}",
@@ -165,10 +166,11 @@ pub fn measure() -> Result<Value> {
 
 /// Every figure of one board.
 fn measure_board(board: &Board, bins: &Bins) -> Result<Value> {
-    let short = sample(board, bins, SHORT_SECONDS, true)?;
-    let long = sample(board, bins, LONG_SECONDS, true)?;
-    let native_short = sample(board, bins, SHORT_SECONDS, false)?;
-    let native_long = sample(board, bins, LONG_SECONDS, false)?;
+    let (short_seconds, long_seconds, _) = bins.seconds;
+    let short = sample(board, bins, short_seconds, true)?;
+    let long = sample(board, bins, long_seconds, true)?;
+    let native_short = sample(board, bins, short_seconds, false)?;
+    let native_long = sample(board, bins, long_seconds, false)?;
     let per = |a: u64, b: u64, ca: u64, cb: u64| {
         (b.saturating_sub(a)) as f64 / (cb.saturating_sub(ca)).max(1) as f64
     };
@@ -197,7 +199,7 @@ fn measure_board(board: &Board, bins: &Bins) -> Result<Value> {
 /// Starts `board`, holds one exclusive owner at 10 ms on it for `seconds`, stops it.
 fn sample(board: &Board, bins: &Bins, seconds: u64, callgrind: bool) -> Result<Sample> {
     let lab = board.lab()?;
-    let out = util::target_dir().join("bench").join(format!(
+    let out = bins.dir.join(format!(
         "host-{}-{seconds}.callgrind",
         board.name().replace([' ', '-'], "_")
     ));
@@ -205,7 +207,7 @@ fn sample(board: &Board, bins: &Bins, seconds: u64, callgrind: bool) -> Result<S
     let mut child = start(board, &lab, bins, callgrind.then_some(out.as_path()))?;
     let pid = child.id();
     let before = switches(pid);
-    let json = util::target_dir().join("bench").join("host-scanner.json");
+    let json = bins.dir.join("host-scanner.json");
     let run = ScannerRun {
         bin: &bins.scanner,
         connections: 1,
@@ -250,9 +252,9 @@ fn start(board: &Board, lab: &Lab, bins: &Bins, callgrind: Option<&Path>) -> Res
         }
     };
     // OpENer keeps its non-volatile data in the working directory.
-    let work = util::target_dir().join("bench").join("board-cwd");
+    let work = bins.dir.join("board-cwd");
     let _ = fs::create_dir_all(&work);
-    let log = fs::File::create(util::target_dir().join("bench").join("host-board.log"))
+    let log = fs::File::create(bins.dir.join("host-board.log"))
         .map_err(|e| Error(format!("board log: {e}")))?;
     let mut child = cmd
         .current_dir(&work)
@@ -313,6 +315,7 @@ fn switches(pid: u32) -> u64 {
 fn rates(board: &Board, bins: &Bins) -> Result<(f64, f64)> {
     let lab = board.lab()?;
     let mut child = start(board, &lab, bins, None)?;
+    let seconds = bins.seconds.2.to_string();
     let rate = |sessions: &str| -> Result<f64> {
         let out = lab
             .command(&bins.request_rate)
@@ -322,7 +325,7 @@ fn rates(board: &Board, bins: &Bins) -> Result<(f64, f64)> {
                 "--sessions",
                 sessions,
                 "--seconds",
-                RATE_SECONDS,
+                &seconds,
             ])
             .output()
             .map_err(|e| Error(format!("request_rate: {e}")))?;

@@ -11,10 +11,10 @@
 //! is left out: QEMU treats WFE as a no-op, so an idle M4 spins in `Executor::run`, and every
 //! stretch between two WFEs that ran nothing outside that function is dropped. A cycle is one
 //! O->T datagram handed to the adapter (a call of [`MARKER`]) and the T->O datagram the
-//! board produces at the same RPI: after [`WARMUP`] datagrams per connection, the next
-//! [`CYCLES`] per connection are counted. The count does not depend on the host's speed, only
+//! board produces at the same RPI: after 100 datagrams per connection, the next 300 per
+//! connection are counted ([`Scale::qemu_traced`]). The count does not depend on the host's speed, only
 //! on how many datagrams one wake-up of the board finds waiting, which varies with the phase
-//! of the scanner's clock: the median of [`TRACED_RUNS`] runs is reported.
+//! of the scanner's clock: the median of three runs is reported.
 
 use std::collections::{BTreeMap, HashMap};
 use std::fs;
@@ -28,6 +28,7 @@ use enip_lab::peers;
 use enip_lab::rig::{Board, Options, Rig};
 use enip_lab::scanner::{self as scanner_run, ScannerRun};
 
+use crate::bench_scale::Scale;
 use crate::boards;
 use crate::qemu;
 use crate::util::{self, err, output, run, Result};
@@ -37,34 +38,28 @@ use crate::util::{self, err, output, run, Result};
 const ELF_VAR: &str = "ENIP_QEMU_BENCH_ELF";
 /// The function called once per O->T datagram: the cycle counter.
 pub const MARKER: &str = "enip_firmware::link::pump::consume";
-/// O->T datagrams per connection before counting starts (connections settle, ARP done).
-const WARMUP: u64 = 100;
-/// O->T datagrams per connection counted.
-const CYCLES: u64 = 300;
 /// The traced runs: connections and RPI. The log slows the emulation many-fold, so the
 /// 10-connection run uses a 20 ms RPI (at a shorter one more datagrams share a wake-up).
 const TRACED: [(u32, u32); 2] = [(1, 10_000), (10, 20_000)];
-/// Traced runs per configuration; the median is reported. How many datagrams one wake-up
-/// of the board finds depends on the phase between the scanner's and the board's clocks,
-/// which differs from run to run.
-const TRACED_RUNS: usize = 3;
 /// The scanner's watchdog multiplier code for the traced runs: 7 is x512, as the traced
 /// board may stall for long.
 const TRACED_MULTIPLIER: &str = "7";
 /// Longest a traced run may take, in seconds.
 const TRACED_SECONDS: u32 = 120;
-/// The timing runs on the untraced board: 10 connections at each RPI (us) for this long.
+/// The timing runs on the untraced board: 10 connections at each RPI (us).
 const TIMING_RPIS_US: [u32; 2] = [1_000, 2_000];
 const TIMING_CONNECTIONS: u32 = 10;
-const TIMING_SECONDS: u32 = 10;
 /// Their watchdog: code 3 is x32, as in the host board's TAP benchmark.
 const TIMING_MULTIPLIER: &str = "3";
 /// The namespace and TAP the board runs in.
 const NAMESPACE: &str = "enip-mcu-bench";
 const TAP: &str = "enipmcub0";
 
-/// Runs the traced and the timing runs; returns their JSON for the bench report.
-pub fn run_all() -> Result<serde_json::Value> {
+/// Runs the traced and the timing runs at `scale`; returns their JSON for the bench report.
+/// The traced runs per configuration (three in the benchmark) give their median: how many
+/// datagrams one wake-up of the board finds depends on the phase between the scanner's and
+/// the board's clocks, which differs from run to run.
+pub fn run_all(scale: Scale) -> Result<serde_json::Value> {
     qemu::require_root("the QEMU benchmark")?;
     qemu::ensure_installed()?;
     let elf = match std::env::var_os(ELF_VAR) {
@@ -72,13 +67,15 @@ pub fn run_all() -> Result<serde_json::Value> {
         None => boards::build(boards::QEMU, boards::DEFAULT_PROFILE)?,
     };
     run(util::cargo().args(["build", "--release", "-p", "host-tests", "--bin", "scanner"]))?;
-    let dir = util::target_dir().join("bench").join("qemu");
+    let dir = scale.dir().join("qemu");
+    let (runs, warmup, cycles) = scale.qemu_traced();
     fs::create_dir_all(&dir)?;
     let symbols = Symbols::read(&elf)?;
     let mut traced = Vec::new();
     for (connections, rpi_us) in TRACED {
-        let mut runs = (0..TRACED_RUNS)
-            .map(|_| traced_run(&elf, &symbols, &dir, connections, rpi_us))
+        let counted = (warmup, cycles);
+        let mut runs = (0..runs)
+            .map(|_| traced_run(&elf, &symbols, &dir, (connections, rpi_us), counted))
             .collect::<Result<Vec<Cost>>>()?;
         runs.sort_by(|a, b| a.per_cycle(a.total()).total_cmp(&b.per_cycle(b.total())));
         let all: Vec<f64> = runs.iter().map(|c| c.per_cycle(c.total())).collect();
@@ -91,9 +88,10 @@ pub fn run_all() -> Result<serde_json::Value> {
     }
     let mut timing = Vec::new();
     for rpi_us in TIMING_RPIS_US {
-        let report = timing_run(&elf, &dir, rpi_us)?;
+        let seconds = scale.qemu_timing_seconds();
+        let report = timing_run(&elf, &dir, rpi_us, seconds)?;
         println!(
-            "QEMU board, {TIMING_CONNECTIONS} x {rpi_us} us for {TIMING_SECONDS} s: {}",
+            "QEMU board, {TIMING_CONNECTIONS} x {rpi_us} us for {seconds} s: {}",
             peers::scanner_figures(&report)
         );
         timing.push(report);
@@ -103,8 +101,8 @@ pub fn run_all() -> Result<serde_json::Value> {
 
 /// `cargo xtask bench --qemu`: this part alone, written to `target/bench/qemu.json`.
 pub fn run_alone() -> Result {
-    let report = run_all()?;
-    let path = util::target_dir().join("bench").join("qemu.json");
+    let report = run_all(Scale::Full)?;
+    let path = Scale::Full.dir().join("qemu.json");
     fs::write(&path, report.to_string())?;
     println!("report: {}", path.display());
     Ok(())
@@ -244,13 +242,14 @@ fn print_cost(connections: u32, rpi_us: u32, cost: &Cost) {
     }
 }
 
-/// Boots the board traced, runs the scanner with `connections` at `rpi_us`, and counts.
+/// Boots the board traced, runs the scanner with `connections` at `rpi_us`, and counts
+/// the O->T datagrams per connection `counted.1` after the first `counted.0`.
 fn traced_run(
     elf: &Path,
     symbols: &Symbols,
     dir: &Path,
-    connections: u32,
-    rpi_us: u32,
+    (connections, rpi_us): (u32, u32),
+    counted: (u64, u64),
 ) -> Result<Cost> {
     let marker = symbols
         .start_of(MARKER)
@@ -259,8 +258,8 @@ fn traced_run(
     let _ = fs::remove_file(&fifo);
     run(Command::new("mkfifo").arg(&fifo))?;
     let wanted = (
-        WARMUP * u64::from(connections),
-        CYCLES * u64::from(connections),
+        counted.0 * u64::from(connections),
+        counted.1 * u64::from(connections),
     );
     let result = thread::scope(|s| {
         let counter = s.spawn(|| count(&fifo, symbols, marker, wanted));
@@ -311,7 +310,7 @@ fn scanner_seconds(connections: u32, rpi_us: u32, datagrams: u64) -> u32 {
 }
 
 /// The untraced board with [`TIMING_CONNECTIONS`] at `rpi_us`; returns the scanner's report.
-fn timing_run(elf: &Path, dir: &Path, rpi_us: u32) -> Result<serde_json::Value> {
+fn timing_run(elf: &Path, dir: &Path, rpi_us: u32, seconds: u32) -> Result<serde_json::Value> {
     let log = dir.join(format!("board-{rpi_us}us.log"));
     let mut rig = Rig::launch(Board::Qemu { elf, extra: &[] }, &options(&log))?;
     let json = dir.join(format!("scanner-{rpi_us}us.json"));
@@ -319,7 +318,7 @@ fn timing_run(elf: &Path, dir: &Path, rpi_us: u32) -> Result<serde_json::Value> 
         rig.ns(),
         TIMING_CONNECTIONS,
         rpi_us,
-        TIMING_SECONDS,
+        seconds,
         TIMING_MULTIPLIER,
         &json,
     )?;

@@ -18,6 +18,7 @@
 mod bench;
 mod bench_host;
 mod bench_qemu;
+mod bench_scale;
 mod boards;
 mod demo;
 mod faults;
@@ -48,13 +49,15 @@ commands:
                       boot the emulated board (QEMU mps2-an386) in netns enip-qemu until Ctrl-C
   demo [--host]       boot the emulated board (--host: the Linux host board) in netns
                       enip-demo; show its identity and a live Class 1 connection
-  bench [--qemu | --host]
+  bench [--qemu | --host | --check]
                       boards' footprint; Class 1 cycle cost (callgrind, native) and
                       10 x 1 ms I/O on the host TAP; the emulated board's instructions per
                       cycle and 10 x 1 ms / 2 ms I/O (--qemu: that part alone); the host
                       adapter process per Class 1 cycle (instructions, context switches) and
                       requests/s, TAP vs kernel sockets, vs OpENer when ENIP_OPENER_BIN names
-                      its POSIX build (--host: that part alone)
+                      its POSIX build (--host: that part alone); --check: every part once and
+                      briefly into target/bench-check, checking that each figure is reported
+                      (a step of test)
   footprint           the boards' release image sizes and the F767 budget (part of bench)
   smoke               the QEMU smoke run alone (part of test)
   faults              the long fault tests (link flap, Reset, churn, idle sockets, vanishing
@@ -72,6 +75,8 @@ enum BenchPart {
     Qemu,
     /// The host adapter processes (TAP and kernel sockets, OpENer) only.
     Host,
+    /// Every one, briefly, into target/bench-check: that the benchmark runs.
+    Check,
 }
 
 /// A command line, parsed.
@@ -114,7 +119,10 @@ fn main() -> ExitCode {
         Command::Demo { board } => demo::run_demo(board),
         Command::Bench {
             part: BenchPart::All,
-        } => bench::run_all(),
+        } => bench::run_all(bench_scale::Scale::Full),
+        Command::Bench {
+            part: BenchPart::Check,
+        } => bench::check(),
         Command::Bench {
             part: BenchPart::Qemu,
         } => bench_qemu::run_alone(),
@@ -194,6 +202,7 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
             (Command::Demo { board }, Long("host")) => *board = demo::Board::Host,
             (Command::Bench { part }, Long("qemu")) => *part = BenchPart::Qemu,
             (Command::Bench { part }, Long("host")) => *part = BenchPart::Host,
+            (Command::Bench { part }, Long("check")) => *part = BenchPart::Check,
             (_, other) => return Err(other.unexpected()),
         }
     }

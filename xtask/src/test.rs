@@ -112,7 +112,10 @@ pub fn run_all() -> bool {
         }) && steps.run("fuzz", || fuzz::run_all(FUZZ_SECONDS))
             && steps.run("TAP interop", tap_interop)
             && steps.run("interop on kernel sockets (enip-host --bind)", bind_interop)
-            && steps.run("QEMU smoke run", smoke::run_smoke);
+            && steps.run("QEMU smoke run", smoke::run_smoke)
+            && steps.run("the benchmark runs (bench --check)", || {
+                crate::bench::check().map(|()| Outcome::Passed)
+            });
     steps.summary()
 }
 
