@@ -12,18 +12,15 @@ use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::future::Future;
 use std::net::Ipv4Addr;
-use std::pin::pin;
 use std::rc::Rc;
-use std::sync::Arc;
-use std::task::{Context, Poll, Wake, Waker};
-use std::time::{Duration as StdDuration, Instant as StdInstant};
+use std::task::{Context, Waker};
 
 use embassy_futures::join::join3;
 use embassy_futures::select::{select, Either};
 use embassy_net::tcp::{ConnectError, TcpSocket};
 use embassy_net::udp::{PacketMetadata, UdpSocket};
 use embassy_net::{Ipv4Cidr, Stack, StackResources, StaticConfigV4};
-use embassy_time::{with_timeout, Duration};
+use embassy_time::{with_timeout, Duration, Timer};
 use enip_firmware::profiles::generic;
 use enip_firmware::{Profile, Resources};
 use enip_stack::wire::cpf::{self, item_type};
@@ -36,8 +33,8 @@ const ADAPTER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
 const CLIENT_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
 const BROADCAST_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 255);
 const PORT: u16 = 44818;
-/// Wall-clock bound of a whole test, enforced by [`block_on`] whatever the futures do.
-const TEST_LIMIT: StdDuration = StdDuration::from_secs(10);
+/// Bound of a whole test, enforced by [`block_on`].
+const TEST_LIMIT: Duration = Duration::from_secs(10);
 /// Bound of one request/reply exchange.
 const STEP: Duration = Duration::from_secs(2);
 
@@ -150,25 +147,13 @@ mod wire {
     }
 }
 
-/// Polls `fut` on this thread, sleeping until woken; panics past [`TEST_LIMIT`].
+/// Polls `fut` on this thread, on the host runtime's loop (which fires the timers); panics
+/// past [`TEST_LIMIT`].
 fn block_on<F: Future>(fut: F) -> F::Output {
-    struct Unpark(std::thread::Thread);
-    impl Wake for Unpark {
-        fn wake(self: Arc<Self>) {
-            self.0.unpark();
-        }
-    }
-    let waker = Waker::from(Arc::new(Unpark(std::thread::current())));
-    let mut cx = Context::from_waker(&waker);
-    let mut fut = pin!(fut);
-    let deadline = StdInstant::now() + TEST_LIMIT;
-    loop {
-        if let Poll::Ready(out) = fut.as_mut().poll(&mut cx) {
-            return out;
-        }
-        let left = deadline.saturating_duration_since(StdInstant::now());
-        assert!(!left.is_zero(), "test exceeded {TEST_LIMIT:?}");
-        std::thread::park_timeout(left);
+    let limited = select(fut, Timer::after(TEST_LIMIT));
+    match enip_host_runtime::block_on(limited).expect("the host runtime's loop") {
+        Either::First(out) => out,
+        Either::Second(()) => panic!("test exceeded {TEST_LIMIT:?}"),
     }
 }
 

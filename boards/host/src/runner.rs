@@ -1,5 +1,5 @@
-//! [`run`]: a device on the TAP, on the embassy std executor, or on the kernel's sockets
-//! ([`crate::kernel`]).
+//! [`run`]: a device on the TAP, on the host runtime's executor ([`enip_host_runtime`]), or
+//! on the kernel's sockets ([`crate::kernel`]).
 
 use std::future::Future;
 use std::path::Path;
@@ -7,7 +7,7 @@ use std::pin::Pin;
 use std::process::exit;
 
 use crate::tap_device::TapDevice;
-use embassy_executor::{Executor, Spawner};
+use embassy_executor::Spawner;
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
 use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
 use enip_firmware::Resources;
@@ -66,7 +66,8 @@ fn open_store(options: &Options, program: &str) -> SharedStore {
     })
 }
 
-/// Runs `device` on `tap` on the embassy std executor, forever.
+/// Runs `device` on `tap` on this thread's executor ([`enip_host_runtime::run`]), forever;
+/// exits 1 if the executor's wait fails.
 fn run_tap<D: Device + 'static>(
     device: D,
     tap: TapDevice,
@@ -76,8 +77,7 @@ fn run_tap<D: Device + 'static>(
     program: String,
 ) -> ! {
     let adapter_run = start(device, tap, store, link, nv_file, program);
-    let executor: &'static mut Executor = Box::leak(Box::new(Executor::new()));
-    executor.run(|spawner: Spawner| {
+    let Err(e) = enip_host_runtime::run(|spawner: Spawner| {
         let Started {
             runner,
             link,
@@ -94,7 +94,9 @@ fn run_tap<D: Device + 'static>(
                 exit(1);
             }
         }
-    })
+    });
+    eprintln!("{}: executor: {e}", program_name());
+    exit(1)
 }
 
 /// What the three tasks of the TAP board run.

@@ -1,10 +1,12 @@
 //! [`TapDevice`]: a TAP interface as an embassy-net driver, with one receive and one transmit
 //! buffer allocated at start, so a received frame costs no allocation or zeroing (the
-//! embassy-net-tuntap driver allocates and zeroes an MTU-sized buffer on every read attempt),
-//! and built to survive the link going down: the kernel refuses writes (EIO) while the TAP is
-//! administratively down (`ip link set TAP down`, a pulled cable), and such a frame is dropped
-//! as on a link without carrier, while the link state follows the interface's flags (up and
-//! running), read every [`LINK_POLL`].
+//! embassy-net-tuntap driver allocates and zeroes an MTU-sized buffer on every read attempt);
+//! it reads only after the loop's `ppoll` found the TAP readable ([`Readable`]), so no read
+//! comes back empty; and it is built to survive the link going down: the kernel refuses
+//! writes (EIO) while the TAP is administratively down (`ip link set TAP down`, a pulled
+//! cable), and such a frame is dropped as on a link without carrier, while the link state
+//! follows the interface's flags (up and running), read again whenever netlink reports a
+//! change ([`Watch`]): nothing is polled on a timer.
 
 use std::fs::{File, OpenOptions};
 use std::future::Future;
@@ -12,22 +14,28 @@ use std::io::{self, Read, Write};
 use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
 use std::os::unix::fs::OpenOptionsExt;
 use std::pin::Pin;
-use std::task::{Context, Poll};
+use std::task::Context;
 
-use async_io::Async;
 use embassy_net_driver::{Capabilities, Driver, HardwareAddress, LinkState};
 use embassy_time::{Duration, Timer};
+use enip_host_runtime::Readable;
+
+use crate::netlink::Watch;
 
 /// Largest Ethernet frame on the TAP: a 1500-byte payload and the 14-byte header.
 const FRAME: usize = 1514;
 /// Bytes of `struct ifreq`.
 const IFREQ_LEN: usize = 40;
-/// How often the interface's flags are read for the link state.
-const LINK_POLL: Duration = Duration::from_millis(100);
+/// How long after a failed read the TAP is watched again (a persistent error is retried,
+/// not spun on).
+const READ_RETRY: Duration = Duration::from_millis(100);
 
 /// An open TAP interface.
 pub struct TapDevice {
-    fd: Async<File>,
+    /// The TAP's readiness, reported by the loop's wait (dropped before the TAP closes).
+    readable: Readable,
+    /// The TAP, non-blocking.
+    file: File,
     rx: Box<[u8; FRAME]>,
     tx: Box<[u8; FRAME]>,
     mac: [u8; 6],
@@ -36,8 +44,12 @@ pub struct TapDevice {
     /// An AF_INET datagram socket, only for the interface-flags ioctl.
     control: OwnedFd,
     link: LinkState,
-    /// When the flags are read next.
-    next_poll: Timer,
+    /// The readiness of `watch` (dropped before it closes).
+    link_changes: Readable,
+    /// Says when links may have changed: the flags are read again then.
+    watch: Watch,
+    /// After a failed read: when to watch the TAP again.
+    retry: Option<Timer>,
     /// Frames the kernel refused since the link was last seen down (logged once an outage).
     dropped: u64,
 }
@@ -75,15 +87,20 @@ impl TapDevice {
         }
         // SAFETY: `fd` is a socket this function just opened and nothing else owns.
         let control = unsafe { OwnedFd::from_raw_fd(fd) };
+        // Subscribed before the flags are first read, so no change after that goes unseen.
+        let watch = Watch::open()?;
         let mut tap = TapDevice {
-            fd: Async::new(file)?,
+            readable: Readable::new(file.as_raw_fd()),
+            file,
             rx: Box::new([0; FRAME]),
             tx: Box::new([0; FRAME]),
             mac: [0; 6],
             name: padded,
             control,
             link: LinkState::Down,
-            next_poll: Timer::after(LINK_POLL),
+            link_changes: Readable::new(watch.fd()),
+            watch,
+            retry: None,
             dropped: 0,
         };
         tap.link = tap.read_link()?;
@@ -140,7 +157,7 @@ pub struct RxToken<'a> {
 
 /// Room for one frame to send, in the device's transmit buffer.
 pub struct TxToken<'a> {
-    fd: &'a Async<File>,
+    file: &'a File,
     buf: &'a mut [u8; FRAME],
     dropped: &'a mut u64,
 }
@@ -157,7 +174,7 @@ impl embassy_net_driver::TxToken for TxToken<'_> {
         let r = f(frame);
         // A full TAP queue or a link that is down (EIO) drops the frame, as a busy wire or a
         // link without carrier would.
-        if let Err(e) = self.fd.get_ref().write(frame) {
+        if let Err(e) = (&*self.file).write(frame) {
             if *self.dropped == 0 {
                 log::info!("tap: dropping frames: {e}");
             }
@@ -172,13 +189,22 @@ impl Driver for TapDevice {
     type TxToken<'a> = TxToken<'a>;
 
     fn receive(&mut self, cx: &mut Context<'_>) -> Option<(RxToken<'_>, TxToken<'_>)> {
-        // Bounded: a read that finds nothing asks the reactor, which either registers the
-        // waker (no frame: done) or says a frame arrived meanwhile (one more read).
+        if let Some(retry) = &mut self.retry {
+            if Pin::new(retry).poll(cx).is_pending() {
+                return None;
+            }
+            self.retry = None;
+        }
+        // Bounded: a report with nothing to read (another reader took it) is taken, so the
+        // second poll keeps the waker for the next report.
         for _ in 0..2 {
-            match self.fd.get_ref().read(self.rx.as_mut_slice()) {
+            if self.readable.poll_readable(cx).is_pending() {
+                return None;
+            }
+            match (&self.file).read(self.rx.as_mut_slice()) {
                 Ok(n) => {
                     let Self {
-                        fd,
+                        file,
                         rx,
                         tx,
                         dropped,
@@ -186,40 +212,38 @@ impl Driver for TapDevice {
                     } = self;
                     let frame = rx.get_mut(..n).unwrap_or_default();
                     let tx = TxToken {
-                        fd,
+                        file,
                         buf: tx,
                         dropped,
                     };
                     return Some((RxToken { frame }, tx));
                 }
-                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
-                    if self.fd.poll_readable(cx).is_pending() {
-                        return None;
-                    }
-                }
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {}
                 Err(e) => {
-                    // Woken again by the link poll; a persistent error cannot spin here.
                     log::warn!("tap read: {e}");
+                    let mut retry = Timer::after(READ_RETRY);
+                    // Polled once, so that it wakes the runner.
+                    let _ = Pin::new(&mut retry).poll(cx);
+                    self.retry = Some(retry);
                     return None;
                 }
             }
         }
-        // A frame announced but not there: ask again, which registers the waker.
-        let _ = self.fd.poll_readable(cx);
         None
     }
 
     fn transmit(&mut self, _cx: &mut Context<'_>) -> Option<TxToken<'_>> {
         Some(TxToken {
-            fd: &self.fd,
+            file: &self.file,
             buf: &mut self.tx,
             dropped: &mut self.dropped,
         })
     }
 
     fn link_state(&mut self, cx: &mut Context<'_>) -> LinkState {
-        while Pin::new(&mut self.next_poll).poll(cx) == Poll::Ready(()) {
-            self.next_poll = Timer::after(LINK_POLL);
+        // At most one turn: the first poll takes the report, the second keeps the waker.
+        while self.link_changes.poll_readable(cx).is_ready() {
+            self.watch.drain(self.rx.as_mut_slice());
             match self.read_link() {
                 Ok(link) if link != self.link => {
                     log::info!("tap: link up {}", link == LinkState::Up);

@@ -23,10 +23,11 @@ use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::config::MAX_SESSIONS;
 use enip_stack::{Adapter, Device, Instant};
 
+use crate::netlink::Watch;
 use crate::runner::{on_reset, seed};
 use enip_stack::nv::SharedStore;
 use io::Io;
-use netif::{Interface, Watch};
+use netif::Interface;
 use poll::{Clock, PollSet};
 use tcp::Tcp;
 use udp::Udp;

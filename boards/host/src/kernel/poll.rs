@@ -16,23 +16,15 @@ use enip_stack::Instant;
 /// listener and 3 TCP connections.
 pub const MAX_FDS: usize = 8;
 
-/// The monotonic clock (`CLOCK_MONOTONIC`), as the stack's microsecond [`Instant`].
+/// The monotonic clock (`CLOCK_MONOTONIC`, [`enip_host_runtime::now_micros`], the clock of
+/// embassy-time on the host too), as the stack's microsecond [`Instant`].
 #[derive(Debug, Clone, Copy)]
 pub struct Clock;
 
 impl Clock {
     /// The current instant.
     pub fn now(&self) -> Instant {
-        let mut ts = libc::timespec {
-            tv_sec: 0,
-            tv_nsec: 0,
-        };
-        // SAFETY: `ts` is a valid timespec to write; CLOCK_MONOTONIC always exists on Linux,
-        // so the call cannot fail.
-        unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
-        let secs = u64::try_from(ts.tv_sec).unwrap_or(0);
-        let micros = u64::try_from(ts.tv_nsec).unwrap_or(0) / 1_000;
-        Instant::from_micros(secs.saturating_mul(1_000_000).saturating_add(micros))
+        Instant::from_micros(enip_host_runtime::now_micros())
     }
 }
 
