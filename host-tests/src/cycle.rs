@@ -50,3 +50,11 @@ pub fn scanner_address() -> SocketAddrV4 {
 pub fn o_t_datagram(buf: &mut [u8], o_t: u32) -> usize {
     originator::io_datagram(buf, o_t, 0, 0, Some(true), &[0x5A; 32]).expect("datagram")
 }
+
+/// The cycle count a driver program's first argument names (a million without one).
+pub fn cycles_from_args() -> u64 {
+    std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(1_000_000)
+}

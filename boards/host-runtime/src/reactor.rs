@@ -116,29 +116,8 @@ impl Reactor {
         self.fds.push(watch(wakeup));
         let watched = self.sources.iter().filter(|s| s.watched());
         self.fds.extend(watched.map(|s| watch(s.fd)));
-        let ts = timeout.map(|t| libc::timespec {
-            tv_sec: libc::time_t::try_from(t.as_secs()).unwrap_or(libc::time_t::MAX),
-            tv_nsec: t.subsec_nanos() as libc::c_long,
-        });
-        let ts_ptr = ts.as_ref().map_or(std::ptr::null(), |t| t as *const _);
-        // SAFETY: `fds` is a valid, exclusively borrowed array of `fds.len()` pollfd entries
-        // and `ts_ptr` is null or points to a timespec that outlives the call; a null signal
-        // mask leaves the mask unchanged.
-        let n = unsafe {
-            libc::ppoll(
-                self.fds.as_mut_ptr(),
-                self.fds.len() as libc::nfds_t,
-                ts_ptr,
-                std::ptr::null(),
-            )
-        };
-        if n < 0 {
-            let e = io::Error::last_os_error();
-            return if e.kind() == io::ErrorKind::Interrupted {
-                Ok(false)
-            } else {
-                Err(e)
-            };
+        if crate::ppoll(&mut self.fds, timeout)? == 0 {
+            return Ok(false);
         }
         let mut fds = self.fds.iter();
         let woken = fds.next().is_some_and(|p| p.revents != 0);

@@ -7,13 +7,10 @@ use std::hint::black_box;
 use std::time::Instant as WallClock;
 
 use enip_stack::Instant;
-use host_tests::cycle::{exclusive_owner, o_t_datagram, scanner_address, RPI_US};
+use host_tests::cycle::{cycles_from_args, exclusive_owner, o_t_datagram, scanner_address, RPI_US};
 
 fn main() {
-    let cycles: u64 = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(1_000_000);
+    let cycles = cycles_from_args();
     let (mut scanner, o_t) = exclusive_owner();
     let adapter = scanner.adapter_mut();
     let scanner = scanner_address();

@@ -10,7 +10,7 @@ use std::hint::black_box;
 
 use enip_firmware::profiles::generic::Generic;
 use enip_stack::{Adapter, Instant};
-use host_tests::cycle::{exclusive_owner, o_t_datagram, scanner_address, RPI_US};
+use host_tests::cycle::{cycles_from_args, exclusive_owner, o_t_datagram, scanner_address, RPI_US};
 
 /// The queries the link task makes on every wake-up besides `io_due`: the interface
 /// addresses, the watchdog count (read around each `io_due`) and the next deadline.
@@ -40,10 +40,7 @@ fn produce(a: &mut Adapter<Generic>, now: Instant, tx: &mut [u8]) -> u64 {
 }
 
 fn main() {
-    let cycles: u64 = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(1_000_000);
+    let cycles = cycles_from_args();
     let (mut scanner, o_t) = exclusive_owner();
     let adapter = scanner.adapter_mut();
     let mut rx = [0u8; 64];

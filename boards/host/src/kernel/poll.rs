@@ -75,30 +75,7 @@ impl PollSet {
     /// Waits until a descriptor is ready or `timeout` passes (`None`: no timeout); a signal
     /// ends the wait early, as a timeout does.
     pub fn wait(&mut self, timeout: Option<Duration>) -> io::Result<()> {
-        let ts = timeout.map(|t| libc::timespec {
-            tv_sec: libc::time_t::try_from(t.as_secs()).unwrap_or(libc::time_t::MAX),
-            tv_nsec: t.subsec_nanos() as libc::c_long,
-        });
-        let ts_ptr = ts.as_ref().map_or(std::ptr::null(), |t| t as *const _);
-        // SAFETY: `fds` is a valid, exclusively borrowed array of MAX_FDS pollfd entries and
-        // `ts_ptr` is null or points to a timespec that outlives the call; a null signal mask
-        // leaves the mask unchanged.
-        let n = unsafe {
-            libc::ppoll(
-                self.fds.as_mut_ptr(),
-                MAX_FDS as libc::nfds_t,
-                ts_ptr,
-                std::ptr::null(),
-            )
-        };
-        if n < 0 {
-            let e = io::Error::last_os_error();
-            if e.kind() != io::ErrorKind::Interrupted {
-                return Err(e);
-            }
-            self.fds.iter_mut().for_each(|f| f.revents = 0);
-        }
-        Ok(())
+        enip_host_runtime::ppoll(&mut self.fds, timeout).map(|_| ())
     }
 
     /// Whether the descriptor at `index` can be read (or has hung up or failed, which a read
