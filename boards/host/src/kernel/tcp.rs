@@ -133,9 +133,12 @@ impl Tcp {
         let Some(slot) = self.slots.get_mut(index) else {
             return false;
         };
+        let timeout = adapter.objects().tcpip.inactivity_timeout_s;
         let served = slot.serve(readable, writable, adapter, now, on_reset);
-        if served {
-            // A Set of TCP/IP attribute 13 moves every session's inactivity deadline.
+        if served && adapter.objects().tcpip.inactivity_timeout_s != timeout {
+            // A Set of TCP/IP attribute 13 moves every session's inactivity deadline. (Other
+            // traffic only moves deadlines later: each slot's check is a lower bound, asked
+            // again when it comes.)
             for s in &mut self.slots {
                 s.recheck_idle(adapter);
             }
