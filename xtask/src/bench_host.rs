@@ -10,7 +10,8 @@
 //! - context switches per cycle: the same two runs natively, summing `voluntary_ctxt_switches`
 //!   and `nonvoluntary_ctxt_switches` of every thread from `/proc/PID/task/*/status`;
 //! - explicit messaging: back-to-back Get_Attribute_Single on 1 and on 3 sessions for
-//!   5 s (`request_rate`), requests per second.
+//!   5 s (`request_rate`), requests per second; and the instructions per request on 3
+//!   sessions, under callgrind, from a 5 s and a 15 s run the same way.
 //!
 //! Needs root (namespaces), valgrind, and the release builds of `enip-host`, `scanner` and
 //! `request_rate`, which [`run_all`] makes.
@@ -145,19 +146,20 @@ pub fn measure(scale: Scale) -> Result<Value> {
     let _ = fs::create_dir_all(&bins.dir);
     let mut report = serde_json::Map::new();
     println!(
-        "{:<18} {:>14} {:>14} {:>12} {:>12}",
-        "board", "instr/cycle", "ctx sw/cycle", "1 sess rq/s", "3 sess rq/s"
+        "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12}",
+        "board", "instr/cycle", "ctx sw/cycle", "1 sess rq/s", "3 sess rq/s", "instr/rq"
     );
     for board in &boards {
         let r = measure_board(board, &bins)?;
         let cell = |k: &str| r[k].as_f64().map_or("?".into(), |v| format!("{v:.1}"));
         println!(
-            "{:<18} {:>14} {:>14} {:>12} {:>12}",
+            "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12}",
             board.name(),
             cell("instructions_per_cycle"),
             cell("context_switches_per_cycle"),
             cell("requests_per_second_1_session"),
             cell("requests_per_second_3_sessions"),
+            cell("instructions_per_request_3_sessions"),
         );
         report.insert(board.name().into(), r);
     }
@@ -185,6 +187,7 @@ fn measure_board(board: &Board, bins: &Bins) -> Result<Value> {
         native_long.cycles,
     );
     let (one, three) = rates(board, bins)?;
+    let per_request = request_cost(board, bins)?;
     Ok(json!({
         "instructions_per_cycle": (instructions * 10.0).round() / 10.0,
         "callgrind_runs": [[short.cycles, short.instructions], [long.cycles, long.instructions]],
@@ -193,6 +196,7 @@ fn measure_board(board: &Board, bins: &Bins) -> Result<Value> {
                         [native_long.cycles, native_long.switches]],
         "requests_per_second_1_session": one,
         "requests_per_second_3_sessions": three,
+        "instructions_per_request_3_sessions": (per_request * 10.0).round() / 10.0,
     }))
 }
 
@@ -315,31 +319,60 @@ fn switches(pid: u32) -> u64 {
 fn rates(board: &Board, bins: &Bins) -> Result<(f64, f64)> {
     let lab = board.lab()?;
     let mut child = start(board, &lab, bins, None)?;
-    let seconds = bins.seconds.2.to_string();
-    let rate = |sessions: &str| -> Result<f64> {
-        let out = lab
-            .command(&bins.request_rate)
-            .args([
-                "--target",
-                BOARD_IP,
-                "--sessions",
-                sessions,
-                "--seconds",
-                &seconds,
-            ])
-            .output()
-            .map_err(|e| Error(format!("request_rate: {e}")))?;
-        serde_json::from_slice::<Value>(&out.stdout)
-            .ok()
-            .and_then(|v| v["per_second"].as_f64())
-            .ok_or_else(|| {
-                Error(format!(
-                    "request_rate: {}",
-                    String::from_utf8_lossy(&out.stderr)
-                ))
-            })
+    let seconds = bins.seconds.2;
+    let per_second = |sessions| -> Result<f64> {
+        let report = request_rate(&lab, bins, sessions, seconds)?;
+        report["per_second"]
+            .as_f64()
+            .ok_or_else(|| Error(format!("request_rate printed {report}")))
     };
-    let result = rate("1").and_then(|one| Ok((one, rate("3")?)));
+    let result = per_second(1).and_then(|one| Ok((one, per_second(3)?)));
     stop(&mut child);
     result
+}
+
+/// User-space instructions per Get_Attribute_Single on 3 sessions at once: the board under
+/// callgrind answering `request_rate` for a short and a long run, the difference of the
+/// totals over the difference of the requests answered (start-up and shut-down cancel out).
+fn request_cost(board: &Board, bins: &Bins) -> Result<f64> {
+    let seconds = bins.seconds.2;
+    let mut runs = Vec::new();
+    for (i, seconds) in [seconds, 3 * seconds].into_iter().enumerate() {
+        let lab = board.lab()?;
+        let out = bins.dir.join(format!(
+            "host-{}-requests-{i}.callgrind",
+            board.name().replace([' ', '-'], "_")
+        ));
+        let _ = fs::remove_file(&out);
+        let mut child = start(board, &lab, bins, Some(out.as_path()))?;
+        let report = request_rate(&lab, bins, 3, seconds);
+        stop(&mut child);
+        let requests = report?["requests"]
+            .as_u64()
+            .ok_or_else(|| Error(format!("{}: request_rate counted nothing", board.name())))?;
+        runs.push((requests, crate::bench::callgrind_total(&out)?));
+    }
+    let [(r0, i0), (r1, i1)] = runs[..] else {
+        return err("two runs expected");
+    };
+    Ok(i1.saturating_sub(i0) as f64 / r1.saturating_sub(r0).max(1) as f64)
+}
+
+/// `request_rate` in `lab`: back-to-back Get_Attribute_Single on `sessions` sessions for
+/// `seconds`; its JSON report.
+fn request_rate(lab: &Lab, bins: &Bins, sessions: u32, seconds: u64) -> Result<Value> {
+    let out = lab
+        .command(&bins.request_rate)
+        .args(["--target", BOARD_IP, "--sessions"])
+        .arg(sessions.to_string())
+        .arg("--seconds")
+        .arg(seconds.to_string())
+        .output()
+        .map_err(|e| Error(format!("request_rate: {e}")))?;
+    serde_json::from_slice::<Value>(&out.stdout).map_err(|_| {
+        Error(format!(
+            "request_rate: {}",
+            String::from_utf8_lossy(&out.stderr)
+        ))
+    })
 }
