@@ -52,6 +52,11 @@ impl Scale {
         self.pick((5, 15, 5), (2, 4, 1))
     }
 
+    /// Rounds of the host boards' request-rate runs (the boards take turns).
+    pub fn rate_rounds(self) -> usize {
+        self.pick(3, 1)
+    }
+
     fn pick<T>(self, full: T, check: T) -> T {
         match self {
             Scale::Full => full,
