@@ -10,10 +10,10 @@ use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::signal::Signal;
 use embassy_sync::waitqueue::WakerRegistration;
-use enip_stack::{Adapter, Device, Instant, IoDue};
+use enip_stack::{Adapter, Device, Instant, IoDue, NetworkConfig};
 use static_cell::StaticCell;
 
-use crate::link::{Interface, IoPort};
+use crate::link::IoPort;
 
 /// An [`Adapter`] shared by the runtime's futures and the link task; never borrowed across
 /// an `.await`.
@@ -103,15 +103,8 @@ pub(crate) async fn membership_changed<D: Device>(shared: &SharedAdapter<D>) {
 }
 
 impl<D: Device> IoPort for SharedAdapter<D> {
-    fn interface(&self) -> Interface {
-        with_adapter_quiet(self, |a| {
-            let n = a.network();
-            Interface {
-                ip: n.ip,
-                netmask: n.netmask,
-                gateway: n.gateway,
-            }
-        })
+    fn interface(&self) -> NetworkConfig {
+        with_adapter_quiet(self, |a| *a.network())
     }
 
     fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant) {

@@ -1,27 +1,17 @@
 //! [`IoPort`]: the adapter's Class 1 calls the link task makes, without naming the device
 //! type (the link task is one non-generic task of the board).
 
-use core::net::{Ipv4Addr, SocketAddrV4};
+use core::net::SocketAddrV4;
 use core::task::{Context, Poll};
 
-use enip_stack::{Instant, IoDue};
-
-/// The interface addresses T->O datagrams go out with.
-#[derive(Debug, Clone, Copy)]
-pub struct Interface {
-    /// This adapter's IPv4 address (unspecified while it has none).
-    pub ip: Ipv4Addr,
-    /// Its netmask.
-    pub netmask: Ipv4Addr,
-    /// Its default gateway (unspecified: none).
-    pub gateway: Ipv4Addr,
-}
+use enip_stack::{Instant, IoDue, NetworkConfig};
 
 /// Class 1 I/O of an adapter shared with the other tasks of the runtime; implemented by
 /// [`crate::SharedAdapter`].
 pub trait IoPort {
-    /// The interface addresses now.
-    fn interface(&self) -> Interface;
+    /// The interface configuration now (`Adapter::network`): the addresses T->O datagrams
+    /// go out with.
+    fn interface(&self) -> NetworkConfig;
     /// Feeds one O->T datagram from `from` (`Adapter::io_receive`).
     fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant);
     /// Closes expired connections, then names the most overdue T->O datagram

@@ -22,6 +22,6 @@ mod net_driver;
 mod pump;
 
 pub use frames::{LinkFrames, FRAME_LEN, RX_FRAMES, TX_FRAMES};
-pub use io_port::{Interface, IoPort};
+pub use io_port::IoPort;
 pub use net_driver::{NetDriver, Received, Send};
 pub use pump::run;

@@ -13,12 +13,12 @@ use core::task::{Context, Poll};
 use embassy_net_driver::{Checksum, Driver, HardwareAddress, RxToken, TxToken};
 use embassy_time::Timer;
 use enip_stack::config::MAX_CONNECTIONS;
-use enip_stack::{Instant, IoDue};
+use enip_stack::{Instant, IoDue, NetworkConfig};
 use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 
 use super::frame::{self, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
-use super::frames::{LinkFrames, RX_FRAMES, TX_FRAMES};
-use super::io_port::{Interface, IoPort};
+use super::frames::{LinkFrames, TX_FRAMES};
+use super::io_port::IoPort;
 use super::neighbors::{next_hop, Neighbors};
 use crate::clock::{now, to_embassy};
 
@@ -109,7 +109,7 @@ impl Pump {
         driver: &mut D,
         frames: &LinkFrames,
         io: &dyn IoPort,
-        me: &Interface,
+        me: &NetworkConfig,
         at: Instant,
     ) -> bool {
         let mut passed = false;
@@ -135,7 +135,7 @@ impl Pump {
         frame: &[u8],
         frames: &LinkFrames,
         io: &dyn IoPort,
-        me: &Interface,
+        me: &NetworkConfig,
         at: Instant,
     ) -> bool {
         let seen = frame::inspect(frame, me.ip, &self.sums);
@@ -189,7 +189,7 @@ impl Pump {
         cx: &mut Context<'_>,
         driver: &mut D,
         io: &dyn IoPort,
-        me: &Interface,
+        me: &NetworkConfig,
         at: Instant,
     ) {
         self.blocked = false;
@@ -309,5 +309,3 @@ fn software(hardware: Checksum) -> Sums {
         Checksum::Both => Sums::Both,
     }
 }
-
-const _: () = assert!(RX_FRAMES >= 1 && TX_FRAMES >= 1);
