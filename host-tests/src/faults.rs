@@ -1,6 +1,6 @@
 //! What the fault tests (issue 13) share: short or long runs chosen by environment variables,
-//! the one-line figures report `cargo xtask faults` collects, and the board process's CPU time
-//! and resident memory from `/proc`.
+//! and the one-line figures report `cargo xtask faults` collects (the board's CPU time and
+//! resident memory are the lab's [`crate::usage`]).
 //!
 //! `ENIP_FAULTS_LONG=1` selects the long versions; single figures can be overridden by their
 //! own variables (e.g. `ENIP_FAULTS_CHURN_CYCLES`), see each test.
@@ -62,14 +62,14 @@ pub fn ms(d: Duration) -> f64 {
 
 /// The process id of the program `comm` (its first 15 bytes, as `/proc/PID/comm` has it)
 /// running inside `ns`.
-pub fn pid_in(ns: &Namespace, comm: &str) -> io::Result<i32> {
+pub fn pid_in(ns: &Namespace, comm: &str) -> io::Result<u32> {
     let mut c = Command::new("ip");
     c.args(["netns", "pids", ns.name()]);
     let out = run_bounded(c, None, Duration::from_secs(10))?;
     let short: String = comm.chars().take(15).collect();
     String::from_utf8_lossy(&out.stdout)
         .split_whitespace()
-        .filter_map(|p| p.parse::<i32>().ok())
+        .filter_map(|p| p.parse::<u32>().ok())
         .find(|pid| {
             std::fs::read_to_string(format!("/proc/{pid}/comm")).is_ok_and(|c| c.trim() == short)
         })
@@ -83,9 +83,13 @@ pub fn real_time_thread(priority: i32) -> io::Result<()> {
 }
 
 /// Puts every thread of process `pid` under SCHED_FIFO at `priority`.
-pub fn real_time_process(pid: i32, priority: i32) -> io::Result<()> {
+pub fn real_time_process(pid: u32, priority: i32) -> io::Result<()> {
     for task in std::fs::read_dir(format!("/proc/{pid}/task"))? {
-        if let Some(tid) = task?.file_name().to_str().and_then(|t| t.parse().ok()) {
+        if let Some(tid) = task?
+            .file_name()
+            .to_str()
+            .and_then(|t| t.parse::<u32>().ok())
+        {
             set_fifo(tid, priority)?;
         }
     }
@@ -93,7 +97,7 @@ pub fn real_time_process(pid: i32, priority: i32) -> io::Result<()> {
 }
 
 /// SCHED_FIFO at `priority` for thread `tid`, set by util-linux's `chrt`.
-fn set_fifo(tid: i32, priority: i32) -> io::Result<()> {
+fn set_fifo(tid: impl std::fmt::Display, priority: i32) -> io::Result<()> {
     let status = std::process::Command::new("chrt")
         .args(["--fifo", "--pid", &priority.to_string(), &tid.to_string()])
         .status()?;
@@ -103,67 +107,9 @@ fn set_fifo(tid: i32, priority: i32) -> io::Result<()> {
     Ok(())
 }
 
-/// CPU time and resident memory of a process at one moment.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Usage {
-    /// User plus system CPU time, in clock ticks.
-    pub cpu_ticks: u64,
-    /// Resident set size, KiB.
-    pub rss_kib: u64,
-}
-
-/// Clock ticks per second of `/proc/PID/stat`'s CPU times.
-pub fn ticks_per_second() -> u64 {
-    Some(rustix::param::clock_ticks_per_second())
-        .filter(|&t| t > 0)
-        .unwrap_or(100)
-}
-
-/// Reads process `pid`'s CPU time (`/proc/PID/stat` utime + stime) and resident memory
-/// (`/proc/PID/status` VmRSS).
-pub fn usage(pid: i32) -> io::Result<Usage> {
-    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat"))?;
-    let status = std::fs::read_to_string(format!("/proc/{pid}/status"))?;
-    Ok(Usage {
-        cpu_ticks: cpu_ticks(&stat).ok_or_else(|| io::Error::other(format!("stat: {stat}")))?,
-        rss_kib: rss_kib(&status).ok_or_else(|| io::Error::other("no VmRSS in status"))?,
-    })
-}
-
-/// utime + stime (fields 14 and 15) of a `/proc/PID/stat` line; the command name in
-/// parentheses may contain spaces, so fields are counted after its closing parenthesis.
-fn cpu_ticks(stat: &str) -> Option<u64> {
-    let rest = stat.get(stat.rfind(')')? + 1..)?;
-    let mut fields = rest.split_whitespace().skip(11);
-    let utime: u64 = fields.next()?.parse().ok()?;
-    let stime: u64 = fields.next()?.parse().ok()?;
-    Some(utime + stime)
-}
-
-/// The `VmRSS:` value (KiB) of a `/proc/PID/status` text.
-fn rss_kib(status: &str) -> Option<u64> {
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmRSS:"))?
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn proc_fields() {
-        let stat = "4242 (enip host) S 1 2 3 4 5 6 7 8 9 10 250 31 0 0 20 0 3 0 99 1000 200";
-        assert_eq!(cpu_ticks(stat), Some(281));
-        assert_eq!(cpu_ticks("4242 (x) S 1"), None);
-        let status = "Name:\tenip-host\nVmPeak:\t  9000 kB\nVmRSS:\t    4711 kB\nThreads:\t1\n";
-        assert_eq!(rss_kib(status), Some(4711));
-        assert_eq!(rss_kib("Name: x\n"), None);
-    }
 
     #[test]
     fn most_and_least_of_rounds() {
@@ -175,11 +121,5 @@ mod tests {
         assert_eq!(most(&rounds, "a"), Some(2.5));
         assert_eq!(least(&rounds, "a"), Some(-1.0));
         assert_eq!(most(&rounds, "b"), None);
-    }
-
-    #[test]
-    fn own_usage_is_readable() {
-        let u = usage(std::process::id() as i32).unwrap();
-        assert!(u.rss_kib > 0);
     }
 }

@@ -8,4 +8,4 @@ pub mod enip;
 pub mod faults;
 pub mod scanner;
 
-pub use enip_lab::{capture, netns, paths, peers, process, rig};
+pub use enip_lab::{capture, netns, paths, peers, process, rig, usage};

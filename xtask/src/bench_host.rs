@@ -10,9 +10,11 @@
 //! - context switches per cycle: the same two runs natively, summing `voluntary_ctxt_switches`
 //!   and `nonvoluntary_ctxt_switches` of every thread from `/proc/PID/task/*/status`;
 //! - explicit messaging: back-to-back Get_Attribute_Single on 1 and on 3 sessions for
-//!   5 s (`request_rate`), requests per second, the boards taking turns for three rounds
-//!   and each board's median reported; and the instructions per request on 3
-//!   sessions, under callgrind, from a 5 s and a 15 s run the same way.
+//!   5 s (`request_rate`), requests per second, the boards taking turns for
+//!   [`Scale::rate_rounds`] rounds and each board's median reported, with the board's CPU
+//!   time (user and system, `/proc/PID/stat`) per request on 3 sessions; and the
+//!   instructions per request on 3 sessions, under callgrind, from a 5 s and a 15 s run the
+//!   same way.
 //!
 //! Needs root (namespaces), valgrind, and the release builds of `enip-host`, `scanner` and
 //! `request_rate`, which [`run_all`] makes.
@@ -26,6 +28,7 @@ use std::time::{Duration, Instant};
 use enip_lab::netns::{Lab, BOARD_VETH};
 use enip_lab::process::{signal, SIGINT};
 use enip_lab::scanner::{self as scanner_run, ScannerRun};
+use enip_lab::usage::{context_switches, ticks_per_second, usage};
 use serde_json::{json, Value};
 
 use crate::bench_scale::Scale;
@@ -150,39 +153,60 @@ pub fn measure(scale: Scale) -> Result<Value> {
     let _ = fs::create_dir_all(&bins.dir);
     let mut report = serde_json::Map::new();
     println!(
-        "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12}",
-        "board", "instr/cycle", "ctx sw/cycle", "1 sess rq/s", "3 sess rq/s", "instr/rq"
+        "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12} {:>12}",
+        "board",
+        "instr/cycle",
+        "ctx sw/cycle",
+        "1 sess rq/s",
+        "3 sess rq/s",
+        "instr/rq",
+        "CPU us/rq"
     );
     let mut measured = Vec::new();
     for board in &boards {
         measured.push(measure_board(board, &bins)?);
     }
     // The request rates are wall-clock figures on a shared machine: the boards take turns,
-    // round after round, and each board's median is reported.
-    let mut rounds = vec![Vec::new(); boards.len()];
-    for _ in 0..bins.rate_rounds {
-        for (board, runs) in boards.iter().zip(&mut rounds) {
-            runs.push(rates(board, &bins)?);
+    // round after round (every other round in reverse order, so none always goes first),
+    // and each board's median is reported.
+    let mut rounds: Vec<Vec<Rates>> = boards.iter().map(|_| Vec::new()).collect();
+    for round in 0..bins.rate_rounds {
+        let mut turn: Vec<usize> = (0..boards.len()).collect();
+        if round % 2 == 1 {
+            turn.reverse();
+        }
+        for i in turn {
+            if let (Some(board), Some(runs)) = (boards.get(i), rounds.get_mut(i)) {
+                runs.push(rates(board, &bins)?);
+            }
         }
     }
     for ((board, mut r), runs) in boards.iter().zip(measured).zip(rounds) {
-        let median = |pick: fn(&(f64, f64)) -> f64| {
+        let median = |pick: fn(&Rates) -> f64| {
             let mut v: Vec<f64> = runs.iter().map(pick).collect();
             v.sort_by(f64::total_cmp);
             v.get(v.len() / 2).copied().unwrap_or(0.0)
         };
-        r["requests_per_second_1_session"] = median(|r| r.0).into();
-        r["requests_per_second_3_sessions"] = median(|r| r.1).into();
-        r["request_rate_rounds"] = json!(runs);
+        r["requests_per_second_1_session"] = median(|r| r.one).into();
+        r["requests_per_second_3_sessions"] = median(|r| r.three).into();
+        r["cpu_us_per_request_3_sessions"] = median(|r| r.cpu_us_per_request).into();
+        r["request_rate_rounds"] = json!(runs
+            .iter()
+            .map(|r| json!([r.one, r.three, r.cpu_us_per_request]))
+            .collect::<Vec<_>>());
         let cell = |k: &str| r[k].as_f64().map_or("?".into(), |v| format!("{v:.1}"));
         println!(
-            "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12}",
+            "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12} {:>12}",
             board.name(),
             cell("instructions_per_cycle"),
             cell("context_switches_per_cycle"),
             cell("requests_per_second_1_session"),
             cell("requests_per_second_3_sessions"),
             cell("instructions_per_request_3_sessions"),
+            format!(
+                "{:.2}",
+                r["cpu_us_per_request_3_sessions"].as_f64().unwrap_or(0.0)
+            ),
         );
         report.insert(board.name().into(), r);
     }
@@ -230,7 +254,7 @@ fn sample(board: &Board, bins: &Bins, seconds: u64, callgrind: bool) -> Result<S
     let _ = fs::remove_file(&out);
     let mut child = start(board, &lab, bins, callgrind.then_some(out.as_path()))?;
     let pid = child.id();
-    let before = switches(pid);
+    let before = context_switches(pid);
     let json = bins.dir.join("host-scanner.json");
     let run = ScannerRun {
         bin: &bins.scanner,
@@ -241,7 +265,7 @@ fn sample(board: &Board, bins: &Bins, seconds: u64, callgrind: bool) -> Result<S
         json: &json,
     };
     let scanned = scanner_run::run(lab.ns(), &run);
-    let after = switches(pid);
+    let after = context_switches(pid);
     stop(&mut child);
     let (_, doc) = scanned.map_err(|e| Error(format!("{}: scanner failed: {e}", board.name())))?;
     let cycles = doc["connections"][0]["received"].as_u64().unwrap_or(0);
@@ -317,36 +341,45 @@ fn stop(child: &mut Child) {
     let _ = child.wait();
 }
 
-/// Context switches so far of every thread of process `pid`.
-fn switches(pid: u32) -> u64 {
-    let Ok(tasks) = fs::read_dir(format!("/proc/{pid}/task")) else {
-        return 0;
-    };
-    tasks
-        .flatten()
-        .filter_map(|t| fs::read_to_string(t.path().join("status")).ok())
-        .flat_map(|status| {
-            status
-                .lines()
-                .filter(|l| l.contains("ctxt_switches:"))
-                .filter_map(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
-                .collect::<Vec<_>>()
-        })
-        .sum()
+/// One round of a board's request rates.
+struct Rates {
+    /// Requests per second on 1 session.
+    one: f64,
+    /// Requests per second on 3 sessions at once.
+    three: f64,
+    /// The board's CPU time (user and system, every thread) per request on 3 sessions, in
+    /// microseconds: the work the adapter makes the machine do, which the rate shares with
+    /// the client.
+    cpu_us_per_request: f64,
 }
 
-/// Requests per second answered on 1 and on 3 sessions at once.
-fn rates(board: &Board, bins: &Bins) -> Result<(f64, f64)> {
+/// Requests per second answered on 1 and on 3 sessions at once, and the board's CPU time
+/// per request on 3.
+fn rates(board: &Board, bins: &Bins) -> Result<Rates> {
     let lab = board.lab()?;
     let mut child = start(board, &lab, bins, None)?;
+    let pid = child.id();
     let seconds = bins.seconds.2;
-    let per_second = |sessions| -> Result<f64> {
+    let measure = |sessions| -> Result<(f64, f64)> {
         let report = request_rate(&lab, bins, sessions, seconds)?;
-        report["per_second"]
-            .as_f64()
-            .ok_or_else(|| Error(format!("request_rate printed {report}")))
+        let number = |key: &str| {
+            report[key]
+                .as_f64()
+                .ok_or_else(|| Error(format!("request_rate printed {report}")))
+        };
+        Ok((number("per_second")?, number("requests")?))
     };
-    let result = per_second(1).and_then(|one| Ok((one, per_second(3)?)));
+    let result = measure(1).and_then(|(one, _)| {
+        let cpu_ticks = || usage(pid).map_or(0, |u| u.cpu_ticks);
+        let before = cpu_ticks();
+        let (three, requests) = measure(3)?;
+        let ticks = cpu_ticks().saturating_sub(before);
+        Ok(Rates {
+            one,
+            three,
+            cpu_us_per_request: ticks as f64 * 1e6 / ticks_per_second() as f64 / requests.max(1.0),
+        })
+    });
     stop(&mut child);
     result
 }

@@ -54,7 +54,7 @@ impl Scale {
 
     /// Rounds of the host boards' request-rate runs (the boards take turns).
     pub fn rate_rounds(self) -> usize {
-        self.pick(3, 1)
+        self.pick(5, 1)
     }
 
     fn pick<T>(self, full: T, check: T) -> T {

@@ -13,11 +13,12 @@ use crate::fault_io::{board_real_time, drive, ms_between, Feed, IO_PORT};
 use enip_stack::wire::epath::{LogicalType, Segment};
 use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
 use host_tests::enip::{command, mr_request, path, register_data, Client, Header};
-use host_tests::faults::{count, least, most, ms, pid_in, report, usage};
+use host_tests::faults::{count, least, most, ms, pid_in, report};
 use host_tests::netns::Namespace;
 use host_tests::rig::{board_addr, Rig, BOARD_IP};
 use host_tests::scanner::stats::{connection_stats, quantile};
 use host_tests::scanner::{exchange, open_generic, Session};
+use host_tests::usage::usage;
 
 /// Exclusive owner path: configuration 151, output 150, input 100.
 pub const OWNER_PATH: [u8; 8] = [0x20, 0x04, 0x24, 151, 0x2C, 150, 0x2C, 100];

@@ -28,12 +28,11 @@ use serde_json::{json, Value};
 use crate::common::{self, REPLY};
 use crate::fault_io::{board_real_time, SCANNER_PRIORITY};
 use crate::faults::cm_counter;
-use host_tests::faults::{
-    count, long, pid_in, real_time_thread, report, ticks_per_second, usage, Usage,
-};
+use host_tests::faults::{count, long, pid_in, real_time_thread, report};
 use host_tests::process::run_bounded;
 use host_tests::rig::{Rig, BOARD_IP};
 use host_tests::scanner::{exchange, open_generic, Session};
+use host_tests::usage::{ticks_per_second, usage, Usage};
 
 /// Connections, RPI and timeout multiplier code (3: x32).
 const CONNECTIONS: usize = 10;
@@ -202,7 +201,7 @@ fn faults_soak() {
 /// Manager's timeout count since `timeouts_before` read on `s` each time (which also keeps
 /// the session from idling out).
 fn sample(
-    pid: i32,
+    pid: u32,
     s: &mut Session,
     periods: u64,
     period: Duration,
