@@ -106,30 +106,31 @@ pub fn run_all(scale: Scale) -> Result {
         "{:<52} {:>12.1}",
         "stack instructions per Get_Attribute_Single (callgrind)", explicit.2
     );
-    let rows: [(&str, &str, &str); 6] = [
+    let tap_run_name = format!("TAP 10 x 1 ms, {tap_seconds} s");
+    let rows: [(String, &str, &str); 6] = [
         (
-            "TAP 10 x 1 ms, 60 s: worst p99 T->O interval (us)",
+            format!("{tap_run_name}: worst p99 T->O interval (us)"),
             &tap,
             "worst_p99_us",
         ),
         (
-            "TAP 10 x 1 ms, 60 s: worst max T->O interval (us)",
+            format!("{tap_run_name}: worst max T->O interval (us)"),
             &tap,
             "worst_max_us",
         ),
-        ("TAP 10 x 1 ms, 60 s: packets lost", &tap, "total_lost"),
+        (format!("{tap_run_name}: packets lost"), &tap, "total_lost"),
         (
-            "TAP 10 x 1 ms, 60 s: connections timed out",
+            format!("{tap_run_name}: connections timed out"),
             &tap,
             "timeouts",
         ),
         (
-            "host floor: 1 ms sleep loop p99 interval (us)",
+            "host floor: 1 ms sleep loop p99 interval (us)".into(),
             &baseline,
             "p99_us",
         ),
         (
-            "host floor: 1 ms sleep loop max interval (us)",
+            "host floor: 1 ms sleep loop max interval (us)".into(),
             &baseline,
             "max_us",
         ),
