@@ -1,12 +1,15 @@
 //! In-memory PHY integration test (no root, no real network): the firmware runtime with the
-//! generic profile on one embassy-net stack (198.18.0.2/24) and a test client on another
-//! (198.18.0.1/24), joined by an in-memory Ethernet wire and driven on this thread.
+//! generic profile on one embassy-net stack (198.18.0.2/24) behind the link task, as on the
+//! boards, and a test client on another (198.18.0.1/24), joined by an in-memory Ethernet
+//! wire and driven on this thread.
 //!
 //! Covered: RegisterSession, SendRRData Get_Attribute_Single (Identity product name),
 //! Set_Attribute_Single on output assembly 150 read back from input assembly 100, unicast and
 //! broadcast ListIdentity over UDP, a 4th TCP client refused while three sessions stay
 //! served, a stalled client that does not hold up the others, a socket freed by
-//! UnregisterSession taking the next client, and the encapsulation inactivity timeout.
+//! UnregisterSession taking the next client, the encapsulation inactivity timeout, and a
+//! Class 1 exclusive owner through the link task (O->T data reaching the adapter, T->O data
+//! with headers and checksums the client's stack accepts, the watchdog ending it).
 
 use std::cell::RefCell;
 use std::collections::VecDeque;
@@ -15,24 +18,29 @@ use std::net::Ipv4Addr;
 use std::rc::Rc;
 use std::task::{Context, Waker};
 
-use embassy_futures::join::join3;
+use embassy_futures::join::join4;
 use embassy_futures::select::{select, Either};
 use embassy_net::tcp::{ConnectError, TcpSocket};
 use embassy_net::udp::{PacketMetadata, UdpSocket};
 use embassy_net::{Ipv4Cidr, Stack, StackResources, StaticConfigV4};
 use embassy_time::{with_timeout, Duration, Timer};
+use enip_firmware::link::{self, LinkFrames, NetDriver};
 use enip_firmware::profiles::generic;
 use enip_firmware::{Profile, Resources};
+use enip_stack::originator;
 use enip_stack::wire::cpf::{self, item_type};
 use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
+use enip_stack::wire::forward_open::{ForwardOpen, ForwardOpenReply, NetworkParams, Triad};
 use enip_stack::wire::identity_item::IdentityRepr;
 use enip_stack::wire::message_router::ResponseRepr;
+use enip_stack::wire::Writer;
 use enip_stack::Adapter;
 
 const ADAPTER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
 const CLIENT_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
 const BROADCAST_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 255);
 const PORT: u16 = 44818;
+const IO_PORT: u16 = 2222;
 /// Bound of a whole test, enforced by [`block_on`].
 const TEST_LIMIT: Duration = Duration::from_secs(10);
 /// Bound of one request/reply exchange.
@@ -170,8 +178,11 @@ fn with_adapter(scenario: impl AsyncFnOnce(Stack<'_>)) {
     let (adapter_port, client_port) = wire::pair([2, 0, 0, 0, 0, 2], [2, 0, 0, 0, 0, 1]);
     let mut adapter_sockets = StackResources::<8>::new();
     let mut client_sockets = StackResources::<8>::new();
+    // As on the boards, the adapter's port belongs to the link task: Class 1 datagrams go
+    // between it and the adapter, every other frame through `frames` to embassy-net.
+    let frames = LinkFrames::new();
     let (adapter_net, mut adapter_runner) = embassy_net::new(
-        adapter_port,
+        NetDriver::new(&frames, &adapter_port),
         static_config(ADAPTER_IP),
         &mut adapter_sockets,
         0x0123_4567,
@@ -188,10 +199,11 @@ fn with_adapter(scenario: impl AsyncFnOnce(Stack<'_>)) {
         42,
     ));
     let mut resources = Box::new(Resources::new());
-    let background = join3(
+    let background = join4(
         adapter_runner.run(),
         client_runner.run(),
         enip_firmware::run(adapter_net, &adapter, &mut resources, |_| {}),
+        link::run(adapter_port, &frames, &adapter),
     );
     match block_on(select(background, scenario(client_net))) {
         Either::First(never) => match never.0 {},
@@ -512,5 +524,155 @@ fn idle_connection_is_closed_after_the_inactivity_timeout() {
             idle >= Duration::from_millis(900),
             "closed after {idle:?}, before the timeout"
         );
+    });
+}
+
+/// Connection Manager (class 6, instance 1) and its Forward_Open service.
+const CONNECTION_MANAGER: [u8; 4] = [0x20, 0x06, 0x24, 0x01];
+const FORWARD_OPEN: u8 = 0x54;
+/// The Class 1 connection's RPI, both directions, and its T->O connection ID.
+const CLASS1_RPI_US: u32 = 10_000;
+const T_O_ID: u32 = 0x5C00_0001;
+
+/// The Forward_Open of the generic profile's exclusive owner (outputs 150, inputs 100,
+/// configuration 151) at [`CLASS1_RPI_US`] both ways, point to point, timeout x4.
+fn exclusive_owner_request() -> Vec<u8> {
+    let path = [
+        0x20,
+        0x04,
+        0x24,
+        generic::CONFIG as u8,
+        0x2C,
+        generic::OUTPUT as u8,
+        0x2C,
+        generic::INPUT as u8,
+    ];
+    // Sizes: 32 bytes of data, the 16-bit sequence count, O->T also the run/idle header.
+    let o_t_size = (generic::IO_SIZE + 2 + 4) as u16;
+    let t_o_size = (generic::IO_SIZE + 2) as u16;
+    let request = ForwardOpen {
+        large: false,
+        priority_tick: 0x0A,
+        timeout_ticks: 0x0E,
+        o_t_connection_id: 0,
+        t_o_connection_id: T_O_ID,
+        triad: Triad {
+            connection_serial: 7,
+            vendor_id: 0xF00D,
+            originator_serial: 7,
+        },
+        timeout_multiplier: 0,
+        o_t_rpi: CLASS1_RPI_US,
+        o_t_params: NetworkParams::from_u16(0x4800 | o_t_size),
+        t_o_rpi: CLASS1_RPI_US,
+        t_o_params: NetworkParams::from_u16(0x4800 | t_o_size),
+        transport: 0x01,
+        path: &path,
+    };
+    let mut buf = [0u8; 128];
+    let mut w = Writer::new(&mut buf);
+    request.emit(&mut w).expect("Forward_Open fits");
+    let len = w.len();
+    buf[..len].to_vec()
+}
+
+/// The connected data (sequence count, then inputs) of a T->O datagram of [`T_O_ID`].
+fn t_o_data(datagram: &[u8]) -> Vec<u8> {
+    let p = enip_stack::wire::io_datagram::Packet::new_checked(datagram).expect("T->O datagram");
+    assert_eq!(p.connection_id(), T_O_ID, "T->O connection ID");
+    p.connected_data().to_vec()
+}
+
+#[test]
+fn class1_io_through_the_link_task() {
+    with_adapter(async |net| {
+        let (mut rx, mut tx) = ([0u8; 2048], [0u8; 2048]);
+        let mut client = Client::connect(net, &mut rx, &mut tx)
+            .await
+            .expect("connect");
+        let session = client.register().await;
+
+        // The client's I/O socket first, so no T->O datagram finds the port closed.
+        let (mut rx_meta, mut tx_meta) = ([PacketMetadata::EMPTY; 16], [PacketMetadata::EMPTY; 4]);
+        let (mut rx_buf, mut tx_buf) = ([0u8; 2048], [0u8; 512]);
+        let mut io = UdpSocket::new(net, &mut rx_meta, &mut rx_buf, &mut tx_meta, &mut tx_buf);
+        io.bind(IO_PORT).expect("bind 2222");
+
+        let (status, reply) = client
+            .request(
+                session,
+                FORWARD_OPEN,
+                &CONNECTION_MANAGER,
+                &exclusive_owner_request(),
+            )
+            .await;
+        assert_eq!(status, 0, "Forward_Open refused: {reply:02x?}");
+        let opened = ForwardOpenReply::parse(&reply).expect("Forward_Open reply");
+        assert_eq!(opened.t_o_connection_id, T_O_ID);
+        let o_t_id = opened.o_t_connection_id;
+
+        // 30 RPIs of O->T data; the T->O datagrams come from the adapter's address and port,
+        // in sequence, and soon carry the outputs back (input assembly 100 echoes 150).
+        let outputs: Vec<u8> = (0..generic::IO_SIZE as u8).map(|b| b ^ 0xA5).collect();
+        let mut datagram = [0u8; 128];
+        let mut received = Vec::new();
+        let rpi = Duration::from_micros(CLASS1_RPI_US.into());
+        let mut ticker = embassy_time::Ticker::every(rpi);
+        let start = embassy_time::Instant::now();
+        for sequence in 1..=30u16 {
+            let len = originator::io_datagram(
+                &mut datagram,
+                o_t_id,
+                sequence.into(),
+                sequence,
+                Some(true),
+                &outputs,
+            )
+            .expect("O->T datagram");
+            io.send_to(&datagram[..len], (ADAPTER_IP, IO_PORT))
+                .await
+                .expect("O->T sent");
+            ticker.next().await;
+            let mut buf = [0u8; 256];
+            while let Ok(Ok((n, from))) =
+                with_timeout(Duration::from_millis(1), io.recv_from(&mut buf)).await
+            {
+                assert_eq!(from.endpoint.addr, ADAPTER_IP.into(), "T->O source address");
+                assert_eq!(from.endpoint.port, IO_PORT, "T->O source port");
+                received.push(t_o_data(&buf[..n]));
+            }
+        }
+        // One per RPI of the time it took (300 ms unless this machine stalled), give or take
+        // the phase of the two clocks.
+        let rpis = (start.elapsed().as_micros() / rpi.as_micros()) as usize;
+        assert!(
+            (rpis.saturating_sub(3)..=rpis + 2).contains(&received.len()),
+            "{} T->O datagrams in {rpis} RPIs",
+            received.len()
+        );
+        let counts: Vec<u16> = received
+            .iter()
+            .map(|d| u16::from_le_bytes([d[0], d[1]]))
+            .collect();
+        assert!(
+            counts.windows(2).all(|w| w[1] == w[0].wrapping_add(1)),
+            "T->O sequence counts {counts:?}"
+        );
+        assert!(received.iter().all(|d| d.len() == 2 + generic::IO_SIZE));
+        assert_eq!(
+            received.last().map(|d| &d[2..]),
+            Some(&outputs[..]),
+            "the inputs echo the O->T outputs"
+        );
+
+        // Silence: the watchdog (4 x 10 ms) ends the connection, and the T->O data stops.
+        let mut buf = [0u8; 256];
+        Timer::after_millis(100).await;
+        while with_timeout(Duration::from_millis(1), io.recv_from(&mut buf))
+            .await
+            .is_ok()
+        {}
+        let late = with_timeout(Duration::from_millis(200), io.recv_from(&mut buf)).await;
+        assert!(late.is_err(), "T->O data after the connection timed out");
     });
 }
