@@ -71,6 +71,8 @@ pub(crate) fn handle<D: Device>(
 }
 
 /// Reset: no data or one byte, 0 (power cycle) or 1 (factory defaults); handed to the device.
+/// Out of line, so the check for it stays small enough to inline into every Identity request.
+#[inline(never)]
 fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
     let kind = match data {
         [] => 0,

@@ -89,20 +89,37 @@ pub(crate) fn serve(obj: &mut impl Object, req: &Request<'_>, w: &mut Writer<'_>
 }
 
 /// Get/Set_Attribute_Single, Get/Set_Attribute_List and Get_Attributes_All on `instance`.
+///
+/// Get_Attribute_Single, the request a scanner repeats most, is served with the object's
+/// type known; the others through `dyn Object`, one copy for every class (a copy per class
+/// cost about 8 KiB of flash).
 pub(crate) fn attribute_services(
     obj: &mut impl Object,
     instance: u32,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
+    if req.service != service::GET_ATTRIBUTE_SINGLE {
+        return other_attribute_services(obj, instance, req, w);
+    }
+    let attr = lookup(obj.class(), req.path.attribute)?;
+    if !req.data.is_empty() {
+        return Err(General::TooMuchData.into());
+    }
+    if !obj.access(instance, &attr).gettable() {
+        return Err(General::AttributeNotGettable.into());
+    }
+    obj.get(instance, &attr, w)
+}
+
+/// The attribute services other than Get_Attribute_Single.
+fn other_attribute_services(
+    obj: &mut dyn Object,
+    instance: u32,
+    req: &Request<'_>,
+    w: &mut Writer<'_>,
+) -> CipResult {
     match req.service {
-        service::GET_ATTRIBUTE_SINGLE => {
-            let attr = lookup(obj.class(), req.path.attribute)?;
-            if !req.data.is_empty() {
-                return Err(General::TooMuchData.into());
-            }
-            get_one(obj, instance, &attr, w)
-        }
         service::SET_ATTRIBUTE_SINGLE => {
             let attr = lookup(obj.class(), req.path.attribute)?;
             let len = value_len(obj, instance, &attr, req.data)?;
@@ -143,7 +160,7 @@ fn unsupported() -> CipError {
 }
 
 fn get_one(
-    obj: &mut impl Object,
+    obj: &mut dyn Object,
     instance: u32,
     attr: &AttributeDef,
     w: &mut Writer<'_>,
@@ -156,7 +173,7 @@ fn get_one(
 
 /// The length of a Set value for `attr` at the front of `data`; 0x0E if not settable.
 fn value_len(
-    obj: &impl Object,
+    obj: &dyn Object,
     instance: u32,
     attr: &AttributeDef,
     data: &[u8],
@@ -183,7 +200,7 @@ fn list_count(r: &mut Reader<'_>) -> CipResult<u16> {
 }
 
 /// Get_Attribute_List: count, then per attribute its id, status and (on success) value.
-fn get_list(obj: &mut impl Object, instance: u32, data: &[u8], w: &mut Writer<'_>) -> CipResult {
+fn get_list(obj: &mut dyn Object, instance: u32, data: &[u8], w: &mut Writer<'_>) -> CipResult {
     let mut r = Reader::new(data);
     let count = list_count(&mut r)?;
     let need = usize::from(count) * 2;
@@ -223,7 +240,7 @@ fn get_list(obj: &mut impl Object, instance: u32, data: &[u8], w: &mut Writer<'_
 /// Set_Attribute_List: count, then per attribute its id and value; replies id and status
 /// each. An entry whose value length cannot be known (unknown attribute, short data) ends
 /// the list there; a refused entry of known length is skipped and the rest go on.
-fn set_list(obj: &mut impl Object, instance: u32, data: &[u8], w: &mut Writer<'_>) -> CipResult {
+fn set_list(obj: &mut dyn Object, instance: u32, data: &[u8], w: &mut Writer<'_>) -> CipResult {
     let mut r = Reader::new(data);
     let count = list_count(&mut r)?;
     let count_at = w.len();
