@@ -270,6 +270,13 @@ impl<'a> Client<'a> {
         Self::connect_within(net, rx, tx, 1).await
     }
 
+    /// Connects and registers a session; returns the client and the session handle.
+    async fn registered(net: Stack<'a>, rx: &'a mut [u8], tx: &'a mut [u8]) -> (Self, u32) {
+        let mut client = Self::connect(net, rx, tx).await.expect("connect");
+        let session = client.register().await;
+        (client, session)
+    }
+
     /// Connects, trying up to `attempts` times 100 ms apart.
     async fn connect_within(
         net: Stack<'a>,
@@ -389,10 +396,7 @@ async fn check_product_name(client: &mut Client<'_>, session: u32) {
 fn explicit_messaging_over_tcp() {
     with_adapter(async |net| {
         let (mut rx, mut tx) = ([0u8; 2048], [0u8; 2048]);
-        let mut client = Client::connect(net, &mut rx, &mut tx)
-            .await
-            .expect("connect");
-        let session = client.register().await;
+        let (mut client, session) = Client::registered(net, &mut rx, &mut tx).await;
         check_product_name(&mut client, session).await;
 
         let outputs: Vec<u8> = (1..=32).collect();
@@ -507,10 +511,7 @@ fn fourth_client_is_refused_and_a_stalled_one_blocks_nobody() {
 fn idle_connection_is_closed_after_the_inactivity_timeout() {
     with_adapter(async |net| {
         let (mut rx, mut tx) = ([0u8; 1024], [0u8; 1024]);
-        let mut client = Client::connect(net, &mut rx, &mut tx)
-            .await
-            .expect("connect");
-        let session = client.register().await;
+        let (mut client, session) = Client::registered(net, &mut rx, &mut tx).await;
         // TCP/IP Interface (0xF5) instance 1 attribute 13: encapsulation inactivity timeout.
         let path = [0x20, 0xF5, 0x24, 0x01, 0x30, 0x0D];
         let (status, _) = client
@@ -587,10 +588,7 @@ fn t_o_data(datagram: &[u8]) -> Vec<u8> {
 fn class1_io_through_the_link_task() {
     with_adapter(async |net| {
         let (mut rx, mut tx) = ([0u8; 2048], [0u8; 2048]);
-        let mut client = Client::connect(net, &mut rx, &mut tx)
-            .await
-            .expect("connect");
-        let session = client.register().await;
+        let (mut client, session) = Client::registered(net, &mut rx, &mut tx).await;
 
         // The client's I/O socket first, so no T->O datagram finds the port closed.
         let (mut rx_meta, mut tx_meta) = ([PacketMetadata::EMPTY; 16], [PacketMetadata::EMPTY; 4]);
