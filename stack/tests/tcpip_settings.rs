@@ -9,6 +9,7 @@ use std::rc::Rc;
 
 use common::*;
 use enip_stack::cip::tcpip::TcpIpState;
+use enip_stack::cip::General;
 use enip_stack::nv::{AbStore, NvError, NvStore, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE};
 use enip_stack::wire::epath::{LogicalType, Segment};
 
@@ -124,6 +125,26 @@ fn settings_survive_a_restart() {
         Segment::Logical(LogicalType::Class, 1),
         Segment::Logical(LogicalType::Instance, 1),
     ];
+    assert_eq!(status(&h.request(0x05, &identity, &[1])).0, 0);
+    assert_eq!(TcpIpState::stored(&mut *store.0.borrow_mut()), Ok(None));
+}
+
+#[test]
+fn a_reset_the_device_refuses_keeps_the_stored_settings() {
+    let store = shared();
+    let mut h = harness(&store);
+    assert_eq!(set(&mut h, 6, &[4, 0, b'k', b'e', b'e', b'p']), 0);
+    h.adapter.device_mut().reset_refusal = Some(General::DeviceStateConflict.into());
+    let identity = [
+        Segment::Logical(LogicalType::Class, 1),
+        Segment::Logical(LogicalType::Instance, 1),
+    ];
+    assert_eq!(status(&h.request(0x05, &identity, &[1])).0, 0x10);
+    let st = TcpIpState::stored(&mut *store.0.borrow_mut()).unwrap();
+    assert!(st.is_some(), "the stored settings survive a refused Reset");
+    assert_eq!(&get(&mut h, 6)[..6], &[4, 0, b'k', b'e', b'e', b'p']);
+    // Accepted, the same Reset restores the factory settings.
+    h.adapter.device_mut().reset_refusal = None;
     assert_eq!(status(&h.request(0x05, &identity, &[1])).0, 0);
     assert_eq!(TcpIpState::stored(&mut *store.0.borrow_mut()), Ok(None));
 }

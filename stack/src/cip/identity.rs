@@ -80,16 +80,16 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
         [_] => return Err(General::InvalidParameter.into()),
         _ => return Err(General::TooMuchData.into()),
     };
-    // Factory defaults: the stored TCP/IP settings go first; if they cannot, nothing changes.
+    // The device answers first: a Reset it refuses (e.g. 0x0C while a drive is enabled)
+    // changes nothing, the stored TCP/IP settings included. Then factory defaults remove
+    // those; a store that cannot is 0x19.
+    ctx.device.reset(kind)?;
     if kind == 1 {
         if let Some(store) = ctx.store.as_deref_mut() {
             store
                 .remove(crate::nv::key::TCP_IP)
                 .map_err(|_| General::StoreOperationFailure)?;
         }
-    }
-    ctx.device.reset(kind)?;
-    if kind == 1 {
         ctx.state.tcpip = super::tcpip::TcpIpState::new();
     }
     ctx.state.pending_reset = Some(kind);

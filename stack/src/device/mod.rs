@@ -236,7 +236,9 @@ pub trait Device {
     }
 
     /// Identity Reset service: 0 emulates a power cycle, 1 also restores factory defaults.
-    /// Called before the reply is sent; the device performs the reset afterwards.
+    /// Called before the reply is sent, and before the stack restores its own factory
+    /// settings: an error refuses the Reset, and the stack then changes nothing. The device
+    /// performs the reset afterwards.
     fn reset(&mut self, _kind: u8) -> CipResult {
         Ok(())
     }

@@ -39,6 +39,8 @@ pub struct TestDevice {
     pub multicast: Option<Multicast>,
     /// Whether change-of-state connections are accepted.
     pub change_of_state: bool,
+    /// The error an Identity Reset gets (`None`: accepted).
+    pub reset_refusal: Option<CipError>,
 }
 
 impl TestDevice {
@@ -95,6 +97,7 @@ impl TestDevice {
             writes: Vec::new(),
             multicast: None,
             change_of_state: true,
+            reset_refusal: None,
         }
     }
 }
@@ -102,6 +105,9 @@ impl TestDevice {
 impl Device for TestDevice {
     fn identity(&self) -> &IdentityInfo {
         &IDENTITY
+    }
+    fn reset(&mut self, _kind: u8) -> CipResult {
+        self.reset_refusal.map_or(Ok(()), Err)
     }
     fn assemblies(&self) -> &[AssemblyInfo] {
         &self.assemblies
