@@ -8,6 +8,8 @@ Not a peer itself: the scenario scripts import it (their directory is on sys.pat
 import struct
 import time
 
+from ethernetip.ethernetip import EtherNetIP
+
 import position_servo_common as ps
 
 STATUS, CONFIG = 0xC0, 0xC1
@@ -77,6 +79,21 @@ def home(driver, position, group=0):
     return set_words(driver, 36, w)
 
 
+def write_program(driver):
+    """The test program (the PLS object, outputs 1 and 17); the three Set statuses."""
+    return [set_words(driver, 1, pls_object()),
+            set_words(driver, 2, output_1()),
+            set_words(driver, 18, output_17())]
+
+
+def start_owner(ip, rpi_ms, multiplier):
+    """The `ethernetip` I/O started and an exclusive owner on it, its time 0 now:
+    (the EtherNetIP object to stop, the owner)."""
+    enip = EtherNetIP(ip)
+    enip.startIO()
+    return enip, Owner(enip, ip, rpi_ms, multiplier, time.monotonic())
+
+
 class Owner(ps.Class1):
     """The exclusive owner 150/100 with the empty configuration assembly 1."""
 
@@ -92,6 +109,13 @@ class Owner(ps.Class1):
 
     def wait_words(self, predicate, seconds):
         return self.wait_for(lambda d: predicate(words(d)), seconds)
+
+    def run(self, rpi_ms):
+        """Run mode, Forward_Open, then the first data settled; the Forward_Open's status."""
+        self.send([RUN])
+        status = self.open()
+        self.settle(rpi_ms)
+        return status
 
     def settle(self, rpi_ms):
         """Lets output data written now reach the board and come back in the input data."""

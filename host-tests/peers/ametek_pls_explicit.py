@@ -9,10 +9,8 @@ Prints one JSON line.
 """
 import json
 import sys
-import time
 
 from pycomm3 import CIPDriver
-from ethernetip.ethernetip import EtherNetIP
 
 import ametek_pls_common as pls
 
@@ -41,14 +39,9 @@ def main():
             data = pls.request(driver, pls.GET, pls.CONFIG, a)[1]
             out.setdefault("others", []).append(
                 [a, pls.request(driver, pls.SET, pls.CONFIG, a, data)[0]])
-        enip = EtherNetIP(ip)
-        enip.startIO()
-        t0 = time.monotonic()
-        owner = pls.Owner(enip, ip, rpi, mult, t0)
+        enip, owner = pls.start_owner(ip, rpi, mult)
         try:
-            owner.send([pls.RUN])
-            out["forward_open"] = owner.open()
-            owner.settle(rpi)
+            out["forward_open"] = owner.run(rpi)
             out["error_at_open"] = owner.words()[14:17]
             results = []
             for case in req["cases"]:

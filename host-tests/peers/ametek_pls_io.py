@@ -10,7 +10,6 @@ import sys
 import time
 
 from pycomm3 import CIPDriver
-from ethernetip.ethernetip import EtherNetIP
 
 import ametek_pls_common as pls
 
@@ -35,14 +34,9 @@ def main():
     ip, rpi, mult = req["host"], req["rpi_ms"], req["multiplier"]
     out = {}
     with CIPDriver(ip) as driver:
-        out["writes"] = [pls.set_words(driver, 1, pls.pls_object()),
-                         pls.set_words(driver, 2, pls.output_1()),
-                         pls.set_words(driver, 18, pls.output_17())]
-        enip = EtherNetIP(ip)
-        enip.startIO()
-        t0 = time.monotonic()
-        owner = pls.Owner(enip, ip, rpi, mult, t0)
-        now = lambda: (time.monotonic() - t0) * 1000.0
+        out["writes"] = pls.write_program(driver)
+        enip, owner = pls.start_owner(ip, rpi, mult)
+        now = lambda: (time.monotonic() - owner.t0) * 1000.0
 
         def state(w):
             owner.send(w)
@@ -50,9 +44,7 @@ def main():
             return output_bits(owner.words())
 
         try:
-            owner.send([pls.RUN])
-            out["forward_open"] = owner.open()
-            owner.settle(rpi)
+            out["forward_open"] = owner.run(rpi)
             out["words_at_open"] = owner.words()
             positions = []
             for pos in (150, 250, 315, 55):

@@ -10,7 +10,6 @@ import sys
 import time
 
 from pycomm3 import CIPDriver
-from ethernetip.ethernetip import EtherNetIP
 
 import ametek_pls_common as pls
 
@@ -20,17 +19,10 @@ def main():
     ip, rpi, mult = req["host"], req["rpi_ms"], req["multiplier"]
     out = {}
     with CIPDriver(ip) as driver:
-        out["writes"] = [pls.set_words(driver, 1, pls.pls_object()),
-                         pls.set_words(driver, 2, pls.output_1()),
-                         pls.set_words(driver, 18, pls.output_17())]
-        enip = EtherNetIP(ip)
-        enip.startIO()
-        t0 = time.monotonic()
-        owner = pls.Owner(enip, ip, rpi, mult, t0)
+        out["writes"] = pls.write_program(driver)
+        enip, owner = pls.start_owner(ip, rpi, mult)
         try:
-            owner.send([pls.RUN])
-            out["forward_open"] = owner.open()
-            owner.settle(rpi)
+            out["forward_open"] = owner.run(rpi)
             owner.samples.clear()
             time.sleep(req["seconds"])
             out["samples"] = [[round(t, 1)] + [pls.words(d)[i] for i in (0, 8, 10, 11)]

@@ -10,18 +10,9 @@ import sys
 
 from pycomm3 import CIPDriver
 
+from ucmm import raw
+
 CHANNEL = 0x70
-
-
-def raw(driver, service, cls, instance, attribute, data=b""):
-    tag = driver.generic_message(service=service, class_code=cls, instance=instance,
-                                 attribute=b"" if attribute is None else bytes([attribute]),
-                                 request_data=data, connected=False, unconnected_send=False,
-                                 route_path=False, return_response_packet=True, name="raw")
-    response = tag.value
-    value = response.value if response is not None else b""
-    return {"status": getattr(response, "service_status", None),
-            "data": bytes(value).hex() if isinstance(value, (bytes, bytearray)) else ""}
 
 
 def main():

@@ -10,6 +10,9 @@ import time
 import ethernetip.ethernetip as enip_mod
 from ethernetip.ethernetip import EtherNetIP
 
+# UCMM requests: the AKD scripts send them as akd.raw.
+from ucmm import raw  # noqa: F401
+
 # Its producer never runs faster than this many ms otherwise.
 enip_mod.config.UDP_IO_MIN_RPI = 0
 
@@ -23,19 +26,6 @@ ENABLE, HARD_STOP, SMOOTH_STOP, DIRECTION, RELATIVE, START_BLOCK, LOAD = (
 ENABLED, HOMED, CUR_DIR, FAULT, IN_POSITION, BLOCK, IN_MOTION = (
     0x80, 0x20, 0x10, 0x08, 0x04, 0x02, 0x01)
 LOAD_COMPLETE = 0x80
-
-
-def raw(driver, service, cls, instance, attribute, data=b""):
-    """One UCMM request; {"status": general status or None, "data": reply hex}."""
-    # pycomm3 drops an integer attribute 0, so attribute ids travel as bytes.
-    tag = driver.generic_message(service=service, class_code=cls, instance=instance,
-                                 attribute=b"" if attribute is None else bytes([attribute]),
-                                 request_data=data, connected=False, unconnected_send=False,
-                                 route_path=False, return_response_packet=True, name="raw")
-    response = tag.value
-    value = response.value if response is not None else b""
-    return {"status": getattr(response, "service_status", None),
-            "data": bytes(value).hex() if isinstance(value, (bytes, bytearray)) else ""}
 
 
 def command(control=0, ctype=0x00, rtype=0x20, data=0, position=0, velocity=0, accel=0,

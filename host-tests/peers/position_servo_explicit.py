@@ -17,17 +17,7 @@ import time
 from pycomm3 import CIPDriver
 
 import position_servo_common as ps
-
-
-def raw(driver, service, cls, instance, attribute, data=b""):
-    tag = driver.generic_message(service=service, class_code=cls, instance=instance,
-                                 attribute=b"" if attribute is None else bytes([attribute]),
-                                 request_data=data, connected=False, unconnected_send=False,
-                                 route_path=False, return_response_packet=True, name="raw")
-    response = tag.value
-    value = response.value if response is not None else b""
-    return {"status": getattr(response, "service_status", None),
-            "data": bytes(value).hex() if isinstance(value, (bytes, bytearray)) else ""}
+from ucmm import raw
 
 
 def var(driver, service, instance, attribute, data=b""):
