@@ -70,23 +70,7 @@ pub fn write<D: Device>(
     now: Instant,
     out: Option<&mut [u8]>,
 ) -> usize {
-    if out.as_ref().is_some_and(|o| o.len() < due.max_len) {
-        return 0;
-    }
-    let Some(conn) = table.get_mut(due.slot).filter(|c| c.t_o_id == due.t_o_id) else {
-        return 0;
-    };
-    let rpi = conn.t_o_rpi;
-    let Transport::Class1 {
-        producer: Some(p), ..
-    } = &mut conn.transport
-    else {
-        return 0;
-    };
-    let len = produce(device, p, due.t_o_id, rpi, now, out);
-    let due_at = p.due_at();
-    table.set_due(due.slot, due_at);
-    len
+    produce_slot(table, device, due.slot, Some(due.t_o_id), now, out).map_or(0, |(_, len)| len)
 }
 
 /// Writes the most overdue datagram into `out` and returns where it goes and its length;
@@ -101,7 +85,24 @@ pub fn produce_due<D: Device>(
     if now < at {
         return None;
     }
-    let conn = table.get_mut(slot)?;
+    produce_slot(table, device, slot, None, now, Some(out)).filter(|&(_, len)| len > 0)
+}
+
+/// Produces the connection in `slot` (if its T->O ID is still `t_o_id`, when given) into
+/// `out` and moves it to its next deadline: where the datagram goes and its length. `None`,
+/// changing nothing, if there is no such producer or `out` is too short for its datagram.
+#[inline(always)]
+fn produce_slot<D: Device>(
+    table: &mut ConnectionTable,
+    device: &mut D,
+    slot: usize,
+    t_o_id: Option<u32>,
+    now: Instant,
+    out: Option<&mut [u8]>,
+) -> Option<(SocketAddrV4, usize)> {
+    let conn = table
+        .get_mut(slot)
+        .filter(|c| t_o_id.is_none_or(|id| c.t_o_id == id))?;
     let (rpi, t_o_id) = (conn.t_o_rpi, conn.t_o_id);
     let Transport::Class1 {
         producer: Some(p), ..
@@ -109,14 +110,14 @@ pub fn produce_due<D: Device>(
     else {
         return None;
     };
-    if out.len() < datagram_len(p.size) {
+    if out.as_ref().is_some_and(|o| o.len() < datagram_len(p.size)) {
         return None;
     }
     let to = p.destination;
-    let len = produce(device, p, t_o_id, rpi, now, Some(out));
+    let len = produce(device, p, t_o_id, rpi, now, out);
     let due_at = p.due_at();
     table.set_due(slot, due_at);
-    (len > 0).then_some((to, len))
+    Some((to, len))
 }
 
 /// One production of `p` at `now`: counts it, builds its datagram into `out` (if any, of at
