@@ -31,6 +31,11 @@ impl Frame {
     /// Room for a frame of `len` bytes (at most [`FRAME_LEN`]), now its bytes.
     pub fn fill(&mut self, len: usize) -> &mut [u8] {
         self.len = len.min(FRAME_LEN);
+        self.bytes()
+    }
+
+    /// The frame's bytes.
+    pub fn bytes(&mut self) -> &mut [u8] {
         self.data.get_mut(..self.len).unwrap_or(&mut [])
     }
 }
@@ -81,11 +86,7 @@ impl<const N: usize> Queue<N> {
         let Some(frame) = self.frames.get(at).filter(|_| !self.is_empty()) else {
             return Err(read);
         };
-        let r = {
-            let mut frame = frame.borrow_mut();
-            let len = frame.len;
-            read(frame.fill(len))
-        };
+        let r = read(frame.borrow_mut().bytes());
         self.head
             .set(at.wrapping_add(1).checked_rem(N).unwrap_or(0));
         self.len.set(self.len.get().saturating_sub(1));
