@@ -10,16 +10,23 @@ use std::rc::Rc;
 use common::*;
 use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::cip::General;
-use enip_stack::nv::{AbStore, NvError, NvStore, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE};
+use enip_stack::nv::{
+    key, AbStore, CutFlash, NvError, NvStore, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE,
+};
 use enip_stack::wire::epath::{LogicalType, Segment};
 
 type Flash = RamFlash<{ MAX_WRITE_SIZE + IMAGE_SIZE }>;
 
 /// A store the test keeps a handle on while the adapter uses it; `fail` makes writes fail.
-#[derive(Clone)]
-struct Shared(Rc<RefCell<AbStore<Flash>>>, Rc<RefCell<bool>>);
+struct Shared<F: enip_stack::nv::Flash = Flash>(Rc<RefCell<AbStore<F>>>, Rc<RefCell<bool>>);
 
-impl NvStore for Shared {
+impl<F: enip_stack::nv::Flash> Clone for Shared<F> {
+    fn clone(&self) -> Self {
+        Shared(self.0.clone(), self.1.clone())
+    }
+}
+
+impl<F: enip_stack::nv::Flash> NvStore for Shared<F> {
     fn read(&mut self, key: u16, buf: &mut [u8]) -> Result<Option<usize>, NvError> {
         self.0.borrow_mut().read(key, buf)
     }
@@ -32,17 +39,30 @@ impl NvStore for Shared {
     fn remove(&mut self, key: u16) -> Result<(), NvError> {
         self.0.borrow_mut().remove(key)
     }
+    fn begin(&mut self) -> Result<(), NvError> {
+        self.0.borrow_mut().begin()
+    }
+    fn commit(&mut self) -> Result<(), NvError> {
+        self.0.borrow_mut().commit()
+    }
+    fn abandon(&mut self) {
+        self.0.borrow_mut().abandon()
+    }
 }
 
 fn shared() -> Shared {
+    shared_on(Flash::new())
+}
+
+fn shared_on<F: enip_stack::nv::Flash>(flash: F) -> Shared<F> {
     Shared(
-        Rc::new(RefCell::new(AbStore::mount(Flash::new()))),
+        Rc::new(RefCell::new(AbStore::mount(flash))),
         Rc::new(RefCell::new(false)),
     )
 }
 
 /// A harness whose adapter keeps its settings in `store`.
-fn harness(store: &Shared) -> Harness {
+fn harness<F: enip_stack::nv::Flash + 'static>(store: &Shared<F>) -> Harness {
     let mut h = Harness::new();
     h.adapter
         .attach_store(Box::leak(Box::new(store.clone())))
@@ -147,6 +167,93 @@ fn a_reset_the_device_refuses_keeps_the_stored_settings() {
     h.adapter.device_mut().reset_refusal = None;
     assert_eq!(status(&h.request(0x05, &identity, &[1])).0, 0);
     assert_eq!(TcpIpState::stored(&mut *store.0.borrow_mut()), Ok(None));
+}
+
+/// Identity instance 1, for its Reset service.
+const IDENTITY_INSTANCE: [Segment<'static>; 2] = [
+    Segment::Logical(LogicalType::Class, 1),
+    Segment::Logical(LogicalType::Instance, 1),
+];
+
+/// A harness whose device keeps its own settings in `store` (record `PROFILE_BASE`) beside
+/// the adapter's TCP/IP settings.
+fn harness_with_device_settings<F: enip_stack::nv::Flash + 'static>(store: &Shared<F>) -> Harness {
+    let mut h = harness(store);
+    h.adapter.device_mut().settings = Some(Box::new(store.clone()));
+    h
+}
+
+/// Saves device settings and a host name (TCP/IP attribute 6) through `h`.
+fn save_both(h: &mut Harness, store: &Shared<impl enip_stack::nv::Flash>) {
+    store
+        .0
+        .borrow_mut()
+        .write(key::PROFILE_BASE, b"tuned")
+        .unwrap();
+    assert_eq!(set(h, 6, &[4, 0, b'k', b'e', b'e', b'p']), 0);
+}
+
+/// What a restart finds on the flash of `store`: the device's settings, the TCP/IP settings.
+fn after_restart(store: &Shared<CutFlash>) -> (bool, bool) {
+    let mut flash = store.0.borrow().flash().clone();
+    flash.restore();
+    let mut again = AbStore::mount(flash);
+    let device = again
+        .read(key::PROFILE_BASE, &mut [0; 16])
+        .unwrap()
+        .is_some();
+    (device, TcpIpState::stored(&mut again).unwrap().is_some())
+}
+
+#[test]
+fn a_factory_reset_removes_every_setting_in_one_save() {
+    let store = shared_on(CutFlash::new());
+    let mut h = harness_with_device_settings(&store);
+    save_both(&mut h, &store);
+    assert_eq!(after_restart(&store), (true, true));
+    let before = store.0.borrow().sequence();
+    assert_eq!(status(&h.request(0x05, &IDENTITY_INSTANCE, &[1])).0, 0);
+    assert_eq!(store.0.borrow().sequence(), before + 1, "one save");
+    assert_eq!(after_restart(&store), (false, false));
+    // A device that removes its settings and then refuses the Reset loses none of them,
+    // in RAM or on the flash.
+    save_both(&mut h, &store);
+    h.adapter.device_mut().reset_refusal = Some(General::DeviceStateConflict.into());
+    let before = store.0.borrow().sequence();
+    assert_eq!(status(&h.request(0x05, &IDENTITY_INSTANCE, &[1])).0, 0x10);
+    assert_eq!(store.0.borrow().sequence(), before, "nothing saved");
+    assert_eq!(after_restart(&store), (true, true));
+    let kept = store.0.borrow_mut().read(key::PROFILE_BASE, &mut [0; 16]);
+    assert_eq!(kept, Ok(Some(5)));
+    assert_eq!(&get(&mut h, 6)[..6], &[4, 0, b'k', b'e', b'e', b'p']);
+}
+
+#[test]
+fn every_power_cut_during_a_factory_reset_keeps_every_setting_or_none() {
+    let prepared = shared_on(CutFlash::new());
+    save_both(&mut harness_with_device_settings(&prepared), &prepared);
+    let mut before = prepared.0.borrow().flash().clone();
+    before.restore();
+    let mut cut = 0;
+    loop {
+        let mut flash = before.clone();
+        flash.cut_after(cut);
+        let store = shared_on(flash);
+        let mut h = harness_with_device_settings(&store);
+        let answer = status(&h.request(0x05, &IDENTITY_INSTANCE, &[1])).0;
+        let seen = after_restart(&store);
+        if answer == 0 {
+            assert_eq!(seen, (false, false), "no cut after {cut} steps");
+            break;
+        }
+        assert_eq!(answer, 0x19, "cut after {cut}");
+        // Never the device at factory defaults with the old address, or the reverse.
+        assert_eq!(seen, (true, true), "cut after {cut}");
+        cut += 1;
+        assert!(cut < 1000, "the Reset never completes");
+    }
+    // One save of the empty copy: the erase, 12 bytes of body (3 units), the commit word.
+    assert_eq!(cut, 5, "steps of the Reset");
 }
 
 #[test]

@@ -80,16 +80,33 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
         [_] => return Err(General::InvalidParameter.into()),
         _ => return Err(General::TooMuchData.into()),
     };
-    // The device answers first: a Reset it refuses (e.g. 0x0C while a drive is enabled)
-    // changes nothing, the stored TCP/IP settings included. Then factory defaults remove
-    // those; a store that cannot is 0x19.
-    ctx.device.reset(kind)?;
-    if kind == 1 {
-        if let Some(store) = ctx.store.as_deref_mut() {
-            store
-                .remove(crate::nv::key::TCP_IP)
-                .map_err(|_| General::StoreOperationFailure)?;
+    // Factory defaults are one batch of the store: the device's records and the TCP/IP
+    // settings go in one save, so a power cut leaves all of them or none. The device answers
+    // first: a Reset it refuses (e.g. 0x0C while a drive is enabled) drops the batch and
+    // changes nothing. A store that cannot save is 0x19.
+    let store = match (kind, ctx.store.as_deref_mut()) {
+        (1, Some(store)) => {
+            store.begin().map_err(|_| General::StoreOperationFailure)?;
+            Some(store)
         }
+        _ => None,
+    };
+    let answer = ctx.device.reset(kind);
+    match store {
+        Some(store) if answer.is_err() => {
+            store.abandon();
+            return answer;
+        }
+        Some(store) => {
+            if store.remove(crate::nv::key::TCP_IP).is_err() {
+                store.abandon();
+                return Err(General::StoreOperationFailure.into());
+            }
+            store.commit().map_err(|_| General::StoreOperationFailure)?;
+        }
+        None => answer?,
+    }
+    if kind == 1 {
         ctx.state.tcpip = super::tcpip::TcpIpState::new();
     }
     ctx.state.pending_reset = Some(kind);

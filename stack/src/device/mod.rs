@@ -237,8 +237,10 @@ pub trait Device {
 
     /// Identity Reset service: 0 emulates a power cycle, 1 also restores factory defaults.
     /// Called before the reply is sent, and before the stack restores its own factory
-    /// settings: an error refuses the Reset, and the stack then changes nothing. The device
-    /// performs the reset afterwards.
+    /// settings: an error refuses the Reset, and the stack then changes nothing. For type 1
+    /// the adapter's store is in a batch ([`crate::nv::NvStore::begin`]): the records the
+    /// device removes here and the TCP/IP settings are saved as one, and dropped if it
+    /// refuses. The device performs the reset afterwards.
     fn reset(&mut self, _kind: u8) -> CipResult {
         Ok(())
     }

@@ -5,7 +5,8 @@
 //! all of these. Saving erases the sector that does not hold the current copy, programs the
 //! body with the next sequence number, then the commit word: until that last program
 //! completes, the other sector's copy stays the current one. At start the valid copy (commit
-//! word present, CRC right) with the highest sequence number wins.
+//! word present, CRC right) with the highest sequence number wins. In a batch
+//! ([`NvStore::begin`]) changes stay in the RAM copy until the commit saves them as one copy.
 
 use super::flash::{Flash, MAX_WRITE_SIZE};
 use super::{crc32, records, NvError, NvStore};
@@ -44,6 +45,19 @@ pub struct AbStore<F: Flash> {
     seq: u32,
     /// The sector holding the current copy.
     current: Option<u8>,
+    /// Where a batch is: changes wait in `image` for [`NvStore::commit`].
+    batch: Batch,
+}
+
+/// Whether changes are saved at once or wait for a commit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Batch {
+    /// Every change is saved at once.
+    None,
+    /// In a batch, nothing changed yet.
+    Clean,
+    /// In a batch, with changes not saved.
+    Dirty,
 }
 
 impl<F: Flash> AbStore<F> {
@@ -55,6 +69,7 @@ impl<F: Flash> AbStore<F> {
             used: 0,
             seq: 0,
             current: None,
+            batch: Batch::None,
         };
         store.reload();
         store
@@ -132,13 +147,23 @@ impl<F: Flash> AbStore<F> {
             .unwrap_or(&[])
     }
 
-    /// Changes record `key` and saves the new copy; on failure the old one stays current.
+    /// Changes record `key` and saves the new copy (in a batch, at the commit); on failure the
+    /// old one stays current.
     fn change(&mut self, key: u16, value: Option<&[u8]>) -> Result<(), NvError> {
         let room = self
             .image
             .get_mut(HEADER..IMAGE_SIZE - CRC)
             .ok_or(NvError::NoSpace)?;
         self.used = records::replace(room, self.used, key, value)?;
+        if self.batch != Batch::None {
+            self.batch = Batch::Dirty;
+            return Ok(());
+        }
+        self.save_or_reload()
+    }
+
+    /// Saves the RAM copy; if that fails, reads the current one back.
+    fn save_or_reload(&mut self) -> Result<(), NvError> {
         let saved = self.save();
         if saved.is_err() {
             self.reload();
@@ -218,5 +243,25 @@ impl<F: Flash> NvStore for AbStore<F> {
             return Ok(());
         }
         self.change(key, None)
+    }
+    fn begin(&mut self) -> Result<(), NvError> {
+        if self.batch == Batch::None {
+            self.batch = Batch::Clean;
+        }
+        Ok(())
+    }
+    fn commit(&mut self) -> Result<(), NvError> {
+        let dirty = self.batch == Batch::Dirty;
+        self.batch = Batch::None;
+        if dirty {
+            self.save_or_reload()
+        } else {
+            Ok(())
+        }
+    }
+    fn abandon(&mut self) {
+        if core::mem::replace(&mut self.batch, Batch::None) == Batch::Dirty {
+            self.reload();
+        }
     }
 }

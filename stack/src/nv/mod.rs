@@ -57,7 +57,8 @@ pub mod key {
     pub const AMETEK_PLS_PROGRAM: u16 = PROFILE_BASE + 2;
 }
 
-/// Small numbered records that survive a power cycle; each write or removal is atomic.
+/// Small numbered records that survive a power cycle; each write or removal is atomic, and so
+/// is a batch of them between [`NvStore::begin`] and [`NvStore::commit`].
 pub trait NvStore {
     /// Copies record `key` into `buf`; its length, or `None` if there is no such record.
     fn read(&mut self, key: u16, buf: &mut [u8]) -> Result<Option<usize>, NvError>;
@@ -65,6 +66,15 @@ pub trait NvStore {
     fn write(&mut self, key: u16, value: &[u8]) -> Result<(), NvError>;
     /// Removes record `key` (nothing if there is none).
     fn remove(&mut self, key: u16) -> Result<(), NvError>;
+    /// Starts a batch: the writes and removals until [`Self::commit`] show in reads at once
+    /// but reach the flash together, all or nothing (the Identity object's factory reset
+    /// removes the device's records and the TCP/IP settings as one).
+    fn begin(&mut self) -> Result<(), NvError>;
+    /// Saves the batch's changes as one (nothing if there are none) and ends it; on failure
+    /// the records are those from before the batch.
+    fn commit(&mut self) -> Result<(), NvError>;
+    /// Ends the batch, dropping its changes.
+    fn abandon(&mut self);
 }
 
 #[cfg(test)]

@@ -79,6 +79,39 @@ fn saves_alternate_between_the_sectors() {
 }
 
 #[test]
+fn a_batch_is_one_save_and_an_abandoned_one_leaves_nothing() {
+    let mut store = AbStore::mount(CutFlash::new());
+    store.write(1, b"one").unwrap();
+    store.write(2, b"two").unwrap();
+    store.begin().unwrap();
+    store.remove(1).unwrap();
+    store.write(2, b"new").unwrap();
+    // Reads see the batch; the flash does not yet.
+    assert_eq!(value(&mut store, 1), None);
+    assert_eq!(value(&mut store, 2).as_deref(), Some(&b"new"[..]));
+    let mut restarted = AbStore::mount(store.flash().clone());
+    assert_eq!(value(&mut restarted, 1).as_deref(), Some(&b"one"[..]));
+    assert_eq!(store.sequence(), 2);
+    store.commit().unwrap();
+    assert_eq!(store.sequence(), 3, "one save for the batch");
+    let mut restarted = AbStore::mount(store.flash().clone());
+    assert_eq!(value(&mut restarted, 1), None);
+    assert_eq!(value(&mut restarted, 2).as_deref(), Some(&b"new"[..]));
+    // Abandoned: neither RAM nor flash keeps the changes.
+    store.begin().unwrap();
+    store.write(1, b"gone").unwrap();
+    store.abandon();
+    assert_eq!(value(&mut store, 1), None);
+    assert_eq!(store.sequence(), 3);
+    // An empty batch saves nothing; after a batch, writes save at once again.
+    store.begin().unwrap();
+    store.commit().unwrap();
+    assert_eq!(store.sequence(), 3);
+    store.write(1, b"now").unwrap();
+    assert_eq!(store.sequence(), 4);
+}
+
+#[test]
 fn a_corrupted_current_copy_falls_back_to_the_previous_one() {
     let mut store = AbStore::mount(CutFlash::new());
     store.write(1, b"old").unwrap();

@@ -39,4 +39,17 @@ impl NvStore for SharedStore {
         let mut store = self.cell.try_borrow_mut().map_err(|_| NvError::Busy)?;
         store.remove(key)
     }
+    fn begin(&mut self) -> Result<(), NvError> {
+        let mut store = self.cell.try_borrow_mut().map_err(|_| NvError::Busy)?;
+        store.begin()
+    }
+    fn commit(&mut self) -> Result<(), NvError> {
+        let mut store = self.cell.try_borrow_mut().map_err(|_| NvError::Busy)?;
+        store.commit()
+    }
+    fn abandon(&mut self) {
+        if let Ok(mut store) = self.cell.try_borrow_mut() {
+            store.abandon();
+        }
+    }
 }

@@ -4,12 +4,13 @@
 
 use std::net::{Ipv4Addr, SocketAddrV4};
 
-use enip_stack::cip::{CipError, CipResult};
+use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::config::MAX_ENCAP_FRAME;
 use enip_stack::device::{
     AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo, Multicast, OpenRequest,
 };
 use enip_stack::io::Trigger;
+use enip_stack::nv::{key, NvStore};
 use enip_stack::originator::{self, Reply};
 use enip_stack::wire::epath::{LogicalType, Segment};
 use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
@@ -41,6 +42,9 @@ pub struct TestDevice {
     pub change_of_state: bool,
     /// The error an Identity Reset gets (`None`: accepted).
     pub reset_refusal: Option<CipError>,
+    /// The device's own saved settings: this store's record [`key::PROFILE_BASE`], which an
+    /// Identity Reset type 1 removes.
+    pub settings: Option<Box<dyn NvStore>>,
 }
 
 impl TestDevice {
@@ -98,6 +102,7 @@ impl TestDevice {
             multicast: None,
             change_of_state: true,
             reset_refusal: None,
+            settings: None,
         }
     }
 }
@@ -106,7 +111,13 @@ impl Device for TestDevice {
     fn identity(&self) -> &IdentityInfo {
         &IDENTITY
     }
-    fn reset(&mut self, _kind: u8) -> CipResult {
+    /// Type 1 removes the device's settings, then the refusal (if any) is the answer.
+    fn reset(&mut self, kind: u8) -> CipResult {
+        if let Some(store) = self.settings.as_mut().filter(|_| kind == 1) {
+            store
+                .remove(key::PROFILE_BASE)
+                .map_err(|_| General::StoreOperationFailure)?;
+        }
         self.reset_refusal.map_or(Ok(()), Err)
     }
     fn assemblies(&self) -> &[AssemblyInfo] {

@@ -661,6 +661,42 @@ fn every_power_cut_during_nvsave_keeps_the_old_or_the_new_parameters() {
     assert!(steps > 50, "{steps} steps");
 }
 
+/// Sends `bytes` to an adapter of a drive powered up from `store`, with the store attached
+/// to the adapter too (its TCP/IP settings); the general status.
+fn execute_on_store(store: SharedStore, bytes: &[u8]) -> u8 {
+    let akd = KollmorgenAkd::with_storage(RamNv::in_store(store));
+    let mut adapter = Adapter::new(akd, net(), 1);
+    // A store that cannot be read still serves, at factory settings.
+    let _ = adapter.attach_store(std::boxed::Box::leak(std::boxed::Box::new(store)));
+    let mut buf = [0u8; 512];
+    let n = adapter.execute(bytes, Instant(0), &mut buf);
+    buf.get(..n).and_then(|r| r.get(2)).copied().unwrap_or(0xFF)
+}
+
+/// Identity Reset type 1 (factory defaults) through the adapter.
+fn factory_reset(store: SharedStore) -> bool {
+    execute_on_store(store, &request(0x05, 0x01, 1, None, &[1])) == 0
+}
+
+#[test]
+fn every_power_cut_during_a_factory_reset_keeps_the_parameters_and_the_address_together() {
+    use enip_stack::cip::tcpip::TcpIpState;
+    let host_name = request(0x10, 0xF5, 1, Some(6), &[4, 0, b'a', b'k', b'd', b'1']);
+    let steps = testing::every_power_cut(
+        |store| {
+            assert!(set_and_save(store, 1234));
+            assert_eq!(execute_on_store(store, &host_name), 0);
+        },
+        factory_reset,
+        |mut store| {
+            let tcpip = TcpIpState::stored(&mut store).ok().flatten().is_some();
+            (parameter_1_after_power_up(store), tcpip)
+        },
+    );
+    // One save: the erase, the copy's header and CRC (3 units), the commit word.
+    assert_eq!(steps, 5);
+}
+
 #[test]
 fn software_limits_stop_and_report() {
     let mut b = Bench::new();
