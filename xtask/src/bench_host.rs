@@ -10,10 +10,10 @@
 //! - context switches per cycle: the same two runs natively, summing `voluntary_ctxt_switches`
 //!   and `nonvoluntary_ctxt_switches` of every thread from `/proc/PID/task/*/status`;
 //! - explicit messaging: back-to-back Get_Attribute_Single on 1 and on 3 sessions for
-//!   5 s (`request_rate`), requests per second, the boards taking turns for
+//!   3 s (`request_rate`), requests per second, the boards taking turns for
 //!   [`Scale::rate_rounds`] rounds and each board's median reported, with the board's CPU
 //!   time (user and system, `/proc/PID/stat`) per request on 3 sessions; and the
-//!   instructions per request on 3 sessions, under callgrind, from a 5 s and a 15 s run the
+//!   instructions per request on 3 sessions, under callgrind, from a 3 s and a 9 s run the
 //!   same way.
 //!
 //! Needs root (namespaces), valgrind, and the release builds of `enip-host`, `scanner` and
