@@ -106,10 +106,7 @@ pub(crate) fn attribute_services(
     if !req.data.is_empty() {
         return Err(General::TooMuchData.into());
     }
-    if !obj.access(instance, &attr).gettable() {
-        return Err(General::AttributeNotGettable.into());
-    }
-    obj.get(instance, &attr, w)
+    get_one(obj, instance, &attr, w)
 }
 
 /// The attribute services other than Get_Attribute_Single.
@@ -159,8 +156,10 @@ fn unsupported() -> CipError {
     CipError::new(General::AttributeNotSupported)
 }
 
-fn get_one(
-    obj: &mut dyn Object,
+/// One attribute's value, if it is gettable (0x2C if not); for the object's own type on the
+/// Get_Attribute_Single path, through `dyn Object` for the lists.
+fn get_one<O: Object + ?Sized>(
+    obj: &mut O,
     instance: u32,
     attr: &AttributeDef,
     w: &mut Writer<'_>,
