@@ -10,6 +10,7 @@ import time
 
 from ethernetip.ethernetip import EtherNetIP
 
+import explicit_request
 import position_servo_common as ps
 
 STATUS, CONFIG = 0xC0, 0xC1
@@ -20,15 +21,7 @@ RUN, ADDON, ACK = 1, 2, 4
 
 def request(driver, service, cls, attribute, data=b""):
     """One UCMM request to instance 1; returns (general status or None, reply bytes)."""
-    tag = driver.generic_message(service=service, class_code=cls, instance=1,
-                                 attribute=bytes([attribute]), request_data=data,
-                                 connected=False, unconnected_send=False, route_path=False,
-                                 return_response_packet=True, name=f"{cls:x}.{attribute}")
-    response = tag.value
-    if response is None:
-        return None, b""
-    value = response.value if isinstance(response.value, (bytes, bytearray)) else b""
-    return response.service_status, bytes(value)
+    return explicit_request.request(driver, service, cls, 1, attribute, data)
 
 
 def le(words):

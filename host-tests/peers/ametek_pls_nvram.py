@@ -21,10 +21,7 @@ def main():
     out = {}
     with CIPDriver(req["host"]) as driver:
         if req["phase"] == "save":
-            out["writes"] = [pls.set_words(driver, 1, pls.pls_object()),
-                             pls.set_words(driver, 2, pls.output_1()),
-                             pls.set_words(driver, 18, pls.output_17()),
-                             pls.home(driver, 150)]
+            out["writes"] = pls.write_program(driver) + [pls.home(driver, 150)]
             out["save"] = pls.set_words(driver, 37, [2, 0])
             out["saved"] = snapshot(driver)
             changed = pls.output_1()

@@ -10,7 +10,7 @@ import sys
 
 from pycomm3 import CIPDriver
 
-from ucmm import raw
+from explicit_request import raw
 
 CHANNEL = 0x70
 

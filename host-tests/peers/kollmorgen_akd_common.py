@@ -10,8 +10,8 @@ import time
 import ethernetip.ethernetip as enip_mod
 from ethernetip.ethernetip import EtherNetIP
 
-# UCMM requests: the AKD scripts send them as akd.raw.
-from ucmm import raw  # noqa: F401
+# Unconnected requests: the AKD scripts send them as akd.raw.
+from explicit_request import raw  # noqa: F401
 
 # Its producer never runs faster than this many ms otherwise.
 enip_mod.config.UDP_IO_MIN_RPI = 0

@@ -5,6 +5,8 @@ Not a peer itself: the scenario scripts import it (their directory is on sys.pat
 """
 import struct
 
+import explicit_request
+
 PARAMETER, GROUP = 0x64, 0x65
 WRITE_FLOATS, READ_FLOATS, WRITE_LONGS, READ_LONGS, AND_OR = 0x50, 0x51, 0x52, 0x53, 0x54
 WRITE_BINARY = 0x34
@@ -12,16 +14,7 @@ WRITE_BINARY = 0x34
 
 def request(driver, service, cls, instance, data=b"", connected=False, attribute=1):
     """One request, attribute 1 as the manual says; returns (general status, reply bytes)."""
-    tag = driver.generic_message(service=service, class_code=cls, instance=instance,
-                                 attribute=b"" if attribute is None else bytes([attribute]),
-                                 request_data=data, connected=connected,
-                                 unconnected_send=False, route_path=False,
-                                 return_response_packet=True, name=f"{cls:x}/{instance}")
-    response = tag.value
-    if response is None:
-        return None, b""
-    value = response.value if isinstance(response.value, (bytes, bytearray)) else b""
-    return response.service_status, bytes(value)
+    return explicit_request.request(driver, service, cls, instance, attribute, data, connected)
 
 
 def result(status_data):

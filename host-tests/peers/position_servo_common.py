@@ -11,6 +11,8 @@ import time
 import ethernetip.ethernetip as enip_mod
 from ethernetip.ethernetip import EtherNetIP
 
+import explicit_request
+
 # Its producer never runs faster than this many ms otherwise.
 enip_mod.config.UDP_IO_MIN_RPI = 0
 
@@ -24,16 +26,7 @@ CONFIG, STATUS_IO, MONITOR, BASIC, KEEP_ALIVE, INPUT_ONLY = 103, 104, 105, 106, 
 
 def request(driver, service, var, attribute, data=b""):
     """One UCMM request to variable `var`; returns (general status or None, reply bytes)."""
-    # pycomm3 drops an integer attribute 0, so attribute ids travel as bytes.
-    tag = driver.generic_message(service=service, class_code=SYSTEM940, instance=var,
-                                 attribute=bytes([attribute]), request_data=data,
-                                 connected=False, unconnected_send=False, route_path=False,
-                                 return_response_packet=True, name=f"var{var}.{attribute}")
-    response = tag.value
-    if response is None:
-        return None, b""
-    value = response.value if isinstance(response.value, (bytes, bytearray)) else b""
-    return response.service_status, bytes(value)
+    return explicit_request.request(driver, service, SYSTEM940, var, attribute, data)
 
 
 def set_real(driver, var, value, attribute=REAL_RAM):

@@ -17,7 +17,7 @@ import time
 from pycomm3 import CIPDriver
 
 import position_servo_common as ps
-from ucmm import raw
+from explicit_request import raw
 
 
 def var(driver, service, instance, attribute, data=b""):

@@ -12,20 +12,14 @@ import sys
 
 from pycomm3 import CIPDriver
 
+import explicit_request
+
 TCPIP, GET, SET = 0xF5, 0x0E, 0x10
 
 
 def request(driver, service, attribute, data=b""):
     """One UCMM request to instance 1; returns (general status or None, reply bytes)."""
-    tag = driver.generic_message(service=service, class_code=TCPIP, instance=1,
-                                 attribute=bytes([attribute]), request_data=data,
-                                 connected=False, unconnected_send=False, route_path=False,
-                                 return_response_packet=True, name=f"f5.{attribute}")
-    response = tag.value
-    if response is None:
-        return None, b""
-    value = response.value if isinstance(response.value, (bytes, bytearray)) else b""
-    return response.service_status, bytes(value)
+    return explicit_request.request(driver, service, TCPIP, 1, attribute, data)
 
 
 def udint(ip):
