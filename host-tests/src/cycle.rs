@@ -6,7 +6,9 @@ use std::net::SocketAddrV4;
 use enip_firmware::profiles::generic::Generic;
 use enip_stack::originator;
 use enip_stack::virtual_scanner::{VirtualScanner, SCANNER_IP};
-use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::forward_open::Triad;
+
+use crate::scanner::{generic_forward_open, OWNER_O_T, OWNER_PATH};
 
 /// The connection's RPI, both directions.
 pub const RPI_US: u64 = 1_000;
@@ -15,26 +17,19 @@ pub const RPI_US: u64 = 1_000;
 /// [`RPI_US`], and the connection's O->T ID.
 pub fn exclusive_owner() -> (VirtualScanner<Generic>, u32) {
     let mut scanner = VirtualScanner::new(Generic::new());
-    let path = [0x20, 0x04, 0x24, 151, 0x2C, 150, 0x2C, 100];
-    let opened = scanner.forward_open(&ForwardOpen {
-        large: false,
-        priority_tick: 0x0A,
-        timeout_ticks: 0x0E,
-        o_t_connection_id: 0,
-        t_o_connection_id: 0x5C00_0000,
-        triad: Triad {
-            connection_serial: 1,
-            vendor_id: 0xF00D,
-            originator_serial: 1,
-        },
-        timeout_multiplier: 2,
-        o_t_rpi: RPI_US as u32,
-        o_t_params: NetworkParams::from_u16(0x4800 | 38),
-        t_o_rpi: RPI_US as u32,
-        t_o_params: NetworkParams::from_u16(0x4800 | 34),
-        transport: 0x01,
-        path: &path,
-    });
+    let triad = Triad {
+        connection_serial: 1,
+        vendor_id: 0xF00D,
+        originator_serial: 1,
+    };
+    let opened = scanner.forward_open(&generic_forward_open(
+        triad,
+        0x5C00_0000,
+        &OWNER_PATH,
+        OWNER_O_T,
+        2,
+        RPI_US as u32,
+    ));
     assert_eq!(opened.general, 0, "Forward_Open refused");
     (scanner, opened.o_t_id)
 }

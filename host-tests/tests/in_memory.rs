@@ -30,11 +30,12 @@ use enip_firmware::{Profile, Resources};
 use enip_stack::originator;
 use enip_stack::wire::cpf::{self, item_type};
 use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
-use enip_stack::wire::forward_open::{ForwardOpen, ForwardOpenReply, NetworkParams, Triad};
+use enip_stack::wire::forward_open::{ForwardOpenReply, Triad};
 use enip_stack::wire::identity_item::IdentityRepr;
 use enip_stack::wire::message_router::ResponseRepr;
 use enip_stack::wire::Writer;
 use enip_stack::Adapter;
+use host_tests::scanner::{generic_forward_open, OWNER_O_T, OWNER_PATH};
 
 const ADAPTER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
 const CLIENT_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
@@ -535,46 +536,19 @@ const FORWARD_OPEN: u8 = 0x54;
 const CLASS1_RPI_US: u32 = 10_000;
 const T_O_ID: u32 = 0x5C00_0001;
 
-/// The Forward_Open of the generic profile's exclusive owner (outputs 150, inputs 100,
-/// configuration 151) at [`CLASS1_RPI_US`] both ways, point to point, timeout x4.
+/// The Forward_Open of the generic profile's exclusive owner at [`CLASS1_RPI_US`] both
+/// ways, point to point, timeout x4.
 fn exclusive_owner_request() -> Vec<u8> {
-    let path = [
-        0x20,
-        0x04,
-        0x24,
-        generic::CONFIG as u8,
-        0x2C,
-        generic::OUTPUT as u8,
-        0x2C,
-        generic::INPUT as u8,
-    ];
-    // Sizes: 32 bytes of data, the 16-bit sequence count, O->T also the run/idle header.
-    let o_t_size = (generic::IO_SIZE + 2 + 4) as u16;
-    let t_o_size = (generic::IO_SIZE + 2) as u16;
-    let request = ForwardOpen {
-        large: false,
-        priority_tick: 0x0A,
-        timeout_ticks: 0x0E,
-        o_t_connection_id: 0,
-        t_o_connection_id: T_O_ID,
-        triad: Triad {
-            connection_serial: 7,
-            vendor_id: 0xF00D,
-            originator_serial: 7,
-        },
-        timeout_multiplier: 0,
-        o_t_rpi: CLASS1_RPI_US,
-        o_t_params: NetworkParams::from_u16(0x4800 | o_t_size),
-        t_o_rpi: CLASS1_RPI_US,
-        t_o_params: NetworkParams::from_u16(0x4800 | t_o_size),
-        transport: 0x01,
-        path: &path,
+    let triad = Triad {
+        connection_serial: 7,
+        vendor_id: 0xF00D,
+        originator_serial: 7,
     };
+    let request = generic_forward_open(triad, T_O_ID, &OWNER_PATH, OWNER_O_T, 0, CLASS1_RPI_US);
     let mut buf = [0u8; 128];
     let mut w = Writer::new(&mut buf);
     request.emit(&mut w).expect("Forward_Open fits");
-    let len = w.len();
-    buf[..len].to_vec()
+    w.written().to_vec()
 }
 
 /// The connected data (sequence count, then inputs) of a T->O datagram of [`T_O_ID`].

@@ -9,24 +9,50 @@ use std::time::{Duration, Instant};
 
 use enip_stack::config::IO_PORT;
 use enip_stack::originator;
-use enip_stack::wire::epath::{LogicalType, Segment};
 use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
 use enip_stack::wire::io_datagram::Packet;
-use enip_stack::wire::Writer;
 
 use super::session::Session;
 use super::stats::{connection_stats, Summary};
 
-/// Generic profile: input assembly.
-const INPUT: u32 = 100;
-/// Generic profile: output assembly (32 bytes, run/idle header).
-const OUTPUT: u32 = 150;
-/// Generic profile: configuration assembly.
-const CONFIG: u32 = 151;
-/// Generic profile: input-only heartbeat point.
-const HEARTBEAT: u32 = 152;
 /// Data bytes of the generic profile's input and output assemblies.
 const DATA: u16 = 32;
+/// The generic profile's exclusive owner: configuration 151, outputs 150, inputs 100.
+pub const OWNER_PATH: [u8; 8] = [0x20, 0x04, 0x24, 151, 0x2C, 150, 0x2C, 100];
+/// Its input-only connection: heartbeat point 152, inputs 100.
+pub const INPUT_ONLY_PATH: [u8; 6] = [0x20, 0x04, 0x2C, 152, 0x2C, 100];
+/// O->T size of the owner: sequence count, run/idle header, the outputs.
+pub const OWNER_O_T: u16 = 2 + 4 + DATA;
+/// O->T size of a heartbeat: the sequence count alone.
+pub const HEARTBEAT_O_T: u16 = 2;
+
+/// A point-to-point Class 1 Forward_Open on the generic profile along `path`: O->T of
+/// `o_t_size` bytes, T->O the sequence count and the 32 bytes of inputs, both at `rpi_us`;
+/// the T->O connection ID `t_o_id` proposed, timeout multiplier code `multiplier`.
+pub fn generic_forward_open(
+    triad: Triad,
+    t_o_id: u32,
+    path: &[u8],
+    o_t_size: u16,
+    multiplier: u8,
+    rpi_us: u32,
+) -> ForwardOpen<'_> {
+    ForwardOpen {
+        large: false,
+        priority_tick: 0x0A,
+        timeout_ticks: 0x0E,
+        o_t_connection_id: 0,
+        t_o_connection_id: t_o_id,
+        triad,
+        timeout_multiplier: multiplier,
+        o_t_rpi: rpi_us,
+        o_t_params: NetworkParams::from_u16(0x4800 | o_t_size),
+        t_o_rpi: rpi_us,
+        t_o_params: NetworkParams::from_u16(0x4800 | (2 + DATA)),
+        transport: 0x01,
+        path,
+    }
+}
 
 /// An open connection, as the scanner needs it for I/O.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -41,21 +67,6 @@ pub struct Opened {
     pub o_t_data: u16,
 }
 
-fn path(points: &[u32]) -> Vec<u8> {
-    let mut buf = [0u8; 32];
-    let mut w = Writer::new(&mut buf);
-    let _ = Segment::Logical(LogicalType::Class, 4).emit(&mut w);
-    for (i, p) in points.iter().enumerate() {
-        let kind = if i == 0 && points.len() == 3 {
-            LogicalType::Instance
-        } else {
-            LogicalType::ConnectionPoint
-        };
-        let _ = Segment::Logical(kind, *p).emit(&mut w);
-    }
-    w.written().to_vec()
-}
-
 /// Opens `n` connections at `rpi_us` on the generic profile: an exclusive owner (150 -> 100,
 /// config 151) and `n - 1` input-only (heartbeat 152 -> 100), point-to-point, timeout
 /// multiplier code `multiplier` (0 = x4).
@@ -68,33 +79,18 @@ pub fn open_generic(
     let mut opened = Vec::new();
     for i in 0..n {
         let owner = i == 0;
-        let p = if owner {
-            path(&[CONFIG, OUTPUT, INPUT])
+        let (path, o_t_size, o_t_data): (&[u8], _, _) = if owner {
+            (&OWNER_PATH, OWNER_O_T, DATA)
         } else {
-            path(&[HEARTBEAT, INPUT])
+            (&INPUT_ONLY_PATH, HEARTBEAT_O_T, 0)
         };
-        let o_t_data = if owner { DATA } else { 0 };
-        let o_t_size = if owner { 2 + 4 + DATA } else { 2 };
         let triad = Triad {
             connection_serial: 0x100 + i as u16,
             vendor_id: 0xF00D,
             originator_serial: std::process::id(),
         };
-        let fo = ForwardOpen {
-            large: false,
-            priority_tick: 0x0A,
-            timeout_ticks: 0x0E,
-            o_t_connection_id: 0,
-            t_o_connection_id: 0x5C00_0000 + i as u32,
-            triad,
-            timeout_multiplier: multiplier,
-            o_t_rpi: rpi_us,
-            o_t_params: NetworkParams::from_u16(0x4800 | o_t_size),
-            t_o_rpi: rpi_us,
-            t_o_params: NetworkParams::from_u16(0x4800 | (2 + DATA)),
-            transport: 0x01,
-            path: &p,
-        };
+        let t_o_id = 0x5C00_0000 + i as u32;
+        let fo = generic_forward_open(triad, t_o_id, path, o_t_size, multiplier, rpi_us);
         match session.forward_open(&fo)? {
             Ok(r) => opened.push(Opened {
                 o_t_id: r.o_t_connection_id,

@@ -11,25 +11,19 @@ use std::time::{Duration, Instant};
 use crate::common::{self, REPLY};
 use crate::fault_io::{board_real_time, drive, ms_between, Feed, IO_PORT};
 use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::forward_open::{ForwardOpen, Triad};
 use host_tests::enip::{command, mr_request, path, register_data, Client, Header};
 use host_tests::faults::{count, least, most, ms, pid_in, report};
 use host_tests::netns::Namespace;
 use host_tests::rig::{board_addr, Rig, BOARD_IP};
 use host_tests::scanner::stats::{connection_stats, quantile};
-use host_tests::scanner::{exchange, open_generic, Session};
+use host_tests::scanner::{
+    exchange, generic_forward_open, open_generic, Session, HEARTBEAT_O_T, INPUT_ONLY_PATH,
+    OWNER_O_T, OWNER_PATH,
+};
 use host_tests::usage::usage;
 
-/// Exclusive owner path: configuration 151, output 150, input 100.
-pub const OWNER_PATH: [u8; 8] = [0x20, 0x04, 0x24, 151, 0x2C, 150, 0x2C, 100];
-/// Input-only path: heartbeat 152, input 100.
-pub const INPUT_ONLY_PATH: [u8; 6] = [0x20, 0x04, 0x2C, 152, 0x2C, 100];
-/// O->T size of the owner: sequence count, run/idle header, 32 data bytes.
-pub const OWNER_O_T: u16 = 2 + 4 + 32;
-/// O->T size of a heartbeat: the sequence count alone.
-pub const HEARTBEAT_O_T: u16 = 2;
-
-/// A point-to-point Class 1 Forward_Open on the generic profile (T->O 32 bytes).
+/// A point-to-point Class 1 Forward_Open on the generic profile, T->O ID from the serial.
 pub fn forward_open(
     triad: Triad,
     path: &[u8],
@@ -37,21 +31,8 @@ pub fn forward_open(
     multiplier: u8,
     rpi_us: u32,
 ) -> ForwardOpen<'_> {
-    ForwardOpen {
-        large: false,
-        priority_tick: 0x0A,
-        timeout_ticks: 0x0E,
-        o_t_connection_id: 0,
-        t_o_connection_id: 0x6A00_0000 + u32::from(triad.connection_serial),
-        triad,
-        timeout_multiplier: multiplier,
-        o_t_rpi: rpi_us,
-        o_t_params: NetworkParams::from_u16(0x4800 | o_t_size),
-        t_o_rpi: rpi_us,
-        t_o_params: NetworkParams::from_u16(0x4800 | 34),
-        transport: 0x01,
-        path,
-    }
+    let t_o_id = 0x6A00_0000 + u32::from(triad.connection_serial);
+    generic_forward_open(triad, t_o_id, path, o_t_size, multiplier, rpi_us)
 }
 
 /// A connection triad of this suite's vendor ID.

@@ -13,13 +13,12 @@ use serde_json::{json, Value};
 
 use crate::common;
 use crate::fault_io::{board_real_time, drive, ms_between, Feed, IO_PORT};
-use crate::faults::{
-    cm_counter, forward_open, session, triad, HEARTBEAT_O_T, INPUT_ONLY_PATH, OWNER_O_T, OWNER_PATH,
-};
+use crate::faults::{cm_counter, forward_open, session, triad};
 use enip_stack::wire::epath::{LogicalType, Segment};
 use host_tests::faults::{count, most, ms, report};
 use host_tests::netns::Namespace;
 use host_tests::rig::{BOARD_IP, TAP};
+use host_tests::scanner::{HEARTBEAT_O_T, INPUT_ONLY_PATH, OWNER_O_T, OWNER_PATH};
 
 /// How long the link stays down.
 const OUTAGE: Duration = Duration::from_secs(2);

@@ -15,14 +15,13 @@ use serde_json::{json, Value};
 
 use crate::common::{self, REPLY};
 use crate::fault_io::{board_real_time, drive, ms_between, Feed, IO_PORT};
-use crate::faults::{
-    cm_counter, forward_open, session, triad, HEARTBEAT_O_T, INPUT_ONLY_PATH, OWNER_O_T, OWNER_PATH,
-};
+use crate::faults::{cm_counter, forward_open, session, triad};
 use crate::tcpip_nv;
 use enip_stack::wire::epath::{LogicalType, Segment};
 use host_tests::faults::{count, most, ms, report};
 use host_tests::rig::BOARD_IP;
 use host_tests::scanner::Session;
+use host_tests::scanner::{HEARTBEAT_O_T, INPUT_ONLY_PATH, OWNER_O_T, OWNER_PATH};
 
 /// The host name set before each reset.
 const HOST_NAME: &[u8] = b"fault-host";
