@@ -11,22 +11,23 @@ use common::*;
 use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::cip::General;
 use enip_stack::nv::{
-    key, AbStore, CutFlash, NvError, NvStore, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE,
+    key, AbStore, CutFlash, Flash, NvError, NvStore, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE,
 };
 use enip_stack::wire::epath::{LogicalType, Segment};
 
-type Flash = RamFlash<{ MAX_WRITE_SIZE + IMAGE_SIZE }>;
+/// The flash of most tests: one copy's room per sector, in RAM.
+type SmallFlash = RamFlash<{ MAX_WRITE_SIZE + IMAGE_SIZE }>;
 
 /// A store the test keeps a handle on while the adapter uses it; `fail` makes writes fail.
-struct Shared<F: enip_stack::nv::Flash = Flash>(Rc<RefCell<AbStore<F>>>, Rc<RefCell<bool>>);
+struct Shared<F: Flash = SmallFlash>(Rc<RefCell<AbStore<F>>>, Rc<RefCell<bool>>);
 
-impl<F: enip_stack::nv::Flash> Clone for Shared<F> {
+impl<F: Flash> Clone for Shared<F> {
     fn clone(&self) -> Self {
         Shared(self.0.clone(), self.1.clone())
     }
 }
 
-impl<F: enip_stack::nv::Flash> NvStore for Shared<F> {
+impl<F: Flash> NvStore for Shared<F> {
     fn read(&mut self, key: u16, buf: &mut [u8]) -> Result<Option<usize>, NvError> {
         self.0.borrow_mut().read(key, buf)
     }
@@ -51,10 +52,10 @@ impl<F: enip_stack::nv::Flash> NvStore for Shared<F> {
 }
 
 fn shared() -> Shared {
-    shared_on(Flash::new())
+    shared_on(SmallFlash::new())
 }
 
-fn shared_on<F: enip_stack::nv::Flash>(flash: F) -> Shared<F> {
+fn shared_on<F: Flash>(flash: F) -> Shared<F> {
     Shared(
         Rc::new(RefCell::new(AbStore::mount(flash))),
         Rc::new(RefCell::new(false)),
@@ -62,13 +63,19 @@ fn shared_on<F: enip_stack::nv::Flash>(flash: F) -> Shared<F> {
 }
 
 /// A harness whose adapter keeps its settings in `store`.
-fn harness<F: enip_stack::nv::Flash + 'static>(store: &Shared<F>) -> Harness {
+fn harness<F: Flash + 'static>(store: &Shared<F>) -> Harness {
     let mut h = Harness::new();
     h.adapter
         .attach_store(Box::leak(Box::new(store.clone())))
         .unwrap();
     h
 }
+
+/// Identity instance 1, for its Reset service.
+const IDENTITY_INSTANCE: [Segment<'static>; 2] = [
+    Segment::Logical(LogicalType::Class, 1),
+    Segment::Logical(LogicalType::Instance, 1),
+];
 
 fn tcpip(attribute: u32) -> [Segment<'static>; 3] {
     [
@@ -141,11 +148,7 @@ fn settings_survive_a_restart() {
     assert_eq!(&get(&mut h, 6)[..7], &[5, 0, b'p', b'r', b'e', b's', b's']);
     assert_eq!(get(&mut h, 1), 1u32.to_le_bytes());
     // Factory defaults (Identity Reset type 1) remove them.
-    let identity = [
-        Segment::Logical(LogicalType::Class, 1),
-        Segment::Logical(LogicalType::Instance, 1),
-    ];
-    assert_eq!(status(&h.request(0x05, &identity, &[1])).0, 0);
+    assert_eq!(status(&h.request(0x05, &IDENTITY_INSTANCE, &[1])).0, 0);
     assert_eq!(TcpIpState::stored(&mut *store.0.borrow_mut()), Ok(None));
 }
 
@@ -155,36 +158,26 @@ fn a_reset_the_device_refuses_keeps_the_stored_settings() {
     let mut h = harness(&store);
     assert_eq!(set(&mut h, 6, &[4, 0, b'k', b'e', b'e', b'p']), 0);
     h.adapter.device_mut().reset_refusal = Some(General::DeviceStateConflict.into());
-    let identity = [
-        Segment::Logical(LogicalType::Class, 1),
-        Segment::Logical(LogicalType::Instance, 1),
-    ];
-    assert_eq!(status(&h.request(0x05, &identity, &[1])).0, 0x10);
+    assert_eq!(status(&h.request(0x05, &IDENTITY_INSTANCE, &[1])).0, 0x10);
     let st = TcpIpState::stored(&mut *store.0.borrow_mut()).unwrap();
     assert!(st.is_some(), "the stored settings survive a refused Reset");
     assert_eq!(&get(&mut h, 6)[..6], &[4, 0, b'k', b'e', b'e', b'p']);
     // Accepted, the same Reset restores the factory settings.
     h.adapter.device_mut().reset_refusal = None;
-    assert_eq!(status(&h.request(0x05, &identity, &[1])).0, 0);
+    assert_eq!(status(&h.request(0x05, &IDENTITY_INSTANCE, &[1])).0, 0);
     assert_eq!(TcpIpState::stored(&mut *store.0.borrow_mut()), Ok(None));
 }
 
-/// Identity instance 1, for its Reset service.
-const IDENTITY_INSTANCE: [Segment<'static>; 2] = [
-    Segment::Logical(LogicalType::Class, 1),
-    Segment::Logical(LogicalType::Instance, 1),
-];
-
 /// A harness whose device keeps its own settings in `store` (record `PROFILE_BASE`) beside
 /// the adapter's TCP/IP settings.
-fn harness_with_device_settings<F: enip_stack::nv::Flash + 'static>(store: &Shared<F>) -> Harness {
+fn harness_with_device_settings<F: Flash + 'static>(store: &Shared<F>) -> Harness {
     let mut h = harness(store);
     h.adapter.device_mut().settings = Some(Box::new(store.clone()));
     h
 }
 
 /// Saves device settings and a host name (TCP/IP attribute 6) through `h`.
-fn save_both(h: &mut Harness, store: &Shared<impl enip_stack::nv::Flash>) {
+fn save_both(h: &mut Harness, store: &Shared<impl Flash>) {
     store
         .0
         .borrow_mut()
