@@ -171,14 +171,13 @@ pub fn measure(scale: Scale) -> Result<Value> {
     // and each board's median is reported.
     let mut rounds: Vec<Vec<Rates>> = boards.iter().map(|_| Vec::new()).collect();
     for round in 0..bins.rate_rounds {
-        let mut turn: Vec<usize> = (0..boards.len()).collect();
-        if round % 2 == 1 {
-            turn.reverse();
-        }
-        for i in turn {
-            if let (Some(board), Some(runs)) = (boards.get(i), rounds.get_mut(i)) {
-                runs.push(rates(board, &bins)?);
-            }
+        for j in 0..boards.len() {
+            let i = if round % 2 == 1 {
+                boards.len() - 1 - j
+            } else {
+                j
+            };
+            rounds[i].push(rates(&boards[i], &bins)?);
         }
     }
     for ((board, mut r), runs) in boards.iter().zip(measured).zip(rounds) {
@@ -194,19 +193,19 @@ pub fn measure(scale: Scale) -> Result<Value> {
             .iter()
             .map(|r| json!([r.one, r.three, r.cpu_us_per_request]))
             .collect::<Vec<_>>());
-        let cell = |k: &str| r[k].as_f64().map_or("?".into(), |v| format!("{v:.1}"));
+        let cell = |k: &str, digits: usize| {
+            r[k].as_f64()
+                .map_or("?".into(), |v| format!("{v:.digits$}"))
+        };
         println!(
             "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12} {:>12}",
             board.name(),
-            cell("instructions_per_cycle"),
-            cell("context_switches_per_cycle"),
-            cell("requests_per_second_1_session"),
-            cell("requests_per_second_3_sessions"),
-            cell("instructions_per_request_3_sessions"),
-            format!(
-                "{:.2}",
-                r["cpu_us_per_request_3_sessions"].as_f64().unwrap_or(0.0)
-            ),
+            cell("instructions_per_cycle", 1),
+            cell("context_switches_per_cycle", 1),
+            cell("requests_per_second_1_session", 1),
+            cell("requests_per_second_3_sessions", 1),
+            cell("instructions_per_request_3_sessions", 1),
+            cell("cpu_us_per_request_3_sessions", 2),
         );
         report.insert(board.name().into(), r);
     }
