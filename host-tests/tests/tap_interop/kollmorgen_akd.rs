@@ -20,13 +20,14 @@ const RPI_MS: u32 = 10;
 /// Forward_Open timeout multiplier code 2: the watchdog is 16 x RPI.
 const MULTIPLIER: u32 = 2;
 
-fn start(name: &str) -> Rig {
+/// Starts the AKD board for test `name` with `extra` arguments (e.g. `--nv-file PATH`).
+fn start(name: &str, extra: &[&str]) -> Rig {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     let bin = std::env::var_os("ENIP_HOST_BIN").unwrap_or("target/debug/enip-host".into());
     let pcap = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .join("tap_interop")
         .join(format!("{name}.pcapng"));
-    Rig::start(&root.join(bin), "kollmorgen-akd", Some(&pcap))
+    Rig::start_with_args(&root.join(bin), "kollmorgen-akd", extra, Some(&pcap))
         .unwrap_or_else(|e| panic!("rig for {name}: {e}"))
 }
 
@@ -180,7 +181,7 @@ fn class1_scenario(rig: &Rig) {
 #[test]
 #[ignore = "needs root: network namespace and TAP"]
 fn kollmorgen_akd_class1_handshake_and_motion() {
-    let rig = start("kollmorgen_akd_io");
+    let rig = start("kollmorgen_akd_io", &[]);
     class1_scenario(&rig);
     common::finish(rig);
 }
@@ -252,9 +253,55 @@ fn explicit_scenario(rig: &Rig) {
 #[test]
 #[ignore = "needs root: network namespace and TAP"]
 fn kollmorgen_akd_explicit_objects() {
-    let rig = start("kollmorgen_akd_explicit");
+    let rig = start("kollmorgen_akd_explicit", &[]);
     explicit_scenario(&rig);
     common::finish(rig);
+}
+
+/// DRV.NVSAVE survives a restart of the board on the same `--nv-file`, with the TCP/IP host
+/// name beside it; Identity Reset type 1 erases both, so the restart after it is at the
+/// parameter's default (AIN.CUTOFF 5 000 Hz) and an empty host name.
+#[test]
+#[ignore = "needs root: network namespace and TAP"]
+fn kollmorgen_akd_nvsave_and_factory_reset_across_restarts() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tap_interop");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("kollmorgen_akd_nv.bin");
+    let _ = std::fs::remove_file(&file);
+    let nv = ["--nv-file", file.to_str().unwrap()];
+    let host = BOARD_IP.to_string();
+    let phase = |name: &str, phase: &str| {
+        let rig = start(name, &nv);
+        let r = peer(
+            &rig,
+            "kollmorgen_akd_nv.py",
+            json!({"host": host, "phase": phase, "cutoff": 1234}),
+        );
+        common::finish(rig);
+        r
+    };
+    let ok = |r: &Value, k: &str| assert_eq!(r[k]["status"], 0, "{k}: {r}");
+    let saved = (hex(&1234u32.to_le_bytes()), "0400616b6431".to_string());
+    let r = phase("kollmorgen_akd_nv_save", "save");
+    for k in ["set_cutoff", "set_host_name", "nvsave"] {
+        ok(&r, k);
+    }
+    let seen = |r: &Value| {
+        ok(r, "cutoff");
+        ok(r, "host_name");
+        (
+            r["cutoff"]["data"].as_str().unwrap_or("").to_string(),
+            r["host_name"]["data"].as_str().unwrap_or("").to_string(),
+        )
+    };
+    assert_eq!(seen(&r), saved, "{r}");
+    let r = phase("kollmorgen_akd_nv_restart", "check");
+    assert_eq!(seen(&r), saved, "after a restart: {r}");
+    let r = phase("kollmorgen_akd_nv_reset", "reset");
+    ok(&r, "reset");
+    let r = phase("kollmorgen_akd_nv_factory", "check");
+    let factory = (hex(&5_000_000u32.to_le_bytes()), "0000".to_string());
+    assert_eq!(seen(&r), factory, "after Reset type 1 and a restart: {r}");
 }
 
 /// Both scenarios on the QEMU board, one boot (skipped, loudly, without the ELF).
