@@ -450,10 +450,7 @@ fn ametek_pls_on_qemu() {
 #[test]
 #[ignore = "needs root: network namespace and TAP"]
 fn ametek_pls_program_control_survives_a_restart() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tap_interop");
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("ametek_pls_nvram.bin");
-    let _ = std::fs::remove_file(&file);
+    let file = common::fresh_nv_file("ametek_pls_nvram.bin");
     let nvram = file.to_str().unwrap();
     let rig = start("ametek_pls_nvram_save", &["--nv-file", nvram]);
     let r = peer(

@@ -43,6 +43,20 @@ pub fn host_bin() -> PathBuf {
     root.join(bin)
 }
 
+/// `file` in the suite's scratch directory, `target/tmp/tap_interop` (created).
+pub fn scratch(file: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tap_interop");
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    dir.join(file)
+}
+
+/// A non-volatile file for `enip-host --nv-file` in the scratch directory, none there yet.
+pub fn fresh_nv_file(file: &str) -> PathBuf {
+    let path = scratch(file);
+    let _ = std::fs::remove_file(&path);
+    path
+}
+
 /// Starts the rig for test `name`, capturing into `target/tmp/tap_interop/<name>.pcapng`.
 pub fn start(name: &str) -> Rig {
     let bin = host_bin();
@@ -51,9 +65,7 @@ pub fn start(name: &str) -> Rig {
         "board binary {} missing: build enip-host or set ENIP_HOST_BIN",
         bin.display()
     );
-    let pcap = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("tap_interop")
-        .join(format!("{name}.pcapng"));
+    let pcap = scratch(&format!("{name}.pcapng"));
     Rig::start(&bin, "generic", Some(&pcap)).unwrap_or_else(|e| panic!("rig for {name}: {e}"))
 }
 

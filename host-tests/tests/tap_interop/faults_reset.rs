@@ -8,7 +8,6 @@
 
 use std::io;
 use std::net::{Ipv4Addr, SocketAddrV4, UdpSocket};
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use serde_json::{json, Value};
@@ -57,10 +56,7 @@ fn expected_name(kind: u8) -> &'static [u8] {
 fn reset_during_io(kind: u8) {
     let name = format!("faults_identity_reset_type_{kind}");
     let rounds = count("ENIP_FAULTS_RESET_ROUNDS", 1, 5);
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tap_interop");
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join(format!("{name}.nv"));
-    let _ = std::fs::remove_file(&file);
+    let file = common::fresh_nv_file(&format!("{name}.nv"));
     let nv = file.to_str().unwrap();
     let rig = tcpip_nv::start(&name, &["--nv-file", nv], BOARD_IP);
     board_real_time(&rig);

@@ -22,12 +22,8 @@ const MULTIPLIER: u32 = 2;
 
 /// Starts the AKD board for test `name` with `extra` arguments (e.g. `--nv-file PATH`).
 fn start(name: &str, extra: &[&str]) -> Rig {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-    let bin = std::env::var_os("ENIP_HOST_BIN").unwrap_or("target/debug/enip-host".into());
-    let pcap = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("tap_interop")
-        .join(format!("{name}.pcapng"));
-    Rig::start_with_args(&root.join(bin), "kollmorgen-akd", extra, Some(&pcap))
+    let pcap = common::scratch(&format!("{name}.pcapng"));
+    Rig::start_with_args(&common::host_bin(), "kollmorgen-akd", extra, Some(&pcap))
         .unwrap_or_else(|e| panic!("rig for {name}: {e}"))
 }
 
@@ -264,10 +260,7 @@ fn kollmorgen_akd_explicit_objects() {
 #[test]
 #[ignore = "needs root: network namespace and TAP"]
 fn kollmorgen_akd_nvsave_and_factory_reset_across_restarts() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tap_interop");
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("kollmorgen_akd_nv.bin");
-    let _ = std::fs::remove_file(&file);
+    let file = common::fresh_nv_file("kollmorgen_akd_nv.bin");
     let nv = ["--nv-file", file.to_str().unwrap()];
     let host = BOARD_IP.to_string();
     let phase = |name: &str, phase: &str| {

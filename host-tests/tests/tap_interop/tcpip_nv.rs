@@ -43,10 +43,7 @@ fn peer(rig: &Rig, host: Ipv4Addr, phase: &str) -> Value {
 #[test]
 #[ignore = "needs root: network namespace and TAP"]
 fn tcpip_interface_configuration_survives_a_restart() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tap_interop");
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("tcpip_nv.bin");
-    let _ = std::fs::remove_file(&file);
+    let file = common::fresh_nv_file("tcpip_nv.bin");
     let nv = file.to_str().unwrap();
     let rig = start("tcpip_nv_set", &["--nv-file", nv], BOARD_IP);
     let r = peer(&rig, BOARD_IP, "set");
