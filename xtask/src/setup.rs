@@ -18,6 +18,8 @@ pub const PYTHON_PEERS: &[&str] = &[
     "ethernetip==1.2.0",
     "dpkt==1.9.8",
     "eds-pie==1.2.0",
+    // EIPScanner (C++), bundled with the NATS bridge that is its only Python binding.
+    "eip2nats==1.3.2",
 ];
 /// npm peers for the interop tests, pinned; installed into [`npm_dir`].
 pub const NPM_PEERS: &[&str] = &["st-ethernet-ip@2.7.5"];
@@ -35,6 +37,8 @@ pub const APT_PACKAGES: &[(&str, &[&str])] = &[
     // The npm peer (st-ethernet-ip) and the fault tests' real-time priority (`chrt`).
     ("npm", &["npm", "--version"]),
     ("util-linux", &["chrt", "--version"]),
+    // Where the eip2nats bridge publishes the T->O data EIPScanner receives.
+    ("nats-server", &["nats-server", "--version"]),
 ];
 
 /// Everything: Rust target and toolchains, Debian packages, Python and npm peers.

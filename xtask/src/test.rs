@@ -158,8 +158,8 @@ fn tap_interop() -> Result<Outcome> {
 
 /// The same peers against `enip-host --bind` on kernel sockets over a veth pair (the lab's
 /// `ENIP_HOST_LINK=bind`): explicit messaging (pycomm3, cpppo), Class 1 (ethernetip,
-/// st-ethernet-ip, listen-only multicast), Class 3, the fourth client refused, UDP, and the
-/// hostile battery.
+/// st-ethernet-ip, EIPScanner input-only, listen-only multicast), Class 3, the fourth client
+/// refused, UDP, and the hostile battery.
 fn bind_interop() -> Result<Outcome> {
     let filters = [
         "explicit::",

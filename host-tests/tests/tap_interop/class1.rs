@@ -1,7 +1,8 @@
 //! Class 1 implicit I/O with independent originators: the PyPI `ethernetip` package and npm
 //! `st-ethernet-ip` as exclusive owners (data written in O->T comes back in T->O, and
-//! Forward_Close frees the slot), and a listen-only connection following a multicast
-//! exclusive owner, driven by the project's scanner.
+//! Forward_Close frees the slot), EIPScanner (through PyPI `eip2nats`) as an input-only
+//! originator, and a listen-only connection following a multicast exclusive owner, driven
+//! by the project's scanner.
 
 use std::net::{Ipv4Addr, SocketAddrV4, UdpSocket};
 use std::time::{Duration, Instant};
@@ -82,6 +83,51 @@ fn st_ethernet_ip_exclusive_owner_echoes_and_closes() {
         .expect("namespace")
         .expect("session");
     assert!(reopened);
+    common::finish(rig);
+}
+
+/// EIPScanner (C++, through the PyPI `eip2nats` bridge and Debian's `nats-server`) opens an
+/// input-only connection (configuration 151, heartbeat 152 with the run/idle header it
+/// always sends, inputs 100) at 10 ms: every T->O datagram in sequence, 34 bytes, and the
+/// inputs follow a write of output assembly 150 (which input 100 echoes) within the run.
+#[test]
+#[ignore = "needs root: network namespace and TAP"]
+fn eipscanner_input_only_follows_the_inputs() {
+    let rig = common::start("eipscanner_input_only");
+    let pattern: String = (1..=32u8).map(|b| format!("{b:02x}")).collect();
+    let input = json!({"host": BOARD_IP.to_string(), "rpi_us": 10_000, "seconds": 2,
+        "pattern": pattern});
+    let out = peers::run(rig.ns(), "eipscanner_input_only.py", &input, PEER_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}\n{}", rig.board_log()));
+    assert_eq!(
+        (&out["started"], &out["write"]),
+        (&json!(true), &json!(0)),
+        "{out}"
+    );
+    // 2 s at 10 ms: about 200 datagrams, each published once, none missing.
+    let messages = out["messages"].as_u64().unwrap_or(0);
+    assert!((150..=215).contains(&messages), "{out}");
+    assert_eq!(out["published"], out["messages"], "{out}");
+    assert_eq!(out["gaps"], 0, "T->O sequence counts: {out}");
+    assert_eq!(
+        out["lengths"],
+        json!([34]),
+        "sequence count + 32 bytes: {out}"
+    );
+    assert_ne!(out["first_data"], json!(pattern), "{out}");
+    assert_eq!(out["last_data"], json!(pattern), "{out}");
+    let from = out["pattern_from"].as_u64().unwrap_or(0);
+    assert!(from > 0, "the written inputs appear during the run: {out}");
+    assert_eq!(out["pattern_stays"], true, "{out}");
+    let log = rig.board_log();
+    assert!(
+        log.contains("opened: InputOnly from 198.18.0.1"),
+        "opened line: {log}"
+    );
+    assert!(
+        log.contains("closed (InputOnly from 198.18.0.1): Forward_Close"),
+        "closed line: {log}"
+    );
     common::finish(rig);
 }
 
