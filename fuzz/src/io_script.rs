@@ -88,7 +88,7 @@ fn run_io_on<D: Device>(
                 let from = IO_SENDERS[usize::from(socket)];
                 if matches!(
                     adapter.io_receive(from, data, now),
-                    Ok(enip_stack::io::consume::Accepted::NewData)
+                    Ok(enip_stack::io::Accepted::NewData)
                 ) {
                     stats.accepted += 1;
                 }

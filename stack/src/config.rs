@@ -18,10 +18,10 @@ pub const MAX_MULTIPLE_SERVICES: usize = 32;
 pub const MAX_HOST_NAME: usize = 64;
 /// Longest domain name (TCP/IP attribute 5), as CIP allows.
 pub const MAX_DOMAIN_NAME: usize = 48;
-/// TCP port of the encapsulation protocol.
-pub const ENCAP_PORT: u16 = 44818;
-/// UDP port of Class 0/1 implicit I/O.
-pub const IO_PORT: u16 = 2222;
+/// TCP and UDP port of the encapsulation protocol (defined by the codec).
+pub use crate::wire::encap::ENCAP_PORT;
+/// UDP port of Class 0/1 implicit I/O (defined by the codec).
+pub use crate::wire::io_datagram::IO_PORT;
 /// Smallest requested packet interval accepted, in microseconds.
 pub const MIN_RPI_US: u32 = 1_000;
 /// Largest requested packet interval accepted, in microseconds.

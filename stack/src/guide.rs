@@ -139,8 +139,8 @@
 //! ```
 //! use enip_stack::cip::{CipError, CipResult};
 //! use enip_stack::device::{ConnectionEvent, OpenRequest};
-//! use enip_stack::io::status::{OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
-//! use enip_stack::io::Kind;
+//! use enip_stack::cip::connection_status::{OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
+//! use enip_stack::device::Kind;
 //!
 //! /// One Class 1 connection at a time, RPI 2-100 ms, configuration byte 0 at most 100.
 //! #[derive(Default)]

@@ -4,15 +4,26 @@
 //! current [`Instant`], and it writes replies into buffers the runtime owns. Every capacity is a
 //! compile-time constant in [`config`].
 //!
+//! The modules form a one-way graph; read bottom-up, each uses only those above it in this
+//! list (`cargo xtask modules` checks it):
+//!
+//! - [`time`], [`rng`], [`net`], [`config`] (every capacity), [`nv`] (non-volatile storage:
+//!   A/B copies with sequence numbers and CRC over any flash): small leaves.
 //! - [`wire`]: zero-copy, length-checked codecs for every EtherNet/IP and CIP structure.
-//! - [`cip`]: status codes, the request/reply model and the standard objects.
-//! - [`encap`]: encapsulation sessions, TCP framing and command handling.
-//! - [`device`]: the [`Device`] trait a device profile implements; [`guide`] walks through
+//! - [`cip`]: the vocabulary: status codes, class IDs, services, object definitions,
+//!   requests and their context.
+//! - [`device`]: the [`Device`] trait a device profile implements and the types it speaks in
+//!   (connection kinds, events, admission, multicast settings); [`guide`] walks through
 //!   writing one.
-//! - [`adapter`]: the [`Adapter`] the runtime drives.
-//! - [`eds`]: the EDS file of any device.
-//! - [`nv`]: non-volatile storage (A/B copies with sequence numbers and CRC) over any flash.
-//! - [`virtual_scanner`]: a scanner in virtual time, for a device's own tests.
+//! - [`io`]: connections: the connection table, Forward_Open validation, production and
+//!   consumption of Class 1 data, Class 3 state.
+//! - [`objects`]: the standard objects and the Message Router's dispatch to them (the
+//!   Connection Manager among them, which is why they sit above the connections).
+//! - `encap`: encapsulation sessions, TCP framing and the delayed ListIdentity replies.
+//! - [`adapter`]: the [`Adapter`] the runtime drives, with the encapsulation commands beside it.
+//! - [`eds`] (the EDS file of any device), [`originator`] (the scanner side of the codecs, for
+//!   tests and tools) and [`virtual_scanner`] (a scanner in virtual time, for a device's own
+//!   tests) use the layers below them.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -37,11 +48,12 @@ pub mod cip;
 pub mod config;
 pub mod device;
 pub mod eds;
-pub mod encap;
+pub(crate) mod encap;
 pub mod guide;
 pub mod io;
 pub mod net;
 pub mod nv;
+pub mod objects;
 pub mod originator;
 pub mod rng;
 pub mod time;
@@ -50,6 +62,6 @@ pub mod wire;
 
 pub use adapter::{Adapter, SocketId, TcpOutcome};
 pub use device::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
-pub use io::produce::IoDue;
+pub use io::IoDue;
 pub use net::NetworkConfig;
 pub use time::{Duration, Instant};

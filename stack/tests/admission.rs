@@ -6,14 +6,14 @@
 mod common;
 
 use common::*;
+use enip_stack::cip::connection_status::{OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
 use enip_stack::cip::context::RequestContext;
 use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General};
+use enip_stack::device::Kind;
 use enip_stack::device::{
     AttributeRef, CloseReason, ConnectionEvent, ConnectionInfo, Device, InputChanges, OpenRequest,
 };
-use enip_stack::io::status::{OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
-use enip_stack::io::Kind;
 use enip_stack::wire::epath::{LogicalType, Segment};
 use enip_stack::wire::forward_open::{ForwardClose, ForwardOpenReply, NetworkParams};
 use enip_stack::wire::io_datagram::Packet;

@@ -7,8 +7,8 @@ mod common;
 use std::net::Ipv4Addr;
 
 use common::*;
-use enip_stack::cip::tcpip::MulticastConfig;
 use enip_stack::device::Multicast;
+use enip_stack::device::MulticastConfig;
 use enip_stack::wire::epath::{LogicalType, Segment};
 use enip_stack::wire::forward_open::NetworkParams;
 

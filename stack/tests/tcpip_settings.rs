@@ -8,11 +8,11 @@ use std::net::Ipv4Addr;
 use std::rc::Rc;
 
 use common::*;
-use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::cip::General;
 use enip_stack::nv::{
     key, AbStore, CutFlash, Flash, NvError, NvStore, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE,
 };
+use enip_stack::objects::TcpIpState;
 use enip_stack::wire::epath::{LogicalType, Segment};
 
 /// The flash of most tests: one copy's room per sector, in RAM.

@@ -8,7 +8,7 @@ use std::net::SocketAddrV4;
 
 use common::*;
 use enip_stack::device::{CloseReason, ConnectionEvent};
-use enip_stack::io::consume::{Accepted, Discard};
+use enip_stack::io::{Accepted, Discard};
 use enip_stack::wire::forward_open::{ForwardClose, ForwardOpenReply};
 use enip_stack::wire::io_datagram::Packet;
 use enip_stack::wire::Writer;

@@ -493,9 +493,6 @@ mod tests {
             part("embassy_executor::raw::SyncExecutor::poll"),
             "executor, time queue"
         );
-        assert_eq!(
-            part("enip_stack::io::table::ConnectionTable::close"),
-            "enip-stack"
-        );
+        assert_eq!(part("enip_stack::io::ConnectionTable::close"), "enip-stack");
     }
 }

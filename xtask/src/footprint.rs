@@ -209,12 +209,9 @@ mod tests {
 
     #[test]
     fn symbols_are_attributed_to_their_crate() {
+        assert_eq!(owner("enip_stack::io::ConnectionTable::expire"), "stack");
         assert_eq!(
-            owner("enip_stack::io::table::ConnectionTable::expire"),
-            "stack"
-        );
-        assert_eq!(
-            owner("<enip_stack::cip::identity::Instance<D> as enip_stack::cip::attributes::Attributes>::get"),
+            owner("<enip_stack::objects::identity::Instance<D> as enip_stack::cip::attributes::Attributes>::get"),
             "stack"
         );
         assert_eq!(owner("enip_firmware::tcp::serve::{{closure}}"), "firmware");

@@ -25,6 +25,7 @@ mod faults;
 mod footprint;
 mod fuzz;
 mod json;
+mod module_graph;
 mod qemu;
 mod setup;
 mod smoke;
@@ -58,6 +59,8 @@ commands:
                       its POSIX build (--host: that part alone); --check: every part once and
                       briefly into target/bench-check, checking that each figure is reported
                       (a step of test)
+  modules             the module check: no cycle among the stack's modules, the profiles
+                      or the files of one profile (part of test)
   footprint           the boards' release image sizes and the F767 budget (part of bench)
   smoke               the QEMU smoke run alone (part of test)
   faults              the long fault tests (link flap, Reset, churn, idle sockets, vanishing
@@ -90,6 +93,7 @@ enum Command {
     Demo { board: demo::Board },
     Bench { part: BenchPart },
     Footprint,
+    Modules,
     Smoke,
     Faults,
     Eds,
@@ -130,6 +134,7 @@ fn main() -> ExitCode {
             part: BenchPart::Host,
         } => bench_host::run_all(),
         Command::Footprint => footprint::footprint(),
+        Command::Modules => module_graph::check(),
         Command::Smoke => smoke::run_smoke().map(|_| ()),
         Command::Faults => faults::run_all(),
         // The firmware's EDS test knows every profile; asked to, it rewrites the files.
@@ -178,6 +183,7 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
             part: BenchPart::All,
         },
         "footprint" => Command::Footprint,
+        "modules" => Command::Modules,
         "smoke" => Command::Smoke,
         "faults" => Command::Faults,
         "eds" => Command::Eds,

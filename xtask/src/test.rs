@@ -31,6 +31,9 @@ pub fn run_all() -> bool {
             cargo(&["fmt", "--all", "--", "--check"])?;
             cargo(&["fmt", "--manifest-path", "fuzz/Cargo.toml", "--", "--check"])
         })
+        && steps.run("module graph (stack, profiles)", || {
+            crate::module_graph::check().map(|()| Outcome::Passed)
+        })
         && steps.run("clippy", || {
             cargo(&["clippy", "--all-targets", "--", "-D", "warnings"])?;
             cargo(&[

@@ -11,8 +11,8 @@ use embassy_executor::Spawner;
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
 use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
 use enip_firmware::Resources;
-use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::nv::SharedStore;
+use enip_stack::objects::TcpIpState;
 use enip_stack::{Adapter, Device};
 
 use crate::nv_file;

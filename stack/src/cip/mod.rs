@@ -1,89 +1,16 @@
-//! The CIP object model: status codes, requests, the Message Router and the standard objects.
+//! The CIP vocabulary every layer above the codecs speaks: general and extended status
+//! codes, class IDs and service codes, object and attribute definitions, requests (service,
+//! path, data) and the context a request arrives in. No object lives here: the standard
+//! objects are in [`crate::objects`].
 
-pub mod assembly;
 pub mod class_id;
-pub mod connection_manager;
+pub mod connection_status;
 pub mod context;
 pub(crate) mod encoding;
-pub mod ethernet_link;
-pub mod identity;
-pub mod message_router;
 pub mod object;
 pub mod request;
-pub(crate) mod router;
-pub(crate) mod serve;
 pub mod service;
 pub mod status;
-pub mod tcpip;
-pub mod tcpip_nv;
-pub(crate) mod vendor;
-
-use crate::device::Device;
-use crate::io::open::Origin;
-use crate::io::ConnectionTable;
-use crate::net::NetworkConfig;
-use crate::nv::NvStore;
-use crate::wire::cpf::SockAddr;
-use context::RequestContext;
 
 pub use request::{Path, Request};
 pub use status::{CipError, CipResult, General};
-
-/// State the stack's own objects keep between requests.
-#[derive(Debug, Clone)]
-pub struct ObjectState {
-    /// TCP/IP Interface object settings.
-    pub tcpip: tcpip::TcpIpState,
-    /// Ethernet Link object counters and settings.
-    pub link: ethernet_link::LinkState,
-    /// Connection Manager request and reject counters.
-    pub connection_manager: connection_manager::Counters,
-    /// A Reset service was accepted: its type, for the runtime to act on once replied.
-    pub pending_reset: Option<u8>,
-}
-
-impl ObjectState {
-    /// Defaults at power-up.
-    pub fn new() -> Self {
-        ObjectState {
-            tcpip: tcpip::TcpIpState::new(),
-            link: ethernet_link::LinkState::new(),
-            connection_manager: connection_manager::Counters::default(),
-            pending_reset: None,
-        }
-    }
-}
-
-impl Default for ObjectState {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-/// Everything a service handler may look at or change.
-pub(crate) struct Ctx<'a, D: Device> {
-    pub device: &'a mut D,
-    pub state: &'a mut ObjectState,
-    pub net: &'a NetworkConfig,
-    /// The connection table (Forward_Open, ownership, identity status).
-    pub connections: &'a mut ConnectionTable,
-    /// Who sent the request, when it came over TCP.
-    pub origin: Option<Origin>,
-    /// Set by a Forward_Open whose T->O data is multicast: the reply's T->O socket address.
-    pub reply_t_o_sockaddr: Option<SockAddr>,
-    /// Unconnected or connected, the session's peer, the time.
-    pub request: RequestContext,
-    /// Where settings that survive a power cycle go (none: they last until power-off).
-    pub store: Option<&'a mut (dyn NvStore + 'static)>,
-}
-
-impl<D: Device> Ctx<'_, D> {
-    /// Identity attribute 5: the device's bits plus what the connections contribute.
-    pub(crate) fn identity_status(&self) -> u16 {
-        self.device.status_bits() | self.connections.identity_status()
-    }
-    /// The time the request is handled.
-    pub(crate) fn now(&self) -> crate::time::Instant {
-        self.request.now
-    }
-}

@@ -3,9 +3,9 @@
 
 use core::net::Ipv4Addr;
 
+use super::{Kind, Trigger};
+use crate::cip::connection_status as ext;
 use crate::cip::status::{CipError, CipResult};
-use crate::io::status as ext;
-use crate::io::{Kind, Trigger};
 use crate::time::Duration;
 use crate::wire::epath::ElectronicKey;
 use crate::wire::forward_open::{NetworkParams, Triad};

@@ -3,7 +3,7 @@
 
 use core::net::Ipv4Addr;
 
-use crate::io::{Connection, Kind};
+use super::Kind;
 use crate::wire::forward_open::Triad;
 
 /// How a connection ended.
@@ -74,24 +74,6 @@ pub struct ConnectionInfo {
     pub t_o_rpi_us: u32,
     /// True if its T->O data goes to a multicast group.
     pub multicast: bool,
-}
-
-impl ConnectionInfo {
-    /// The description of the connection in table slot `slot`.
-    pub fn of(slot: usize, c: &Connection) -> Self {
-        ConnectionInfo {
-            slot,
-            kind: c.kind,
-            triad: c.triad,
-            originator: c.originator,
-            points: c.points,
-            o_t_id: c.o_t_id,
-            t_o_id: c.t_o_id,
-            o_t_rpi_us: c.o_t_rpi,
-            t_o_rpi_us: c.t_o_rpi,
-            multicast: c.produces_multicast() || (c.kind == Kind::ListenOnly),
-        }
-    }
 }
 
 /// Connection life-cycle events the stack reports to the device.

@@ -3,20 +3,23 @@
 //! [`crate::guide`] walks through writing one.
 
 pub mod admission;
+pub mod connection_kind;
 pub mod events;
 pub mod inputs;
+pub mod multicast;
 
 use crate::cip::context::RequestContext;
 use crate::cip::object::{Access, AttributeDef, ClassDef};
 use crate::cip::request::Request;
 use crate::cip::status::{CipError, CipResult, General};
-use crate::cip::tcpip::MulticastConfig;
 use crate::time::Instant;
 use crate::wire::Writer;
 
 pub use admission::{Direction, OpenRequest};
+pub use connection_kind::{Kind, Trigger};
 pub use events::{CloseReason, ConnectionEvent, ConnectionInfo, ConnectionPoints};
 pub use inputs::InputChanges;
+pub use multicast::{Multicast, MulticastConfig};
 
 /// Identity object values (class 0x01, attributes 1-7).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,15 +77,6 @@ pub struct AssemblyInfo {
     pub size: u16,
     /// True if O->T data for it carries the 32-bit run/idle header.
     pub run_idle_header: bool,
-}
-
-/// TCP/IP attributes 8 and 9 as a device keeps them (see [`Device::multicast`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Multicast {
-    /// Attribute 8: TTL of multicast T->O datagrams.
-    pub ttl: u8,
-    /// Attribute 9: allocation control, number of addresses and the first address in use.
-    pub config: MulticastConfig,
 }
 
 /// Everything a device profile supplies. Only identity and assemblies are required.
@@ -273,4 +267,13 @@ pub struct AttributeRef<'a> {
     pub instance: u32,
     /// The attribute.
     pub attribute: &'a AttributeDef,
+}
+
+/// The assembly `instance` of `device`, as it describes it now.
+pub(crate) fn assembly<D: Device>(device: &D, instance: u32) -> Option<AssemblyInfo> {
+    device
+        .assemblies()
+        .iter()
+        .find(|a| u32::from(a.instance) == instance)
+        .copied()
 }

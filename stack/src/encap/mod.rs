@@ -1,6 +1,6 @@
-//! Encapsulation: sessions on TCP sockets, framing across segments, command handling,
-//! and the delayed ListIdentity replies to broadcast requests.
+//! Encapsulation sessions: one per TCP socket, framing across segments, and the delayed
+//! ListIdentity replies to broadcast requests. The commands a session carries are answered
+//! by the [`crate::Adapter`] (`adapter/encap.rs`).
 
-pub mod commands;
 pub mod list_identity;
 pub mod session;

@@ -87,10 +87,6 @@ impl Sessions {
     pub fn get_mut(&mut self, index: usize) -> Option<&mut Slot> {
         self.slots.get_mut(index)
     }
-    /// All slots.
-    pub fn iter(&self) -> impl Iterator<Item = &Slot> {
-        self.slots.iter()
-    }
     /// A fresh non-zero handle that no slot uses; the socket index is in the low byte.
     pub fn new_handle(&mut self, index: usize) -> u32 {
         loop {

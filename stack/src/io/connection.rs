@@ -2,35 +2,9 @@
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
-use crate::device::ConnectionPoints;
+use crate::device::{ConnectionInfo, ConnectionPoints, Kind, Trigger};
 use crate::time::{Duration, Instant};
 use crate::wire::forward_open::Triad;
-
-/// The application relationship of a connection.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Kind {
-    /// Class 1, owns the output assembly it consumes.
-    ExclusiveOwner,
-    /// Class 1, consumes only a heartbeat.
-    InputOnly,
-    /// Class 1, heartbeat only, follows another connection's multicast production.
-    ListenOnly,
-    /// Class 3 connected explicit messaging.
-    Explicit,
-}
-
-/// What makes a Class 1 producer send.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Trigger {
-    /// Every RPI.
-    Cyclic,
-    /// On data change (reported by the device), not faster than the inhibit time; RPI otherwise.
-    ChangeOfState,
-    /// When the application says so, not faster than the inhibit time; RPI otherwise.
-    Application,
-}
 
 /// O->T (consuming) state of a Class 1 connection.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -154,5 +128,23 @@ impl Connection {
     pub fn produces_multicast(&self) -> bool {
         self.producer()
             .is_some_and(|p| p.destination.ip().is_multicast())
+    }
+}
+
+impl Connection {
+    /// The device's description of this connection, in table slot `slot`.
+    pub fn info(&self, slot: usize) -> ConnectionInfo {
+        ConnectionInfo {
+            slot,
+            kind: self.kind,
+            triad: self.triad,
+            originator: self.originator,
+            points: self.points,
+            o_t_id: self.o_t_id,
+            t_o_id: self.t_o_id,
+            o_t_rpi_us: self.o_t_rpi,
+            t_o_rpi_us: self.t_o_rpi,
+            multicast: self.produces_multicast() || (self.kind == Kind::ListenOnly),
+        }
     }
 }

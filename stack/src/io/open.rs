@@ -3,18 +3,18 @@
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
-use super::connection::{Connection, Consumer, Kind, Producer, Transport, Trigger};
-use super::status as ext;
+use super::connection::{Connection, Consumer, Producer, Transport};
 use super::table::ConnectionTable;
 use crate::cip::class_id;
+use crate::cip::connection_status as ext;
 use crate::cip::status::{CipError, CipResult};
 use crate::config::{
     FIRST_PACKET_GRACE_US, IO_PORT, MAX_EXPLICIT_CONNECTED, MAX_RPI_US, MIN_RPI_US,
 };
 use crate::device::admission::rpi_check;
 use crate::device::{
-    AssemblyInfo, AssemblyRole, ConnectionEvent, ConnectionInfo, ConnectionPoints, Device,
-    Direction, IdentityInfo, OpenRequest,
+    AssemblyInfo, AssemblyRole, ConnectionEvent, ConnectionPoints, Device, Direction, IdentityInfo,
+    Kind, OpenRequest, Trigger,
 };
 use crate::time::{Duration, Instant};
 use crate::wire::cpf::SockAddr;
@@ -269,7 +269,7 @@ pub fn forward_open<D: Device>(
                 .map_err(configuration_refused)?;
         }
     }
-    let info = ConnectionInfo::of(slot, &conn);
+    let info = conn.info(slot);
     table
         .insert(conn)
         .ok_or(CipError::connection(ext::OUT_OF_CONNECTIONS))?;
@@ -317,7 +317,7 @@ fn explicit(fo: &ForwardOpen<'_>, path: &ConnPath<'_>, base: Connection) -> CipR
 }
 
 fn assembly(device: &impl Device, instance: u32) -> Option<AssemblyInfo> {
-    crate::cip::assembly::find(device, instance)
+    crate::device::assembly(device, instance)
 }
 
 /// Class 1: application paths, sizes, ownership and multicast rules.

@@ -3,9 +3,10 @@
 
 use core::net::SocketAddrV4;
 
-use super::connection::{Producer, Transport, Trigger};
+use super::connection::{Producer, Transport};
 use super::table::ConnectionTable;
 use crate::device::Device;
+use crate::device::Trigger;
 use crate::time::{Duration, Instant};
 use crate::wire::io_datagram::{sequenced_header, HEADER_LEN, SEQUENCE_LEN};
 
@@ -25,8 +26,8 @@ fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
     previous.add(Duration::from_micros(missed.saturating_mul(rpi)))
 }
 
-/// A T->O datagram due for sending, from [`next_due`]: where it goes, its largest length,
-/// and the producer that builds it with [`write()`].
+/// A T->O datagram due for sending, from [`crate::Adapter::io_due`]: where it goes, its
+/// largest length, and the producer that builds it with [`crate::Adapter::write_io`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct IoDue {
     /// Destination: UDP port 2222 of the originator, or the multicast group.

@@ -1,9 +1,9 @@
 //! The fixed-size connection table: lookup, ID allocation, closing with dependants.
 
-use super::connection::{Connection, Kind, Producer, Transport};
+use super::connection::{Connection, Producer, Transport};
 use super::schedule::Schedule;
 use crate::config::{MAX_CONNECTIONS, MAX_EXPLICIT_CONNECTED};
-use crate::device::{CloseReason, ConnectionEvent, ConnectionInfo, Device};
+use crate::device::{CloseReason, ConnectionEvent, Device, Kind};
 use crate::time::Instant;
 use crate::wire::forward_open::Triad;
 
@@ -232,10 +232,7 @@ impl ConnectionTable {
             conn.originator,
             reason.describe()
         );
-        device.connection_event(ConnectionEvent::Closed(
-            ConnectionInfo::of(slot, &conn),
-            reason,
-        ));
+        device.connection_event(ConnectionEvent::Closed(conn.info(slot), reason));
         let had_owner = !self.owned.is_empty();
         if conn.producer().is_some() {
             for i in self.slots_in_use() {
@@ -249,7 +246,7 @@ impl ConnectionTable {
                         i,
                         CloseReason::Dependency.describe()
                     );
-                    let info = ConnectionInfo::of(i, &c);
+                    let info = c.info(i);
                     device.connection_event(ConnectionEvent::Closed(info, CloseReason::Dependency));
                 }
             }

@@ -18,11 +18,11 @@ use super::{crc32, records, NvError, NvStore};
 pub const IMAGE_SIZE: usize = 2048;
 /// The largest record a device profile can keep beside the TCP/IP settings: what a copy
 /// holds once its header and CRC, the TCP/IP record and both record headers are counted.
-pub const PROFILE_RECORD_ROOM: usize = IMAGE_SIZE
-    - HEADER
-    - CRC
-    - 2 * super::records::RECORD_HEADER
-    - crate::cip::tcpip_nv::RECORD_MAX;
+pub const PROFILE_RECORD_ROOM: usize =
+    IMAGE_SIZE - HEADER - CRC - 2 * super::records::RECORD_HEADER - STACK_RECORD_ROOM;
+/// The room the stack's own record (the TCP/IP object's settings) may take in a copy; that
+/// record's layout is checked against it at compile time.
+pub const STACK_RECORD_ROOM: usize = 150;
 /// The commit word: the copy in this sector is complete.
 const MAGIC: u32 = 0x4E56_4331; // "NVC1"
 /// Version of the body layout.

@@ -16,7 +16,7 @@ mod flash;
 mod records;
 mod shared;
 
-pub use ab::{AbStore, IMAGE_SIZE, PROFILE_RECORD_ROOM};
+pub use ab::{AbStore, IMAGE_SIZE, PROFILE_RECORD_ROOM, STACK_RECORD_ROOM};
 pub use crc::crc32;
 pub use cut_flash::{CutFlash, CUT_SECTOR};
 pub use flash::{Flash, FlashError, RamFlash, MAX_WRITE_SIZE};

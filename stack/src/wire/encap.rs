@@ -5,6 +5,8 @@ use super::{Error, Result};
 
 /// Length of the encapsulation header.
 pub const HEADER_LEN: usize = 24;
+/// TCP and UDP port of the encapsulation protocol.
+pub const ENCAP_PORT: u16 = 44818;
 
 mod field {
     pub const COMMAND: usize = 0;

@@ -139,7 +139,7 @@ impl ServiceRepr {
 pub const fn listen_socket(ip: Ipv4Addr) -> SockAddr {
     SockAddr {
         addr: ip,
-        port: crate::config::ENCAP_PORT,
+        port: super::encap::ENCAP_PORT,
     }
 }
 

@@ -6,6 +6,8 @@ use super::bytes::{get_u16, get_u32, put_u16};
 use super::cpf::item_type;
 use super::{Error, Result};
 
+/// UDP port of Class 0/1 implicit I/O.
+pub const IO_PORT: u16 = 2222;
 /// Bytes before the connected data item's data: count, address item, data item header.
 pub const HEADER_LEN: usize = 2 + 4 + 8 + 4;
 /// Bytes of the 16-bit CIP sequence count.

@@ -6,10 +6,10 @@ use std::net::{Ipv4Addr, SocketAddrV4};
 
 use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::config::MAX_ENCAP_FRAME;
+use enip_stack::device::Trigger;
 use enip_stack::device::{
     AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo, Multicast, OpenRequest,
 };
-use enip_stack::io::Trigger;
 use enip_stack::nv::{key, NvStore};
 use enip_stack::originator::{self, Reply};
 use enip_stack::wire::epath::{LogicalType, Segment};

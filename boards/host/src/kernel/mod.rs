@@ -19,8 +19,8 @@ mod udp;
 use std::net::Ipv4Addr;
 use std::process::exit;
 
-use enip_stack::cip::tcpip::TcpIpState;
 use enip_stack::config::MAX_SESSIONS;
+use enip_stack::objects::TcpIpState;
 use enip_stack::{Adapter, Device, Instant};
 
 use crate::netlink::Watch;

@@ -2,8 +2,8 @@
 //! logs at each transition (host and QEMU boards have no LEDs; the Nucleo board's
 //! indicators follow the identity status and the connection table).
 
+use enip_stack::device::Kind;
 use enip_stack::device::{CloseReason, ConnectionEvent};
-use enip_stack::io::Kind;
 
 /// Module Status (Figure 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

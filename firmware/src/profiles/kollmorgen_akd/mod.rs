@@ -32,13 +32,13 @@ pub mod storage;
 #[cfg(test)]
 mod tests;
 
+use enip_stack::cip::connection_status::TRANSPORT_NOT_SUPPORTED;
 use enip_stack::cip::context::RequestContext;
 use enip_stack::cip::object::{Access, ClassDef};
 use enip_stack::cip::request::Request;
 use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::device::{AttributeRef, ConnectionEvent, OpenRequest};
-use enip_stack::io::status::TRANSPORT_NOT_SUPPORTED;
-use enip_stack::io::{Kind, Trigger};
+use enip_stack::device::{Kind, Trigger};
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 

@@ -691,7 +691,7 @@ fn factory_reset(store: SharedStore) -> bool {
 
 #[test]
 fn every_power_cut_during_a_factory_reset_keeps_the_parameters_and_the_address_together() {
-    use enip_stack::cip::tcpip::TcpIpState;
+    use enip_stack::objects::TcpIpState;
     let host_name = request(0x10, 0xF5, 1, Some(6), &[4, 0, b'a', b'k', b'd', b'1']);
     let steps = testing::every_power_cut(
         |store| {

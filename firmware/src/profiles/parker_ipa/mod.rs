@@ -32,13 +32,13 @@ mod class1_tests;
 #[cfg(test)]
 mod tests;
 
+use enip_stack::cip::connection_status::{NOT_CONFIGURED, OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
 use enip_stack::cip::context::RequestContext;
 use enip_stack::cip::object::ClassDef;
 use enip_stack::cip::{CipError, CipResult, General, Request};
 use enip_stack::config::MAX_RPI_US;
+use enip_stack::device::Kind as ConnectionKind;
 use enip_stack::device::{ConnectionEvent, InputChanges, OpenRequest};
-use enip_stack::io::status::{NOT_CONFIGURED, OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
-use enip_stack::io::Kind as ConnectionKind;
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 

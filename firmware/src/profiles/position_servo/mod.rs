@@ -31,13 +31,13 @@ mod tests;
 
 use core::net::Ipv4Addr;
 
+use enip_stack::cip::connection_status::TRANSPORT_NOT_SUPPORTED;
 use enip_stack::cip::context::RequestContext;
 use enip_stack::cip::object::{Access, ClassDef};
-use enip_stack::cip::tcpip::MulticastConfig;
 use enip_stack::cip::{CipError, CipResult, General};
+use enip_stack::device::MulticastConfig;
+use enip_stack::device::Trigger;
 use enip_stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
-use enip_stack::io::status::TRANSPORT_NOT_SUPPORTED;
-use enip_stack::io::Trigger;
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant};
 

@@ -6,9 +6,9 @@ use core::net::Ipv4Addr;
 use std::vec;
 use std::vec::Vec;
 
-use enip_stack::cip::tcpip::MulticastConfig;
 use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::device::Multicast;
+use enip_stack::device::MulticastConfig;
 use enip_stack::{Adapter, AssemblyRole, Device, Instant, NetworkConfig};
 
 use super::assemblies::{self, status2};
@@ -480,9 +480,9 @@ fn change_of_state_request() -> enip_stack::device::OpenRequest<'static> {
         size,
     };
     OpenRequest {
-        kind: enip_stack::io::Kind::ExclusiveOwner,
+        kind: enip_stack::device::Kind::ExclusiveOwner,
         transport_class: 1,
-        trigger: enip_stack::io::Trigger::ChangeOfState,
+        trigger: enip_stack::device::Trigger::ChangeOfState,
         inhibit: enip_stack::Duration::from_millis(0),
         points: ConnectionPoints {
             config: Some(103),

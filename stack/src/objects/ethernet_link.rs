@@ -1,10 +1,11 @@
 //! Ethernet Link object (class 0xF6): speed, flags, MAC address, counters, admin state.
 
-use super::encoding::short_string;
-use super::object::{AttributeDef, ClassDef, DataType};
 use super::serve::{attribute_services, serve, Object};
-use super::status::{CipResult, General};
-use super::{class_id, service, Ctx, Request};
+use super::Ctx;
+use crate::cip::encoding::short_string;
+use crate::cip::object::{AttributeDef, ClassDef, DataType};
+use crate::cip::status::{CipResult, General};
+use crate::cip::{class_id, service, Request};
 use crate::device::Device;
 use crate::wire::Writer;
 

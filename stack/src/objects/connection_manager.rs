@@ -1,15 +1,16 @@
 //! Connection Manager object (class 0x06): Forward_Open, Large_Forward_Open, Forward_Close,
 //! and Unconnected_Send addressed to this device.
 
-use super::object::{AttributeDef, ClassDef, DataType};
 use super::router::MAX_DEPTH;
 use super::serve::{serve, Object};
-use super::status::{CipError, CipResult, General};
-use super::{class_id, service, Ctx, Request};
+use super::Ctx;
+use crate::cip::connection_status as ext;
+use crate::cip::object::{AttributeDef, ClassDef, DataType};
+use crate::cip::status::{CipError, CipResult, General};
+use crate::cip::{class_id, service, Request};
 use crate::config::IO_PORT;
 use crate::device::{CloseReason, Device};
 use crate::io::open::{self, NetFacts};
-use crate::io::status as ext;
 use crate::wire::cpf::SockAddr;
 use crate::wire::epath::{Segment, Segments};
 use crate::wire::forward_open::{
@@ -213,7 +214,7 @@ fn forward_close<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8], w: &mut Writer<'_
 /// True if `req` is an Unconnected_Send to the Connection Manager.
 pub(crate) fn is_unconnected_send(req: &Request<'_>) -> bool {
     req.service == service::UNCONNECTED_SEND
-        && req.path.class == Some(u32::from(super::class_id::CONNECTION_MANAGER))
+        && req.path.class == Some(u32::from(class_id::CONNECTION_MANAGER))
 }
 
 /// The embedded request of an Unconnected_Send whose route path ends here (port 1, link 0:

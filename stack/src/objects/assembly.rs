@@ -1,9 +1,10 @@
 //! Assembly object (class 0x04): instance data (attribute 3) and size (attribute 4).
 
-use super::object::{Access, AttributeDef, ClassDef, DataType};
 use super::serve::{serve, Object};
-use super::status::{CipError, CipResult, General};
-use super::{class_id, Ctx, Request};
+use super::Ctx;
+use crate::cip::object::{Access, AttributeDef, ClassDef, DataType};
+use crate::cip::status::{CipError, CipResult, General};
+use crate::cip::{class_id, Request};
 use crate::config::MAX_ASSEMBLY_SIZE;
 use crate::device::{AssemblyInfo, Device};
 use crate::wire::Writer;
@@ -27,7 +28,7 @@ struct Assembly<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
 
 impl<D: Device> Assembly<'_, '_, D> {
     fn info(&self, instance: u32) -> Option<AssemblyInfo> {
-        find(&*self.0.device, instance)
+        crate::device::assembly(&*self.0.device, instance)
     }
 }
 
@@ -87,13 +88,4 @@ pub(crate) fn handle<D: Device>(
     w: &mut Writer<'_>,
 ) -> CipResult {
     serve(&mut Assembly(ctx), req, w)
-}
-
-/// The assembly `instance` of `device`, if it has one.
-pub(crate) fn find<D: Device>(device: &D, instance: u32) -> Option<AssemblyInfo> {
-    device
-        .assemblies()
-        .iter()
-        .find(|a| u32::from(a.instance) == instance)
-        .copied()
 }

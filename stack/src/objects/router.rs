@@ -1,10 +1,11 @@
 //! The Message Router: frames a request, sends it to the object its path names, and writes
 //! the response with the right general and additional status.
 
-use super::request::Request;
-use super::status::CipResult;
-use super::{assembly, class_id, connection_manager, ethernet_link, identity};
+use super::{assembly, connection_manager, ethernet_link, identity};
 use super::{message_router, tcpip, vendor, Ctx};
+use crate::cip::class_id;
+use crate::cip::request::Request;
+use crate::cip::status::CipResult;
 use crate::device::Device;
 use crate::wire::message_router::{emit_response_header, REPLY_BIT};
 use crate::wire::{self, Writer};
@@ -55,7 +56,7 @@ fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> w
     let general = match result {
         Ok(()) => 0u8,
         Err(e) if e.keeps_data() && w.len() > start => {
-            let mut words = [0u8; 2 * super::status::MAX_ADDITIONAL];
+            let mut words = [0u8; 2 * crate::cip::status::MAX_ADDITIONAL];
             let n = e.additional().len();
             for (dst, src) in words.chunks_exact_mut(2).zip(e.additional()) {
                 dst.copy_from_slice(&src.to_le_bytes());

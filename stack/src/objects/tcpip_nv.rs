@@ -4,10 +4,11 @@
 
 use core::net::Ipv4Addr;
 
-use super::encoding::{ip, padded_string};
-use super::status::{CipResult, General};
-use super::tcpip::{valid_mcast, MulticastConfig, TcpIpState};
+use super::tcpip::{valid_mcast, TcpIpState};
+use crate::cip::encoding::{ip, padded_string};
+use crate::cip::status::{CipResult, General};
 use crate::config::{MAX_DOMAIN_NAME, MAX_HOST_NAME};
+use crate::device::MulticastConfig;
 use crate::nv::{key, NvError, NvStore};
 use crate::wire::bytes::{get_u16, get_u32};
 use crate::wire::{Reader, Writer};
@@ -19,6 +20,7 @@ const RECORD_VERSION: u8 = 2;
 /// Largest stored record.
 pub(crate) const RECORD_MAX: usize =
     1 + 4 + 20 + 1 + MAX_DOMAIN_NAME + 1 + MAX_HOST_NAME + 2 + 1 + 8;
+const _: () = assert!(RECORD_MAX <= crate::nv::STACK_RECORD_ROOM);
 
 /// Attribute 5: the interface configuration (all zero: none configured).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -279,5 +281,46 @@ mod tests {
         assert_eq!((back.ttl, back.mcast), (5, st.mcast));
         store.write(key::TCP_IP, &[RECORD_VERSION, 0]).unwrap();
         assert_eq!(TcpIpState::stored(&mut store), Ok(None));
+    }
+
+    #[test]
+    fn every_power_cut_boots_the_old_or_the_new_tcpip_settings() {
+        use crate::nv::CutFlash;
+        let settings = |last: u8, timeout: u16| {
+            let mut st = TcpIpState::new();
+            st.interface = InterfaceConfig {
+                ip: Ipv4Addr::new(198, 18, 0, last),
+                netmask: Ipv4Addr::new(255, 255, 255, 0),
+                ..InterfaceConfig::NONE
+            };
+            st.inactivity_timeout_s = timeout;
+            st
+        };
+        let (old, new) = (settings(7, 30), settings(9, 60));
+        let mut store = AbStore::mount(CutFlash::new());
+        old.save(&mut store).unwrap();
+        let before = store.into_flash();
+        let mut cut = 0;
+        loop {
+            let mut flash = before.clone();
+            flash.cut_after(cut);
+            let mut store = AbStore::mount(flash);
+            let done = new.save(&mut store).is_ok();
+            let mut flash = store.into_flash();
+            flash.restore();
+            let booted = TcpIpState::stored(&mut AbStore::mount(flash)).unwrap();
+            let expected = if done { &new } else { &old };
+            // Old or new as a whole; never defaults, never a mix.
+            assert!(
+                booted.as_ref() == Some(&old) || booted.as_ref() == Some(&new),
+                "cut after {cut}"
+            );
+            if done {
+                assert_eq!(booted.as_ref(), Some(expected));
+                break;
+            }
+            cut += 1;
+        }
+        assert!(cut > 10);
     }
 }

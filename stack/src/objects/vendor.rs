@@ -1,10 +1,11 @@
 //! A device's vendor classes, served by the same machinery as the built-in objects: the
 //! device's [`ClassDef`]s and its [`Device`] value hooks seen as an [`Object`].
 
-use super::object::{Access, AttributeDef, ClassDef};
 use super::serve::{serve, Object};
-use super::status::{CipError, CipResult, General};
-use super::{Ctx, Request};
+use super::Ctx;
+use crate::cip::object::{Access, AttributeDef, ClassDef};
+use crate::cip::status::{CipError, CipResult, General};
+use crate::cip::Request;
 use crate::device::{AttributeRef, Device};
 use crate::wire::Writer;
 

@@ -1,10 +1,11 @@
 //! Message Router object (class 0x02): its object list, and Multiple_Service_Packet.
 
-use super::object::{AttributeDef, ClassDef, DataType};
 use super::router::{respond, MAX_DEPTH};
 use super::serve::{serve, Object};
-use super::status::{CipError, CipResult, General};
-use super::{class_id, service, Ctx, Request};
+use super::Ctx;
+use crate::cip::object::{AttributeDef, ClassDef, DataType};
+use crate::cip::status::{CipError, CipResult, General};
+use crate::cip::{class_id, service, Request};
 use crate::config::{MAX_CONNECTIONS, MAX_MULTIPLE_SERVICES};
 use crate::device::Device;
 use crate::wire::{Reader, Writer};

@@ -12,10 +12,10 @@
 //! and Get_Attributes_All carrying data are too much data (0x15). A failed Set
 //! changes nothing; Set_Attribute_List applies each entry on its own, as CIP specifies.
 
-use super::object::{Access, AttributeDef, ClassDef, DataType};
-use super::service;
-use super::status::{CipError, CipResult, General};
-use super::Request;
+use crate::cip::object::{Access, AttributeDef, ClassDef, DataType};
+use crate::cip::service;
+use crate::cip::status::{CipError, CipResult, General};
+use crate::cip::Request;
 use crate::config::MAX_MULTIPLE_SERVICES;
 use crate::wire::{Reader, Writer};
 

@@ -1,9 +1,12 @@
 //! The [`Adapter`]: the few entry points a runtime calls with bytes and the current time.
+//! The encapsulation commands it answers are in `adapter/encap.rs` beside it, as smoltcp
+//! keeps each protocol's handling beside its `Interface`.
+
+mod encap;
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
 use crate::cip::context::RequestContext;
-use crate::cip::{Ctx, ObjectState};
 use crate::config::{MAX_ENCAP_FRAME, MAX_SESSIONS};
 use crate::device::{CloseReason, Device, InputChanges};
 use crate::encap::list_identity::DelayedReplies;
@@ -14,6 +17,7 @@ use crate::io::produce::{self, IoDue};
 use crate::io::ConnectionTable;
 use crate::net::NetworkConfig;
 use crate::nv::{NvError, NvStore};
+use crate::objects::{Ctx, ObjectState};
 use crate::rng::Rng;
 use crate::time::{Duration, Instant};
 use crate::wire::encap::{status, Repr, HEADER_LEN};
@@ -65,11 +69,11 @@ impl<D: Device> Adapter<D> {
     }
 
     /// Keeps the TCP/IP settings (attributes 3, 5, 6, 8, 9 and 13) in `store` from now on: loads
-    /// those it holds (see [`crate::cip::tcpip::TcpIpState`] for when they apply) and saves
+    /// those it holds (see [`crate::objects::tcpip::TcpIpState`] for when they apply) and saves
     /// every Set before answering it (0x19 if that fails). Returns whether settings were
     /// loaded; on a read error the factory defaults hold and the store is still used.
     pub fn attach_store(&mut self, store: &'static mut dyn NvStore) -> Result<bool, NvError> {
-        let loaded = crate::cip::tcpip::TcpIpState::stored(store);
+        let loaded = crate::objects::tcpip::TcpIpState::stored(store);
         self.store = Some(store);
         let stored = loaded?;
         let found = stored.is_some();
@@ -105,7 +109,7 @@ impl<D: Device> Adapter<D> {
         let mut ctx = self.ctx(RequestContext::unconnected(None, now), None);
         let mut w = crate::wire::Writer::new(reply);
         // Fails only if not even an error header fits; then nothing was written.
-        let _ = crate::cip::router::respond(&mut ctx, request, &mut w, 0);
+        let _ = crate::objects::router::respond(&mut ctx, request, &mut w, 0);
         let len = w.len();
         self.after_explicit_request();
         len

@@ -3,14 +3,15 @@
 
 use core::net::Ipv4Addr;
 
-use super::encoding::{ip, padded_string};
-use super::object::{AttributeDef, ClassDef, DataType};
 use super::serve::{serve, Object};
-use super::status::{CipResult, General};
 use super::tcpip_nv::{valid_name, InterfaceConfig, INTERFACE_FIXED};
-use super::{class_id, Ctx, Request};
+use super::Ctx;
+use crate::cip::encoding::{ip, padded_string};
+use crate::cip::object::{AttributeDef, ClassDef, DataType};
+use crate::cip::status::{CipResult, General};
+use crate::cip::{class_id, Request};
 use crate::config::{MAX_DOMAIN_NAME, MAX_HOST_NAME};
-use crate::device::{Device, Multicast};
+use crate::device::{Device, Multicast, MulticastConfig};
 use crate::net::NetworkConfig;
 use crate::wire::bytes::{get_u16, get_u32};
 use crate::wire::Writer;
@@ -35,17 +36,6 @@ const CONTROL_DHCP: u32 = 2;
 pub const DEFAULT_INACTIVITY_TIMEOUT_S: u16 = 120;
 /// First address of the CIP multicast range the default algorithm allocates from.
 const CIP_MCAST_BASE: u32 = 0xEFC0_0100; // 239.192.1.0
-
-/// Multicast configuration (attribute 9).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct MulticastConfig {
-    /// 0: default allocation algorithm; 1: the configured range below.
-    pub alloc_control: u8,
-    /// Number of multicast addresses (alloc control 1).
-    pub num_mcast: u16,
-    /// First multicast address (alloc control 1).
-    pub start: Ipv4Addr,
-}
 
 /// Settable TCP/IP object state.
 ///

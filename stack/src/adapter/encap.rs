@@ -2,12 +2,12 @@
 
 use core::net::SocketAddrV4;
 
-use crate::adapter::Adapter;
+use super::Adapter;
 use crate::cip::context::{RequestContext, Via};
-use crate::cip::router;
 use crate::device::Device;
 use crate::io::explicit;
 use crate::io::open::Origin;
+use crate::objects::router;
 use crate::time::Instant;
 use crate::wire::cpf::{self, item_type, SockAddr};
 use crate::wire::encap::{command, status, Packet, Repr, HEADER_LEN};
