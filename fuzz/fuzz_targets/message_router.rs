@@ -20,7 +20,10 @@ fuzz_target!(|data: &[u8]| {
         }
     }
     if let Ok(r) = ResponseRepr::parse(data) {
-        assert_eq!(4 + r.additional_status.len() + r.data.len(), data.len());
+        assert_eq!(r.buffer_len(), data.len());
         let _ = r.extended_status();
+        let mut out = vec![0u8; r.buffer_len()];
+        r.emit(&mut Writer::new(&mut out)).expect("fits");
+        assert_eq!(&out[..], data);
     }
 });

@@ -16,7 +16,7 @@ use crate::net::NetworkConfig;
 use crate::nv::{NvError, NvStore};
 use crate::rng::Rng;
 use crate::time::{Duration, Instant};
-use crate::wire::encap::{status, Repr, HEADER_LEN};
+use crate::wire::encap::{status, EncapRepr, HEADER_LEN};
 
 /// Index of one of the runtime's [`MAX_SESSIONS`] TCP sockets on port 44818.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -229,11 +229,14 @@ impl<D: Device> Adapter<D> {
                         "encapsulation length over capacity; closing socket {}",
                         index
                     );
-                    let header = Repr::parse_header(&slot.rx).ok();
+                    let header = EncapRepr::parse_header(&slot.rx).ok();
                     slot.rx.clear();
                     self.objects.link.count_discard();
                     let reply_len = header
-                        .and_then(|h| h.reply(status::INVALID_LENGTH, 0).emit(reply).ok())
+                        .and_then(|h| {
+                            let reply = &mut crate::wire::Writer::new(reply);
+                            h.reply(status::INVALID_LENGTH, 0).emit(reply).ok()
+                        })
                         .map_or(0, |_| HEADER_LEN);
                     return TcpOutcome {
                         consumed: data.len(),

@@ -11,8 +11,8 @@ use enip_stack::cip::context::{RequestContext, Via};
 use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General, Request};
 use enip_stack::device::{AttributeRef, Device};
-use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardOpenReply, NetworkParams};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{ForwardOpenReplyRepr, NetworkParams};
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole, IdentityInfo};
 
@@ -134,12 +134,12 @@ impl Device for Axes {
     }
 }
 
-fn axis(instance: u32, attribute: Option<u32>) -> Vec<Segment<'static>> {
+fn axis(instance: u32, attribute: Option<u32>) -> Vec<SegmentRepr<'static>> {
     let mut p = vec![
-        Segment::Logical(LogicalType::Class, u32::from(AXIS)),
-        Segment::Logical(LogicalType::Instance, instance),
+        SegmentRepr::Logical(LogicalType::Class, u32::from(AXIS)),
+        SegmentRepr::Logical(LogicalType::Instance, instance),
     ];
-    p.extend(attribute.map(|a| Segment::Logical(LogicalType::Attribute, a)));
+    p.extend(attribute.map(|a| SegmentRepr::Logical(LogicalType::Attribute, a)));
     p
 }
 
@@ -182,9 +182,9 @@ fn values_round_trip() {
 fn unknown_class_is_0x05() {
     let mut h = harness();
     let path = [
-        Segment::Logical(LogicalType::Class, 0x71),
-        Segment::Logical(LogicalType::Instance, 1),
-        Segment::Logical(LogicalType::Attribute, 1),
+        SegmentRepr::Logical(LogicalType::Class, 0x71),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Attribute, 1),
     ];
     assert_eq!(status(&h.request(0x0E, &path, &[])).0, 0x05);
 }
@@ -380,9 +380,9 @@ fn class_attributes_1_to_7() {
 fn the_message_router_lists_the_class() {
     let mut h = harness();
     let path = [
-        Segment::Logical(LogicalType::Class, 2),
-        Segment::Logical(LogicalType::Instance, 1),
-        Segment::Logical(LogicalType::Attribute, 1),
+        SegmentRepr::Logical(LogicalType::Class, 2),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Attribute, 1),
     ];
     let (g, _, d) = status(&h.request(0x0E, &path, &[]));
     assert_eq!(g, 0);
@@ -408,7 +408,9 @@ fn vendor_services_see_where_the_request_came_from() {
     f.t_o_params = NetworkParams::from_u16(0x4800 | 500);
     let (g, _, data) = status(&h.forward_open(&f));
     assert_eq!(g, 0);
-    let id = ForwardOpenReply::parse(&data).unwrap().o_t_connection_id;
+    let id = ForwardOpenReplyRepr::parse(&data)
+        .unwrap()
+        .o_t_connection_id;
     let mut buf = vec![0u8; 600];
     let n = enip_stack::originator::send_unit_data(&mut buf, h.session, id, 1, |w| {
         enip_stack::originator::request(w, 0x4B, &axis(1, None), &[])
