@@ -82,7 +82,7 @@ pub fn send_rr_data(
         }
         .emit(w)?;
         w.u16(if t_o_sockaddr.is_some() { 3 } else { 2 })?;
-        ItemRepr::new(item_type::NULL_ADDRESS, &[]).emit(w)?;
+        ItemHeaderRepr::new(item_type::NULL_ADDRESS, 0).emit(w)?;
         ItemHeaderRepr::new(item_type::UNCONNECTED_DATA, 0).emit(w)?;
         let at = w.len();
         mr(w)?;

@@ -237,7 +237,7 @@ impl<D: Device> Adapter<D> {
             RrDataRepr::CIP.emit(w)?;
             let count_at = w.len();
             w.u16(2)?;
-            ItemRepr::new(item_type::NULL_ADDRESS, &[]).emit(w)?;
+            ItemHeaderRepr::new(item_type::NULL_ADDRESS, 0).emit(w)?;
             ItemHeaderRepr::new(item_type::UNCONNECTED_DATA, 0).emit(w)?;
             let at = w.len();
             router::respond(&mut ctx, request, w, 0)?;

@@ -158,7 +158,6 @@ impl EncapRepr {
         HEADER_LEN
     }
     /// Writes the 24 header bytes.
-    #[inline]
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
         let buf = w.reserve(HEADER_LEN)?;
         put_u16(buf, field::COMMAND, self.command);

@@ -1,6 +1,6 @@
 //! RegisterSession command data: protocol version and option flags.
 
-use super::bytes::get_u16;
+use super::bytes::{get_u16, put_u16};
 use super::{Error, Result, Writer};
 
 /// Length of the RegisterSession data.
@@ -56,8 +56,10 @@ impl RegisterSessionRepr {
     }
     /// Writes the data.
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.u16(self.protocol_version)?;
-        w.u16(self.options)
+        let buf = w.reserve(LEN)?;
+        put_u16(buf, 0, self.protocol_version);
+        put_u16(buf, 2, self.options);
+        Ok(())
     }
 }
 

@@ -61,7 +61,6 @@ impl RrDataRepr {
         PREFIX_LEN
     }
     /// Writes the prefix (the caller writes the CPF after it).
-    #[inline]
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
         w.u32(self.interface_handle)?;
         w.u16(self.timeout)
