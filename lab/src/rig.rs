@@ -303,7 +303,7 @@ impl Rig {
         };
         header
             .emit(&mut Writer::new(&mut probe))
-            .map_err(|e| io::Error::other(format!("ListIdentity probe: {e:?}")))?;
+            .map_err(|e| io::Error::other(format!("ListIdentity probe: {e}")))?;
         let answered = self.lab.ns().inside(|| -> io::Result<bool> {
             let s = UdpSocket::bind(SocketAddrV4::new(HOST_IP, 0))?;
             s.set_read_timeout(Some(PROBE_WAIT))?;

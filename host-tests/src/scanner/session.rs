@@ -38,7 +38,7 @@ fn invalid(msg: &str) -> io::Error {
 }
 
 fn wire(e: enip_stack::wire::Error) -> io::Error {
-    invalid(&format!("{e:?}"))
+    io::Error::new(io::ErrorKind::InvalidData, e)
 }
 
 /// The Connection Manager path.

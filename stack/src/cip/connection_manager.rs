@@ -153,10 +153,9 @@ fn forward_open<D: Device>(
         Ok(slot) => slot,
         Err(e) => {
             info!(
-                "Forward_Open from {} refused: general status {:#04x}, extended {:#06x} {}",
+                "Forward_Open from {} refused: {} {}",
                 origin.ip,
-                e.general,
-                e.extended().unwrap_or(0),
+                e,
                 ext::describe(e.extended().unwrap_or(0))
             );
             let c = &mut ctx.state.connection_manager;

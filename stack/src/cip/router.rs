@@ -66,7 +66,7 @@ fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> w
             return Ok(());
         }
         Err(e) => {
-            debug!("cip error {:x} on service {:x}", e.general, service);
+            debug!("service {:#04x}: {}", service, e);
             w.truncate(start);
             let (words, n) = additional_bytes(e.additional());
             return ResponseRepr {

@@ -9,6 +9,14 @@ pub const MAX_WRITE_SIZE: usize = 32;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct FlashError;
 
+impl core::fmt::Display for FlashError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("flash operation failed")
+    }
+}
+
+impl core::error::Error for FlashError {}
+
 /// Two erasable sectors of NOR-like flash: erasing sets every byte to 0xFF, programming
 /// only clears bits, in aligned units of [`Flash::WRITE_SIZE`] bytes.
 pub trait Flash {

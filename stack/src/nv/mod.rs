@@ -36,6 +36,19 @@ pub enum NvError {
     Busy,
 }
 
+impl core::fmt::Display for NvError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            NvError::Flash => "the flash refused a read, erase or program",
+            NvError::NoSpace => "the records do not fit in one copy",
+            NvError::BufferTooSmall => "the buffer is smaller than the record",
+            NvError::Busy => "another owner's store operation is still running",
+        })
+    }
+}
+
+impl core::error::Error for NvError {}
+
 impl From<FlashError> for NvError {
     fn from(_: FlashError) -> Self {
         NvError::Flash

@@ -38,6 +38,18 @@ pub enum Error {
     Exhausted,
 }
 
+impl core::fmt::Display for Error {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Error::Truncated => "truncated: shorter than the structure or its length field",
+            Error::Malformed => "malformed: a field holds a value the structure does not allow",
+            Error::Exhausted => "output buffer too small",
+        })
+    }
+}
+
+impl core::error::Error for Error {}
+
 /// Result of a codec operation.
 pub type Result<T> = core::result::Result<T, Error>;
 
