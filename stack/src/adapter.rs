@@ -4,7 +4,7 @@ use core::net::{Ipv4Addr, SocketAddrV4};
 
 use crate::cip::context::RequestContext;
 use crate::cip::{Ctx, ObjectState};
-use crate::config::{MAX_ENCAP_FRAME, MAX_SESSIONS};
+use crate::config::MAX_ENCAP_FRAME;
 use crate::device::{CloseReason, Device, InputChanges};
 use crate::encap::list_identity::DelayedReplies;
 use crate::encap::session::{Need, Sessions};
@@ -382,11 +382,6 @@ impl<D: Device> Adapter<D> {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }
-    }
-
-    /// Number of TCP sockets the runtime must provide.
-    pub const fn socket_count() -> usize {
-        MAX_SESSIONS
     }
 
     /// The service context for a request.

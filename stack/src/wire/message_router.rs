@@ -4,8 +4,6 @@ use super::{Error, Reader, Result, Writer};
 
 /// Bit set in the service code of every reply.
 pub const REPLY_BIT: u8 = 0x80;
-/// Most additional status words a response may carry here.
-pub const MAX_ADDITIONAL_STATUS: usize = 4;
 
 /// A view over a Message Router request: service, request path and request data.
 #[derive(Debug, Clone)]
