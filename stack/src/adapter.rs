@@ -18,7 +18,8 @@ use crate::rng::Rng;
 use crate::time::{Duration, Instant};
 use crate::wire::encap::{status, EncapRepr, HEADER_LEN};
 
-/// Index of one of the runtime's [`MAX_SESSIONS`] TCP sockets on port 44818.
+/// Index of one of the runtime's [`MAX_SESSIONS`](crate::config::MAX_SESSIONS) TCP sockets
+/// on port 44818.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SocketId(pub u8);
 
