@@ -40,13 +40,21 @@ fuzz_target!(|data: &[u8]| {
     if let Ok(r) = FailureReplyRepr::parse(data) {
         let mut w = Writer::new(&mut out);
         r.emit(&mut w).expect("a parsed failure reply emits");
-        assert_eq!(w.written(), data);
-        assert_eq!(r.buffer_len(), data.len());
+        let n = w.len();
+        assert_eq!(r.buffer_len(), n);
+        assert_eq!(n, data.len());
+        // The same bytes, but for the reserved last one, which emit zeroes.
+        assert_eq!(out[..n - 1], data[..n - 1]);
+        assert_eq!(FailureReplyRepr::parse(&out[..n]), Ok(r));
     }
     if let Ok(r) = ForwardCloseReplyRepr::parse(data) {
         let mut w = Writer::new(&mut out);
         r.emit(&mut w).expect("a parsed close reply emits");
-        assert_eq!(w.written(), data);
-        assert_eq!(r.buffer_len(), data.len());
+        let n = w.len();
+        assert_eq!(r.buffer_len(), n);
+        assert_eq!(n, data.len());
+        // The same bytes, but for the reserved one after the size, which emit zeroes.
+        assert_eq!((&out[..9], &out[10..n]), (&data[..9], &data[10..]));
+        assert_eq!(ForwardCloseReplyRepr::parse(&out[..n]), Ok(r));
     }
 });
