@@ -33,8 +33,10 @@
     )
 )]
 
-#[macro_use]
-mod fmt;
+// The stack's logging macros (its `fmt` module), decided by this crate's `log` and `defmt`
+// features.
+#[macro_use(debug, info, warn, error)]
+extern crate enip_stack;
 
 mod clock;
 mod device_tick;

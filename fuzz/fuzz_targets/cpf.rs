@@ -2,8 +2,9 @@
 //! re-emitting them reproduces it, socket address items round-trip.
 #![no_main]
 
-use enip_stack::wire::cpf::{self, item_type, Packet, SockAddr, SOCKADDR_LEN};
-use enip_stack::wire::{rr_data, Writer};
+use enip_stack::wire::cpf::{item_type, Packet, SockAddrRepr, SOCKADDR_LEN};
+use enip_stack::wire::rr_data::{self, RrDataRepr};
+use enip_stack::wire::Writer;
 use libfuzzer_sys::fuzz_target;
 
 fn check(buf: &[u8]) {
@@ -16,15 +17,15 @@ fn check(buf: &[u8]) {
     let mut n = 0;
     for item in p.items() {
         n += 1;
-        cpf::emit_item(&mut w, item.type_id, item.data).expect("fits");
+        item.emit(&mut w).expect("fits");
         if matches!(
             item.type_id,
             item_type::SOCKADDR_O_T | item_type::SOCKADDR_T_O
         ) {
-            if let Ok(s) = SockAddr::parse(item.data) {
+            if let Ok(s) = SockAddrRepr::parse(item.data) {
                 let mut b = [0u8; SOCKADDR_LEN];
                 s.emit(&mut Writer::new(&mut b)).expect("fits");
-                assert_eq!(SockAddr::parse(&b), Ok(s));
+                assert_eq!(SockAddrRepr::parse(&b), Ok(s));
             }
         }
     }
@@ -43,7 +44,10 @@ fn check(buf: &[u8]) {
 fuzz_target!(|data: &[u8]| {
     check(data);
     if let Ok(rr) = rr_data::Packet::new_checked(data) {
-        let _ = (rr.interface_handle(), rr.timeout());
+        let prefix = RrDataRepr::parse(&rr);
+        let mut out = [0u8; rr_data::PREFIX_LEN];
+        prefix.emit(&mut Writer::new(&mut out)).expect("fits");
+        assert_eq!(&out[..], &data[..prefix.buffer_len()]);
         assert_eq!(rr.cpf().len(), data.len() - rr_data::PREFIX_LEN);
         check(rr.cpf());
     }

@@ -2,13 +2,13 @@
 //! (canonical) form must be a fixed point; `buffer_len` must match what `emit` writes.
 #![no_main]
 
-use enip_stack::wire::epath::{Segment, Segments};
+use enip_stack::wire::epath::{SegmentRepr, Segments};
 use enip_stack::wire::Writer;
 use libfuzzer_sys::fuzz_target;
 
 /// Emits every segment of `path` that parses; returns the canonical bytes and the segments.
-fn canonical(path: &[u8]) -> (Vec<u8>, Vec<Segment<'_>>) {
-    let segments: Vec<Segment<'_>> = Segments::new(path).map_while(Result::ok).collect();
+fn canonical(path: &[u8]) -> (Vec<u8>, Vec<SegmentRepr<'_>>) {
+    let segments: Vec<SegmentRepr<'_>> = Segments::new(path).map_while(Result::ok).collect();
     let mut out = vec![0u8; path.len() * 2 + 16];
     let mut w = Writer::new(&mut out);
     for s in &segments {
@@ -29,7 +29,7 @@ fuzz_target!(|data: &[u8]| {
         reparsed.iter().all(Result::is_ok),
         "re-emitted path does not parse: {first:?} -> {bytes:02x?} -> {reparsed:?}"
     );
-    let second: Vec<Segment<'_>> = reparsed.into_iter().map_while(Result::ok).collect();
+    let second: Vec<SegmentRepr<'_>> = reparsed.into_iter().map_while(Result::ok).collect();
     assert_eq!(first, second, "segments changed through emit: {bytes:02x?}");
     let (again, _) = canonical(&bytes);
     assert_eq!(bytes, again, "canonical form is not stable");

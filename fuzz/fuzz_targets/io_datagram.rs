@@ -1,8 +1,9 @@
-//! The Class 1 datagram on UDP 2222: `Packet::new_checked`, and `emit_header` reproduces a
-//! checked datagram's header.
+//! The Class 1 datagram on UDP 2222: `Packet::new_checked`, and `IoDatagramRepr` parses and
+//! re-emits the front of a checked datagram (its header and sequence count).
 #![no_main]
 
-use enip_stack::wire::io_datagram::{emit_header, Packet, HEADER_LEN};
+use enip_stack::wire::io_datagram::{IoDatagramRepr, Packet, HEADER_LEN, SEQUENCE_LEN};
+use enip_stack::wire::Writer;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -11,14 +12,15 @@ fuzz_target!(|data: &[u8]| {
     };
     let connected = p.connected_data();
     assert_eq!(HEADER_LEN + connected.len(), data.len());
-    let mut out = data.to_vec();
-    emit_header(
-        &mut out,
-        p.connection_id(),
-        p.encap_sequence(),
-        connected.len(),
-    )
-    .expect("a checked datagram's header emits");
-    assert_eq!(out, data);
-    assert!(emit_header(&mut out[..data.len() - 1], 0, 0, connected.len()).is_err());
+    let Ok(repr) = IoDatagramRepr::parse(&p) else {
+        assert!(connected.len() < SEQUENCE_LEN);
+        return;
+    };
+    assert_eq!(usize::from(repr.connected_len), connected.len());
+    let n = repr.buffer_len();
+    let mut out = vec![0u8; n];
+    repr.emit(&mut Writer::new(&mut out))
+        .expect("a checked datagram's front emits");
+    assert_eq!(&out[..], &data[..n]);
+    assert!(repr.emit(&mut Writer::new(&mut out[..n - 1])).is_err());
 });

@@ -20,7 +20,12 @@ fuzz_target!(|data: &[u8]| {
         }
     }
     if let Ok(r) = ResponseRepr::parse(data) {
-        assert_eq!(4 + r.additional_status.len() + r.data.len(), data.len());
+        assert_eq!(r.buffer_len(), data.len());
         let _ = r.extended_status();
+        let mut out = vec![0u8; r.buffer_len()];
+        r.emit(&mut Writer::new(&mut out)).expect("fits");
+        // The same bytes, but for the reserved one, which emit zeroes.
+        assert_eq!((out[0], &out[2..]), (data[0], &data[2..]));
+        assert_eq!(ResponseRepr::parse(&out), Ok(r));
     }
 });

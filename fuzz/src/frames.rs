@@ -2,8 +2,9 @@
 
 use enip_stack::wire::cpf::item_type;
 use enip_stack::wire::encap::command;
-use enip_stack::wire::forward_open::{ForwardClose, ForwardOpen, NetworkParams, Triad};
-use enip_stack::wire::{io_datagram, Writer};
+use enip_stack::wire::forward_open::{ForwardCloseRepr, ForwardOpenRepr, NetworkParams, Triad};
+use enip_stack::wire::io_datagram::{self, IoDatagramRepr};
+use enip_stack::wire::Writer;
 use enip_stack::{AssemblyRole, Device};
 
 use crate::script::{TCP_ACCEPT, TCP_CLOSE, TCP_DATA16, UDP_BROADCAST, UDP_TICK, UDP_UNICAST};
@@ -312,7 +313,7 @@ impl Connection {
     /// Router request to the Connection Manager.
     pub fn forward_open(&self) -> Vec<u8> {
         let o_t = 2 + 4 * usize::from(self.run_idle) + self.output;
-        let fo = ForwardOpen {
+        let fo = ForwardOpenRepr {
             large: false,
             priority_tick: 0x0A,
             timeout_ticks: 0x0E,
@@ -337,7 +338,7 @@ impl Connection {
 
     /// Forward_Close of the connection.
     pub fn forward_close(&self) -> Vec<u8> {
-        let fc = ForwardClose {
+        let fc = ForwardCloseRepr {
             priority_tick: 0x0A,
             timeout_ticks: 0x0E,
             triad: TRIAD,
@@ -355,13 +356,20 @@ impl Connection {
         let header = 2 + 4 * usize::from(self.run_idle);
         let connected = header + self.output;
         let mut d = vec![0u8; io_datagram::HEADER_LEN + connected];
-        io_datagram::emit_header(&mut d, id, u32::from(sequence), connected).expect("fits");
-        let at = io_datagram::HEADER_LEN;
-        d[at..at + 2].copy_from_slice(&sequence.to_le_bytes());
-        if self.run_idle {
-            d[at + 2..at + 6].copy_from_slice(&1u32.to_le_bytes());
+        let mut w = Writer::new(&mut d);
+        IoDatagramRepr {
+            connection_id: id,
+            encap_sequence: u32::from(sequence),
+            connected_len: u16::try_from(connected).expect("fits"),
+            sequence,
         }
-        for (b, f) in d[at + header..].iter_mut().zip(fill.iter().cycle()) {
+        .emit(&mut w)
+        .expect("fits");
+        if self.run_idle {
+            w.u32(1).expect("fits");
+        }
+        let at = w.len();
+        for (b, f) in d[at..].iter_mut().zip(fill.iter().cycle()) {
             *b = *f;
         }
         d

@@ -30,7 +30,7 @@ use enip_firmware::{Profile, Resources};
 use enip_stack::originator;
 use enip_stack::wire::cpf::{self, item_type};
 use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
-use enip_stack::wire::forward_open::{ForwardOpenReply, Triad};
+use enip_stack::wire::forward_open::{ForwardOpenReplyRepr, Triad};
 use enip_stack::wire::identity_item::IdentityRepr;
 use enip_stack::wire::message_router::ResponseRepr;
 use enip_stack::wire::Writer;
@@ -579,7 +579,7 @@ fn class1_io_through_the_link_task() {
             )
             .await;
         assert_eq!(status, 0, "Forward_Open refused: {reply:02x?}");
-        let opened = ForwardOpenReply::parse(&reply).expect("Forward_Open reply");
+        let opened = ForwardOpenReplyRepr::parse(&reply).expect("Forward_Open reply");
         assert_eq!(opened.t_o_connection_id, T_O_ID);
         let o_t_id = opened.o_t_connection_id;
 

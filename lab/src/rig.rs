@@ -11,7 +11,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use enip_stack::wire::encap::{command, Repr, HEADER_LEN};
+use enip_stack::wire::encap::{command, EncapRepr, HEADER_LEN};
+use enip_stack::wire::Writer;
 
 use crate::capture::Capture;
 use crate::netns::{Lab, Namespace};
@@ -292,7 +293,7 @@ impl Rig {
     fn wait_reachable(&self, board_ip: Ipv4Addr) -> io::Result<()> {
         let board = SocketAddrV4::new(board_ip, ENCAP_PORT);
         let mut probe = [0u8; HEADER_LEN];
-        let header = Repr {
+        let header = EncapRepr {
             command: command::LIST_IDENTITY,
             length: 0,
             session_handle: 0,
@@ -301,8 +302,8 @@ impl Rig {
             options: 0,
         };
         header
-            .emit(&mut probe)
-            .map_err(|e| io::Error::other(format!("ListIdentity probe: {e:?}")))?;
+            .emit(&mut Writer::new(&mut probe))
+            .map_err(|e| io::Error::other(format!("ListIdentity probe: {e}")))?;
         let answered = self.lab.ns().inside(|| -> io::Result<bool> {
             let s = UdpSocket::bind(SocketAddrV4::new(HOST_IP, 0))?;
             s.set_read_timeout(Some(PROBE_WAIT))?;

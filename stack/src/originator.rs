@@ -1,12 +1,14 @@
 //! Frame builders and reply parsers for the originator (scanner) side: what a test scanner
 //! or a PLC sends to an adapter. Everything writes into caller buffers.
 
-use crate::wire::cpf::{self, item_type, SockAddr};
-use crate::wire::encap::{command, Repr, HEADER_LEN};
-use crate::wire::epath::Segment;
+use crate::wire::cpf::{self, item_type, ItemHeaderRepr, ItemRepr, SockAddrRepr};
+use crate::wire::encap::{command, EncapRepr, HEADER_LEN};
+use crate::wire::epath::SegmentRepr;
+use crate::wire::io_datagram::{self, IoDatagramRepr};
 use crate::wire::message_router::{RequestRepr, ResponseRepr};
-use crate::wire::register_session::{self, PROTOCOL_VERSION};
-use crate::wire::{io_datagram, rr_data, Error, Result, Writer};
+use crate::wire::register_session::{RegisterSessionRepr, PROTOCOL_VERSION};
+use crate::wire::rr_data::{self, RrDataRepr};
+use crate::wire::{Error, Result, Writer};
 
 /// Writes an encapsulation frame with `command` and a body from `body`; returns its length.
 pub fn frame(
@@ -21,7 +23,7 @@ pub fn frame(
     body(&mut w)?;
     let len = w.len();
     let length = u16::try_from(len.saturating_sub(HEADER_LEN)).map_err(|_| Error::Exhausted)?;
-    Repr {
+    EncapRepr {
         command,
         length,
         session_handle,
@@ -29,23 +31,28 @@ pub fn frame(
         sender_context,
         options: 0,
     }
-    .emit(out)?;
+    .emit(&mut Writer::new(out))?;
     Ok(len)
 }
 
 /// A RegisterSession request.
 pub fn register_session(out: &mut [u8]) -> Result<usize> {
     frame(out, command::REGISTER_SESSION, 0, [0; 8], |w| {
-        register_session::Repr {
+        RegisterSessionRepr {
             protocol_version: PROTOCOL_VERSION,
             options: 0,
         }
-        .emit(w.reserve(4)?)
+        .emit(w)
     })
 }
 
 /// Writes a Message Router request: service, path built from `path`, then `data`.
-pub fn request(w: &mut Writer<'_>, service: u8, path: &[Segment<'_>], data: &[u8]) -> Result<()> {
+pub fn request(
+    w: &mut Writer<'_>,
+    service: u8,
+    path: &[SegmentRepr<'_>],
+    data: &[u8],
+) -> Result<()> {
     let mut raw = [0u8; 64];
     let mut pw = Writer::new(&mut raw);
     for s in path {
@@ -65,19 +72,23 @@ pub fn request(w: &mut Writer<'_>, service: u8, path: &[Segment<'_>], data: &[u8
 pub fn send_rr_data(
     out: &mut [u8],
     session_handle: u32,
-    t_o_sockaddr: Option<SockAddr>,
+    t_o_sockaddr: Option<SockAddrRepr>,
     mr: impl FnOnce(&mut Writer<'_>) -> Result<()>,
 ) -> Result<usize> {
     frame(out, command::SEND_RR_DATA, session_handle, [0; 8], |w| {
-        rr_data::emit_prefix(w, 0, 10)?;
+        RrDataRepr {
+            interface_handle: 0,
+            timeout: 10,
+        }
+        .emit(w)?;
         w.u16(if t_o_sockaddr.is_some() { 3 } else { 2 })?;
-        cpf::emit_item_header(w, item_type::NULL_ADDRESS, 0)?;
-        cpf::emit_item_header(w, item_type::UNCONNECTED_DATA, 0)?;
+        ItemHeaderRepr::new(item_type::NULL_ADDRESS, 0).emit(w)?;
+        ItemHeaderRepr::new(item_type::UNCONNECTED_DATA, 0).emit(w)?;
         let at = w.len();
         mr(w)?;
         w.patch_item_len(at);
         if let Some(s) = t_o_sockaddr {
-            cpf::emit_item_header(w, item_type::SOCKADDR_T_O, cpf::SOCKADDR_LEN as u16)?;
+            ItemHeaderRepr::new(item_type::SOCKADDR_T_O, cpf::SOCKADDR_LEN as u16).emit(w)?;
             s.emit(w)?;
         }
         Ok(())
@@ -93,10 +104,10 @@ pub fn send_unit_data(
     mr: impl FnOnce(&mut Writer<'_>) -> Result<()>,
 ) -> Result<usize> {
     frame(out, command::SEND_UNIT_DATA, session_handle, [0; 8], |w| {
-        rr_data::emit_prefix(w, 0, 0)?;
+        RrDataRepr::CIP.emit(w)?;
         w.u16(2)?;
-        cpf::emit_item(w, item_type::CONNECTED_ADDRESS, &o_t_id.to_le_bytes())?;
-        cpf::emit_item_header(w, item_type::CONNECTED_DATA, 0)?;
+        ItemRepr::new(item_type::CONNECTED_ADDRESS, &o_t_id.to_le_bytes()).emit(w)?;
+        ItemHeaderRepr::new(item_type::CONNECTED_DATA, 0).emit(w)?;
         let at = w.len();
         w.u16(sequence)?;
         mr(w)?;
@@ -109,18 +120,18 @@ pub fn send_unit_data(
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Reply<'a> {
     /// The encapsulation header.
-    pub header: Repr,
+    pub header: EncapRepr,
     /// The Message Router response (absent when the encapsulation status is not success).
     pub response: Option<ResponseRepr<'a>>,
     /// The T->O socket address item, if the reply carried one.
-    pub t_o_sockaddr: Option<SockAddr>,
+    pub t_o_sockaddr: Option<SockAddrRepr>,
     /// Connection ID and sequence count of a SendUnitData reply.
     pub connected: Option<(u32, u16)>,
 }
 
 /// Parses a SendRRData or SendUnitData reply frame.
 pub fn parse_reply(frame: &[u8]) -> Result<Reply<'_>> {
-    let header = Repr::parse_header(frame)?;
+    let header = EncapRepr::parse_header(frame)?;
     let data = frame
         .get(HEADER_LEN..HEADER_LEN + usize::from(header.length))
         .ok_or(Error::Truncated)?;
@@ -147,7 +158,7 @@ pub fn parse_reply(frame: &[u8]) -> Result<Reply<'_>> {
                 reply.connected = reply.connected.map(|(id, _)| (id, seq));
                 reply.response = Some(ResponseRepr::parse(rest)?);
             }
-            item_type::SOCKADDR_T_O => reply.t_o_sockaddr = Some(SockAddr::parse(item.data)?),
+            item_type::SOCKADDR_T_O => reply.t_o_sockaddr = Some(SockAddrRepr::parse(item.data)?),
             _ => {}
         }
     }
@@ -172,15 +183,17 @@ pub fn io_datagram(
         .len()
         .saturating_add(io_datagram::SEQUENCE_LEN)
         .saturating_add(header);
-    io_datagram::emit_header(out, connection_id, encap_sequence, len)?;
-    let mut w = Writer::new(
-        out.get_mut(io_datagram::HEADER_LEN..)
-            .ok_or(Error::Exhausted)?,
-    );
-    w.u16(sequence)?;
+    let mut w = Writer::new(out);
+    IoDatagramRepr {
+        connection_id,
+        encap_sequence,
+        connected_len: u16::try_from(len).map_err(|_| Error::Exhausted)?,
+        sequence,
+    }
+    .emit(&mut w)?;
     if let Some(run) = run_idle {
         w.u32(u32::from(run))?;
     }
     w.bytes(data)?;
-    Ok(io_datagram::HEADER_LEN.saturating_add(len))
+    Ok(w.len())
 }

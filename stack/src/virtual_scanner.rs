@@ -22,7 +22,7 @@ use crate::io::consume::{Accepted, Discard};
 use crate::net::NetworkConfig;
 use crate::originator;
 use crate::time::{Duration, Instant};
-use crate::wire::forward_open::{ForwardOpen, ForwardOpenReply};
+use crate::wire::forward_open::{ForwardOpenReplyRepr, ForwardOpenRepr};
 use crate::wire::io_datagram::{Packet, SEQUENCE_LEN};
 use crate::wire::Writer;
 
@@ -192,7 +192,7 @@ impl<D: Device> VirtualScanner<D> {
     }
 
     /// Sends `fo` to the Connection Manager; what the adapter answered.
-    pub fn forward_open(&mut self, fo: &ForwardOpen<'_>) -> Opened {
+    pub fn forward_open(&mut self, fo: &ForwardOpenRepr<'_>) -> Opened {
         let mut request = [0u8; 256];
         let mut w = Writer::new(&mut request);
         let written = w.bytes(&FORWARD_OPEN).and_then(|()| fo.emit(&mut w));
@@ -210,7 +210,7 @@ impl<D: Device> VirtualScanner<D> {
         else {
             return refused;
         };
-        let ids = ForwardOpenReply::parse(data)
+        let ids = ForwardOpenReplyRepr::parse(data)
             .ok()
             .filter(|_| general == 0)
             .map_or((0, 0), |r| (r.o_t_connection_id, r.t_o_connection_id));

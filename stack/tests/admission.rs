@@ -14,8 +14,8 @@ use enip_stack::device::Kind;
 use enip_stack::device::{
     AttributeRef, CloseReason, ConnectionEvent, ConnectionInfo, Device, InputChanges, OpenRequest,
 };
-use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardClose, ForwardOpenReply, NetworkParams};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{ForwardCloseRepr, ForwardOpenReplyRepr, NetworkParams};
 use enip_stack::wire::io_datagram::Packet;
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole, IdentityInfo, Instant, SocketId};
@@ -182,7 +182,7 @@ fn open(
 }
 
 fn close(h: &mut Harness<Station>, serial: u16) -> u8 {
-    let fc = ForwardClose {
+    let fc = ForwardCloseRepr {
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,
         triad: fo(serial, &[], 0).triad,
@@ -332,7 +332,9 @@ fn inputs_changed_by_a_write_are_produced_within_the_inhibit_time() {
     f.t_o_params = NetworkParams::from_u16(0x4800 | (2 + 4));
     let (g, _, data) = status(&h.forward_open(&f));
     assert_eq!(g, 0);
-    let t_o = ForwardOpenReply::parse(&data).unwrap().t_o_connection_id;
+    let t_o = ForwardOpenReplyRepr::parse(&data)
+        .unwrap()
+        .t_o_connection_id;
     let mut out = [0u8; 64];
     // The production at open, then nothing due until the RPI.
     assert!(h.adapter.poll_io(Instant(0), &mut out).is_some());
@@ -341,9 +343,9 @@ fn inputs_changed_by_a_write_are_produced_within_the_inhibit_time() {
     // At 1 ms an explicit write changes the inputs; the device has no clock of its own.
     h.now = Instant(1_000);
     let setpoint = [
-        Segment::Logical(LogicalType::Class, SETPOINT.into()),
-        Segment::Logical(LogicalType::Instance, 1),
-        Segment::Logical(LogicalType::Attribute, 1),
+        SegmentRepr::Logical(LogicalType::Class, SETPOINT.into()),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Attribute, 1),
     ];
     assert_eq!(status(&h.request(0x10, &setpoint, &[0x42])).0, 0);
     assert_eq!(h.adapter.io_deadline(), Some(Instant(0)), "due at once");
@@ -467,9 +469,9 @@ fn an_assembly_resized_under_a_connection_closes_it() {
     f.t_o_params = NetworkParams::from_u16(0x4800 | (2 + 4));
     assert_eq!(status(&h.forward_open(&f)).0, 0);
     let layout = [
-        Segment::Logical(LogicalType::Class, 0x72),
-        Segment::Logical(LogicalType::Instance, 1),
-        Segment::Logical(LogicalType::Attribute, 1),
+        SegmentRepr::Logical(LogicalType::Class, 0x72),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Attribute, 1),
     ];
     assert_eq!(status(&h.request(0x10, &layout, &[8, 0])).0, 0);
     assert!(h.adapter.connections().is_empty());

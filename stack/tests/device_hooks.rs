@@ -9,14 +9,14 @@ use std::net::Ipv4Addr;
 use common::*;
 use enip_stack::device::Multicast;
 use enip_stack::device::MulticastConfig;
-use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
 use enip_stack::wire::forward_open::NetworkParams;
 
-fn tcpip(attribute: u32) -> [Segment<'static>; 3] {
+fn tcpip(attribute: u32) -> [SegmentRepr<'static>; 3] {
     [
-        Segment::Logical(LogicalType::Class, 0xF5),
-        Segment::Logical(LogicalType::Instance, 1),
-        Segment::Logical(LogicalType::Attribute, attribute),
+        SegmentRepr::Logical(LogicalType::Class, 0xF5),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Attribute, attribute),
     ]
 }
 

@@ -8,22 +8,23 @@ use std::net::{Ipv4Addr, SocketAddrV4};
 use common::*;
 use enip_stack::config::MAX_ENCAP_FRAME;
 use enip_stack::originator;
-use enip_stack::wire::encap::{Repr, HEADER_LEN};
-use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::encap::{EncapRepr, HEADER_LEN};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::Writer;
 use enip_stack::{Instant, SocketId};
 
-fn path(class: u32, instance: u32, attribute: Option<u32>) -> Vec<Segment<'static>> {
+fn path(class: u32, instance: u32, attribute: Option<u32>) -> Vec<SegmentRepr<'static>> {
     let mut p = vec![
-        Segment::Logical(LogicalType::Class, class),
-        Segment::Logical(LogicalType::Instance, instance),
+        SegmentRepr::Logical(LogicalType::Class, class),
+        SegmentRepr::Logical(LogicalType::Instance, instance),
     ];
-    p.extend(attribute.map(|a| Segment::Logical(LogicalType::Attribute, a)));
+    p.extend(attribute.map(|a| SegmentRepr::Logical(LogicalType::Attribute, a)));
     p
 }
 
 fn header(command: u16, length: u16, session: u32) -> [u8; 24] {
     let mut h = [0u8; 24];
-    Repr {
+    EncapRepr {
         command,
         length,
         session_handle: session,
@@ -31,13 +32,13 @@ fn header(command: u16, length: u16, session: u32) -> [u8; 24] {
         sender_context: [7; 8],
         options: 0,
     }
-    .emit(&mut h)
+    .emit(&mut Writer::new(&mut h))
     .unwrap();
     h
 }
 
 fn encap_status(reply: &[u8]) -> u32 {
-    Repr::parse_header(reply).unwrap().status
+    EncapRepr::parse_header(reply).unwrap().status
 }
 
 #[test]
@@ -62,7 +63,7 @@ fn identity_attributes_and_get_attributes_all() {
 #[test]
 fn cip_error_statuses() {
     let mut h = Harness::new();
-    let cases: Vec<(u8, Vec<Segment<'static>>, Vec<u8>, u8)> = vec![
+    let cases: Vec<(u8, Vec<SegmentRepr<'static>>, Vec<u8>, u8)> = vec![
         (0x0E, path(0x77, 1, Some(1)), vec![], 0x05),
         (0x0E, path(1, 9, Some(1)), vec![], 0x16),
         (0x4B, path(1, 1, None), vec![], 0x08),
@@ -82,7 +83,7 @@ fn cip_error_statuses() {
         (0x05, path(1, 1, None), vec![7], 0x20),
         (
             0x0E,
-            vec![Segment::Logical(LogicalType::Class, 1)],
+            vec![SegmentRepr::Logical(LogicalType::Class, 1)],
             vec![],
             0x05,
         ),

@@ -5,29 +5,29 @@ mod common;
 
 use common::*;
 use enip_stack::device::{CloseReason, ConnectionEvent};
-use enip_stack::wire::epath::{ElectronicKey, LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardClose, ForwardOpenReply, NetworkParams};
+use enip_stack::wire::epath::{ElectronicKey, LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{ForwardCloseRepr, ForwardOpenReplyRepr, NetworkParams};
 use enip_stack::wire::Writer;
 use enip_stack::{Instant, SocketId};
 
 /// Opens `fo` and returns (general, additional words, data).
 fn open(
     h: &mut Harness,
-    fo: &enip_stack::wire::forward_open::ForwardOpen<'_>,
+    fo: &enip_stack::wire::forward_open::ForwardOpenRepr<'_>,
 ) -> (u8, Vec<u16>, Vec<u8>) {
     status(&h.forward_open(fo))
 }
 
 fn ext_of(
     h: &mut Harness,
-    fo: &enip_stack::wire::forward_open::ForwardOpen<'_>,
+    fo: &enip_stack::wire::forward_open::ForwardOpenRepr<'_>,
 ) -> (u8, Option<u16>) {
     let (g, words, _) = open(h, fo);
     (g, words.first().copied())
 }
 
 fn close(h: &mut Harness, serial: u16) -> (u8, Vec<u16>, Vec<u8>) {
-    let fc = ForwardClose {
+    let fc = ForwardCloseRepr {
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,
         triad: fo(serial, &[], 1000).triad,
@@ -46,7 +46,7 @@ fn exclusive_owner_opens_and_closes() {
     let path = io_path(Some(151), 110, 100, Some(&[9; 10]));
     let (g, words, data) = open(&mut h, &fo(1, &path, 10_000));
     assert_eq!((g, words.len()), (0, 0));
-    let reply = ForwardOpenReply::parse(&data).unwrap();
+    let reply = ForwardOpenReplyRepr::parse(&data).unwrap();
     assert_eq!(reply.t_o_connection_id, 0x7000_0001);
     assert_ne!(reply.o_t_connection_id, 0);
     assert_eq!((reply.o_t_api, reply.t_o_api), (10_000, 10_000));
@@ -65,9 +65,9 @@ fn exclusive_owner_opens_and_closes() {
     let (_, _, id) = status(&h.request(
         0x0E,
         &[
-            Segment::Logical(LogicalType::Class, 1),
-            Segment::Logical(LogicalType::Instance, 1),
-            Segment::Logical(LogicalType::Attribute, 5),
+            SegmentRepr::Logical(LogicalType::Class, 1),
+            SegmentRepr::Logical(LogicalType::Instance, 1),
+            SegmentRepr::Logical(LogicalType::Attribute, 5),
         ],
         &[],
     ));
@@ -76,9 +76,9 @@ fn exclusive_owner_opens_and_closes() {
     let set = h.request(
         0x10,
         &[
-            Segment::Logical(LogicalType::Class, 4),
-            Segment::Logical(LogicalType::Instance, 110),
-            Segment::Logical(LogicalType::Attribute, 3),
+            SegmentRepr::Logical(LogicalType::Class, 4),
+            SegmentRepr::Logical(LogicalType::Instance, 110),
+            SegmentRepr::Logical(LogicalType::Attribute, 3),
         ],
         &[0; 32],
     );
@@ -121,7 +121,7 @@ fn multicast_reply_carries_group_and_listen_only_follows() {
         (group.addr, group.port),
         (std::net::Ipv4Addr::new(239, 192, 1, 32), 2222)
     );
-    let owner_t_o = ForwardOpenReply::parse(reply.response.unwrap().data)
+    let owner_t_o = ForwardOpenReplyRepr::parse(reply.response.unwrap().data)
         .unwrap()
         .t_o_connection_id;
     assert_eq!(h.adapter.multicast_group(), Some(group.addr));
@@ -133,7 +133,9 @@ fn multicast_reply_carries_group_and_listen_only_follows() {
     let (g, _, data) = open(&mut h, &lo);
     assert_eq!(g, 0);
     assert_eq!(
-        ForwardOpenReply::parse(&data).unwrap().t_o_connection_id,
+        ForwardOpenReplyRepr::parse(&data)
+            .unwrap()
+            .t_o_connection_id,
         owner_t_o
     );
     assert_eq!(h.adapter.connections().len(), 2);
@@ -312,7 +314,7 @@ fn error_electronic_key() {
     for (i, (key, want)) in cases.iter().enumerate() {
         let mut buf = [0u8; 64];
         let mut w = Writer::new(&mut buf);
-        Segment::ElectronicKey(*key).emit(&mut w).unwrap();
+        SegmentRepr::ElectronicKey(*key).emit(&mut w).unwrap();
         let n = w.len();
         let path = [&buf[..n], &io_path(None, 110, 100, None)[..]].concat();
         let got = ext_of(&mut h, &fo(i as u16 + 1, &path, 10_000));
@@ -340,7 +342,7 @@ fn error_electronic_key() {
     {
         let mut buf = [0u8; 64];
         let mut w = Writer::new(&mut buf);
-        Segment::ElectronicKey(*key).emit(&mut w).unwrap();
+        SegmentRepr::ElectronicKey(*key).emit(&mut w).unwrap();
         let n = w.len();
         let path = [&buf[..n], &io_path(None, 110 + i as u32, 100, None)[..]].concat();
         assert_eq!(
@@ -430,7 +432,9 @@ fn class3_repeated_sequence_gets_cached_reply() {
     f.t_o_params = NetworkParams::from_u16(0x4800 | 500);
     let (g, _, data) = open(&mut h, &f);
     assert_eq!(g, 0);
-    let id = ForwardOpenReply::parse(&data).unwrap().o_t_connection_id;
+    let id = ForwardOpenReplyRepr::parse(&data)
+        .unwrap()
+        .o_t_connection_id;
     let set = |h: &mut Harness, seq: u16, value: u8| {
         let mut buf = vec![0u8; 600];
         let session = h.session;
@@ -439,9 +443,9 @@ fn class3_repeated_sequence_gets_cached_reply() {
                 w,
                 0x10,
                 &[
-                    Segment::Logical(LogicalType::Class, 4),
-                    Segment::Logical(LogicalType::Instance, 154),
-                    Segment::Logical(LogicalType::Attribute, 3),
+                    SegmentRepr::Logical(LogicalType::Class, 4),
+                    SegmentRepr::Logical(LogicalType::Instance, 154),
+                    SegmentRepr::Logical(LogicalType::Attribute, 3),
                 ],
                 &[value; 32],
             )
@@ -481,8 +485,8 @@ fn connection_manager_counts_requests_and_rejects() {
     assert_eq!(close(&mut h, 9).0, 0x01);
     assert_eq!(close(&mut h, 1).0, 0);
     let all = [
-        Segment::Logical(LogicalType::Class, 6),
-        Segment::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Class, 6),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
     ];
     let (g, _, d) = status(&h.request(0x01, &all, &[]));
     assert_eq!(g, 0);

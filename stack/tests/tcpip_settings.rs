@@ -13,7 +13,7 @@ use enip_stack::nv::{
     key, AbStore, CutFlash, Flash, NvError, NvStore, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE,
 };
 use enip_stack::objects::TcpIpState;
-use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
 
 /// The flash of most tests: one copy's room per sector, in RAM.
 type SmallFlash = RamFlash<{ MAX_WRITE_SIZE + IMAGE_SIZE }>;
@@ -72,16 +72,16 @@ fn harness<F: Flash + 'static>(store: &Shared<F>) -> Harness {
 }
 
 /// Identity instance 1, for its Reset service.
-const IDENTITY_INSTANCE: [Segment<'static>; 2] = [
-    Segment::Logical(LogicalType::Class, 1),
-    Segment::Logical(LogicalType::Instance, 1),
+const IDENTITY_INSTANCE: [SegmentRepr<'static>; 2] = [
+    SegmentRepr::Logical(LogicalType::Class, 1),
+    SegmentRepr::Logical(LogicalType::Instance, 1),
 ];
 
-fn tcpip(attribute: u32) -> [Segment<'static>; 3] {
+fn tcpip(attribute: u32) -> [SegmentRepr<'static>; 3] {
     [
-        Segment::Logical(LogicalType::Class, 0xF5),
-        Segment::Logical(LogicalType::Instance, 1),
-        Segment::Logical(LogicalType::Attribute, attribute),
+        SegmentRepr::Logical(LogicalType::Class, 0xF5),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Attribute, attribute),
     ]
 }
 

@@ -11,8 +11,8 @@ use enip_stack::cip::context::{RequestContext, Via};
 use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General, Request};
 use enip_stack::device::{AttributeRef, Device};
-use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardOpenReply, NetworkParams};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{ForwardOpenReplyRepr, NetworkParams};
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole, IdentityInfo};
 
@@ -134,12 +134,12 @@ impl Device for Axes {
     }
 }
 
-fn axis(instance: u32, attribute: Option<u32>) -> Vec<Segment<'static>> {
+fn axis(instance: u32, attribute: Option<u32>) -> Vec<SegmentRepr<'static>> {
     let mut p = vec![
-        Segment::Logical(LogicalType::Class, u32::from(AXIS)),
-        Segment::Logical(LogicalType::Instance, instance),
+        SegmentRepr::Logical(LogicalType::Class, u32::from(AXIS)),
+        SegmentRepr::Logical(LogicalType::Instance, instance),
     ];
-    p.extend(attribute.map(|a| Segment::Logical(LogicalType::Attribute, a)));
+    p.extend(attribute.map(|a| SegmentRepr::Logical(LogicalType::Attribute, a)));
     p
 }
 
@@ -182,9 +182,9 @@ fn values_round_trip() {
 fn unknown_class_is_0x05() {
     let mut h = harness();
     let path = [
-        Segment::Logical(LogicalType::Class, 0x71),
-        Segment::Logical(LogicalType::Instance, 1),
-        Segment::Logical(LogicalType::Attribute, 1),
+        SegmentRepr::Logical(LogicalType::Class, 0x71),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Attribute, 1),
     ];
     assert_eq!(status(&h.request(0x0E, &path, &[])).0, 0x05);
 }
@@ -380,9 +380,9 @@ fn class_attributes_1_to_7() {
 fn the_message_router_lists_the_class() {
     let mut h = harness();
     let path = [
-        Segment::Logical(LogicalType::Class, 2),
-        Segment::Logical(LogicalType::Instance, 1),
-        Segment::Logical(LogicalType::Attribute, 1),
+        SegmentRepr::Logical(LogicalType::Class, 2),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Attribute, 1),
     ];
     let (g, _, d) = status(&h.request(0x0E, &path, &[]));
     assert_eq!(g, 0);
@@ -408,7 +408,9 @@ fn vendor_services_see_where_the_request_came_from() {
     f.t_o_params = NetworkParams::from_u16(0x4800 | 500);
     let (g, _, data) = status(&h.forward_open(&f));
     assert_eq!(g, 0);
-    let id = ForwardOpenReply::parse(&data).unwrap().o_t_connection_id;
+    let id = ForwardOpenReplyRepr::parse(&data)
+        .unwrap()
+        .o_t_connection_id;
     let mut buf = vec![0u8; 600];
     let n = enip_stack::originator::send_unit_data(&mut buf, h.session, id, 1, |w| {
         enip_stack::originator::request(w, 0x4B, &axis(1, None), &[])
@@ -427,4 +429,113 @@ fn vendor_services_see_where_the_request_came_from() {
     assert!(cx.is_connected());
     let slot = h.adapter.connections().find_o_t(id).unwrap();
     assert_eq!(cx.via, Via::Connected { slot });
+}
+
+/// A class whose attribute 1 has a size only the device knows (`DataType::RunTime`): a table
+/// of `entries` 16-bit words, told to the stack through `Device::attribute_size`.
+const TABLE: u16 = 0x71;
+
+const TABLE_CLASS: ClassDef = ClassDef {
+    id: TABLE,
+    name: "Table",
+    revision: 1,
+    max_instance: 2,
+    attributes: &[
+        AttributeDef::get_set(1, DataType::RunTime, "Entries"),
+        AttributeDef::get_set(2, DataType::Usint, "Mode"),
+    ],
+    get_all: &[1, 2],
+    optional_attributes: &[],
+};
+
+struct Tables {
+    /// Instance 1 has three entries; instance 2 says nothing about its size.
+    entries: Vec<u8>,
+    mode: u8,
+}
+
+impl Device for Tables {
+    fn identity(&self) -> &IdentityInfo {
+        &IDENTITY
+    }
+    fn assemblies(&self) -> &[AssemblyInfo] {
+        &ASSEMBLIES
+    }
+    fn read_assembly(&mut self, _instance: u16, out: &mut [u8]) -> CipResult<usize> {
+        out.fill(0);
+        Ok(out.len())
+    }
+    fn write_assembly(&mut self, _instance: u16, _data: &[u8]) -> CipResult {
+        Err(General::AttributeNotSettable.into())
+    }
+    fn classes(&self) -> &[ClassDef] {
+        &[TABLE_CLASS]
+    }
+    fn attribute_size(&self, at: &AttributeRef<'_>) -> Option<usize> {
+        (at.instance == 1 && at.attribute.id == 1).then_some(3 * 2)
+    }
+    fn get_attribute(
+        &mut self,
+        _cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        w: &mut Writer<'_>,
+    ) -> CipResult {
+        match at.attribute.id {
+            1 => w.bytes(&self.entries)?,
+            _ => w.u8(self.mode)?,
+        }
+        Ok(())
+    }
+    fn set_attribute(
+        &mut self,
+        _cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        value: &[u8],
+    ) -> CipResult {
+        match at.attribute.id {
+            1 => self.entries = value.to_vec(),
+            _ => self.mode = value[0],
+        }
+        Ok(())
+    }
+}
+
+fn table(
+    h: &mut Harness<Tables>,
+    service: u8,
+    instance: u32,
+    attribute: Option<u32>,
+    data: &[u8],
+) -> (u8, Vec<u8>) {
+    let mut path = vec![
+        SegmentRepr::Logical(LogicalType::Class, u32::from(TABLE)),
+        SegmentRepr::Logical(LogicalType::Instance, instance),
+    ];
+    path.extend(attribute.map(|a| SegmentRepr::Logical(LogicalType::Attribute, a)));
+    let (g, _, d) = status(&h.request(service, &path, data));
+    (g, d)
+}
+
+#[test]
+fn a_run_time_attribute_takes_the_size_the_device_gives() {
+    let mut h = Harness::with_device(Tables {
+        entries: vec![0; 6],
+        mode: 0,
+    });
+    let entries = [1, 0, 2, 0, 3, 0];
+    assert_eq!(table(&mut h, 0x10, 1, Some(1), &entries).0, 0);
+    assert_eq!(h.adapter.device().entries, entries);
+    assert_eq!(table(&mut h, 0x0E, 1, Some(1), &[]), (0, entries.to_vec()));
+    assert_eq!(table(&mut h, 0x10, 1, Some(1), &entries[..4]).0, 0x13);
+    assert_eq!(table(&mut h, 0x10, 1, Some(1), &[0; 8]).0, 0x15);
+    // Set_Attribute_List finds the next entry after the run-time size.
+    let mut list = vec![2, 0, 1, 0];
+    list.extend([9, 0, 8, 0, 7, 0]);
+    list.extend([2, 0, 5]);
+    let (g, d) = table(&mut h, 0x04, 1, None, &list);
+    assert_eq!((g, d), (0, vec![2, 0, 1, 0, 0, 0, 2, 0, 0, 0]));
+    assert_eq!(h.adapter.device().entries, [9, 0, 8, 0, 7, 0]);
+    assert_eq!(h.adapter.device().mode, 5);
+    // Without a size from the device the value cannot be delimited.
+    assert_eq!(table(&mut h, 0x10, 2, Some(1), &entries).0, 0x14);
 }

@@ -9,7 +9,7 @@ use std::net::SocketAddrV4;
 use common::*;
 use enip_stack::device::{CloseReason, ConnectionEvent};
 use enip_stack::io::{Accepted, Discard};
-use enip_stack::wire::forward_open::{ForwardClose, ForwardOpenReply};
+use enip_stack::wire::forward_open::{ForwardCloseRepr, ForwardOpenReplyRepr};
 use enip_stack::wire::io_datagram::Packet;
 use enip_stack::wire::Writer;
 use enip_stack::Instant;
@@ -25,7 +25,7 @@ fn open_ten(h: &mut Harness) -> Vec<(u32, u32)> {
             let path = io_path(None, 110 + u32::from(i), 100 + u32::from(i), None);
             let (g, _, data) = status(&h.forward_open(&fo(i + 1, &path, RPI as u32)));
             assert_eq!(g, 0);
-            let r = ForwardOpenReply::parse(&data).unwrap();
+            let r = ForwardOpenReplyRepr::parse(&data).unwrap();
             (r.o_t_connection_id, r.t_o_connection_id)
         })
         .collect()
@@ -186,7 +186,9 @@ fn application_trigger_respects_inhibit_and_counts_new_data() {
     f.transport = 0x21; // application triggered, class 1
     let (g, _, data) = status(&h.forward_open(&f));
     assert_eq!(g, 0);
-    let t_o = ForwardOpenReply::parse(&data).unwrap().t_o_connection_id;
+    let t_o = ForwardOpenReplyRepr::parse(&data)
+        .unwrap()
+        .t_o_connection_id;
     let mut out = [0u8; 128];
     let seq = |out: &[u8]| u16::from_le_bytes([out[18], out[19]]);
     let (_, _) = h.adapter.poll_io(Instant(0), &mut out).unwrap();
@@ -221,15 +223,15 @@ fn io_traffic_keeps_its_session_alive_and_outlives_it() {
     let (o_t, _) = open_ten(&mut h)[0];
     // Encapsulation inactivity timeout of 1 s.
     let tcpip = [
-        enip_stack::wire::epath::Segment::Logical(
+        enip_stack::wire::epath::SegmentRepr::Logical(
             enip_stack::wire::epath::LogicalType::Class,
             0xF5,
         ),
-        enip_stack::wire::epath::Segment::Logical(
+        enip_stack::wire::epath::SegmentRepr::Logical(
             enip_stack::wire::epath::LogicalType::Instance,
             1,
         ),
-        enip_stack::wire::epath::Segment::Logical(
+        enip_stack::wire::epath::SegmentRepr::Logical(
             enip_stack::wire::epath::LogicalType::Attribute,
             13,
         ),
@@ -334,7 +336,9 @@ fn mixed_rpis_keep_their_grids_through_a_close_and_an_open() {
         let (g, _, data) = status(&h.forward_open(&fo(serial, &path, rpi)));
         assert_eq!(g, 0);
         (
-            ForwardOpenReply::parse(&data).unwrap().t_o_connection_id,
+            ForwardOpenReplyRepr::parse(&data)
+                .unwrap()
+                .t_o_connection_id,
             rpi,
         )
     };
@@ -372,7 +376,7 @@ fn mixed_rpis_keep_their_grids_through_a_close_and_an_open() {
     assert_eq!(run(&mut h, 21_000), expected(&live, &[0; 4], 0, 21_000));
 
     // The 1 ms producer in slot 1 closes at 21 ms; a 2 ms one opens into its slot.
-    let fc = ForwardClose {
+    let fc = ForwardCloseRepr {
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,
         triad: fo(2, &[], 1_000).triad,

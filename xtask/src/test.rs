@@ -11,7 +11,7 @@ const FUZZ_SECONDS: u64 = 5;
 /// The published crate whose `rust-version` the run builds with.
 const PUBLISHED: &str = "enip-stack";
 /// The TAP interop test file (written by the host-tests owners).
-const TAP_INTEROP: &str = "host-tests/tests/tap_interop.rs";
+const TAP_INTEROP: &str = "host-tests/tests/tap_interop/main.rs";
 
 /// Runs every step; true if none failed. Prints a summary either way.
 pub fn run_all() -> bool {

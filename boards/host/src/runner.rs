@@ -140,7 +140,7 @@ fn start<D: Device + 'static>(
         seed.rotate_left(32),
     );
     if let Err(e) = adapter.attach_store(Box::leak(Box::new(store))) {
-        log::error!("non-volatile store unreadable ({e:?}): factory TCP/IP settings");
+        log::error!("non-volatile store unreadable ({e}): factory TCP/IP settings");
     }
     let adapter: &'static _ = Box::leak(Box::new(enip_firmware::share(adapter)));
     let buffers: &'static mut Resources = Box::leak(Box::new(Resources::new()));
@@ -178,7 +178,7 @@ fn start<D: Device + 'static>(
 fn interface(store: &mut SharedStore, link: &TapOptions, nv_file: Option<&Path>) -> StaticConfigV4 {
     let from = nv_file.map_or_else(|| "RAM".into(), |p| p.display().to_string());
     let stored = TcpIpState::stored(store).unwrap_or_else(|e| {
-        log::error!("non-volatile store {from}: {e:?}");
+        log::error!("non-volatile store {from}: {e}");
         None
     });
     if let Some(st) = stored.as_ref().filter(|st| st.config_control & 0x0F != 0) {

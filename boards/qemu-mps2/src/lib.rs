@@ -115,7 +115,7 @@ pub async fn run<D: Device>(
 /// `adapter` with the RAM store attached (settings kept until power-off).
 fn with_store<D: Device>(mut adapter: Adapter<D>, store: &'static mut SharedStore) -> Adapter<D> {
     if let Err(e) = adapter.attach_store(store) {
-        log::warn!("non-volatile store: {e:?}");
+        log::warn!("non-volatile store: {e}");
     }
     adapter
 }

@@ -1,5 +1,9 @@
 //! [`LinkFrames`]: the frames the link task and the embassy-net stack hand each other (every
 //! frame that is not Class 1 I/O), the wake-ups between them, and the link state.
+//!
+//! Not `embassy-net-driver-channel`: its `Device` reports fixed, MTU-only `Capabilities`, so
+//! the board driver's checksum offload and burst size, which [`super::NetDriver`] passes on
+//! to embassy-net, would be lost (and its state wants a `&'static mut`, this a `const` value).
 
 use core::cell::{Cell, RefCell};
 use core::task::Waker;

@@ -14,7 +14,7 @@ use enip_fuzz::frames::{self, Connection, IoScript, TcpScript, UdpScript};
 use enip_fuzz::{io_script, profile, script};
 use enip_stack::wire::cpf;
 use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
-use enip_stack::wire::forward_open::ForwardOpenReply;
+use enip_stack::wire::forward_open::ForwardOpenReplyRepr;
 use enip_stack::wire::message_router::ResponseRepr;
 use enip_stack::wire::rr_data;
 
@@ -332,7 +332,7 @@ fn learn_o_t_id(session: u32, device: &str, conn: &Connection) -> u32 {
         let item = c.find(cpf::item_type::UNCONNECTED_DATA).expect("data item");
         let r = ResponseRepr::parse(item.data).expect("response");
         assert_eq!(r.general_status, 0, "Forward_Open failed: {r:02x?}");
-        id = ForwardOpenReply::parse(r.data)
+        id = ForwardOpenReplyRepr::parse(r.data)
             .ok()
             .map(|f| f.o_t_connection_id);
     });

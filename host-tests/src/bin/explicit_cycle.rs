@@ -10,7 +10,7 @@ use enip_firmware::profiles::generic::Generic;
 use enip_stack::config::MAX_ENCAP_FRAME;
 use enip_stack::originator;
 use enip_stack::virtual_scanner::VirtualScanner;
-use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
 use enip_stack::{Instant, SocketId};
 
 /// Get_Attribute_Single.
@@ -28,9 +28,9 @@ fn main() {
     let mut frame = vec![0u8; MAX_ENCAP_FRAME];
     let mut reply = vec![0u8; MAX_ENCAP_FRAME];
     let path = [
-        Segment::Logical(LogicalType::Class, 1),
-        Segment::Logical(LogicalType::Instance, 1),
-        Segment::Logical(LogicalType::Attribute, 7),
+        SegmentRepr::Logical(LogicalType::Class, 1),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Attribute, 7),
     ];
     // The request is built once, so the count is the adapter's work, not the originator's.
     let n = originator::send_rr_data(&mut frame, session, None, |w| {

@@ -5,14 +5,14 @@ use std::net::Ipv4Addr;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
 use host_tests::scanner::Session;
 
 /// Identity object, instance 1, attribute 1 (vendor ID).
-const VENDOR: [Segment<'static>; 3] = [
-    Segment::Logical(LogicalType::Class, 1),
-    Segment::Logical(LogicalType::Instance, 1),
-    Segment::Logical(LogicalType::Attribute, 1),
+const VENDOR: [SegmentRepr<'static>; 3] = [
+    SegmentRepr::Logical(LogicalType::Class, 1),
+    SegmentRepr::Logical(LogicalType::Instance, 1),
+    SegmentRepr::Logical(LogicalType::Attribute, 1),
 ];
 
 fn parse() -> Result<(Ipv4Addr, usize, u64), String> {

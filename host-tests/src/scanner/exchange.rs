@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use enip_stack::config::IO_PORT;
 use enip_stack::originator;
-use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::forward_open::{ForwardOpenRepr, NetworkParams, Triad};
 use enip_stack::wire::io_datagram::Packet;
 
 use super::session::Session;
@@ -36,8 +36,8 @@ pub fn generic_forward_open(
     o_t_size: u16,
     multiplier: u8,
     rpi_us: u32,
-) -> ForwardOpen<'_> {
-    ForwardOpen {
+) -> ForwardOpenRepr<'_> {
+    ForwardOpenRepr {
         large: false,
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,

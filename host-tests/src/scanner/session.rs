@@ -7,9 +7,11 @@ use std::time::Duration;
 
 use enip_stack::config::{ENCAP_PORT, MAX_ENCAP_FRAME};
 use enip_stack::originator;
-use enip_stack::wire::encap::{Repr, HEADER_LEN};
-use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardClose, ForwardOpen, ForwardOpenReply, Triad};
+use enip_stack::wire::encap::{EncapRepr, HEADER_LEN};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{
+    ForwardCloseRepr, ForwardOpenReplyRepr, ForwardOpenRepr, Triad,
+};
 use enip_stack::wire::Writer;
 
 /// A Message Router response, owned.
@@ -36,13 +38,13 @@ fn invalid(msg: &str) -> io::Error {
 }
 
 fn wire(e: enip_stack::wire::Error) -> io::Error {
-    invalid(&format!("{e:?}"))
+    io::Error::new(io::ErrorKind::InvalidData, e)
 }
 
 /// The Connection Manager path.
-const CONNECTION_MANAGER: [Segment<'static>; 2] = [
-    Segment::Logical(LogicalType::Class, 6),
-    Segment::Logical(LogicalType::Instance, 1),
+const CONNECTION_MANAGER: [SegmentRepr<'static>; 2] = [
+    SegmentRepr::Logical(LogicalType::Class, 6),
+    SegmentRepr::Logical(LogicalType::Instance, 1),
 ];
 
 impl Session {
@@ -56,7 +58,7 @@ impl Session {
         let mut buf = [0u8; 64];
         let n = originator::register_session(&mut buf).map_err(wire)?;
         let reply = s.transact(buf.get(..n).unwrap_or(&[]))?;
-        let header = Repr::parse_header(&reply).map_err(wire)?;
+        let header = EncapRepr::parse_header(&reply).map_err(wire)?;
         if header.status != 0 {
             return Err(invalid(&format!(
                 "RegisterSession status {:#x}",
@@ -72,7 +74,7 @@ impl Session {
         self.stream.write_all(frame)?;
         let mut reply = vec![0u8; HEADER_LEN];
         self.stream.read_exact(&mut reply)?;
-        let header = Repr::parse_header(&reply).map_err(wire)?;
+        let header = EncapRepr::parse_header(&reply).map_err(wire)?;
         reply.resize(HEADER_LEN + usize::from(header.length), 0);
         self.stream
             .read_exact(reply.get_mut(HEADER_LEN..).unwrap_or(&mut []))?;
@@ -83,7 +85,7 @@ impl Session {
     pub fn request(
         &mut self,
         service: u8,
-        path: &[Segment<'_>],
+        path: &[SegmentRepr<'_>],
         data: &[u8],
     ) -> io::Result<Response> {
         let mut buf = vec![0u8; MAX_ENCAP_FRAME];
@@ -110,8 +112,8 @@ impl Session {
     /// Sends a Forward_Open (or Large_Forward_Open); Ok(Err) carries a refusal.
     pub fn forward_open(
         &mut self,
-        fo: &ForwardOpen<'_>,
-    ) -> io::Result<Result<ForwardOpenReply<'static>, Response>> {
+        fo: &ForwardOpenRepr<'_>,
+    ) -> io::Result<Result<ForwardOpenReplyRepr<'static>, Response>> {
         let mut data = [0u8; 256];
         let mut w = Writer::new(&mut data);
         fo.emit(&mut w).map_err(wire)?;
@@ -121,8 +123,8 @@ impl Session {
         if r.general != 0 {
             return Ok(Err(r));
         }
-        let reply = ForwardOpenReply::parse(&r.data).map_err(wire)?;
-        Ok(Ok(ForwardOpenReply {
+        let reply = ForwardOpenReplyRepr::parse(&r.data).map_err(wire)?;
+        Ok(Ok(ForwardOpenReplyRepr {
             application_reply: &[],
             ..reply
         }))
@@ -130,7 +132,7 @@ impl Session {
 
     /// Sends a Forward_Close for `triad`.
     pub fn forward_close(&mut self, triad: Triad) -> io::Result<Response> {
-        let fc = ForwardClose {
+        let fc = ForwardCloseRepr {
             priority_tick: 0x0A,
             timeout_ticks: 0x0E,
             triad,

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use serde_json::json;
 
 use crate::common;
-use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::forward_open::{ForwardOpenRepr, NetworkParams, Triad};
 use enip_stack::wire::io_datagram::Packet;
 use host_tests::peers;
 use host_tests::rig::{BOARD_IP, HOST_IP};
@@ -200,9 +200,9 @@ fn listen_only_follows_a_multicast_owner() {
 }
 
 /// A Forward_Open at 10 ms for the generic profile's 32-byte assemblies.
-fn forward_open(serial: u16, path: &[u8], multicast: bool, o_t_size: u16) -> ForwardOpen<'_> {
+fn forward_open(serial: u16, path: &[u8], multicast: bool, o_t_size: u16) -> ForwardOpenRepr<'_> {
     let t_o_type = if multicast { 0x2800 } else { 0x4800 };
-    ForwardOpen {
+    ForwardOpenRepr {
         large: false,
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,
@@ -223,16 +223,19 @@ fn forward_open(serial: u16, path: &[u8], multicast: bool, o_t_size: u16) -> For
     }
 }
 
-fn seg_class(c: u32) -> enip_stack::wire::epath::Segment<'static> {
-    enip_stack::wire::epath::Segment::Logical(enip_stack::wire::epath::LogicalType::Class, c)
+fn seg_class(c: u32) -> enip_stack::wire::epath::SegmentRepr<'static> {
+    enip_stack::wire::epath::SegmentRepr::Logical(enip_stack::wire::epath::LogicalType::Class, c)
 }
 
-fn seg_instance(i: u32) -> enip_stack::wire::epath::Segment<'static> {
-    enip_stack::wire::epath::Segment::Logical(enip_stack::wire::epath::LogicalType::Instance, i)
+fn seg_instance(i: u32) -> enip_stack::wire::epath::SegmentRepr<'static> {
+    enip_stack::wire::epath::SegmentRepr::Logical(enip_stack::wire::epath::LogicalType::Instance, i)
 }
 
-fn seg_attribute(a: u32) -> enip_stack::wire::epath::Segment<'static> {
-    enip_stack::wire::epath::Segment::Logical(enip_stack::wire::epath::LogicalType::Attribute, a)
+fn seg_attribute(a: u32) -> enip_stack::wire::epath::SegmentRepr<'static> {
+    enip_stack::wire::epath::SegmentRepr::Logical(
+        enip_stack::wire::epath::LogicalType::Attribute,
+        a,
+    )
 }
 
 /// Garbage aimed at UDP 2222 and malformed Forward_Opens on a second session while an
@@ -317,11 +320,11 @@ fn io_survives_hostile_datagrams_and_forward_opens() {
                 let mut statuses = Vec::new();
                 for data in [&[1u8, 2, 3][..], &[0u8; 36][..], &[0xFF; 60][..]] {
                     let cm = [
-                        enip_stack::wire::epath::Segment::Logical(
+                        enip_stack::wire::epath::SegmentRepr::Logical(
                             enip_stack::wire::epath::LogicalType::Class,
                             6,
                         ),
-                        enip_stack::wire::epath::Segment::Logical(
+                        enip_stack::wire::epath::SegmentRepr::Logical(
                             enip_stack::wire::epath::LogicalType::Instance,
                             1,
                         ),

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::forward_open::{ForwardOpenRepr, NetworkParams, Triad};
 use host_tests::peers;
 use host_tests::rig::{Rig, BOARD_IP};
 use host_tests::scanner::Session;
@@ -22,8 +22,8 @@ fn example_bin() -> PathBuf {
 }
 
 /// An exclusive owner of outputs 150 / inputs 100 with configuration `config` for 151.
-fn forward_open<'a>(serial: u16, path: &'a [u8]) -> ForwardOpen<'a> {
-    ForwardOpen {
+fn forward_open<'a>(serial: u16, path: &'a [u8]) -> ForwardOpenRepr<'a> {
+    ForwardOpenRepr {
         large: false,
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use enip_stack::originator;
-use enip_stack::wire::forward_open::ForwardOpenReply;
+use enip_stack::wire::forward_open::ForwardOpenReplyRepr;
 use enip_stack::wire::io_datagram::Packet;
 use host_tests::faults::{ms, pid_in, real_time_process, real_time_thread};
 use host_tests::rig::{Rig, BOARD_IP};
@@ -42,7 +42,7 @@ pub struct Feed {
 
 impl Feed {
     /// A fed connection from its Forward_Open reply.
-    pub fn new(reply: &ForwardOpenReply<'_>, rpi: Duration, owner: bool) -> Feed {
+    pub fn new(reply: &ForwardOpenReplyRepr<'_>, rpi: Duration, owner: bool) -> Feed {
         Feed {
             o_t_id: reply.o_t_connection_id,
             rpi,

@@ -10,8 +10,8 @@ use std::time::{Duration, Instant};
 
 use crate::common::{self, REPLY};
 use crate::fault_io::{board_real_time, drive, ms_between, Feed, IO_PORT};
-use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardOpen, Triad};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{ForwardOpenRepr, Triad};
 use host_tests::enip::{command, mr_request, path, register_data, Client, Header};
 use host_tests::faults::{count, least, most, ms, pid_in, report};
 use host_tests::netns::Namespace;
@@ -30,7 +30,7 @@ pub fn forward_open(
     o_t_size: u16,
     multiplier: u8,
     rpi_us: u32,
-) -> ForwardOpen<'_> {
+) -> ForwardOpenRepr<'_> {
     let t_o_id = 0x6A00_0000 + u32::from(triad.connection_serial);
     generic_forward_open(triad, t_o_id, path, o_t_size, multiplier, rpi_us)
 }
@@ -49,9 +49,9 @@ pub fn cm_counter(s: &mut Session, attr: u32) -> io::Result<u16> {
     let r = s.request(
         0x0E,
         &[
-            Segment::Logical(LogicalType::Class, 6),
-            Segment::Logical(LogicalType::Instance, 1),
-            Segment::Logical(LogicalType::Attribute, attr),
+            SegmentRepr::Logical(LogicalType::Class, 6),
+            SegmentRepr::Logical(LogicalType::Instance, 1),
+            SegmentRepr::Logical(LogicalType::Attribute, attr),
         ],
         &[],
     )?;

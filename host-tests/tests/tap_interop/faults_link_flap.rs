@@ -14,7 +14,7 @@ use serde_json::{json, Value};
 use crate::common;
 use crate::fault_io::{board_real_time, drive, ms_between, Feed, IO_PORT};
 use crate::faults::{cm_counter, forward_open, session, triad};
-use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
 use host_tests::faults::{count, most, ms, report};
 use host_tests::netns::Namespace;
 use host_tests::rig::{BOARD_IP, TAP};
@@ -206,9 +206,9 @@ fn reconnect(round: u16) -> io::Result<Back> {
     let r = s.request(
         0x0E,
         &[
-            Segment::Logical(LogicalType::Class, 0xF5),
-            Segment::Logical(LogicalType::Instance, 1),
-            Segment::Logical(LogicalType::Attribute, 5),
+            SegmentRepr::Logical(LogicalType::Class, 0xF5),
+            SegmentRepr::Logical(LogicalType::Instance, 1),
+            SegmentRepr::Logical(LogicalType::Attribute, 5),
         ],
         &[],
     )?;

@@ -16,7 +16,7 @@ use crate::common::{self, REPLY};
 use crate::fault_io::{board_real_time, drive, ms_between, Feed, IO_PORT};
 use crate::faults::{cm_counter, forward_open, session, triad};
 use crate::tcpip_nv;
-use enip_stack::wire::epath::{LogicalType, Segment};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
 use host_tests::faults::{count, most, ms, report};
 use host_tests::rig::BOARD_IP;
 use host_tests::scanner::Session;
@@ -145,8 +145,8 @@ fn reset_round(kind: u8, round: u16) -> io::Result<Value> {
         std::thread::sleep(Duration::from_millis(500));
         let sent_at = Instant::now();
         let identity = [
-            Segment::Logical(LogicalType::Class, 1),
-            Segment::Logical(LogicalType::Instance, 1),
+            SegmentRepr::Logical(LogicalType::Class, 1),
+            SegmentRepr::Logical(LogicalType::Instance, 1),
         ];
         let reply = s.request(0x05, &identity, &[kind])?;
         let reply_at = Instant::now();
@@ -218,11 +218,11 @@ fn reset_round(kind: u8, round: u16) -> io::Result<Value> {
 }
 
 /// The path of TCP/IP Interface instance 1 attribute `attr`.
-fn tcpip_attribute(attr: u32) -> [Segment<'static>; 3] {
+fn tcpip_attribute(attr: u32) -> [SegmentRepr<'static>; 3] {
     [
-        Segment::Logical(LogicalType::Class, 0xF5),
-        Segment::Logical(LogicalType::Instance, 1),
-        Segment::Logical(LogicalType::Attribute, attr),
+        SegmentRepr::Logical(LogicalType::Class, 0xF5),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Attribute, attr),
     ]
 }
 

@@ -9,8 +9,8 @@ use std::time::{Duration, Instant};
 
 use crate::common;
 use crate::position_servo::{pcap, start, Target, MULTIPLIER, RPI_MS};
-use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{ForwardOpenRepr, NetworkParams, Triad};
 use enip_stack::wire::io_datagram::Packet;
 use host_tests::rig::{BOARD_IP, HOST_IP};
 use host_tests::scanner::{Response, Session};
@@ -68,9 +68,15 @@ const CASES: [Case; 7] = [
 
 /// A Class 1 Forward_Open at the examples' RPI: `o_t` and `t_o` are the connection sizes
 /// (data plus sequence count, plus the run/idle header for outputs).
-fn forward_open(serial: u16, path: &[u8], o_t: u16, t_o: u16, multicast: bool) -> ForwardOpen<'_> {
+fn forward_open(
+    serial: u16,
+    path: &[u8],
+    o_t: u16,
+    t_o: u16,
+    multicast: bool,
+) -> ForwardOpenRepr<'_> {
     let rpi = RPI_MS * 1000;
-    ForwardOpen {
+    ForwardOpenRepr {
         large: false,
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,
@@ -110,9 +116,9 @@ fn count_datagrams(rx: &UdpSocket, id: u32, window: Duration) -> usize {
 
 fn set_variable(s: &mut Session, var: u32, value: u32) -> std::io::Result<u8> {
     let path = [
-        Segment::Logical(LogicalType::Class, 0x64),
-        Segment::Logical(LogicalType::Instance, var),
-        Segment::Logical(LogicalType::Attribute, 0),
+        SegmentRepr::Logical(LogicalType::Class, 0x64),
+        SegmentRepr::Logical(LogicalType::Instance, var),
+        SegmentRepr::Logical(LogicalType::Attribute, 0),
     ];
     Ok(s.request(0x10, &path, &value.to_le_bytes())?.general)
 }
@@ -128,7 +134,7 @@ fn connections(s: &mut Session) -> std::io::Result<Seen> {
     let mut opened = Vec::new();
     let refused = |r: &Response| usize::from(r.additional.first().copied().unwrap_or(0));
     for c in &CASES {
-        let fo = ForwardOpen {
+        let fo = ForwardOpenRepr {
             transport: c.transport,
             ..forward_open(c.serial, &c.points, c.o_t, c.t_o, c.multicast)
         };

@@ -9,11 +9,12 @@ use crate::io::explicit;
 use crate::io::open::Origin;
 use crate::objects::router;
 use crate::time::Instant;
-use crate::wire::cpf::{self, item_type, SockAddr};
-use crate::wire::encap::{command, status, Packet, Repr, HEADER_LEN};
+use crate::wire::cpf::{self, item_type, ItemHeaderRepr, ItemRepr, SockAddrRepr};
+use crate::wire::encap::{command, status, EncapRepr, Packet, HEADER_LEN};
 use crate::wire::identity_item::{listen_socket, IdentityRepr, ServiceRepr};
-use crate::wire::register_session::{self, PROTOCOL_VERSION};
-use crate::wire::{rr_data, Writer};
+use crate::wire::register_session::{self, RegisterSessionRepr, PROTOCOL_VERSION};
+use crate::wire::rr_data::{self, RrDataRepr};
+use crate::wire::Writer;
 
 /// Identity state reported in ListIdentity: operational.
 const STATE_OPERATIONAL: u8 = 3;
@@ -26,7 +27,7 @@ impl<D: Device> Adapter<D> {
     pub(crate) fn tcp_frame(
         &mut self,
         index: usize,
-        header: &Repr,
+        header: &EncapRepr,
         frame: &[u8],
         now: Instant,
         reply: &mut [u8],
@@ -84,7 +85,7 @@ impl<D: Device> Adapter<D> {
         reply: &mut [u8],
     ) -> usize {
         self.objects.link.count_in(datagram.len(), !broadcast);
-        let header = match Packet::new_checked(datagram).and_then(|p| Repr::parse(&p)) {
+        let header = match Packet::new_checked(datagram).and_then(|p| EncapRepr::parse(&p)) {
             Ok(h) if h.options == 0 => h,
             _ => {
                 self.objects.link.count_discard();
@@ -141,7 +142,7 @@ impl<D: Device> Adapter<D> {
             product_name: ident.product_name.as_bytes(),
             state: STATE_OPERATIONAL,
         };
-        let header = Repr {
+        let header = EncapRepr {
             command: command::LIST_IDENTITY,
             length: 0,
             session_handle,
@@ -151,7 +152,7 @@ impl<D: Device> Adapter<D> {
         };
         with_body(&header, out, |w| {
             w.u16(1)?;
-            cpf::emit_item_header(w, item_type::LIST_IDENTITY, item.buffer_len() as u16)?;
+            ItemHeaderRepr::new(item_type::LIST_IDENTITY, item.buffer_len() as u16).emit(w)?;
             item.emit(w)
         })
     }
@@ -159,12 +160,12 @@ impl<D: Device> Adapter<D> {
     fn register_session(
         &mut self,
         index: usize,
-        header: &Repr,
+        header: &EncapRepr,
         data: &[u8],
         out: &mut [u8],
     ) -> usize {
         let request = match register_session::Packet::new_checked(data) {
-            Ok(p) => register_session::Repr::parse(&p),
+            Ok(p) => RegisterSessionRepr::parse(&p),
             Err(_) => return error_reply(header, status::INVALID_LENGTH, out),
         };
         let already = self.sessions.get(index).is_some_and(|s| s.handle.is_some());
@@ -185,21 +186,21 @@ impl<D: Device> Adapter<D> {
             }
             (status::SUCCESS, h)
         };
-        let reply = Repr {
+        let reply = EncapRepr {
             session_handle: handle,
             ..header.reply(status, 0)
         };
         with_body(&reply, out, |w| {
-            register_session::Repr {
+            RegisterSessionRepr {
                 protocol_version: PROTOCOL_VERSION,
                 options: 0,
             }
-            .emit(w.reserve(register_session::LEN)?)
+            .emit(w)
         })
     }
 
     /// The originator of requests on socket `index`.
-    fn origin(&self, index: usize, t_o_sockaddr: Option<SockAddr>) -> Option<Origin> {
+    fn origin(&self, index: usize, t_o_sockaddr: Option<SockAddrRepr>) -> Option<Origin> {
         let peer = self.peer(index)?;
         Some(Origin {
             ip: *peer.ip(),
@@ -218,7 +219,7 @@ impl<D: Device> Adapter<D> {
     fn send_rr_data(
         &mut self,
         index: usize,
-        header: &Repr,
+        header: &EncapRepr,
         data: &[u8],
         now: Instant,
         out: &mut [u8],
@@ -233,17 +234,17 @@ impl<D: Device> Adapter<D> {
         let cx = RequestContext::unconnected(self.peer(index), now);
         let mut ctx = self.ctx(cx, origin);
         let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
-            rr_data::emit_prefix(w, 0, 0)?;
+            RrDataRepr::CIP.emit(w)?;
             let count_at = w.len();
             w.u16(2)?;
-            cpf::emit_item_header(w, item_type::NULL_ADDRESS, 0)?;
-            cpf::emit_item_header(w, item_type::UNCONNECTED_DATA, 0)?;
+            ItemHeaderRepr::new(item_type::NULL_ADDRESS, 0).emit(w)?;
+            ItemHeaderRepr::new(item_type::UNCONNECTED_DATA, 0).emit(w)?;
             let at = w.len();
             router::respond(&mut ctx, request, w, 0)?;
             w.patch_item_len(at);
             if let Some(sockaddr) = ctx.reply_t_o_sockaddr {
                 w.patch_u16(count_at, 3);
-                cpf::emit_item_header(w, item_type::SOCKADDR_T_O, cpf::SOCKADDR_LEN as u16)?;
+                ItemHeaderRepr::new(item_type::SOCKADDR_T_O, cpf::SOCKADDR_LEN as u16).emit(w)?;
                 sockaddr.emit(w)?;
             }
             Ok(())
@@ -260,7 +261,7 @@ impl<D: Device> Adapter<D> {
     fn send_unit_data(
         &mut self,
         index: usize,
-        header: &Repr,
+        header: &EncapRepr,
         data: &[u8],
         now: Instant,
         out: &mut [u8],
@@ -277,10 +278,10 @@ impl<D: Device> Adapter<D> {
         };
         let origin = self.origin(index, None);
         let body = |w: &mut Writer<'_>, t_o_id: u32| -> crate::wire::Result<usize> {
-            rr_data::emit_prefix(w, 0, 0)?;
+            RrDataRepr::CIP.emit(w)?;
             w.u16(2)?;
-            cpf::emit_item(w, item_type::CONNECTED_ADDRESS, &t_o_id.to_le_bytes())?;
-            cpf::emit_item_header(w, item_type::CONNECTED_DATA, 0)?;
+            ItemRepr::new(item_type::CONNECTED_ADDRESS, &t_o_id.to_le_bytes()).emit(w)?;
+            ItemHeaderRepr::new(item_type::CONNECTED_DATA, 0).emit(w)?;
             let at = w.len();
             w.u16(sequence)?;
             Ok(at)
@@ -320,7 +321,7 @@ impl<D: Device> Adapter<D> {
 
 /// The request in a SendRRData CPF (null address, unconnected data, then at most socket
 /// address items), with the T->O socket address if one was sent.
-fn unconnected_request(data: &[u8]) -> Option<(&[u8], Option<SockAddr>)> {
+fn unconnected_request(data: &[u8]) -> Option<(&[u8], Option<SockAddrRepr>)> {
     let rr = rr_data::Packet::new_checked(data).ok()?;
     if rr.interface_handle() != 0 {
         return None;
@@ -337,7 +338,7 @@ fn unconnected_request(data: &[u8]) -> Option<(&[u8], Option<SockAddr>)> {
     let mut t_o = None;
     for extra in items {
         match extra.type_id {
-            item_type::SOCKADDR_T_O => t_o = Some(SockAddr::parse(extra.data).ok()?),
+            item_type::SOCKADDR_T_O => t_o = Some(SockAddrRepr::parse(extra.data).ok()?),
             item_type::SOCKADDR_O_T => {}
             _ => return None,
         }
@@ -375,7 +376,7 @@ fn connected_request(data: &[u8]) -> Option<(u32, u16, &[u8])> {
 /// Writes `header` and a body produced by `body`, with the header's length set to the body's.
 /// Returns the frame length, or 0 if it did not fit.
 fn with_body(
-    header: &Repr,
+    header: &EncapRepr,
     out: &mut [u8],
     body: impl FnOnce(&mut Writer<'_>) -> crate::wire::Result<()>,
 ) -> usize {
@@ -387,26 +388,26 @@ fn with_body(
     let Ok(length) = u16::try_from(len.saturating_sub(HEADER_LEN)) else {
         return 0;
     };
-    match (Repr { length, ..*header }).emit(out) {
+    match (EncapRepr { length, ..*header }).emit(&mut Writer::new(out)) {
         Ok(()) => len,
         Err(_) => 0,
     }
 }
 
 /// A header-only reply carrying `status`.
-fn error_reply(header: &Repr, status: u32, out: &mut [u8]) -> usize {
+fn error_reply(header: &EncapRepr, status: u32, out: &mut [u8]) -> usize {
     with_body(&header.reply(status, 0), out, |_| Ok(()))
 }
 
-fn list_services_reply(header: &Repr, out: &mut [u8]) -> usize {
+fn list_services_reply(header: &EncapRepr, out: &mut [u8]) -> usize {
     with_body(&header.reply(status::SUCCESS, 0), out, |w| {
         let s = ServiceRepr::communications();
         w.u16(1)?;
-        cpf::emit_item_header(w, item_type::LIST_SERVICES, s.buffer_len() as u16)?;
+        ItemHeaderRepr::new(item_type::LIST_SERVICES, s.buffer_len() as u16).emit(w)?;
         s.emit(w)
     })
 }
 
-fn list_interfaces_reply(header: &Repr, out: &mut [u8]) -> usize {
+fn list_interfaces_reply(header: &EncapRepr, out: &mut [u8]) -> usize {
     with_body(&header.reply(status::SUCCESS, 0), out, |w| w.u16(0))
 }

@@ -7,7 +7,7 @@ mod encap;
 use core::net::{Ipv4Addr, SocketAddrV4};
 
 use crate::cip::context::RequestContext;
-use crate::config::{MAX_ENCAP_FRAME, MAX_SESSIONS};
+use crate::config::MAX_ENCAP_FRAME;
 use crate::device::{CloseReason, Device, InputChanges};
 use crate::encap::list_identity::DelayedReplies;
 use crate::encap::session::{Need, Sessions};
@@ -20,9 +20,10 @@ use crate::nv::{NvError, NvStore};
 use crate::objects::{Ctx, ObjectState};
 use crate::rng::Rng;
 use crate::time::{Duration, Instant};
-use crate::wire::encap::{status, Repr, HEADER_LEN};
+use crate::wire::encap::{status, EncapRepr, HEADER_LEN};
 
-/// Index of one of the runtime's [`MAX_SESSIONS`] TCP sockets on port 44818.
+/// Index of one of the runtime's [`MAX_SESSIONS`](crate::config::MAX_SESSIONS) TCP sockets
+/// on port 44818.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SocketId(pub u8);
 
@@ -233,11 +234,14 @@ impl<D: Device> Adapter<D> {
                         "encapsulation length over capacity; closing socket {}",
                         index
                     );
-                    let header = Repr::parse_header(&slot.rx).ok();
+                    let header = EncapRepr::parse_header(&slot.rx).ok();
                     slot.rx.clear();
                     self.objects.link.count_discard();
                     let reply_len = header
-                        .and_then(|h| h.reply(status::INVALID_LENGTH, 0).emit(reply).ok())
+                        .and_then(|h| {
+                            let reply = &mut crate::wire::Writer::new(reply);
+                            h.reply(status::INVALID_LENGTH, 0).emit(reply).ok()
+                        })
                         .map_or(0, |_| HEADER_LEN);
                     return TcpOutcome {
                         consumed: data.len(),
@@ -383,11 +387,6 @@ impl<D: Device> Adapter<D> {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }
-    }
-
-    /// Number of TCP sockets the runtime must provide.
-    pub const fn socket_count() -> usize {
-        MAX_SESSIONS
     }
 
     /// The service context for a request.

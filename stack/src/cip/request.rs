@@ -1,7 +1,7 @@
 //! A Message Router request as objects see it: service, decoded request path, data.
 
 use super::status::{CipError, CipResult, General};
-use crate::wire::epath::{LogicalType, Segment, Segments};
+use crate::wire::epath::{LogicalType, SegmentRepr, Segments};
 use crate::wire::message_router::{RequestPacket, RequestRepr};
 
 /// The addressing parts of a request path.
@@ -30,14 +30,14 @@ impl<'a> Path<'a> {
         loop {
             // Most paths are 8-bit logical segments only: those skip the general decoder.
             let seg = match segments.next_logical8() {
-                Some((kind, v)) => Segment::Logical(kind, v),
+                Some((kind, v)) => SegmentRepr::Logical(kind, v),
                 None => match segments.next() {
                     Some(seg) => seg.map_err(|_| CipError::new(General::PathSegmentError))?,
                     None => break,
                 },
             };
             match seg {
-                Segment::Logical(kind, v) => {
+                SegmentRepr::Logical(kind, v) => {
                     let slot = match kind {
                         LogicalType::Class => &mut p.class,
                         LogicalType::Instance => &mut p.instance,
@@ -50,7 +50,7 @@ impl<'a> Path<'a> {
                     };
                     set_once(slot, v)?;
                 }
-                Segment::Symbolic(s) if p.symbol.is_none() && p.class.is_none() => {
+                SegmentRepr::Symbolic(s) if p.symbol.is_none() && p.class.is_none() => {
                     p.symbol = Some(s);
                 }
                 _ => return Err(CipError::new(General::PathSegmentError)),

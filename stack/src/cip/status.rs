@@ -71,8 +71,8 @@ pub enum General {
 pub const MAX_ADDITIONAL: usize = 6;
 
 /// A failed service: general status plus up to [`MAX_ADDITIONAL`] additional status words.
+/// Shown (`Display`, and `defmt::Format` alike) as `general status 0x01, extended 0x0100`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CipError {
     /// General status code.
     pub general: u8,
@@ -148,6 +148,34 @@ impl CipError {
     }
 }
 
+impl core::fmt::Display for CipError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "general status {:#04x}", self.general)?;
+        let mut words = self.additional().iter();
+        if let Some(ext) = words.next() {
+            write!(f, ", extended {:#06x}", ext)?;
+        }
+        for word in words {
+            write!(f, ", {:#06x}", word)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for CipError {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        defmt::write!(f, "general status {=u8:#04x}", self.general);
+        let mut words = self.additional().iter();
+        if let Some(ext) = words.next() {
+            defmt::write!(f, ", extended {=u16:#06x}", ext);
+        }
+        for word in words {
+            defmt::write!(f, ", {=u16:#06x}", word);
+        }
+    }
+}
+
 impl From<General> for CipError {
     fn from(g: General) -> Self {
         CipError::new(g)
@@ -171,6 +199,27 @@ pub type CipResult<T = ()> = core::result::Result<T, CipError>;
 #[cfg(test)]
 mod tests {
     use super::General;
+
+    #[test]
+    fn shows_the_general_and_additional_status() {
+        extern crate std;
+        use super::CipError;
+        use std::string::ToString;
+        assert_eq!(
+            CipError::new(General::PathDestinationUnknown).to_string(),
+            "general status 0x05"
+        );
+        assert_eq!(
+            CipError::connection(0x0109).to_string(),
+            "general status 0x01, extended 0x0109"
+        );
+        assert_eq!(
+            CipError::connection(0x0127)
+                .with_words(&[0x0127, 6])
+                .to_string(),
+            "general status 0x01, extended 0x0127, 0x0006"
+        );
+    }
 
     /// The codes whose numbers are easy to mix up, against Vol 1 appendix B.
     #[test]

@@ -176,7 +176,10 @@ pub trait Device {
     fn attribute_access(&self, at: &AttributeRef<'_>) -> Access {
         at.attribute.access
     }
-    /// The size of a [`crate::cip::object::DataType::RunTime`] attribute.
+    /// The size in bytes of a [`crate::cip::object::DataType::RunTime`] attribute of a
+    /// declared class on this instance: how much of a Set_Attribute_Single or
+    /// Set_Attribute_List value is its (a shorter value is 0x13, a longer Single 0x15). `None`
+    /// (the default) refuses a Set of it with 0x14; Gets do not need it.
     fn attribute_size(&self, _at: &AttributeRef<'_>) -> Option<usize> {
         None
     }

@@ -4,7 +4,7 @@ use core::net::SocketAddrV4;
 
 use crate::config::{MAX_ENCAP_DATA, MAX_ENCAP_FRAME, MAX_SESSIONS};
 use crate::time::Instant;
-use crate::wire::encap::{Repr, HEADER_LEN};
+use crate::wire::encap::{EncapRepr, HEADER_LEN};
 
 /// How much of the current frame the slot still lacks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -12,7 +12,7 @@ pub enum Need {
     /// This many more bytes.
     Bytes(usize),
     /// The frame is complete; its header, parsed once for whoever handles it.
-    Complete(Repr),
+    Complete(EncapRepr),
     /// The header declares more data than the stack accepts.
     TooLong,
 }
@@ -51,7 +51,7 @@ pub fn frame_need(rx: &[u8]) -> Need {
     if rx.len() < HEADER_LEN {
         return Need::Bytes(HEADER_LEN.saturating_sub(rx.len()));
     }
-    let Ok(header) = Repr::parse_header(rx) else {
+    let Ok(header) = EncapRepr::parse_header(rx) else {
         return Need::Bytes(HEADER_LEN.saturating_sub(rx.len()));
     };
     let length = usize::from(header.length);

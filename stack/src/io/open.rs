@@ -17,11 +17,11 @@ use crate::device::{
     Kind, OpenRequest, Trigger,
 };
 use crate::time::{Duration, Instant};
-use crate::wire::cpf::SockAddr;
+use crate::wire::cpf::SockAddrRepr;
 use crate::wire::epath::{
-    ElectronicKey, LogicalType, Segment, Segments, NETWORK_PRODUCTION_INHIBIT_MS,
+    ElectronicKey, LogicalType, SegmentRepr, Segments, NETWORK_PRODUCTION_INHIBIT_MS,
 };
-use crate::wire::forward_open::{ConnectionType, ForwardOpen, NetworkParams};
+use crate::wire::forward_open::{ConnectionType, ForwardOpenRepr, NetworkParams};
 use crate::wire::io_datagram::{RUN_IDLE_LEN, SEQUENCE_LEN};
 
 /// Where a Forward_Open came from.
@@ -32,7 +32,7 @@ pub struct Origin {
     /// Socket index of its encapsulation session.
     pub socket: u8,
     /// T->O socket address item it sent, if any (its UDP port for point-to-point data).
-    pub t_o_sockaddr: Option<SockAddr>,
+    pub t_o_sockaddr: Option<SockAddrRepr>,
 }
 
 /// The network facts a Forward_Open needs: our address, multicast group and TTL.
@@ -68,22 +68,24 @@ impl<'a> ConnPath<'a> {
         let mut p = ConnPath::default();
         for (i, seg) in Segments::new(raw).enumerate() {
             match seg.map_err(|_| bad_segment())? {
-                Segment::Port { port: 1, link: [0] } if i == 0 => {}
-                Segment::ElectronicKey(k) if p.key.is_none() && p.class.is_none() => {
+                SegmentRepr::Port { port: 1, link: [0] } if i == 0 => {}
+                SegmentRepr::ElectronicKey(k) if p.key.is_none() && p.class.is_none() => {
                     p.key = Some(k)
                 }
-                Segment::Logical(LogicalType::Class, c) if p.class.is_none() => p.class = Some(c),
-                Segment::Logical(LogicalType::Instance | LogicalType::ConnectionPoint, v)
+                SegmentRepr::Logical(LogicalType::Class, c) if p.class.is_none() => {
+                    p.class = Some(c)
+                }
+                SegmentRepr::Logical(LogicalType::Instance | LogicalType::ConnectionPoint, v)
                     if p.class.is_some() && p.config_data.is_none() =>
                 {
                     p.points.push(v).map_err(|_| bad_segment())?;
                 }
-                Segment::Logical(LogicalType::Attribute, _) if !p.points.is_empty() => {}
-                Segment::Network {
+                SegmentRepr::Logical(LogicalType::Attribute, _) if !p.points.is_empty() => {}
+                SegmentRepr::Network {
                     kind: NETWORK_PRODUCTION_INHIBIT_MS,
                     data: [ms],
                 } => p.inhibit_ms = Some(*ms),
-                Segment::Data(d) if p.config_data.is_none() => p.config_data = Some(d),
+                SegmentRepr::Data(d) if p.config_data.is_none() => p.config_data = Some(d),
                 _ => return Err(bad_segment()),
             }
         }
@@ -117,7 +119,7 @@ fn check_key(key: &ElectronicKey, id: &IdentityInfo) -> CipResult {
 }
 
 /// 0x0112 with the acceptable values if an RPI in use lies outside the stack's range.
-fn check_rpis(fo: &ForwardOpen<'_>) -> CipResult {
+fn check_rpis(fo: &ForwardOpenRepr<'_>) -> CipResult {
     let used = |p: &NetworkParams| p.connection_type != ConnectionType::Null;
     rpi_check(
         [
@@ -165,7 +167,7 @@ fn size_ok(p: &NetworkParams, expected: usize) -> bool {
 pub fn forward_open<D: Device>(
     table: &mut ConnectionTable,
     device: &mut D,
-    fo: &ForwardOpen<'_>,
+    fo: &ForwardOpenRepr<'_>,
     origin: &Origin,
     net: &NetFacts,
     now: Instant,
@@ -302,7 +304,11 @@ fn configuration_refused(e: CipError) -> CipError {
 }
 
 /// Class 3: a path to the Message Router, sizes within the explicit message buffer.
-fn explicit(fo: &ForwardOpen<'_>, path: &ConnPath<'_>, base: Connection) -> CipResult<Connection> {
+fn explicit(
+    fo: &ForwardOpenRepr<'_>,
+    path: &ConnPath<'_>,
+    base: Connection,
+) -> CipResult<Connection> {
     let router = path.class == Some(u32::from(class_id::MESSAGE_ROUTER))
         && matches!(path.points.as_slice(), [] | [1])
         && path.config_data.is_none();
@@ -325,7 +331,7 @@ fn assembly(device: &impl Device, instance: u32) -> Option<AssemblyInfo> {
 fn class1<D: Device>(
     table: &ConnectionTable,
     device: &D,
-    fo: &ForwardOpen<'_>,
+    fo: &ForwardOpenRepr<'_>,
     path: &ConnPath<'_>,
     origin: &Origin,
     net: &NetFacts,

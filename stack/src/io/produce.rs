@@ -8,7 +8,8 @@ use super::table::ConnectionTable;
 use crate::device::Device;
 use crate::device::Trigger;
 use crate::time::{Duration, Instant};
-use crate::wire::io_datagram::{sequenced_header, HEADER_LEN, SEQUENCE_LEN};
+use crate::wire::io_datagram::{IoDatagramRepr, HEADER_LEN, SEQUENCE_LEN};
+use crate::wire::Writer;
 
 /// The first deadline on the grid `previous + k * rpi` that is after `now` (k >= 1).
 fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
@@ -172,7 +173,15 @@ fn emit<D: Device>(device: &mut D, p: &Producer, t_o_id: u32, out: &mut [u8]) ->
     let Ok(connected) = u16::try_from(SEQUENCE_LEN.saturating_add(size)) else {
         return 0;
     };
-    *head = sequenced_header(t_o_id, p.encap_sequence, connected, p.sequence);
+    let front = IoDatagramRepr {
+        connection_id: t_o_id,
+        encap_sequence: p.encap_sequence,
+        connected_len: connected,
+        sequence: p.sequence,
+    };
+    if front.emit(&mut Writer::new(head)).is_err() {
+        return 0;
+    }
     head.len().saturating_add(size)
 }
 

@@ -5,8 +5,9 @@
 //! over any [`Flash`] with two sectors used in turn (A/B): a write programs a complete new
 //! copy (sequence number and CRC) into the other sector and commits it last, so a power cut at
 //! any point leaves the previous complete copy readable, and erases alternate between the two.
-//! [`RamFlash`] is the flash of the host and QEMU builds, [`CutFlash`] one whose power a test
-//! cuts at any step. [`SharedStore`] lets the adapter and the device profile keep their
+//! [`NorFlashSectors`] puts it on any `embedded-storage` `NorFlash` driver (the NUCLEO's
+//! on-chip flash), [`RamFlash`] is the flash of the host and QEMU builds, [`CutFlash`] one
+//! whose power a test cuts at any step. [`SharedStore`] lets the adapter and the device profile keep their
 //! records in the same store.
 
 mod ab;
@@ -19,7 +20,7 @@ mod shared;
 pub use ab::{AbStore, IMAGE_SIZE, PROFILE_RECORD_ROOM, STACK_RECORD_ROOM};
 pub use crc::crc32;
 pub use cut_flash::{CutFlash, CUT_SECTOR};
-pub use flash::{Flash, FlashError, RamFlash, MAX_WRITE_SIZE};
+pub use flash::{Flash, FlashError, NorFlashSectors, RamFlash, MAX_WRITE_SIZE};
 pub use shared::SharedStore;
 
 /// Why a store operation failed.
@@ -35,6 +36,19 @@ pub enum NvError {
     /// Another owner's operation on a [`SharedStore`] is still running.
     Busy,
 }
+
+impl core::fmt::Display for NvError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            NvError::Flash => "the flash refused a read, erase or program",
+            NvError::NoSpace => "the records do not fit in one copy",
+            NvError::BufferTooSmall => "the buffer is smaller than the record",
+            NvError::Busy => "another owner's store operation is still running",
+        })
+    }
+}
+
+impl core::error::Error for NvError {}
 
 impl From<FlashError> for NvError {
     fn from(_: FlashError) -> Self {

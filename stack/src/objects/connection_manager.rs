@@ -11,10 +11,11 @@ use crate::cip::{class_id, service, Request};
 use crate::config::IO_PORT;
 use crate::device::{CloseReason, Device};
 use crate::io::open::{self, NetFacts};
-use crate::wire::cpf::SockAddr;
-use crate::wire::epath::{Segment, Segments};
+use crate::wire::cpf::SockAddrRepr;
+use crate::wire::epath::{SegmentRepr, Segments};
 use crate::wire::forward_open::{
-    self, ConnectionType, ForwardClose, ForwardOpen, ForwardOpenReply,
+    ConnectionType, FailureReplyRepr, ForwardCloseReplyRepr, ForwardCloseRepr,
+    ForwardOpenReplyRepr, ForwardOpenRepr,
 };
 use crate::wire::{Error, Reader, Writer};
 
@@ -132,11 +133,12 @@ fn forward_open<D: Device>(
     w: &mut Writer<'_>,
 ) -> CipResult {
     let counters = &mut ctx.state.connection_manager;
-    let fo =
-        ForwardOpen::parse(req.data, req.service == service::LARGE_FORWARD_OPEN).map_err(|e| {
+    let fo = ForwardOpenRepr::parse(req.data, req.service == service::LARGE_FORWARD_OPEN).map_err(
+        |e| {
             bump(&mut counters.open_format_rejects);
             data_error(e)
-        })?;
+        },
+    )?;
     let origin = ctx
         .origin
         .ok_or(CipError::new(General::ServiceNotSupported))?;
@@ -152,10 +154,9 @@ fn forward_open<D: Device>(
         Ok(slot) => slot,
         Err(e) => {
             info!(
-                "Forward_Open from {} refused: general status {:#04x}, extended {:#06x} {}",
+                "Forward_Open from {} refused: {} {}",
                 origin.ip,
-                e.general,
-                e.extended().unwrap_or(0),
+                e,
                 ext::describe(e.extended().unwrap_or(0))
             );
             let c = &mut ctx.state.connection_manager;
@@ -169,7 +170,11 @@ fn forward_open<D: Device>(
             } else {
                 0
             };
-            forward_open::emit_failure(w, &fo.triad, remaining)?;
+            FailureReplyRepr {
+                triad: fo.triad,
+                remaining_path_words: remaining,
+            }
+            .emit(w)?;
             return Err(e.keeping_data());
         }
     };
@@ -178,12 +183,12 @@ fn forward_open<D: Device>(
         .get(slot)
         .ok_or(CipError::new(General::ResourceUnavailable))?;
     if fo.t_o_params.connection_type == ConnectionType::Multicast {
-        ctx.reply_t_o_sockaddr = Some(SockAddr {
+        ctx.reply_t_o_sockaddr = Some(SockAddrRepr {
             addr: net.multicast,
             port: IO_PORT,
         });
     }
-    ForwardOpenReply {
+    ForwardOpenReplyRepr {
         o_t_connection_id: conn.o_t_id,
         t_o_connection_id: conn.t_o_id,
         triad: conn.triad,
@@ -196,18 +201,26 @@ fn forward_open<D: Device>(
 }
 
 fn forward_close<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8], w: &mut Writer<'_>) -> CipResult {
-    let fc = ForwardClose::parse(data).map_err(|e| {
+    let fc = ForwardCloseRepr::parse(data).map_err(|e| {
         bump(&mut ctx.state.connection_manager.close_format_rejects);
         data_error(e)
     })?;
     let Some(slot) = ctx.connections.find_triad(&fc.triad) else {
         bump(&mut ctx.state.connection_manager.close_other_rejects);
-        forward_open::emit_failure(w, &fc.triad, 0)?;
+        FailureReplyRepr {
+            triad: fc.triad,
+            remaining_path_words: 0,
+        }
+        .emit(w)?;
         return Err(CipError::connection(ext::NOT_FOUND).keeping_data());
     };
     ctx.connections
         .close(slot, CloseReason::ForwardClose, ctx.device);
-    forward_open::emit_close_reply(w, &fc.triad)?;
+    ForwardCloseReplyRepr {
+        triad: fc.triad,
+        application_reply: &[],
+    }
+    .emit(w)?;
     Ok(())
 }
 
@@ -251,11 +264,13 @@ fn check_route(route: &[u8]) -> CipResult {
     let mut segs = Segments::new(route);
     let first = segs.next();
     match (first, segs.next()) {
-        (Some(Ok(Segment::Port { port: 1, link: [0] })), None) => Ok(()),
-        (Some(Ok(Segment::Port { port: 1, .. })), None) => {
+        (Some(Ok(SegmentRepr::Port { port: 1, link: [0] })), None) => Ok(()),
+        (Some(Ok(SegmentRepr::Port { port: 1, .. })), None) => {
             Err(CipError::connection(EXT_LINK_ADDRESS_NOT_VALID))
         }
-        (Some(Ok(Segment::Port { .. })), None) => Err(CipError::connection(EXT_PORT_NOT_AVAILABLE)),
+        (Some(Ok(SegmentRepr::Port { .. })), None) => {
+            Err(CipError::connection(EXT_PORT_NOT_AVAILABLE))
+        }
         _ => Err(CipError::connection(ext::BAD_SEGMENT)),
     }
 }

@@ -26,7 +26,7 @@ use crate::io::open::Origin;
 use crate::io::ConnectionTable;
 use crate::net::NetworkConfig;
 use crate::nv::NvStore;
-use crate::wire::cpf::SockAddr;
+use crate::wire::cpf::SockAddrRepr;
 
 /// State the stack's own objects keep between requests.
 #[derive(Debug, Clone)]
@@ -69,7 +69,7 @@ pub(crate) struct Ctx<'a, D: Device> {
     /// Who sent the request, when it came over TCP.
     pub origin: Option<Origin>,
     /// Set by a Forward_Open whose T->O data is multicast: the reply's T->O socket address.
-    pub reply_t_o_sockaddr: Option<SockAddr>,
+    pub reply_t_o_sockaddr: Option<SockAddrRepr>,
     /// Unconnected or connected, the session's peer, the time.
     pub request: RequestContext,
     /// Where settings that survive a power cycle go (none: they last until power-off).

@@ -7,7 +7,7 @@ use crate::cip::class_id;
 use crate::cip::request::Request;
 use crate::cip::status::CipResult;
 use crate::device::Device;
-use crate::wire::message_router::{emit_response_header, REPLY_BIT};
+use crate::wire::message_router::{ResponseRepr, REPLY_BIT};
 use crate::wire::{self, Writer};
 
 /// How deep requests may nest (Multiple_Service_Packet, Unconnected_Send).
@@ -56,29 +56,42 @@ fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> w
     let general = match result {
         Ok(()) => 0u8,
         Err(e) if e.keeps_data() && w.len() > start => {
-            let mut words = [0u8; 2 * crate::cip::status::MAX_ADDITIONAL];
-            let n = e.additional().len();
-            for (dst, src) in words.chunks_exact_mut(2).zip(e.additional()) {
-                dst.copy_from_slice(&src.to_le_bytes());
-            }
-            let words = words.get(..n.saturating_mul(2)).unwrap_or(&[]);
+            let (words, n) = additional_bytes(e.additional());
+            let words = words.get(..n).unwrap_or(&[]);
             w.insert(start.saturating_add(4), words)?;
             w.patch_u16(
                 start.saturating_add(2),
-                u16::from(e.general) | ((n as u16) << 8),
+                u16::from(e.general) | (((n / 2) as u16) << 8),
             );
             w.patch_u16(start, u16::from(service | REPLY_BIT));
             return Ok(());
         }
         Err(e) => {
-            debug!("cip error {:x} on service {:x}", e.general, service);
+            debug!("service {:#04x}: {}", service, e);
             w.truncate(start);
-            return emit_response_header(w, service, e.general, e.additional());
+            let (words, n) = additional_bytes(e.additional());
+            return ResponseRepr {
+                service: service | REPLY_BIT,
+                general_status: e.general,
+                additional_status: words.get(..n).unwrap_or(&[]),
+                data: &[],
+            }
+            .emit(w);
         }
     };
     w.patch_u16(start, u16::from(service | REPLY_BIT));
     w.patch_u16(start.saturating_add(2), u16::from(general));
     Ok(())
+}
+
+/// The additional status words as little-endian bytes, and how many bytes that is.
+fn additional_bytes(words: &[u16]) -> ([u8; 2 * crate::cip::status::MAX_ADDITIONAL], usize) {
+    let mut bytes = [0u8; 2 * crate::cip::status::MAX_ADDITIONAL];
+    for (dst, src) in bytes.chunks_exact_mut(2).zip(words) {
+        dst.copy_from_slice(&src.to_le_bytes());
+    }
+    let n = words.len().min(crate::cip::status::MAX_ADDITIONAL);
+    (bytes, n.saturating_mul(2))
 }
 
 /// Sends a decoded request to its object: a built-in one, a class the device declares, or

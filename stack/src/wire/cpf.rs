@@ -41,13 +41,81 @@ const fn fixed_len(type_id: u16) -> Option<usize> {
     }
 }
 
-/// One CPF item.
+/// One CPF item, parsed (from [`Packet::items`]) or to emit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Item<'a> {
+pub struct ItemRepr<'a> {
     /// Item type identifier.
     pub type_id: u16,
     /// Item data.
     pub data: &'a [u8],
+}
+
+impl<'a> ItemRepr<'a> {
+    /// The item `type_id` with `data`.
+    pub const fn new(type_id: u16, data: &'a [u8]) -> Self {
+        ItemRepr { type_id, data }
+    }
+    /// Parses the item at the front of `r`.
+    pub fn parse(r: &mut Reader<'a>) -> Result<ItemRepr<'a>> {
+        let header = ItemHeaderRepr::parse(r)?;
+        let data = r.take(usize::from(header.len))?;
+        Ok(ItemRepr {
+            type_id: header.type_id,
+            data,
+        })
+    }
+    /// Bytes the item takes.
+    pub const fn buffer_len(&self) -> usize {
+        self.data.len().saturating_add(ITEM_HEADER_LEN)
+    }
+    /// Writes the whole item. Inlined: SendUnitData's connected address item, on the Class 3
+    /// path, then costs no call.
+    #[inline]
+    pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
+        let len = u16::try_from(self.data.len()).map_err(|_| Error::Exhausted)?;
+        ItemHeaderRepr {
+            type_id: self.type_id,
+            len,
+        }
+        .emit(w)?;
+        w.bytes(self.data)
+    }
+}
+
+/// Bytes of an item's type and length.
+pub const ITEM_HEADER_LEN: usize = 4;
+
+/// The type and length of a CPF item, for an item whose data the caller writes after it
+/// (with [`Writer::patch_item_len`] once it knows the length).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ItemHeaderRepr {
+    /// Item type identifier.
+    pub type_id: u16,
+    /// Length of the item's data.
+    pub len: u16,
+}
+
+impl ItemHeaderRepr {
+    /// The header of an item `type_id` with `len` bytes of data.
+    pub const fn new(type_id: u16, len: u16) -> Self {
+        ItemHeaderRepr { type_id, len }
+    }
+    /// Parses the item header at the front of `r`.
+    pub fn parse(r: &mut Reader<'_>) -> Result<ItemHeaderRepr> {
+        Ok(ItemHeaderRepr {
+            type_id: r.u16()?,
+            len: r.u16()?,
+        })
+    }
+    /// Bytes the header takes.
+    pub const fn buffer_len(&self) -> usize {
+        ITEM_HEADER_LEN
+    }
+    /// Writes the type and length.
+    pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.u16(self.type_id)?;
+        w.u16(self.len)
+    }
 }
 
 /// A view over a whole CPF, validated item by item.
@@ -66,9 +134,9 @@ impl<T: AsRef<[u8]>> Packet<T> {
             return Err(Error::Malformed);
         }
         for _ in 0..count {
-            let type_id = r.u16()?;
-            let len = usize::from(r.u16()?);
-            if fixed_len(type_id).is_some_and(|f| f != len) {
+            let header = ItemHeaderRepr::parse(&mut r)?;
+            let len = usize::from(header.len);
+            if fixed_len(header.type_id).is_some_and(|f| f != len) {
                 return Err(Error::Malformed);
             }
             r.take(len)?;
@@ -89,7 +157,7 @@ impl<T: AsRef<[u8]>> Packet<T> {
         Items { r, left }
     }
     /// The first item of `type_id`, if any.
-    pub fn find(&self, type_id: u16) -> Option<Item<'_>> {
+    pub fn find(&self, type_id: u16) -> Option<ItemRepr<'_>> {
         self.items().find(|i| i.type_id == type_id)
     }
 }
@@ -111,47 +179,32 @@ pub struct Items<'a> {
 }
 
 impl<'a> Iterator for Items<'a> {
-    type Item = Item<'a>;
-    fn next(&mut self) -> Option<Item<'a>> {
+    type Item = ItemRepr<'a>;
+    fn next(&mut self) -> Option<ItemRepr<'a>> {
         if self.left == 0 {
             return None;
         }
         self.left = self.left.saturating_sub(1);
-        let type_id = self.r.u16().ok()?;
-        let len = usize::from(self.r.u16().ok()?);
-        let data = self.r.take(len).ok()?;
-        Some(Item { type_id, data })
+        ItemRepr::parse(&mut self.r).ok()
     }
-}
-
-/// Writes an item header (type and length); the caller writes `len` data bytes after it.
-pub fn emit_item_header(w: &mut Writer<'_>, type_id: u16, len: u16) -> Result<()> {
-    w.u16(type_id)?;
-    w.u16(len)
-}
-
-/// Writes a whole item.
-pub fn emit_item(w: &mut Writer<'_>, type_id: u16, data: &[u8]) -> Result<()> {
-    let len = u16::try_from(data.len()).map_err(|_| Error::Exhausted)?;
-    emit_item_header(w, type_id, len)?;
-    w.bytes(data)
 }
 
 /// Length of a socket address item's data.
 pub const SOCKADDR_LEN: usize = 16;
 
-/// A socket address item (big-endian `sockaddr_in`): where the peer wants I/O sent.
+/// The data of a socket address item (big-endian `sockaddr_in`): where the peer wants I/O
+/// sent.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct SockAddr {
+pub struct SockAddrRepr {
     /// IPv4 address.
     pub addr: Ipv4Addr,
     /// UDP port.
     pub port: u16,
 }
 
-impl SockAddr {
+impl SockAddrRepr {
     /// Parses the 16 data bytes of a socket address item (family must be AF_INET).
-    pub fn parse(data: &[u8]) -> Result<SockAddr> {
+    pub fn parse(data: &[u8]) -> Result<SockAddrRepr> {
         if data.len() != SOCKADDR_LEN {
             return Err(Error::Truncated);
         }
@@ -162,7 +215,11 @@ impl SockAddr {
         if family != 2 {
             return Err(Error::Malformed);
         }
-        Ok(SockAddr { addr, port })
+        Ok(SockAddrRepr { addr, port })
+    }
+    /// Bytes the item data takes.
+    pub const fn buffer_len(&self) -> usize {
+        SOCKADDR_LEN
     }
     /// Writes the 16 data bytes.
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
@@ -181,11 +238,11 @@ mod tests {
     fn parses_null_and_unconnected() {
         let buf = [2, 0, 0, 0, 0, 0, 0xB2, 0, 2, 0, 0x0E, 0x03];
         let p = Packet::new_checked(&buf[..]).unwrap();
-        let items: heapless::Vec<Item<'_>, 4> = p.items().collect();
+        let items: heapless::Vec<ItemRepr<'_>, 4> = p.items().collect();
         assert_eq!(items.len(), 2);
         assert_eq!(
             items[1],
-            Item {
+            ItemRepr {
                 type_id: item_type::UNCONNECTED_DATA,
                 data: &[0x0E, 3]
             }
@@ -222,8 +279,30 @@ mod tests {
     }
 
     #[test]
+    fn items_round_trip() {
+        let mut buf = [0u8; 16];
+        let mut w = Writer::new(&mut buf);
+        w.u16(2).unwrap();
+        let null = ItemRepr {
+            type_id: item_type::NULL_ADDRESS,
+            data: &[],
+        };
+        null.emit(&mut w).unwrap();
+        let data = ItemRepr {
+            type_id: item_type::UNCONNECTED_DATA,
+            data: &[0x0E, 3],
+        };
+        data.emit(&mut w).unwrap();
+        assert_eq!(w.len(), 2 + null.buffer_len() + data.buffer_len());
+        let n = w.len();
+        let p = Packet::new_checked(&buf[..n]).unwrap();
+        assert!(p.items().eq([null, data]));
+        assert_eq!(p.find(item_type::UNCONNECTED_DATA), Some(data));
+    }
+
+    #[test]
     fn sockaddr_round_trip() {
-        let s = SockAddr {
+        let s = SockAddrRepr {
             addr: Ipv4Addr::new(198, 18, 0, 1),
             port: 2222,
         };
@@ -231,6 +310,7 @@ mod tests {
         let mut w = Writer::new(&mut buf);
         s.emit(&mut w).unwrap();
         assert_eq!(&buf[..8], &[0, 2, 0x08, 0xAE, 198, 18, 0, 1]);
-        assert_eq!(SockAddr::parse(&buf), Ok(s));
+        assert_eq!(SockAddrRepr::parse(&buf), Ok(s));
+        assert_eq!(s.buffer_len(), buf.len());
     }
 }

@@ -1,7 +1,7 @@
 //! The 24-byte encapsulation header and the encapsulation command and status codes.
 
 use super::bytes::{get_u16, get_u32, put_u16, put_u32};
-use super::{Error, Result};
+use super::{Error, Result, Writer};
 
 /// Length of the encapsulation header.
 pub const HEADER_LEN: usize = 24;
@@ -119,9 +119,9 @@ impl<T: AsRef<[u8]>> Packet<T> {
     }
 }
 
-/// A parsed encapsulation header.
+/// An encapsulation header, parsed or to emit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Repr {
+pub struct EncapRepr {
     /// Command code.
     pub command: u16,
     /// Length of the data part.
@@ -136,24 +136,17 @@ pub struct Repr {
     pub options: u32,
 }
 
-impl Repr {
-    /// Parses the header fields of a checked packet.
-    pub fn parse<T: AsRef<[u8]>>(p: &Packet<T>) -> Result<Repr> {
+impl EncapRepr {
+    /// Parses the header of a packet (checking that its data is there too).
+    pub fn parse<T: AsRef<[u8]>>(p: &Packet<T>) -> Result<EncapRepr> {
         p.check_len()?;
-        Ok(Repr {
-            command: p.command(),
-            length: p.length(),
-            session_handle: p.session_handle(),
-            status: p.status(),
-            sender_context: p.sender_context(),
-            options: p.options(),
-        })
+        Self::parse_header(p.buffer.as_ref())
     }
     /// Parses just the 24 header bytes at the start of `buf` (the data may not be there yet).
-    pub fn parse_header(buf: &[u8]) -> Result<Repr> {
+    pub fn parse_header(buf: &[u8]) -> Result<EncapRepr> {
         let head = buf.get(..HEADER_LEN).ok_or(Error::Truncated)?;
         let p = Packet::new_unchecked(head);
-        Ok(Repr {
+        Ok(EncapRepr {
             command: p.command(),
             length: p.length(),
             session_handle: p.session_handle(),
@@ -166,11 +159,9 @@ impl Repr {
     pub const fn buffer_len(&self) -> usize {
         HEADER_LEN
     }
-    /// Writes the header into the first 24 bytes of `buf`.
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        if buf.len() < HEADER_LEN {
-            return Err(Error::Exhausted);
-        }
+    /// Writes the 24 header bytes.
+    pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
+        let buf = w.reserve(HEADER_LEN)?;
         put_u16(buf, field::COMMAND, self.command);
         put_u16(buf, field::LENGTH, self.length);
         put_u32(buf, field::SESSION, self.session_handle);
@@ -182,8 +173,8 @@ impl Repr {
         Ok(())
     }
     /// The header of a reply to `self` with `status` and `length` bytes of data.
-    pub const fn reply(&self, status: u32, length: u16) -> Repr {
-        Repr {
+    pub const fn reply(&self, status: u32, length: u16) -> EncapRepr {
+        EncapRepr {
             command: self.command,
             length,
             session_handle: self.session_handle,
@@ -206,7 +197,7 @@ mod tests {
     #[test]
     fn parses_register_session() {
         let p = Packet::new_checked(&REGISTER[..]).unwrap();
-        let r = Repr::parse(&p).unwrap();
+        let r = EncapRepr::parse(&p).unwrap();
         assert_eq!(r.command, command::REGISTER_SESSION);
         assert_eq!(r.length, 4);
         assert_eq!(r.sender_context, [1, 2, 3, 4, 5, 6, 7, 8]);
@@ -227,10 +218,13 @@ mod tests {
 
     #[test]
     fn round_trips() {
-        let r = Repr::parse_header(&REGISTER).unwrap();
+        let r = EncapRepr::parse_header(&REGISTER).unwrap();
         let mut out = [0u8; 24];
-        r.emit(&mut out).unwrap();
+        r.emit(&mut Writer::new(&mut out)).unwrap();
         assert_eq!(&out[..], &REGISTER[..24]);
-        assert_eq!(r.emit(&mut [0u8; 23]), Err(Error::Exhausted));
+        assert_eq!(r.buffer_len(), HEADER_LEN);
+        let mut short = [0u8; 23];
+        assert_eq!(r.emit(&mut Writer::new(&mut short)), Err(Error::Exhausted));
+        assert_eq!(short, [0; 23]);
     }
 }

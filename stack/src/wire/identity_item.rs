@@ -2,7 +2,7 @@
 
 use core::net::Ipv4Addr;
 
-use super::cpf::SockAddr;
+use super::cpf::SockAddrRepr;
 use super::{Error, Reader, Result, Writer};
 
 /// A parsed or to-be-emitted CIP identity item.
@@ -11,7 +11,7 @@ pub struct IdentityRepr<'a> {
     /// Encapsulation protocol version (1).
     pub protocol_version: u16,
     /// Where the device listens: its IP address and TCP port.
-    pub socket: SockAddr,
+    pub socket: SockAddrRepr,
     /// Vendor ID.
     pub vendor_id: u16,
     /// Device type.
@@ -35,7 +35,7 @@ impl<'a> IdentityRepr<'a> {
     pub fn parse(data: &'a [u8]) -> Result<IdentityRepr<'a>> {
         let mut r = Reader::new(data);
         let protocol_version = r.u16()?;
-        let socket = SockAddr::parse(r.take(16)?)?;
+        let socket = SockAddrRepr::parse(r.take(16)?)?;
         let vendor_id = r.u16()?;
         let device_type = r.u16()?;
         let product_code = r.u16()?;
@@ -136,8 +136,8 @@ impl ServiceRepr {
 }
 
 /// The address a ListIdentity reply advertises.
-pub const fn listen_socket(ip: Ipv4Addr) -> SockAddr {
-    SockAddr {
+pub const fn listen_socket(ip: Ipv4Addr) -> SockAddrRepr {
+    SockAddrRepr {
         addr: ip,
         port: super::encap::ENCAP_PORT,
     }

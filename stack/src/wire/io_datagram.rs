@@ -4,7 +4,7 @@
 
 use super::bytes::{get_u16, get_u32, put_u16};
 use super::cpf::item_type;
-use super::{Error, Result};
+use super::{Error, Result, Writer};
 
 /// UDP port of Class 0/1 implicit I/O.
 pub const IO_PORT: u16 = 2222;
@@ -65,39 +65,59 @@ impl<T: AsRef<[u8]>> Packet<T> {
     }
 }
 
-/// Writes the datagram header for `data_len` bytes of connected data (sequence count
-/// included) into `buf`; the caller writes the connected data at [`HEADER_LEN`].
-pub fn emit_header(
-    buf: &mut [u8],
-    connection_id: u32,
-    encap_sequence: u32,
-    data_len: usize,
-) -> Result<()> {
-    let len = u16::try_from(data_len).map_err(|_| Error::Exhausted)?;
-    if buf.len() < HEADER_LEN.saturating_add(data_len) {
-        return Err(Error::Exhausted);
-    }
-    let (head, _) = buf
-        .split_first_chunk_mut::<HEADER_LEN>()
-        .ok_or(Error::Exhausted)?;
-    *head = header(connection_id, encap_sequence, len);
-    Ok(())
+/// The fixed front of an I/O datagram, parsed or to emit: the item count, the sequenced
+/// address item, the connected data item's header and the 16-bit CIP sequence count. The
+/// run/idle header (where used) and the application data follow it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct IoDatagramRepr {
+    /// Connection ID.
+    pub connection_id: u32,
+    /// 32-bit encapsulation sequence number.
+    pub encap_sequence: u32,
+    /// Bytes of the connected data item: sequence count, run/idle header, application data.
+    pub connected_len: u16,
+    /// 16-bit CIP sequence count.
+    pub sequence: u16,
 }
 
-/// The first [`HEADER_LEN`] + [`SEQUENCE_LEN`] bytes of a datagram: its header for
-/// `data_len` bytes of connected data (sequence count included), then the sequence count.
-pub fn sequenced_header(
-    connection_id: u32,
-    encap_sequence: u32,
-    data_len: u16,
-    sequence: u16,
-) -> [u8; HEADER_LEN + SEQUENCE_LEN] {
-    let mut out = [0; HEADER_LEN + SEQUENCE_LEN];
-    if let Some((head, _)) = out.split_first_chunk_mut::<HEADER_LEN>() {
-        *head = header(connection_id, encap_sequence, data_len);
+impl IoDatagramRepr {
+    /// Parses a checked datagram (its connected data must hold the sequence count).
+    pub fn parse<T: AsRef<[u8]>>(p: &Packet<T>) -> Result<IoDatagramRepr> {
+        let data = p.connected_data();
+        if data.len() < SEQUENCE_LEN {
+            return Err(Error::Truncated);
+        }
+        Ok(IoDatagramRepr {
+            connection_id: p.connection_id(),
+            encap_sequence: p.encap_sequence(),
+            connected_len: get_u16(p.buffer.as_ref(), field::DATA_LEN),
+            sequence: get_u16(data, 0),
+        })
     }
-    put_u16(&mut out, field::DATA, sequence);
-    out
+    /// Bytes [`Self::emit`] writes: [`HEADER_LEN`] + [`SEQUENCE_LEN`].
+    pub const fn buffer_len(&self) -> usize {
+        HEADER_LEN + SEQUENCE_LEN
+    }
+    /// Writes the datagram's front in one piece; the caller writes the rest of the connected
+    /// data after it. Always inlined: the T->O producer's hot path builds it into a 20-byte
+    /// chunk it already checked, where the writer's bounds check folds away.
+    #[inline(always)]
+    pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
+        let out = w.reserve(HEADER_LEN + SEQUENCE_LEN)?;
+        if let Some(head) = out.first_chunk_mut::<{ HEADER_LEN + SEQUENCE_LEN }>() {
+            *head = self.bytes();
+        }
+        Ok(())
+    }
+    /// The bytes [`Self::emit`] writes: the header, then the sequence count.
+    fn bytes(&self) -> [u8; HEADER_LEN + SEQUENCE_LEN] {
+        let mut out = [0; HEADER_LEN + SEQUENCE_LEN];
+        if let Some((head, _)) = out.split_first_chunk_mut::<HEADER_LEN>() {
+            *head = header(self.connection_id, self.encap_sequence, self.connected_len);
+        }
+        put_u16(&mut out, field::DATA, self.sequence);
+        out
+    }
 }
 
 /// The datagram header: the item count, the sequenced address item and the connected data
@@ -117,15 +137,28 @@ fn header(connection_id: u32, encap_sequence: u32, data_len: u16) -> [u8; HEADER
 mod tests {
     use super::*;
 
+    fn emit(repr: &IoDatagramRepr, data: &[u8], buf: &mut [u8]) -> usize {
+        let mut w = Writer::new(buf);
+        repr.emit(&mut w).unwrap();
+        w.bytes(data).unwrap();
+        w.len()
+    }
+
     #[test]
     fn round_trip() {
+        let repr = IoDatagramRepr {
+            connection_id: 0xAABB_CCDD,
+            encap_sequence: 5,
+            connected_len: 6,
+            sequence: 1,
+        };
         let mut buf = [0u8; 24];
-        emit_header(&mut buf, 0xAABB_CCDD, 5, 6).unwrap();
-        buf[18..24].copy_from_slice(&[1, 0, 1, 0, 0, 0]);
+        assert_eq!(emit(&repr, &[1, 0, 0, 0], &mut buf), 24);
         let p = Packet::new_checked(&buf[..]).unwrap();
         assert_eq!(p.connection_id(), 0xAABB_CCDD);
         assert_eq!(p.encap_sequence(), 5);
         assert_eq!(p.connected_data(), &[1, 0, 1, 0, 0, 0]);
+        assert_eq!(IoDatagramRepr::parse(&p), Ok(repr));
         assert_eq!(
             Packet::new_checked(&buf[..23]).unwrap_err(),
             Error::Malformed
@@ -134,28 +167,45 @@ mod tests {
             Packet::new_checked(&buf[..10]).unwrap_err(),
             Error::Truncated
         );
-        assert!(emit_header(&mut buf, 1, 1, 7).is_err());
+        let mut short = [0u8; HEADER_LEN + 1];
+        assert_eq!(
+            repr.emit(&mut Writer::new(&mut short)),
+            Err(Error::Exhausted)
+        );
+        assert_eq!(short, [0; HEADER_LEN + 1]);
     }
 
     #[test]
-    fn sequenced_header_is_the_header_and_the_sequence_count() {
-        let h = sequenced_header(0xAABB_CCDD, 0x0102_0304, 34, 0xBEEF);
+    fn the_front_is_the_header_and_the_sequence_count() {
+        let repr = IoDatagramRepr {
+            connection_id: 0xAABB_CCDD,
+            encap_sequence: 0x0102_0304,
+            connected_len: 34,
+            sequence: 0xBEEF,
+        };
+        let mut buf = [0u8; HEADER_LEN + SEQUENCE_LEN];
+        let mut w = Writer::new(&mut buf);
+        repr.emit(&mut w).unwrap();
+        assert_eq!(w.len(), repr.buffer_len());
         assert_eq!(
-            h,
+            buf,
             [
                 2, 0, 0x02, 0x80, 8, 0, 0xDD, 0xCC, 0xBB, 0xAA, 4, 3, 2, 1, 0xB1, 0, 34, 0, 0xEF,
                 0xBE
             ]
         );
-        let mut buf = [0u8; HEADER_LEN + 34];
-        emit_header(&mut buf, 0xAABB_CCDD, 0x0102_0304, 34).unwrap();
-        assert_eq!(buf[..HEADER_LEN], h[..HEADER_LEN]);
     }
 
     #[test]
     fn every_fixed_field_is_checked() {
+        let repr = IoDatagramRepr {
+            connection_id: 7,
+            encap_sequence: 1,
+            connected_len: 2,
+            sequence: 0,
+        };
         let mut good = [0u8; 20];
-        emit_header(&mut good, 7, 1, 2).unwrap();
+        emit(&repr, &[], &mut good);
         assert!(Packet::new_checked(&good[..]).is_ok());
         // Item count, address item type (both bytes), address length, data item type.
         for at in [0, 1, 2, 3, 4, 14, 15] {
@@ -167,5 +217,19 @@ mod tests {
                 "byte {at}"
             );
         }
+    }
+
+    #[test]
+    fn parse_needs_the_sequence_count() {
+        let repr = IoDatagramRepr {
+            connection_id: 7,
+            encap_sequence: 1,
+            connected_len: 0,
+            sequence: 0,
+        };
+        let mut buf = [0u8; 20];
+        emit(&repr, &[], &mut buf);
+        let p = Packet::new_checked(&buf[..HEADER_LEN]).unwrap();
+        assert_eq!(IoDatagramRepr::parse(&p), Err(Error::Truncated));
     }
 }

@@ -4,8 +4,6 @@ use super::{Error, Reader, Result, Writer};
 
 /// Bit set in the service code of every reply.
 pub const REPLY_BIT: u8 = 0x80;
-/// Most additional status words a response may carry here.
-pub const MAX_ADDITIONAL_STATUS: usize = 4;
 
 /// A view over a Message Router request: service, request path and request data.
 #[derive(Debug, Clone)]
@@ -90,14 +88,14 @@ impl<'a> RequestRepr<'a> {
     }
 }
 
-/// A parsed Message Router response.
+/// A Message Router response, parsed or to emit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ResponseRepr<'a> {
-    /// Service code with the reply bit set.
+    /// Service code with the reply bit set ([`REPLY_BIT`]).
     pub service: u8,
     /// General status.
     pub general_status: u8,
-    /// Additional status words, as raw little-endian bytes.
+    /// Additional status words, as raw little-endian bytes (a whole number of words).
     pub additional_status: &'a [u8],
     /// Response data.
     pub data: &'a [u8],
@@ -126,23 +124,23 @@ impl<'a> ResponseRepr<'a> {
             _ => None,
         }
     }
-}
-
-/// Writes a response header: reply service, reserved byte, general status, additional status.
-pub fn emit_response_header(
-    w: &mut Writer<'_>,
-    service: u8,
-    general_status: u8,
-    additional: &[u16],
-) -> Result<()> {
-    w.u8(service | REPLY_BIT)?;
-    w.u8(0)?;
-    w.u8(general_status)?;
-    w.u8(u8::try_from(additional.len()).map_err(|_| Error::Malformed)?)?;
-    for a in additional {
-        w.u16(*a)?;
+    /// Bytes the response takes.
+    pub const fn buffer_len(&self) -> usize {
+        self.additional_status
+            .len()
+            .saturating_add(self.data.len())
+            .saturating_add(4)
     }
-    Ok(())
+    /// Writes the response: service, reserved byte, general status, additional status, data.
+    pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
+        if !self.additional_status.len().is_multiple_of(2) {
+            return Err(Error::Malformed);
+        }
+        let words = u8::try_from(self.additional_status.len() / 2).map_err(|_| Error::Malformed)?;
+        w.bytes(&[self.service, 0, self.general_status, words])?;
+        w.bytes(self.additional_status)?;
+        w.bytes(self.data)
+    }
 }
 
 #[cfg(test)]
@@ -177,15 +175,25 @@ mod tests {
 
     #[test]
     fn response_round_trip() {
+        let response = ResponseRepr {
+            service: 0x54 | REPLY_BIT,
+            general_status: 0x01,
+            additional_status: &[0x00, 0x01],
+            data: &[0xAA],
+        };
         let mut buf = [0u8; 16];
         let mut w = Writer::new(&mut buf);
-        emit_response_header(&mut w, 0x54, 0x01, &[0x0100]).unwrap();
-        w.u8(0xAA).unwrap();
+        response.emit(&mut w).unwrap();
         let n = w.len();
+        assert_eq!(n, response.buffer_len());
+        assert_eq!(&buf[..n], &[0xD4, 0, 1, 1, 0x00, 0x01, 0xAA]);
         let r = ResponseRepr::parse(&buf[..n]).unwrap();
-        assert_eq!(r.service, 0xD4);
-        assert_eq!(r.general_status, 1);
+        assert_eq!(r, response);
         assert_eq!(r.extended_status(), Some(0x0100));
-        assert_eq!(r.data, &[0xAA]);
+        let odd = ResponseRepr {
+            additional_status: &[1],
+            ..response
+        };
+        assert_eq!(odd.emit(&mut Writer::new(&mut buf)), Err(Error::Malformed));
     }
 }

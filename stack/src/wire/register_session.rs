@@ -1,7 +1,7 @@
 //! RegisterSession command data: protocol version and option flags.
 
 use super::bytes::{get_u16, put_u16};
-use super::{Error, Result};
+use super::{Error, Result, Writer};
 
 /// Length of the RegisterSession data.
 pub const LEN: usize = 4;
@@ -33,19 +33,19 @@ impl<T: AsRef<[u8]>> Packet<T> {
     }
 }
 
-/// Parsed RegisterSession data.
+/// RegisterSession data, parsed or to emit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Repr {
+pub struct RegisterSessionRepr {
     /// Protocol version.
     pub protocol_version: u16,
     /// Option flags.
     pub options: u16,
 }
 
-impl Repr {
+impl RegisterSessionRepr {
     /// Parses checked data.
-    pub fn parse<T: AsRef<[u8]>>(p: &Packet<T>) -> Repr {
-        Repr {
+    pub fn parse<T: AsRef<[u8]>>(p: &Packet<T>) -> RegisterSessionRepr {
+        RegisterSessionRepr {
             protocol_version: p.protocol_version(),
             options: p.options(),
         }
@@ -54,11 +54,9 @@ impl Repr {
     pub const fn buffer_len(&self) -> usize {
         LEN
     }
-    /// Writes the data into `buf`.
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        if buf.len() < LEN {
-            return Err(Error::Exhausted);
-        }
+    /// Writes the data.
+    pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
+        let buf = w.reserve(LEN)?;
         put_u16(buf, 0, self.protocol_version);
         put_u16(buf, 2, self.options);
         Ok(())
@@ -80,13 +78,16 @@ mod tests {
             Packet::new_checked(&[1u8, 0, 0, 0, 0][..]).unwrap_err(),
             Error::Malformed
         );
-        let r = Repr::parse(&Packet::new_checked(&[1u8, 0, 2, 0][..]).unwrap());
+        let r = RegisterSessionRepr::parse(&Packet::new_checked(&[1u8, 0, 2, 0][..]).unwrap());
         assert_eq!(
             r,
-            Repr {
+            RegisterSessionRepr {
                 protocol_version: 1,
                 options: 2
             }
         );
+        let mut out = [0u8; LEN];
+        r.emit(&mut Writer::new(&mut out)).unwrap();
+        assert_eq!((out, r.buffer_len()), ([1, 0, 2, 0], LEN));
     }
 }

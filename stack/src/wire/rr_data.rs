@@ -34,8 +34,60 @@ impl<T: AsRef<[u8]>> Packet<T> {
     }
 }
 
-/// Writes the interface handle and timeout of a reply.
-pub fn emit_prefix(w: &mut Writer<'_>, interface_handle: u32, timeout: u16) -> Result<()> {
-    w.u32(interface_handle)?;
-    w.u16(timeout)
+/// The interface handle and timeout before the CPF, parsed or to emit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RrDataRepr {
+    /// Interface handle (0 for CIP).
+    pub interface_handle: u32,
+    /// Timeout in seconds (SendRRData only; zero in SendUnitData and in replies).
+    pub timeout: u16,
+}
+
+impl RrDataRepr {
+    /// The prefix of a reply, and of a SendUnitData request: CIP, no timeout.
+    pub const CIP: RrDataRepr = RrDataRepr {
+        interface_handle: 0,
+        timeout: 0,
+    };
+    /// Parses the prefix of checked data.
+    pub fn parse<T: AsRef<[u8]>>(p: &Packet<T>) -> RrDataRepr {
+        RrDataRepr {
+            interface_handle: p.interface_handle(),
+            timeout: p.timeout(),
+        }
+    }
+    /// Bytes the prefix takes.
+    pub const fn buffer_len(&self) -> usize {
+        PREFIX_LEN
+    }
+    /// Writes the prefix (the caller writes the CPF after it).
+    pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.u32(self.interface_handle)?;
+        w.u16(self.timeout)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prefix_round_trip() {
+        let r = RrDataRepr {
+            interface_handle: 0,
+            timeout: 10,
+        };
+        let mut buf = [0u8; PREFIX_LEN + 2];
+        let mut w = Writer::new(&mut buf);
+        r.emit(&mut w).unwrap();
+        w.u16(0).unwrap();
+        assert_eq!(w.len(), r.buffer_len() + 2);
+        let p = Packet::new_checked(&buf[..]).unwrap();
+        assert_eq!(RrDataRepr::parse(&p), r);
+        assert_eq!(p.cpf(), &[0, 0]);
+        assert_eq!(
+            Packet::new_checked(&buf[..5]).unwrap_err(),
+            Error::Truncated
+        );
+    }
 }

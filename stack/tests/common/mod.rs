@@ -12,8 +12,8 @@ use enip_stack::device::{
 };
 use enip_stack::nv::{key, NvStore};
 use enip_stack::originator::{self, Reply};
-use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{ForwardOpenRepr, NetworkParams, Triad};
 use enip_stack::wire::Writer;
 use enip_stack::{Adapter, Instant, NetworkConfig, SocketId};
 
@@ -225,7 +225,7 @@ impl<D: Device> Harness<D> {
     }
 
     /// Sends a request through SendRRData and returns the raw reply frame.
-    pub fn request(&mut self, service: u8, path: &[Segment<'_>], data: &[u8]) -> Vec<u8> {
+    pub fn request(&mut self, service: u8, path: &[SegmentRepr<'_>], data: &[u8]) -> Vec<u8> {
         let mut buf = vec![0u8; MAX_ENCAP_FRAME];
         let session = self.session;
         let n = originator::send_rr_data(&mut buf, session, None, |w| {
@@ -236,7 +236,7 @@ impl<D: Device> Harness<D> {
     }
 
     /// Sends a Forward_Open (or Large) and returns the raw reply frame.
-    pub fn forward_open(&mut self, fo: &ForwardOpen<'_>) -> Vec<u8> {
+    pub fn forward_open(&mut self, fo: &ForwardOpenRepr<'_>) -> Vec<u8> {
         let mut data = [0u8; 128];
         let mut w = Writer::new(&mut data);
         fo.emit(&mut w).unwrap();
@@ -247,10 +247,10 @@ impl<D: Device> Harness<D> {
 }
 
 /// Path to the Connection Manager instance 1.
-pub fn cm_path() -> [Segment<'static>; 2] {
+pub fn cm_path() -> [SegmentRepr<'static>; 2] {
     [
-        Segment::Logical(LogicalType::Class, 6),
-        Segment::Logical(LogicalType::Instance, 1),
+        SegmentRepr::Logical(LogicalType::Class, 6),
+        SegmentRepr::Logical(LogicalType::Instance, 1),
     ]
 }
 
@@ -268,14 +268,14 @@ pub fn status(frame: &[u8]) -> (u8, Vec<u16>, Vec<u8>) {
 
 /// Connection path bytes: class 4, optional config instance, O->T and T->O points, data.
 pub fn io_path(config: Option<u32>, o_t: u32, t_o: u32, config_data: Option<&[u8]>) -> Vec<u8> {
-    let mut segs = vec![Segment::Logical(LogicalType::Class, 4)];
+    let mut segs = vec![SegmentRepr::Logical(LogicalType::Class, 4)];
     if let Some(c) = config {
-        segs.push(Segment::Logical(LogicalType::Instance, c));
+        segs.push(SegmentRepr::Logical(LogicalType::Instance, c));
     }
-    segs.push(Segment::Logical(LogicalType::ConnectionPoint, o_t));
-    segs.push(Segment::Logical(LogicalType::ConnectionPoint, t_o));
+    segs.push(SegmentRepr::Logical(LogicalType::ConnectionPoint, o_t));
+    segs.push(SegmentRepr::Logical(LogicalType::ConnectionPoint, t_o));
     if let Some(d) = config_data {
-        segs.push(Segment::Data(d));
+        segs.push(SegmentRepr::Data(d));
     }
     let mut buf = [0u8; 128];
     let mut w = Writer::new(&mut buf);
@@ -286,8 +286,8 @@ pub fn io_path(config: Option<u32>, o_t: u32, t_o: u32, config_data: Option<&[u8
 }
 
 /// A point-to-point exclusive-owner Forward_Open of 32-byte output `o_t` and input `t_o`.
-pub fn fo<'a>(serial: u16, path: &'a [u8], rpi: u32) -> ForwardOpen<'a> {
-    ForwardOpen {
+pub fn fo<'a>(serial: u16, path: &'a [u8], rpi: u32) -> ForwardOpenRepr<'a> {
+    ForwardOpenRepr {
         large: false,
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,

@@ -54,7 +54,7 @@ pub fn run<D: Device>(device: D, ip: Ipv4Addr, mut store: SharedStore, program: 
     let name = device.identity().product_name;
     let mut adapter = Adapter::new(device, iface.config, seed());
     if let Err(e) = adapter.attach_store(Box::leak(Box::new(store))) {
-        log::error!("non-volatile store unreadable ({e:?}): factory TCP/IP settings");
+        log::error!("non-volatile store unreadable ({e}): factory TCP/IP settings");
     }
     eprintln!(
         "{program}: listening on {ip} (kernel sockets on {}, link up {}, device {name:?})",

@@ -27,45 +27,24 @@
 //!   with its request's path, so a reply to a request with a reserved logical segment format
 //!   is flagged "Unsupported Logical Segment Format" although the reply bytes are fine.
 
-#[path = "tap_interop/ametek_pls.rs"]
 mod ametek_pls;
-#[path = "tap_interop/class1.rs"]
 mod class1;
-#[path = "tap_interop/class3.rs"]
 mod class3;
-#[path = "tap_interop/common.rs"]
 mod common;
-#[path = "tap_interop/concurrency.rs"]
 mod concurrency;
-#[path = "tap_interop/example_io_block.rs"]
 mod example_io_block;
-#[path = "tap_interop/explicit.rs"]
 mod explicit;
-#[path = "tap_interop/fault_io.rs"]
 mod fault_io;
-#[path = "tap_interop/faults.rs"]
 mod faults;
-#[path = "tap_interop/faults_link_flap.rs"]
 mod faults_link_flap;
-#[path = "tap_interop/faults_reset.rs"]
 mod faults_reset;
-#[path = "tap_interop/faults_soak.rs"]
 mod faults_soak;
-#[path = "tap_interop/hostile_cip.rs"]
 mod hostile_cip;
-#[path = "tap_interop/hostile_framing.rs"]
 mod hostile_framing;
-#[path = "tap_interop/kollmorgen_akd.rs"]
 mod kollmorgen_akd;
-#[path = "tap_interop/parker_ipa.rs"]
 mod parker_ipa;
-#[path = "tap_interop/position_servo.rs"]
 mod position_servo;
-#[path = "tap_interop/position_servo_connections.rs"]
 mod position_servo_connections;
-#[path = "tap_interop/position_servo_qemu.rs"]
 mod position_servo_qemu;
-#[path = "tap_interop/tcpip_nv.rs"]
 mod tcpip_nv;
-#[path = "tap_interop/udp.rs"]
 mod udp;
