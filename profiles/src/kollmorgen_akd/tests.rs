@@ -21,7 +21,7 @@ use super::drive::COUNTS_PER_REV;
 use super::params::id;
 use super::storage::RamNv;
 use super::KollmorgenAkd;
-use crate::profiles::nv_record::testing;
+use crate::nv_record::testing;
 
 const EN: u8 = control::ENABLE;
 const LOAD: u8 = control::LOAD_START;

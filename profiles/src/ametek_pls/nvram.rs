@@ -5,7 +5,7 @@
 use enip_stack::nv::{key, SharedStore};
 
 use super::config::{CONFIG_BYTES, GROUPS};
-use crate::profiles::nv_record::Record;
+use crate::nv_record::Record;
 
 /// Bytes of the saved image: attributes 1-35 and 38, then the 8 group offsets.
 pub const IMAGE_BYTES: usize = CONFIG_BYTES + 2 * GROUPS;

@@ -11,10 +11,10 @@ use enip_stack::nv::SharedStore;
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 
-/// Defines [`Profile`] over `feature name Variant(Type) eds_info;` lines: a variant, a name
-/// and an EDS description per profile, each only with its feature.
+/// Defines [`Profile`] over `name Variant(Type) eds_info;` lines: a variant, a name and an
+/// EDS description per profile, each only with its feature (the feature is the name).
 macro_rules! profiles {
-    ($($feature:literal $name:literal $variant:ident($ty:ty) $eds:path, $doc:literal;)*) => {
+    ($($name:literal $variant:ident($ty:ty) $eds:path, $doc:literal;)*) => {
         /// One of the device profiles, chosen at run time; implements [`Device`] by dispatch.
         // Without a heap the profiles are held by value.
         #[allow(clippy::large_enum_variant)]
@@ -22,19 +22,19 @@ macro_rules! profiles {
         pub enum Profile {
             $(
                 #[doc = $doc]
-                #[cfg(feature = $feature)]
+                #[cfg(feature = $name)]
                 $variant($ty),
             )*
         }
 
         impl Profile {
             /// The names [`Profile::from_name`] accepts (the profiles compiled in).
-            pub const NAMES: &'static [&'static str] = &[$(#[cfg(feature = $feature)] $name,)*];
+            pub const NAMES: &'static [&'static str] = &[$(#[cfg(feature = $name)] $name,)*];
 
             /// The profile called `name` in its power-up state, if it is compiled in.
             pub fn from_name(name: &str) -> Option<Self> {
                 match name {
-                    $(#[cfg(feature = $feature)] $name => Some(Profile::$variant(<$ty>::new())),)*
+                    $(#[cfg(feature = $name)] $name => Some(Profile::$variant(<$ty>::new())),)*
                     _ => None,
                 }
             }
@@ -42,14 +42,14 @@ macro_rules! profiles {
             /// The profile's name, as [`Profile::from_name`] accepts it.
             pub const fn name(&self) -> &'static str {
                 match self {
-                    $(#[cfg(feature = $feature)] Profile::$variant(_) => $name,)*
+                    $(#[cfg(feature = $name)] Profile::$variant(_) => $name,)*
                 }
             }
 
             /// What the profile's EDS file says beyond the device's own description.
             pub const fn eds_info(&self) -> &'static EdsInfo<'static> {
                 match self {
-                    $(#[cfg(feature = $feature)] Profile::$variant(_) => &$eds,)*
+                    $(#[cfg(feature = $name)] Profile::$variant(_) => &$eds,)*
                 }
             }
         }
@@ -60,7 +60,7 @@ macro_rules! profiles {
             // reached.
             #[allow(unreachable_code)]
             fn default() -> Self {
-                $(#[cfg(feature = $feature)] {
+                $(#[cfg(feature = $name)] {
                     return Profile::$variant(<$ty>::new());
                 })*
             }
@@ -70,7 +70,7 @@ macro_rules! profiles {
         macro_rules! dispatch {
             ($profile:expr, $dev:ident => $body:expr) => {
                 match $profile {
-                    $(#[cfg(feature = $feature)] Profile::$variant($dev) => $body,)*
+                    $(#[cfg(feature = $name)] Profile::$variant($dev) => $body,)*
                 }
             };
         }
@@ -78,15 +78,15 @@ macro_rules! profiles {
 }
 
 profiles! {
-    "profile-generic" "generic" Generic(super::Generic) super::generic::EDS,
+    "generic" Generic(super::Generic) super::generic::EDS,
         "The OpENer sample application's assemblies ([`super::Generic`]).";
-    "profile-position-servo" "position-servo" PositionServo(super::PositionServo)
+    "position-servo" PositionServo(super::PositionServo)
         super::position_servo::eds::EDS, "The Lenze PositionServo drive ([`super::PositionServo`]).";
-    "profile-parker-ipa" "parker-ipa" ParkerIpa(super::ParkerIpa) super::parker_ipa::eds::EDS,
+    "parker-ipa" ParkerIpa(super::ParkerIpa) super::parker_ipa::eds::EDS,
         "The Parker IPA / ACR9000 controller ([`super::ParkerIpa`]).";
-    "profile-ametek-pls" "ametek-pls" AmetekPls(super::AmetekPls) super::ametek_pls::eds::EDS,
+    "ametek-pls" AmetekPls(super::AmetekPls) super::ametek_pls::eds::EDS,
         "The Ametek 7500 programmable limit switch ([`super::AmetekPls`]).";
-    "profile-kollmorgen-akd" "kollmorgen-akd" KollmorgenAkd(super::KollmorgenAkd)
+    "kollmorgen-akd" KollmorgenAkd(super::KollmorgenAkd)
         super::kollmorgen_akd::eds::EDS, "The Kollmorgen AKD servo drive ([`super::KollmorgenAkd`]).";
 }
 
@@ -214,13 +214,13 @@ mod tests {
             let committed = std::fs::read_to_string(&path).unwrap_or_default();
             assert!(
                 committed == eds,
-                "{} is stale: UPDATE_EDS=1 cargo test -p enip-firmware eds",
+                "{} is stale: UPDATE_EDS=1 cargo test -p enip-profiles eds",
                 path.display()
             );
         }
     }
 
-    #[cfg(feature = "profile-generic")]
+    #[cfg(feature = "generic")]
     #[test]
     fn dispatches_to_the_profile() {
         let mut p = Profile::from_name("generic").unwrap();

@@ -433,7 +433,7 @@ impl Variables {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profiles::position_servo::storage::RamEpm;
+    use crate::position_servo::storage::RamEpm;
 
     #[test]
     fn table_is_sorted_and_names_every_variable_of_the_manual() {

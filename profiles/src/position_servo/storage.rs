@@ -7,7 +7,7 @@
 use enip_stack::nv::{key, SharedStore};
 
 use super::variables::{self, COUNT};
-use crate::profiles::nv_record::Record;
+use crate::nv_record::Record;
 
 /// Why a value could not be stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -144,7 +144,7 @@ impl EpmStorage for RamEpm {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profiles::position_servo::variables::id;
+    use crate::position_servo::variables::id;
 
     #[test]
     fn stores_overwrites_and_clears() {

@@ -4,7 +4,7 @@
 use enip_stack::nv::{key, SharedStore};
 
 use super::params::TABLE;
-use crate::profiles::nv_record::Record;
+use crate::nv_record::Record;
 
 /// One value per parameter of [`TABLE`] (commands and read-only ones hold 0).
 pub type Image = [i64; TABLE.len()];

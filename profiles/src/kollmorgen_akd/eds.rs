@@ -38,7 +38,7 @@ mod tests {
     extern crate std;
 
     /// The committed file.
-    const COMMITTED: &str = include_str!("../../../../eds/kollmorgen-akd.eds");
+    const COMMITTED: &str = include_str!("../../../eds/kollmorgen-akd.eds");
 
     #[test]
     fn eds_declares_the_manual_sizes_and_connection() {

@@ -11,35 +11,35 @@ pub trait PoweredUp {
     fn powered_up(store: SharedStore) -> Self;
 }
 
-#[cfg(feature = "profile-generic")]
+#[cfg(feature = "generic")]
 impl PoweredUp for super::Generic {
     fn powered_up(_store: SharedStore) -> Self {
         Self::new()
     }
 }
 
-#[cfg(feature = "profile-parker-ipa")]
+#[cfg(feature = "parker-ipa")]
 impl PoweredUp for super::ParkerIpa {
     fn powered_up(_store: SharedStore) -> Self {
         Self::new()
     }
 }
 
-#[cfg(feature = "profile-position-servo")]
+#[cfg(feature = "position-servo")]
 impl PoweredUp for super::PositionServo {
     fn powered_up(store: SharedStore) -> Self {
         Self::with_storage(super::position_servo::storage::RamEpm::in_store(store))
     }
 }
 
-#[cfg(feature = "profile-kollmorgen-akd")]
+#[cfg(feature = "kollmorgen-akd")]
 impl PoweredUp for super::KollmorgenAkd {
     fn powered_up(store: SharedStore) -> Self {
         Self::with_storage(super::kollmorgen_akd::storage::RamNv::in_store(store))
     }
 }
 
-#[cfg(feature = "profile-ametek-pls")]
+#[cfg(feature = "ametek-pls")]
 impl PoweredUp for super::AmetekPls {
     fn powered_up(store: SharedStore) -> Self {
         Self::with_nvram(super::ametek_pls::nvram::RamNvram::in_store(store))

@@ -14,7 +14,7 @@ use enip_stack::nv::{CutFlash, SharedStore};
 
 use super::nvram::{Nvram, RamNvram};
 use super::{identity, AmetekPls};
-use crate::profiles::nv_record::testing;
+use crate::nv_record::testing;
 
 /// Message Router request bytes: 8-bit class and instance, optional attribute, data.
 pub fn request(

@@ -18,7 +18,7 @@ use enip_stack::nv::{CutFlash, SharedStore};
 use super::storage::{EpmStorage, RamEpm};
 use super::variables::{id, Value, DEFAULT_MULTICAST};
 use super::PositionServo;
-use crate::profiles::nv_record::testing;
+use crate::nv_record::testing;
 
 /// Message Router request bytes: class 0x64, 16-bit instance, optional attribute, data.
 fn request(service: u8, instance: u16, attribute: Option<u8>, data: &[u8]) -> Vec<u8> {

@@ -44,7 +44,7 @@ pub const EDS: EdsInfo<'static> = EdsInfo {
 #[cfg(test)]
 mod tests {
     /// The committed file.
-    const COMMITTED: &str = include_str!("../../../../eds/parker-ipa.eds");
+    const COMMITTED: &str = include_str!("../../../eds/parker-ipa.eds");
 
     #[test]
     fn eds_declares_the_rslogix_set_up() {

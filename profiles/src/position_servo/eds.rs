@@ -42,7 +42,7 @@ mod tests {
     extern crate std;
 
     /// The committed file.
-    const COMMITTED: &str = include_str!("../../../../eds/position-servo.eds");
+    const COMMITTED: &str = include_str!("../../../eds/position-servo.eds");
 
     #[test]
     fn eds_declares_the_manual_sizes_and_connections() {

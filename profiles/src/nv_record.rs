@@ -45,9 +45,9 @@ impl Record {
 #[cfg(all(
     test,
     any(
-        feature = "profile-position-servo",
-        feature = "profile-kollmorgen-akd",
-        feature = "profile-ametek-pls"
+        feature = "position-servo",
+        feature = "kollmorgen-akd",
+        feature = "ametek-pls"
     )
 ))]
 pub(crate) mod testing {
