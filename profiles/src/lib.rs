@@ -44,11 +44,11 @@ pub mod parker_ipa;
 pub mod position_servo;
 
 #[cfg(feature = "_any-profile")]
-pub mod nv_record;
-#[cfg(feature = "_any-profile")]
 mod powered_up;
 #[cfg(feature = "_any-profile")]
 mod select;
+#[cfg(feature = "_any-profile")]
+pub mod storage;
 
 #[cfg(feature = "ametek-pls")]
 pub use ametek_pls::AmetekPls;

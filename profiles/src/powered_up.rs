@@ -28,20 +28,20 @@ impl PoweredUp for super::ParkerIpa {
 #[cfg(feature = "position-servo")]
 impl PoweredUp for super::PositionServo {
     fn powered_up(store: SharedStore) -> Self {
-        Self::with_storage(super::position_servo::storage::RamEpm::in_store(store))
+        Self::with_storage(super::position_servo::storage::EpmCopy::in_store(store))
     }
 }
 
 #[cfg(feature = "kollmorgen-akd")]
 impl PoweredUp for super::KollmorgenAkd {
     fn powered_up(store: SharedStore) -> Self {
-        Self::with_storage(super::kollmorgen_akd::storage::RamNv::in_store(store))
+        Self::with_storage(super::kollmorgen_akd::storage::NvCopy::in_store(store))
     }
 }
 
 #[cfg(feature = "ametek-pls")]
 impl PoweredUp for super::AmetekPls {
     fn powered_up(store: SharedStore) -> Self {
-        Self::with_nvram(super::ametek_pls::nvram::RamNvram::in_store(store))
+        Self::with_storage(super::ametek_pls::storage::Nvram::in_store(store))
     }
 }

@@ -6,7 +6,7 @@
 //! - [`classes`]: class 0xC0 (status, attributes 1-3) and 0xC1 (configuration, 1-38).
 //! - [`config`]: the stored configuration words; [`validate`]: the manual's rules.
 //! - [`engine`]: the resolver, offsets, inputs and outputs, advanced by [`Device::poll`].
-//! - [`nvram`]: the program saved by program control (attribute 37).
+//! - [`storage`]: the program saved by program control (attribute 37).
 //! - [`leds`]: the MS and NS LEDs of Figure 1, logged at each transition.
 //!
 //! A Set of 0xC1 is validated whole; a broken rule leaves everything as it was, answers
@@ -22,7 +22,7 @@ pub mod eds;
 pub mod engine;
 pub mod identity;
 pub mod leds;
-pub mod nvram;
+pub mod storage;
 pub mod validate;
 
 #[cfg(test)]
@@ -42,7 +42,7 @@ use enip_stack::{AssemblyInfo, Device, Duration, IdentityInfo, Instant};
 use assemblies::{INPUT, INPUT_BYTES, OUTPUT, OUTPUT_BYTES};
 use config::{attr, decode_words, Config, CONTROL_WORDS, GROUPS, INPUTS, OFFSET_WORDS};
 use engine::{Engine, OutputData};
-use nvram::{Nvram, RamNvram, IMAGE_BYTES};
+use storage::{Nvram, Program, IMAGE_BYTES};
 use validate::Violation;
 
 /// Program control codes (§2.9).
@@ -64,10 +64,10 @@ const STATUS_MAJOR_RECOVERABLE: u16 = 1 << 10;
 
 /// The 7500 PLS: configuration, NVRAM, the simulated limit switch and the error words.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct AmetekPls<N: Nvram = RamNvram> {
+pub struct AmetekPls {
     cfg: Config,
     engine: Engine,
-    nvram: N,
+    nvram: Nvram,
     /// Input words 15-17: error code, attribute, word (0 = none).
     error: [u16; 3],
     /// The last accepted offset object (attribute 36) and program control (37).
@@ -83,22 +83,22 @@ pub struct AmetekPls<N: Nvram = RamNvram> {
     leds: leds::Leds,
 }
 
-impl AmetekPls<RamNvram> {
+impl AmetekPls {
     /// A module at power-up with an empty NVRAM (every setting at its default).
     pub fn new() -> Self {
-        Self::with_nvram(RamNvram::new())
+        Self::with_storage(Nvram::new())
     }
 }
 
-impl Default for AmetekPls<RamNvram> {
+impl Default for AmetekPls {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<N: Nvram> AmetekPls<N> {
+impl AmetekPls {
     /// A module at power-up that loads its program from `nvram` if one was saved.
-    pub fn with_nvram(nvram: N) -> Self {
+    pub fn with_storage(nvram: Nvram) -> Self {
         let mut pls = AmetekPls {
             cfg: Config::new(),
             engine: Engine::new(),
@@ -127,7 +127,7 @@ impl<N: Nvram> AmetekPls<N> {
     }
 
     /// The NVRAM.
-    pub fn nvram(&self) -> &N {
+    pub fn storage(&self) -> &Nvram {
         &self.nvram
     }
 
@@ -180,7 +180,7 @@ impl<N: Nvram> AmetekPls<N> {
 
     /// Loads the program saved in NVRAM; `Err` if none was saved.
     fn restore(&mut self) -> Result<(), ()> {
-        let image = *self.nvram.load().ok_or(())?;
+        let Program(image) = *self.nvram.load().ok_or(())?;
         let mut words = image
             .chunks_exact(2)
             .filter_map(|b| <[u8; 2]>::try_from(b).ok())
@@ -257,7 +257,7 @@ impl<N: Nvram> AmetekPls<N> {
             control::SAVE => {
                 let image = self.image();
                 self.nvram
-                    .store(&image)
+                    .save(Program(image))
                     .map_err(|_| (validate::MEMORY, 1))?;
                 info!("PLS: program saved to NVRAM");
             }
@@ -317,7 +317,7 @@ impl<N: Nvram> AmetekPls<N> {
 /// General status 0x19: store operation failure (error code 4, \[R\] AM-EX-5).
 const STORE_OPERATION_FAILURE: u8 = 0x19;
 
-impl<N: Nvram> Device for AmetekPls<N> {
+impl Device for AmetekPls {
     fn identity(&self) -> &IdentityInfo {
         &identity::IDENTITY
     }

@@ -12,9 +12,9 @@ use enip_stack::{Adapter, Device, Instant, NetworkConfig};
 
 use enip_stack::nv::{CutFlash, SharedStore};
 
-use super::nvram::{Nvram, RamNvram};
+use super::storage::Nvram;
 use super::{identity, AmetekPls};
-use crate::nv_record::testing;
+use crate::storage::testing;
 
 /// Message Router request bytes: 8-bit class and instance, optional attribute, data.
 pub fn request(
@@ -508,7 +508,7 @@ fn program_control_save_change_restore() {
 
 /// A module programmed like [`programmed`], its NVRAM in `store`.
 fn programmed_in(store: SharedStore) -> AmetekPls {
-    let mut pls = AmetekPls::with_nvram(RamNvram::in_store(store));
+    let mut pls = AmetekPls::with_storage(Nvram::in_store(store));
     assert_eq!(set(&mut pls, 1, &pls_object()), 0);
     assert_eq!(set(&mut pls, 2, &output_1()), 0);
     assert_eq!(set(&mut pls, 18, &output_17()), 0);
@@ -520,19 +520,19 @@ fn a_saved_program_survives_a_restart_in_the_store() {
     let store = testing::store();
     let mut pls = programmed_in(store);
     assert_eq!(set(&mut pls, 37, &[2, 0]), 0);
-    let mut fresh = AmetekPls::with_nvram(RamNvram::in_store(store));
+    let mut fresh = AmetekPls::with_storage(Nvram::in_store(store));
     assert_eq!(get(&mut fresh, 0xC1, 2), le(&output_1()));
     assert_eq!(get(&mut fresh, 0xC1, 18), le(&output_17()));
     assert_ne!(fresh.status_bits() & 0x4, 0);
     // Factory defaults remove the record.
     fresh.reset(1).unwrap();
-    let mut after = AmetekPls::with_nvram(RamNvram::in_store(store));
-    assert_eq!(after.nvram().load(), None);
+    let mut after = AmetekPls::with_storage(Nvram::in_store(store));
+    assert_eq!(after.storage().load(), None);
     assert_eq!(get(&mut after, 0xC1, 2), [0; 52]);
     // A failing medium: code 4.
     let mut dead = CutFlash::new();
     dead.cut_after(0);
-    let mut failing = AmetekPls::with_nvram(RamNvram::in_store(testing::store_on(dead).0));
+    let mut failing = AmetekPls::with_storage(Nvram::in_store(testing::store_on(dead).0));
     assert_eq!(set(&mut failing, 1, &pls_object()), 0);
     refused(&mut failing, 37, &[2, 0], 0x19, [4, 37, 1]);
 }
@@ -545,13 +545,13 @@ fn every_power_cut_during_a_save_keeps_the_old_or_the_new_program() {
             assert_eq!(set(&mut pls, 37, &[2, 0]), 0);
         },
         |store| {
-            let mut pls = AmetekPls::with_nvram(RamNvram::in_store(store));
+            let mut pls = AmetekPls::with_storage(Nvram::in_store(store));
             let mut changed = output_1();
             changed[8] = 10;
             set(&mut pls, 2, &changed) == 0 && set(&mut pls, 37, &[2, 0]) == 0
         },
         |store| {
-            let mut pls = AmetekPls::with_nvram(RamNvram::in_store(store));
+            let mut pls = AmetekPls::with_storage(Nvram::in_store(store));
             (get(&mut pls, 0xC1, 2), get(&mut pls, 0xC1, 18))
         },
     );

@@ -24,7 +24,6 @@ use super::motion_tasks::{self, StartError};
 use super::params;
 use super::position_controller;
 use super::state::State;
-use super::storage::NvStorage;
 use super::KollmorgenAkd;
 
 /// Additional code of every error response (the manual's table gives 0xFF throughout).
@@ -89,7 +88,7 @@ fn general(g: General) -> u8 {
 }
 
 /// Applies one command assembly (O->T data or an explicit Set of the command assembly).
-pub fn consume<S: NvStorage>(akd: &mut KollmorgenAkd<S>, data: &[u8]) {
+pub fn consume(akd: &mut KollmorgenAkd, data: &[u8]) {
     let cmd = Command(data);
     let now = cmd.control();
     let rising = now & !akd.io.previous;
@@ -158,7 +157,7 @@ fn invalid() -> CipError {
 }
 
 /// Loads the command's data; motion starts when the command type matches the mode.
-fn load<S: NvStorage>(akd: &mut KollmorgenAkd<S>, cmd: &Command<'_>) -> Result<(), CipError> {
+fn load(akd: &mut KollmorgenAkd, cmd: &Command<'_>) -> Result<(), CipError> {
     let (axis, kind) = cmd.command_type();
     if axis > 1 {
         return Err(invalid());

@@ -45,37 +45,37 @@ use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 use handshake::Handshake;
 use params::{id, Rule, View};
 use state::State;
-use storage::{NvStorage, RamNv};
+use storage::{NvCopy, Parameters};
 
 /// Shortest RPI, microseconds: "10 ms or greater" (p.11; 20 ms with Workbench connected).
 pub const MIN_RPI_US: u32 = 10_000;
 /// Longest RPI, microseconds: the stack's own limit (the manual gives none).
 pub const MAX_RPI_US: u32 = enip_stack::config::MAX_RPI_US;
 
-/// The AKD: its state, the I/O handshake and the non-volatile parameter copy in `S`.
+/// The AKD: its state, the I/O handshake and the non-volatile parameter copy.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct KollmorgenAkd<S: NvStorage = RamNv> {
+pub struct KollmorgenAkd {
     state: State,
     io: Handshake,
-    nv: S,
+    nv: NvCopy,
 }
 
-impl KollmorgenAkd<RamNv> {
+impl KollmorgenAkd {
     /// A drive at power-up with empty non-volatile storage.
     pub fn new() -> Self {
-        Self::with_storage(RamNv::new())
+        Self::with_storage(NvCopy::new())
     }
 }
 
-impl Default for KollmorgenAkd<RamNv> {
+impl Default for KollmorgenAkd {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<S: NvStorage> KollmorgenAkd<S> {
+impl KollmorgenAkd {
     /// A drive at power-up whose parameters start from the saved copy in `nv`.
-    pub fn with_storage(nv: S) -> Self {
+    pub fn with_storage(nv: NvCopy) -> Self {
         let mut akd = KollmorgenAkd {
             state: State::new(),
             io: Handshake::new(),
@@ -91,7 +91,7 @@ impl<S: NvStorage> KollmorgenAkd<S> {
     }
 
     /// The non-volatile storage.
-    pub fn storage(&self) -> &S {
+    pub fn storage(&self) -> &NvCopy {
         &self.nv
     }
 
@@ -116,7 +116,7 @@ impl<S: NvStorage> KollmorgenAkd<S> {
             id::DRV_NVSAVE => {
                 let image = self.image();
                 self.nv
-                    .save(&image)
+                    .save(Parameters(image))
                     .map_err(|_| CipError::new(General::ResourceUnavailable))
             }
             id::MT_SET => {
@@ -148,7 +148,7 @@ impl<S: NvStorage> KollmorgenAkd<S> {
     fn restore(&mut self) {
         self.state = State::new();
         self.io = Handshake::new();
-        let Some(image) = self.nv.load() else {
+        let Some(&Parameters(image)) = self.nv.load() else {
             return;
         };
         let units = |p: &params::Param| matches!(p.instance, id::EIP_POSUNIT | id::EIP_PROFUNIT);
@@ -163,7 +163,7 @@ impl<S: NvStorage> KollmorgenAkd<S> {
     }
 }
 
-impl<S: NvStorage> Device for KollmorgenAkd<S> {
+impl Device for KollmorgenAkd {
     fn identity(&self) -> &IdentityInfo {
         &identity::IDENTITY
     }

@@ -19,9 +19,9 @@ use enip_stack::{Adapter, Device, Instant, NetworkConfig};
 use super::assemblies::{control, status1, status2, COMMAND, RESPONSE};
 use super::drive::COUNTS_PER_REV;
 use super::params::id;
-use super::storage::RamNv;
+use super::storage::NvCopy;
 use super::KollmorgenAkd;
-use crate::nv_record::testing;
+use crate::storage::testing;
 
 const EN: u8 = control::ENABLE;
 const LOAD: u8 = control::LOAD_START;
@@ -637,13 +637,13 @@ fn nvsave_survives_a_reset_and_factory_reset_clears_it() {
 
 /// Parameter 1 as a fresh drive powered up from `store` reads it.
 fn parameter_1_after_power_up(store: SharedStore) -> Vec<u8> {
-    let mut akd = KollmorgenAkd::with_storage(RamNv::in_store(store));
+    let mut akd = KollmorgenAkd::with_storage(NvCopy::in_store(store));
     execute(&mut akd, &request(0x0E, 0x0F, 1, Some(1), &[]), 0).1
 }
 
 /// Sets parameter 1 to `value` and saves with DRV.NVSAVE; true if both succeeded.
 fn set_and_save(store: SharedStore, value: u32) -> bool {
-    let mut akd = KollmorgenAkd::with_storage(RamNv::in_store(store));
+    let mut akd = KollmorgenAkd::with_storage(NvCopy::in_store(store));
     let mut ok = |i: u16, d: &[u8]| execute(&mut akd, &request(0x10, 0x0F, i, Some(1), d), 0).0;
     ok(1, &value.to_le_bytes()).is_ok() && ok(id::DRV_NVSAVE, &[1]).is_ok()
 }
@@ -653,7 +653,7 @@ fn nvsave_survives_a_restart_in_the_store() {
     let store = testing::store();
     assert!(set_and_save(store, 1234));
     assert_eq!(parameter_1_after_power_up(store), 1234u32.to_le_bytes());
-    let mut akd = KollmorgenAkd::with_storage(RamNv::in_store(store));
+    let mut akd = KollmorgenAkd::with_storage(NvCopy::in_store(store));
     akd.reset(1).unwrap();
     assert_eq!(
         parameter_1_after_power_up(store),
@@ -678,7 +678,7 @@ fn every_power_cut_during_nvsave_keeps_the_old_or_the_new_parameters() {
 /// Sends `bytes` to an adapter of a drive powered up from `store`, with the store attached
 /// to the adapter too; whether it succeeded.
 fn execute_on_store(store: SharedStore, bytes: &[u8]) -> bool {
-    let mut akd = KollmorgenAkd::with_storage(RamNv::in_store(store));
+    let mut akd = KollmorgenAkd::with_storage(NvCopy::in_store(store));
     execute_with_store(&mut akd, Some(store), bytes, 0)
         .0
         .is_ok()

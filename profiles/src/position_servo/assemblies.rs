@@ -10,7 +10,6 @@ use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::{AssemblyInfo, AssemblyRole};
 
 use super::datalinks::{self, LINKS};
-use super::storage::EpmStorage;
 use super::variables::{self, id, Value, Variables};
 use super::PositionServo;
 
@@ -186,7 +185,7 @@ pub fn read(vars: &Variables, instance: u16, out: &mut [u8]) -> CipResult<usize>
 
 /// Applies output data for assembly `instance` (exactly its size), word by word; a word its
 /// variable refuses changes nothing.
-pub fn write<S: EpmStorage>(servo: &mut PositionServo<S>, instance: u16, data: &[u8]) -> CipResult {
+pub fn write(servo: &mut PositionServo, instance: u16, data: &[u8]) -> CipResult {
     let a = find(instance)?;
     match data.len().cmp(&usize::from(a.info.size)) {
         core::cmp::Ordering::Less => return Err(General::NotEnoughData.into()),

@@ -6,7 +6,6 @@
 //! disabled output link ignores its word. Output links write the RAM copy only: DataLinks
 //! never write to the EPM (6, STOP note).
 
-use super::storage::EpmStorage;
 use super::variables::{self, id, Value, Variables};
 use super::PositionServo;
 
@@ -76,7 +75,7 @@ pub fn read(vars: &Variables, control: u16) -> [u8; 4] {
 
 /// Writes `word` through the output link with control variable `control`. A disabled link,
 /// or a value the variable refuses, changes nothing (like any refused O->T data).
-pub fn write<S: EpmStorage>(servo: &mut PositionServo<S>, control: u16, word: [u8; 4]) {
+pub fn write(servo: &mut PositionServo, control: u16, word: [u8; 4]) {
     let link = Link::decode(servo.variables().raw(control));
     if !link.enabled {
         return;

@@ -42,37 +42,37 @@ use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant};
 
 use drive::{Drive, MoveKind, Settings};
-use storage::{EpmStorage, RamEpm, StorageError};
+use storage::EpmCopy;
 use variables::{id, Value, Variables, DEFAULT_MULTICAST};
 
-/// The PositionServo: variables, their EPM copy in `S`, and the simulated drive.
+/// The PositionServo: variables, their EPM copy, and the simulated drive.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct PositionServo<S: EpmStorage = RamEpm> {
+pub struct PositionServo {
     vars: Variables,
     drive: Drive,
-    epm: S,
+    epm: EpmCopy,
     /// Input assemblies to produce now (application-triggered connections).
     changes: InputChanges,
 }
 
-impl PositionServo<RamEpm> {
+impl PositionServo {
     /// A drive at power-up with an empty EPM (every variable at its default).
     pub fn new() -> Self {
-        Self::with_storage(RamEpm::new())
+        Self::with_storage(EpmCopy::new())
     }
 }
 
-impl Default for PositionServo<RamEpm> {
+impl Default for PositionServo {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<S: EpmStorage> PositionServo<S> {
+impl PositionServo {
     /// A drive at power-up whose variables start from the EPM copy in `epm`.
-    pub fn with_storage(epm: S) -> Self {
+    pub fn with_storage(epm: EpmCopy) -> Self {
         let mut servo = PositionServo {
-            vars: Variables::power_up(&epm),
+            vars: Variables::power_up(|id| epm.value(id)),
             drive: Drive::new(),
             epm,
             changes: InputChanges::new(),
@@ -87,7 +87,7 @@ impl<S: EpmStorage> PositionServo<S> {
     }
 
     /// The EPM storage.
-    pub fn storage(&self) -> &S {
+    pub fn storage(&self) -> &EpmCopy {
         &self.epm
     }
 
@@ -100,10 +100,7 @@ impl<S: EpmStorage> PositionServo<S> {
         let raw = var.encode(value)?;
         self.act(id, raw)?;
         if epm {
-            self.epm.store(id, raw).map_err(|e| match e {
-                StorageError::Write => General::StoreOperationFailure,
-                StorageError::NoCopy => General::ResourceUnavailable,
-            })?;
+            self.epm.store(id, raw)?;
         }
         self.vars.set(id, raw);
         self.drive.publish(&mut self.vars);
@@ -139,14 +136,14 @@ impl<S: EpmStorage> PositionServo<S> {
     /// Power-up again from the EPM copy, keeping what the network state says (ownership).
     fn restart(&mut self) {
         let owned = self.drive.exstatus() != 0;
-        self.vars = Variables::power_up(&self.epm);
+        self.vars = Variables::power_up(|id| self.epm.value(id));
         self.drive = Drive::new();
         self.drive.set_owned(owned);
         self.drive.publish(&mut self.vars);
     }
 }
 
-impl<S: EpmStorage> Device for PositionServo<S> {
+impl Device for PositionServo {
     fn identity(&self) -> &IdentityInfo {
         &identity::IDENTITY
     }

@@ -15,10 +15,10 @@ use super::assemblies::{self, status2};
 use super::drive::status;
 use enip_stack::nv::{CutFlash, SharedStore};
 
-use super::storage::{EpmStorage, RamEpm};
+use super::storage::EpmCopy;
 use super::variables::{id, Value, DEFAULT_MULTICAST};
 use super::PositionServo;
-use crate::nv_record::testing;
+use crate::storage::testing;
 
 /// Message Router request bytes: class 0x64, 16-bit instance, optional attribute, data.
 fn request(service: u8, instance: u16, attribute: Option<u8>, data: &[u8]) -> Vec<u8> {
@@ -121,26 +121,26 @@ fn epm_copy_is_separate_and_survives_a_reset() {
     set(&mut servo, id::ACCEL_LIMIT, 2, &250.0f32.to_le_bytes()).unwrap();
     set(&mut servo, id::V0, 1, &9u32.to_le_bytes()).unwrap();
     assert_eq!(servo.variables().real(id::ACCEL_LIMIT), 250.0);
-    let stored = servo.storage().load(id::ACCEL_LIMIT);
+    let stored = servo.storage().value(id::ACCEL_LIMIT);
     assert_eq!(stored, Some(500.0f32.to_bits()));
     servo.reset(0).unwrap();
     assert_eq!(servo.variables().real(id::ACCEL_LIMIT), 500.0);
     assert_eq!(servo.variables().real(id::V0), 9.0);
     servo.reset(1).unwrap();
     assert_eq!(servo.variables().real(id::ACCEL_LIMIT), 100.0);
-    assert_eq!(servo.storage().load(id::V0), None);
+    assert_eq!(servo.storage().value(id::V0), None);
 }
 
 /// ACCEL_LIMIT and V0 as a drive powered up from `store` has them.
 fn after_power_up(store: SharedStore) -> (f32, f32) {
-    let servo = PositionServo::with_storage(RamEpm::in_store(store));
+    let servo = PositionServo::with_storage(EpmCopy::in_store(store));
     let v = servo.variables();
     (v.real(id::ACCEL_LIMIT), v.real(id::V0))
 }
 
 /// Writes ACCEL_LIMIT to RAM and EPM (attribute 3); true if it was accepted.
 fn save_accel(store: SharedStore, value: f32) -> bool {
-    let mut servo = PositionServo::with_storage(RamEpm::in_store(store));
+    let mut servo = PositionServo::with_storage(EpmCopy::in_store(store));
     set(&mut servo, id::ACCEL_LIMIT, 3, &value.to_le_bytes()).is_ok()
 }
 
@@ -148,7 +148,7 @@ fn save_accel(store: SharedStore, value: f32) -> bool {
 fn epm_survives_a_restart_in_the_store() {
     let store = testing::store();
     assert!(save_accel(store, 500.0));
-    let mut servo = PositionServo::with_storage(RamEpm::in_store(store));
+    let mut servo = PositionServo::with_storage(EpmCopy::in_store(store));
     set(&mut servo, id::V0, 1, &9u32.to_le_bytes()).unwrap();
     assert_eq!(after_power_up(store), (500.0, 9.0));
     servo.reset(1).unwrap();
@@ -156,12 +156,12 @@ fn epm_survives_a_restart_in_the_store() {
     // A store that cannot write: 0x19, and the EPM copy is unchanged.
     let mut dead = CutFlash::new();
     dead.cut_after(0);
-    let mut failing = PositionServo::with_storage(RamEpm::in_store(testing::store_on(dead).0));
+    let mut failing = PositionServo::with_storage(EpmCopy::in_store(testing::store_on(dead).0));
     assert_eq!(
         set(&mut failing, id::ACCEL_LIMIT, 3, &7.0f32.to_le_bytes()),
         err(General::StoreOperationFailure)
     );
-    assert_eq!(failing.storage().load(id::ACCEL_LIMIT), None);
+    assert_eq!(failing.storage().value(id::ACCEL_LIMIT), None);
 }
 
 #[test]
@@ -282,7 +282,7 @@ fn attribute_lists_on_a_variable() {
     r.unwrap();
     assert_eq!(d, [2, 0, 0, 0, 0, 0, 3, 0, 0, 0]);
     assert_eq!(servo.variables().real(id::V0), 1.5);
-    assert_eq!(servo.storage().load(id::V0), Some(1.5f32.to_bits()));
+    assert_eq!(servo.storage().value(id::V0), Some(1.5f32.to_bits()));
     // An unknown attribute ends the list (its value's length is unknown); a read-only
     // one is skipped and the next entry still applies.
     let mut list = vec![2, 0, 9, 0];
@@ -437,7 +437,7 @@ fn multicast_is_variables_273_and_275() {
     assert_eq!(servo.variables().raw(id::MULTICAST_ADDRESS), 0xEFC0_0909);
     assert_eq!(servo.variables().raw(id::MULTICAST_TTL), 16);
     assert_eq!(
-        servo.storage().load(id::MULTICAST_TTL),
+        servo.storage().value(id::MULTICAST_TTL),
         Some(16),
         "non-volatile"
     );

@@ -17,7 +17,6 @@
 use enip_stack::cip::{CipError, CipResult, General};
 
 use super::datalinks::Link;
-use super::storage::EpmStorage;
 
 /// Variable IDs (the instance numbers of class 0x64).
 pub mod id {
@@ -388,11 +387,12 @@ pub struct Variables {
 }
 
 impl Variables {
-    /// The values at power-up: the EPM copy where it holds one, else the default.
-    pub fn power_up(epm: &impl EpmStorage) -> Self {
+    /// The values at power-up: the EPM copy (`epm` of a variable's ID) where it holds one,
+    /// else the default.
+    pub fn power_up(epm: impl Fn(u16) -> Option<u32>) -> Self {
         let mut ram = [0; COUNT];
         for (slot, v) in ram.iter_mut().zip(TABLE.iter()) {
-            *slot = if v.epm { epm.load(v.id) } else { None }.unwrap_or(v.default);
+            *slot = if v.epm { epm(v.id) } else { None }.unwrap_or(v.default);
         }
         Variables { ram, changed: true }
     }
@@ -432,8 +432,8 @@ impl Variables {
 
 #[cfg(test)]
 mod tests {
+    use super::super::storage::EpmCopy;
     use super::*;
-    use crate::position_servo::storage::RamEpm;
 
     #[test]
     fn table_is_sorted_and_names_every_variable_of_the_manual() {
@@ -514,9 +514,9 @@ mod tests {
 
     #[test]
     fn power_up_takes_the_epm_copy_else_the_default() {
-        let mut epm = RamEpm::new();
+        let mut epm = EpmCopy::new();
         epm.store(id::V0, 5.5f32.to_bits()).unwrap();
-        let vars = Variables::power_up(&epm);
+        let vars = Variables::power_up(|id| epm.value(id));
         assert_eq!(vars.real(id::V0), 5.5);
         assert_eq!(vars.raw(id::ENABLE), 0);
         assert_eq!(vars.raw(id::MULTICAST_ADDRESS), DEFAULT_MULTICAST);
