@@ -105,87 +105,107 @@ impl Profile {
     }
 }
 
-impl Device for Profile {
-    fn identity(&self) -> &IdentityInfo {
-        dispatch!(self, d => d.identity())
-    }
-    fn status_bits(&self) -> u16 {
-        dispatch!(self, d => d.status_bits())
-    }
-    fn assemblies(&self) -> &[AssemblyInfo] {
-        dispatch!(self, d => d.assemblies())
-    }
-    fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
-        dispatch!(self, d => d.read_assembly(instance, out))
-    }
-    fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
-        dispatch!(self, d => d.write_assembly(instance, data))
-    }
-    fn classes(&self) -> &[ClassDef] {
-        dispatch!(self, d => d.classes())
-    }
-    fn has_instance(&self, class: &ClassDef, instance: u32) -> bool {
-        dispatch!(self, d => d.has_instance(class, instance))
-    }
-    fn instance_count(&self, class: &ClassDef) -> u32 {
-        dispatch!(self, d => d.instance_count(class))
-    }
-    fn attribute_access(&self, at: &AttributeRef<'_>) -> Access {
-        dispatch!(self, d => d.attribute_access(at))
-    }
-    fn attribute_size(&self, at: &AttributeRef<'_>) -> Option<usize> {
-        dispatch!(self, d => d.attribute_size(at))
-    }
-    fn get_attribute(
-        &mut self,
-        cx: &RequestContext,
-        at: &AttributeRef<'_>,
-        w: &mut Writer<'_>,
-    ) -> CipResult {
-        dispatch!(self, d => d.get_attribute(cx, at, w))
-    }
-    fn set_attribute(
-        &mut self,
-        cx: &RequestContext,
-        at: &AttributeRef<'_>,
-        value: &[u8],
-    ) -> CipResult {
-        dispatch!(self, d => d.set_attribute(cx, at, value))
-    }
-    fn handle_request(
-        &mut self,
-        cx: &RequestContext,
-        req: &Request<'_>,
-        reply: &mut Writer<'_>,
-    ) -> Option<CipResult> {
-        dispatch!(self, d => d.handle_request(cx, req, reply))
-    }
-    fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
-        dispatch!(self, d => d.admit(request))
-    }
-    fn input_changes(&mut self) -> Option<&mut InputChanges> {
-        dispatch!(self, d => d.input_changes())
-    }
-    fn reset(&mut self, kind: u8) -> CipResult {
-        dispatch!(self, d => d.reset(kind))
-    }
-    fn connection_event(&mut self, event: ConnectionEvent) {
-        dispatch!(self, d => d.connection_event(event))
-    }
-    fn poll(&mut self, now: Instant) -> Option<Instant> {
-        dispatch!(self, d => d.poll(now))
-    }
-    fn multicast(&self) -> Option<Multicast> {
-        dispatch!(self, d => d.multicast())
-    }
-    fn set_multicast(&mut self, multicast: Multicast) -> CipResult {
-        dispatch!(self, d => d.set_multicast(multicast))
-    }
+/// Implements [`Device`] for [`Profile`] by dispatch, one line per method of the trait, and
+/// lists them in `FORWARDED`; a test compares that list with the trait's methods in the
+/// stack's source, so a method added to the trait cannot be left to its default here.
+macro_rules! forward_device {
+    (
+        &self: $(fn $name:ident($s:ident $(, $arg:ident: $ty:ty)*) $(-> $ret:ty)?;)*
+        &mut self: $(fn $mname:ident($ms:ident $(, $marg:ident: $mty:ty)*) $(-> $mret:ty)?;)*
+    ) => {
+        impl Device for Profile {
+            $(fn $name(&$s $(, $arg: $ty)*) $(-> $ret)? {
+                dispatch!($s, d => d.$name($($arg),*))
+            })*
+            $(fn $mname(&mut $ms $(, $marg: $mty)*) $(-> $mret)? {
+                dispatch!($ms, d => d.$mname($($marg),*))
+            })*
+        }
+
+        /// The [`Device`] methods [`Profile`] forwards.
+        #[cfg(test)]
+        const FORWARDED: &[&str] = &[$(stringify!($name),)* $(stringify!($mname),)*];
+    };
+}
+
+forward_device! {
+    &self:
+    fn identity(self) -> &IdentityInfo;
+    fn status_bits(self) -> u16;
+    fn assemblies(self) -> &[AssemblyInfo];
+    fn accepts_connection_size(self, assembly: &AssemblyInfo, data: usize) -> bool;
+    fn classes(self) -> &[ClassDef];
+    fn has_instance(self, class: &ClassDef, instance: u32) -> bool;
+    fn instance_count(self, class: &ClassDef) -> u32;
+    fn attribute_access(self, at: &AttributeRef<'_>) -> Access;
+    fn attribute_size(self, at: &AttributeRef<'_>) -> Option<usize>;
+    fn multicast(self) -> Option<Multicast>;
+    &mut self:
+    fn read_assembly(self, instance: u16, out: &mut [u8]) -> CipResult<usize>;
+    fn write_assembly(self, instance: u16, data: &[u8]) -> CipResult;
+    fn get_attribute(self, cx: &RequestContext, at: &AttributeRef<'_>, w: &mut Writer<'_>)
+        -> CipResult;
+    fn set_attribute(self, cx: &RequestContext, at: &AttributeRef<'_>, value: &[u8]) -> CipResult;
+    fn handle_request(self, cx: &RequestContext, req: &Request<'_>, reply: &mut Writer<'_>)
+        -> Option<CipResult>;
+    fn admit(self, request: &OpenRequest<'_>) -> CipResult;
+    fn input_changes(self) -> Option<&mut InputChanges>;
+    fn reset(self, kind: u8) -> CipResult;
+    fn connection_event(self, event: ConnectionEvent);
+    fn poll(self, now: Instant) -> Option<Instant>;
+    fn set_multicast(self, multicast: Multicast) -> CipResult;
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    extern crate std;
+    use std::string::String;
+    use std::vec::Vec;
+
+    /// The methods of `pub trait Device` in the stack's source (wherever it is declared).
+    fn device_trait_methods() -> Vec<String> {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../stack/src");
+        let mut dirs = std::vec![root];
+        let mut methods = Vec::new();
+        while let Some(dir) = dirs.pop() {
+            for entry in std::fs::read_dir(&dir).unwrap().flatten() {
+                let path = entry.path();
+                if path.is_dir() {
+                    dirs.push(path);
+                    continue;
+                }
+                let text = std::fs::read_to_string(&path).unwrap_or_default();
+                let mut lines = text.lines().skip_while(|l| {
+                    let rest = l.strip_prefix("pub trait Device").unwrap_or("x");
+                    !(rest.starts_with(' ') || rest.starts_with(':') || rest.starts_with('{'))
+                });
+                if lines.next().is_none() {
+                    continue;
+                }
+                for line in lines.take_while(|l| *l != "}") {
+                    if let Some(rest) = line.strip_prefix("    fn ") {
+                        let name = rest.split(['(', '<']).next().unwrap();
+                        methods.push(name.into());
+                    }
+                }
+            }
+        }
+        methods
+    }
+
+    /// A method added to `Device` with a default would otherwise run that default for every
+    /// profile behind the enum (as `accepts_connection_size` once did for the Parker IPA).
+    #[test]
+    fn forwards_every_device_method() {
+        let mut trait_methods = device_trait_methods();
+        assert!(trait_methods.len() >= 21, "{trait_methods:?}");
+        let mut forwarded: Vec<String> = FORWARDED.iter().map(|m| String::from(*m)).collect();
+        trait_methods.sort();
+        forwarded.sort();
+        assert_eq!(forwarded, trait_methods);
+    }
 
     #[test]
     fn every_name_round_trips() {

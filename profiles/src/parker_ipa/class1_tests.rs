@@ -11,8 +11,10 @@ use std::vec::Vec;
 
 use enip_stack::virtual_scanner::{Opened, VirtualScanner, SCANNER_IP};
 use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::Device;
 
 use super::ParkerIpa;
+use crate::Profile;
 
 /// Point-to-point, scheduled priority, fixed size.
 const P2P: u16 = 0x4800;
@@ -29,14 +31,21 @@ const FOUR_GROUPS: [[i32; 4]; 4] = [
 const IO_PATH: [u8; 8] = [0x20, 0x04, 0x24, 0x03, 0x2C, 0x66, 0x2C, 0x65];
 
 /// The controller behind a virtual scanner, with the requests these tests make.
-struct Rig {
-    scanner: VirtualScanner<ParkerIpa>,
+struct Rig<D: Device = ParkerIpa> {
+    scanner: VirtualScanner<D>,
 }
 
 impl Rig {
     fn new() -> Rig {
+        Rig::with(ParkerIpa::new())
+    }
+}
+
+impl<D: Device> Rig<D> {
+    /// The controller as `device` (the profile itself, or [`Profile`] holding it).
+    fn with(device: D) -> Rig<D> {
         Rig {
-            scanner: VirtualScanner::new(ParkerIpa::new()),
+            scanner: VirtualScanner::new(device),
         }
     }
 
@@ -420,7 +429,17 @@ fn intervals_are_reported_per_direction() {
 /// with the 400-byte assembly as the acceptable size.
 #[test]
 fn exact_configured_sizes_connect() {
-    let mut rig = Rig::new();
+    exact_configured_sizes_connect_on(Rig::new());
+}
+
+/// The same through the run-time [`Profile`], which must forward the sizes the
+/// configuration gives (`Device::accepts_connection_size`) rather than use the default.
+#[test]
+fn exact_configured_sizes_connect_through_the_profile_enum() {
+    exact_configured_sizes_connect_on(Rig::with(Profile::from_name("parker-ipa").unwrap()));
+}
+
+fn exact_configured_sizes_connect_on<D: Device>(mut rig: Rig<D>) {
     rig.configure(&FOUR_GROUPS);
     let short = rig.forward_open(&fo(1, 16, 16, 10_000, 10_000));
     assert_eq!((short.general, short.extended), (0x01, Some(0x0127)));
