@@ -10,7 +10,7 @@ use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::{AssemblyInfo, AssemblyRole};
 
 use super::datalinks::{self, LINKS};
-use super::variables::{self, id, Value, Variables};
+use super::params::{self, id, Value, Variables};
 use super::PositionServo;
 
 /// 103: dummy assembly required for implicit configuration; no data.
@@ -163,7 +163,7 @@ pub fn status2(status: u32, exstatus: u32) -> u32 {
 }
 
 fn encode(vars: &Variables, word: Word) -> [u8; 4] {
-    let var = |vid| variables::find(vid).map(|(_, v)| (v, vars.raw(vid)));
+    let var = |vid| params::find(vid).map(|(_, v)| (v, vars.raw(vid)));
     match word {
         Word::Status2 => status2(vars.raw(id::STATUS), vars.raw(id::EXSTATUS)).to_le_bytes(),
         Word::U32(vid) => var(vid).map_or(0, |(v, raw)| v.int_bits(raw)).to_le_bytes(),

@@ -6,7 +6,7 @@
 //! disabled output link ignores its word. Output links write the RAM copy only: DataLinks
 //! never write to the EPM (6, STOP note).
 
-use super::variables::{self, id, Value, Variables};
+use super::params::{self, id, Value, Variables};
 use super::PositionServo;
 
 /// Number of input links and of output links.
@@ -60,7 +60,7 @@ pub const fn output(n: usize) -> u16 {
 /// link's format, or zero when disabled or unknown.
 pub fn read(vars: &Variables, control: u16) -> [u8; 4] {
     let link = Link::decode(vars.raw(control));
-    match variables::find(link.id) {
+    match params::find(link.id) {
         Some((_, v)) if link.enabled => {
             let raw = vars.raw(link.id);
             if link.real {

@@ -2,10 +2,10 @@
 //! describes it, with a simulated drive behind it.
 //!
 //! - [`identity`]: the Identity object, "EnetIP 940" (7.1).
-//! - [`variables`]: the variable table and the RAM copy; [`storage`]: the EPM copy.
-//! - [`system940`]: class 0x64, a variable per instance, attributes 0-5 (7.2).
+//! - [`params`]: the variable table and the RAM copy; [`storage`]: the EPM copy.
+//! - [`classes`]: System940, class 0x64, a variable per instance, attributes 0-5 (7.2).
 //! - [`assemblies`]: 103-109 (5.5) and the heartbeat points; [`datalinks`]: 5.4.
-//! - [`drive`]: the simulated drive, advanced by [`Device::poll`] every millisecond.
+//! - [`device`]: the simulated drive, advanced by [`Device::poll`] every millisecond.
 //! - [`eds`]: the EDS file's choices (`eds/position-servo.eds`).
 //!
 //! Connections (5.1, table 9): cyclic and application-triggered, exclusive owner, input only
@@ -16,16 +16,14 @@
 //! multicast TTL and address are variables 273/275 and TCP/IP attributes 8/9 at once.
 
 pub mod assemblies;
+pub mod classes;
 pub mod datalinks;
-pub mod drive;
-pub mod identity;
-pub mod storage;
-pub mod system940;
-pub mod variables;
-
-#[cfg(test)]
-mod drive_tests;
+pub mod device;
 pub mod eds;
+pub mod identity;
+pub mod params;
+pub mod storage;
+
 #[cfg(test)]
 mod tests;
 
@@ -41,9 +39,9 @@ use enip_stack::io::Trigger;
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant};
 
-use drive::{Drive, MoveKind, Settings};
+use device::{Drive, MoveKind, Settings};
+use params::{id, Value, Variables, DEFAULT_MULTICAST};
 use storage::EpmCopy;
-use variables::{id, Value, Variables, DEFAULT_MULTICAST};
 
 /// The PositionServo: variables, their EPM copy, and the simulated drive.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -95,7 +93,7 @@ impl PositionServo {
     /// Writes with an action (enable, moves) act at once; the drive's read-only variables
     /// are refreshed.
     pub fn write(&mut self, id: u16, value: Value, epm: bool) -> CipResult {
-        let (_, var) = variables::find(id).ok_or(General::ObjectDoesNotExist)?;
+        let (_, var) = params::find(id).ok_or(General::ObjectDoesNotExist)?;
         var.writable(epm)?;
         let raw = var.encode(value)?;
         self.act(id, raw)?;
@@ -161,20 +159,20 @@ impl Device for PositionServo {
     }
 
     fn classes(&self) -> &[ClassDef] {
-        &[system940::CLASS_DEF]
+        &[classes::CLASS_DEF]
     }
 
     /// A System940 instance is a variable of the table.
     fn has_instance(&self, _class: &ClassDef, instance: u32) -> bool {
-        system940::variable(instance).is_some()
+        classes::variable(instance).is_some()
     }
 
     fn instance_count(&self, _class: &ClassDef) -> u32 {
-        variables::COUNT as u32
+        params::COUNT as u32
     }
 
     fn attribute_access(&self, at: &AttributeRef<'_>) -> Access {
-        system940::access(at)
+        classes::access(at)
     }
 
     fn get_attribute(
@@ -183,8 +181,8 @@ impl Device for PositionServo {
         at: &AttributeRef<'_>,
         w: &mut Writer<'_>,
     ) -> CipResult {
-        let var = system940::variable(at.instance).ok_or(General::ObjectDoesNotExist)?;
-        system940::get(&self.vars, var, at.attribute.id, w)
+        let var = classes::variable(at.instance).ok_or(General::ObjectDoesNotExist)?;
+        classes::get(&self.vars, var, at.attribute.id, w)
     }
 
     fn set_attribute(
@@ -193,8 +191,8 @@ impl Device for PositionServo {
         at: &AttributeRef<'_>,
         value: &[u8],
     ) -> CipResult {
-        let var = system940::variable(at.instance).ok_or(General::ObjectDoesNotExist)?;
-        let (value, epm) = system940::decode(var, at.attribute.id, value)?;
+        let var = classes::variable(at.instance).ok_or(General::ObjectDoesNotExist)?;
+        let (value, epm) = classes::decode(var, at.attribute.id, value)?;
         self.write(var.id, value, epm)
     }
 

@@ -6,7 +6,7 @@
 
 use enip_stack::cip::{CipResult, General};
 
-use super::variables::{self, COUNT};
+use super::params::{self, COUNT};
 use crate::storage::{key, Record, Saved};
 
 /// Bytes of the saved record: a stored flag (0 or 1) per variable, then every value.
@@ -31,7 +31,7 @@ impl Epm {
 
     /// The stored value of variable `id`, if any.
     pub fn get(&self, id: u16) -> Option<u32> {
-        let (i, _) = variables::find(id)?;
+        let (i, _) = params::find(id)?;
         match self.stored.get(i) {
             Some(true) => self.values.get(i).copied(),
             _ => None,
@@ -40,7 +40,7 @@ impl Epm {
 
     /// Stores the value of variable `id`; false if it has no EPM copy.
     fn set(&mut self, id: u16, raw: u32) -> bool {
-        let i = match variables::find(id) {
+        let i = match params::find(id) {
             Some((i, v)) if v.epm => i,
             _ => return false,
         };
@@ -110,7 +110,7 @@ impl EpmCopy {
 
 #[cfg(test)]
 mod tests {
-    use super::variables::id;
+    use super::params::id;
     use super::*;
 
     #[test]
@@ -131,10 +131,10 @@ mod tests {
     #[test]
     fn holds_every_epm_variable_and_refuses_the_others() {
         let mut epm = EpmCopy::new();
-        for v in variables::TABLE.iter().filter(|v| v.epm) {
+        for v in params::TABLE.iter().filter(|v| v.epm) {
             epm.store(v.id, u32::from(v.id)).unwrap();
         }
-        for v in variables::TABLE.iter().filter(|v| v.epm) {
+        for v in params::TABLE.iter().filter(|v| v.epm) {
             assert_eq!(epm.value(v.id), Some(u32::from(v.id)));
         }
         let no_copy = Err(General::ResourceUnavailable.into());

@@ -1,5 +1,7 @@
 //! The profile as the stack sees it: System940 requests, assemblies, multicast, reset.
 
+mod device;
+
 extern crate std;
 
 use core::net::Ipv4Addr;
@@ -12,11 +14,11 @@ use enip_stack::device::Multicast;
 use enip_stack::{Adapter, AssemblyRole, Device, Instant, NetworkConfig};
 
 use super::assemblies::{self, status2};
-use super::drive::status;
+use super::device::status;
 use enip_stack::nv::{CutFlash, SharedStore};
 
+use super::params::{id, Value, DEFAULT_MULTICAST};
 use super::storage::EpmCopy;
-use super::variables::{id, Value, DEFAULT_MULTICAST};
 use super::PositionServo;
 use crate::storage::testing;
 

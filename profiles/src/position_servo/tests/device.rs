@@ -4,9 +4,9 @@ use enip_stack::cip::{CipError, General};
 use enip_stack::device::{CloseReason, ConnectionEvent};
 use enip_stack::{Device, Instant};
 
-use super::drive::status;
-use super::variables::{id, Value};
-use super::PositionServo;
+use crate::position_servo::device::status;
+use crate::position_servo::params::{id, Value};
+use crate::position_servo::PositionServo;
 
 /// A servo and a virtual clock in milliseconds.
 struct Sim {
@@ -140,7 +140,7 @@ fn movep_is_absolute_and_moves_queue_on_the_motion_stack() {
     s.set(id::MOVEP, -1.5);
     s.until(5000, |s| s.status() & status::MOTION_COMPLETED != 0);
     assert_eq!(s.get(id::ACTUAL_POSITION), -1.5);
-    for _ in 0..super::drive::MOTION_STACK {
+    for _ in 0..crate::position_servo::device::MOTION_STACK {
         s.set(id::MOVED, 1.0);
     }
     assert_ne!(s.status() & status::STACK_FULL, 0);

@@ -22,7 +22,7 @@
 use enip_stack::cip::{CipResult, General};
 use enip_stack::{Duration, Instant};
 
-use super::variables::{id, Variables};
+use super::params::{id, Variables};
 
 /// Control tick.
 pub const TICK: Duration = Duration::from_micros(1_000);

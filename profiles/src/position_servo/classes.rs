@@ -23,7 +23,7 @@ use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::device::AttributeRef;
 use enip_stack::wire::Writer;
 
-use super::variables::{self, Format, Value, Variable, Variables};
+use super::params::{self, Format, Value, Variable, Variables};
 
 /// Class code of the System940 object.
 pub const CLASS: u16 = 0x64;
@@ -37,7 +37,7 @@ pub const CLASS_DEF: ClassDef = ClassDef {
     id: CLASS,
     name: "System940",
     revision: 1,
-    max_instance: variables::TABLE[variables::COUNT - 1].id as u32,
+    max_instance: params::TABLE[params::COUNT - 1].id as u32,
     attributes: &[
         AttributeDef::get_set(0, DataType::Dint, "Value as integer (RAM)"),
         AttributeDef::get_set(1, DataType::Dint, "Value as integer (RAM and EPM)"),
@@ -80,7 +80,7 @@ fn encoding(id: u16) -> (Encoding, bool) {
 pub fn variable(instance: u32) -> Option<&'static Variable> {
     u16::try_from(instance)
         .ok()
-        .and_then(variables::find)
+        .and_then(params::find)
         .map(|(_, v)| v)
 }
 
