@@ -10,8 +10,8 @@ use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::{AssemblyInfo, AssemblyRole};
 
 use super::datalinks::{self, LINKS};
+use super::device::Servo;
 use super::params::{self, id, Value, Variables};
-use super::PositionServo;
 
 /// 103: dummy assembly required for implicit configuration; no data.
 pub const CONFIG: u16 = 103;
@@ -185,7 +185,7 @@ pub fn read(vars: &Variables, instance: u16, out: &mut [u8]) -> CipResult<usize>
 
 /// Applies output data for assembly `instance` (exactly its size), word by word; a word its
 /// variable refuses changes nothing.
-pub fn write(servo: &mut PositionServo, instance: u16, data: &[u8]) -> CipResult {
+pub fn write(servo: &mut Servo, instance: u16, data: &[u8]) -> CipResult {
     let a = find(instance)?;
     match data.len().cmp(&usize::from(a.info.size)) {
         core::cmp::Ordering::Less => return Err(General::NotEnoughData.into()),
@@ -201,8 +201,8 @@ pub fn write(servo: &mut PositionServo, instance: u16, data: &[u8]) -> CipResult
         };
         // A refused word leaves its variable as it was, like refused O->T data.
         let _ = match *word {
-            Word::U32(vid) => servo.write(vid, Value::Integer(u32::from_le_bytes(bytes)), false),
-            Word::F32(vid) => servo.write(vid, Value::Real(f32::from_le_bytes(bytes)), false),
+            Word::U32(vid) => servo.write(vid, Value::Integer(u32::from_le_bytes(bytes)), None),
+            Word::F32(vid) => servo.write(vid, Value::Real(f32::from_le_bytes(bytes)), None),
             Word::Link(control) => {
                 datalinks::write(servo, control, bytes);
                 Ok(())

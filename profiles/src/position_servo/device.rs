@@ -22,7 +22,8 @@
 use enip_stack::cip::{CipResult, General};
 use enip_stack::{Duration, Instant};
 
-use super::params::{id, Variables};
+use super::params::{self, id, Value, Variables};
+use super::storage::EpmCopy;
 
 /// Control tick.
 pub const TICK: Duration = Duration::from_micros(1_000);
@@ -442,5 +443,79 @@ impl Drive {
 impl Default for Drive {
     fn default() -> Self {
         Self::new()
+    }
+}
+
+/// The drive and the RAM copy of its variables: what a write of a variable acts on, from
+/// System940, an output assembly or a DataLink.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Servo {
+    /// The RAM copy of the variables.
+    pub vars: Variables,
+    /// The simulated drive.
+    pub drive: Drive,
+}
+
+impl Servo {
+    /// The drive at power-up, its variables from the EPM copy (`epm` of a variable's ID)
+    /// where it holds one.
+    pub fn power_up(epm: impl Fn(u16) -> Option<u32>) -> Self {
+        let mut servo = Servo {
+            vars: Variables::power_up(epm),
+            drive: Drive::new(),
+        };
+        servo.drive.publish(&mut servo.vars);
+        servo
+    }
+
+    /// Writes `value` to variable `id`: the RAM copy, and given `epm` the EPM copy as well.
+    /// Writes with an action (enable, moves) act at once; the drive's read-only variables
+    /// are refreshed.
+    pub fn write(&mut self, id: u16, value: Value, epm: Option<&mut EpmCopy>) -> CipResult {
+        let (_, var) = params::find(id).ok_or(General::ObjectDoesNotExist)?;
+        var.writable(epm.is_some())?;
+        let raw = var.encode(value)?;
+        self.act(id, raw)?;
+        if let Some(epm) = epm {
+            epm.store(id, raw)?;
+        }
+        self.vars.set(id, raw);
+        self.drive.publish(&mut self.vars);
+        Ok(())
+    }
+
+    /// The action a write of `raw` to `id` starts, if any; an error refuses the write.
+    fn act(&mut self, id: u16, raw: u32) -> CipResult {
+        let settings = Settings::from_vars(&self.vars);
+        let amount = f32::from_bits(raw);
+        match id {
+            id::ENABLE => self.drive.set_enable(raw != 0),
+            id::DRIVE_MODE if self.drive.enabled() && raw != self.vars.raw(id) => {
+                return Err(General::DeviceStateConflict.into())
+            }
+            id::MOVED => self
+                .drive
+                .start_move(MoveKind::Relative, amount, false, &settings)?,
+            id::MOVEP => self
+                .drive
+                .start_move(MoveKind::Absolute, amount, false, &settings)?,
+            id::MOVEDS => self
+                .drive
+                .start_move(MoveKind::Relative, amount, true, &settings)?,
+            id::MOVEPS => self
+                .drive
+                .start_move(MoveKind::Absolute, amount, true, &settings)?,
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// Powers up again from the EPM copy, keeping what the network state says (ownership).
+    pub fn restart(&mut self, epm: impl Fn(u16) -> Option<u32>) {
+        let owned = self.drive.exstatus() != 0;
+        self.vars = Variables::power_up(epm);
+        self.drive = Drive::new();
+        self.drive.set_owned(owned);
+        self.drive.publish(&mut self.vars);
     }
 }

@@ -39,15 +39,14 @@ use enip_stack::io::Trigger;
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo, Instant};
 
-use device::{Drive, MoveKind, Settings};
+use device::Servo;
 use params::{id, Value, Variables, DEFAULT_MULTICAST};
 use storage::EpmCopy;
 
 /// The PositionServo: variables, their EPM copy, and the simulated drive.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PositionServo {
-    vars: Variables,
-    drive: Drive,
+    servo: Servo,
     epm: EpmCopy,
     /// Input assemblies to produce now (application-triggered connections).
     changes: InputChanges,
@@ -69,19 +68,16 @@ impl Default for PositionServo {
 impl PositionServo {
     /// A drive at power-up whose variables start from the EPM copy in `epm`.
     pub fn with_storage(epm: EpmCopy) -> Self {
-        let mut servo = PositionServo {
-            vars: Variables::power_up(|id| epm.value(id)),
-            drive: Drive::new(),
+        PositionServo {
+            servo: Servo::power_up(|id| epm.value(id)),
             epm,
             changes: InputChanges::new(),
-        };
-        servo.drive.publish(&mut servo.vars);
-        servo
+        }
     }
 
     /// The RAM copy of the variables.
     pub fn variables(&self) -> &Variables {
-        &self.vars
+        &self.servo.vars
     }
 
     /// The EPM storage.
@@ -93,51 +89,7 @@ impl PositionServo {
     /// Writes with an action (enable, moves) act at once; the drive's read-only variables
     /// are refreshed.
     pub fn write(&mut self, id: u16, value: Value, epm: bool) -> CipResult {
-        let (_, var) = params::find(id).ok_or(General::ObjectDoesNotExist)?;
-        var.writable(epm)?;
-        let raw = var.encode(value)?;
-        self.act(id, raw)?;
-        if epm {
-            self.epm.store(id, raw)?;
-        }
-        self.vars.set(id, raw);
-        self.drive.publish(&mut self.vars);
-        Ok(())
-    }
-
-    /// The action a write of `raw` to `id` starts, if any; an error refuses the write.
-    fn act(&mut self, id: u16, raw: u32) -> CipResult {
-        let settings = Settings::from_vars(&self.vars);
-        let amount = f32::from_bits(raw);
-        match id {
-            id::ENABLE => self.drive.set_enable(raw != 0),
-            id::DRIVE_MODE if self.drive.enabled() && raw != self.vars.raw(id) => {
-                return Err(General::DeviceStateConflict.into())
-            }
-            id::MOVED => self
-                .drive
-                .start_move(MoveKind::Relative, amount, false, &settings)?,
-            id::MOVEP => self
-                .drive
-                .start_move(MoveKind::Absolute, amount, false, &settings)?,
-            id::MOVEDS => self
-                .drive
-                .start_move(MoveKind::Relative, amount, true, &settings)?,
-            id::MOVEPS => self
-                .drive
-                .start_move(MoveKind::Absolute, amount, true, &settings)?,
-            _ => {}
-        }
-        Ok(())
-    }
-
-    /// Power-up again from the EPM copy, keeping what the network state says (ownership).
-    fn restart(&mut self) {
-        let owned = self.drive.exstatus() != 0;
-        self.vars = Variables::power_up(|id| self.epm.value(id));
-        self.drive = Drive::new();
-        self.drive.set_owned(owned);
-        self.drive.publish(&mut self.vars);
+        self.servo.write(id, value, epm.then_some(&mut self.epm))
     }
 }
 
@@ -151,11 +103,11 @@ impl Device for PositionServo {
     }
 
     fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
-        assemblies::read(&self.vars, instance, out)
+        assemblies::read(&self.servo.vars, instance, out)
     }
 
     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
-        assemblies::write(self, instance, data)
+        assemblies::write(&mut self.servo, instance, data)
     }
 
     fn classes(&self) -> &[ClassDef] {
@@ -182,7 +134,7 @@ impl Device for PositionServo {
         w: &mut Writer<'_>,
     ) -> CipResult {
         let var = classes::variable(at.instance).ok_or(General::ObjectDoesNotExist)?;
-        classes::get(&self.vars, var, at.attribute.id, w)
+        classes::get(&self.servo.vars, var, at.attribute.id, w)
     }
 
     fn set_attribute(
@@ -204,26 +156,26 @@ impl Device for PositionServo {
                 .clear()
                 .map_err(|_| General::StoreOperationFailure)?;
         }
-        self.restart();
+        self.servo.restart(|id| self.epm.value(id));
         Ok(())
     }
 
     fn connection_event(&mut self, event: ConnectionEvent) {
         match event {
-            ConnectionEvent::OwnershipGained => self.drive.set_owned(true),
+            ConnectionEvent::OwnershipGained => self.servo.drive.set_owned(true),
             ConnectionEvent::OwnershipLost(_) => {
-                self.drive.set_owned(false);
-                self.drive.disable();
+                self.servo.drive.set_owned(false);
+                self.servo.drive.disable();
             }
             _ => {}
         }
-        self.drive.publish(&mut self.vars);
+        self.servo.drive.publish(&mut self.servo.vars);
     }
 
     /// Every input assembly is made of variables (DataLinks can map any of them), so a
     /// change of any variable marks them all.
     fn input_changes(&mut self) -> Option<&mut InputChanges> {
-        if self.vars.take_changed() {
+        if self.servo.vars.take_changed() {
             let inputs = assemblies::INFOS
                 .iter()
                 .filter(|a| a.role == AssemblyRole::Input);
@@ -233,15 +185,15 @@ impl Device for PositionServo {
     }
 
     fn poll(&mut self, now: Instant) -> Option<Instant> {
-        Some(self.drive.poll(now, &mut self.vars))
+        Some(self.servo.drive.poll(now, &mut self.servo.vars))
     }
 
     /// Variables 273 (TTL) and 275 (address); Num Mcast is always 1 (2.2.1). The address is
     /// "automatically generated" (alloc control 0) while it is the default 239.192.15.32.
     fn multicast(&self) -> Option<Multicast> {
-        let start = self.vars.raw(id::MULTICAST_ADDRESS);
+        let start = self.servo.vars.raw(id::MULTICAST_ADDRESS);
         Some(Multicast {
-            ttl: u8::try_from(self.vars.raw(id::MULTICAST_TTL)).unwrap_or(1),
+            ttl: u8::try_from(self.servo.vars.raw(id::MULTICAST_TTL)).unwrap_or(1),
             config: MulticastConfig {
                 alloc_control: u8::from(start != DEFAULT_MULTICAST),
                 num_mcast: 1,

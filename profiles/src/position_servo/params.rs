@@ -16,7 +16,39 @@
 
 use enip_stack::cip::{CipError, CipResult, General};
 
-use super::datalinks::Link;
+/// A decoded DataLink control word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Link {
+    /// Bit 31: the link transfers data.
+    pub enabled: bool,
+    /// Bit 30: REAL (F32) rather than integer (U32).
+    pub real: bool,
+    /// Bits 15-0: the linked variable.
+    pub id: u16,
+}
+
+impl Link {
+    /// Bits 29-16, which must be zero.
+    pub const RESERVED: u32 = 0x3FFF_0000;
+    const ENABLE: u32 = 1 << 31;
+    const REAL: u32 = 1 << 30;
+
+    /// Decodes a control word (the reserved bits are ignored).
+    pub const fn decode(control: u32) -> Self {
+        Link {
+            enabled: control & Self::ENABLE != 0,
+            real: control & Self::REAL != 0,
+            id: control as u16,
+        }
+    }
+
+    /// The control word for this link.
+    pub const fn encode(self) -> u32 {
+        (if self.enabled { Self::ENABLE } else { 0 })
+            | (if self.real { Self::REAL } else { 0 })
+            | self.id as u32
+    }
+}
 
 /// Variable IDs (the instance numbers of class 0x64).
 pub mod id {
