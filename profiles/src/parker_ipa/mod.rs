@@ -3,10 +3,10 @@
 //!
 //! - [`identity`]: the Identity object (the manual has none; digest section 2).
 //! - [`params`]: the P parameters (float, long and flag ranges, axes, user banks), typed,
-//!   with conversion; [`axes`]: positions that move while a jog velocity is set.
-//! - [`class64`]: class 0x64 "ACR Parameter", services 0x50-0x54; [`class65`]: class 0x65
-//!   "ACR Group", 0x53 Read Group and 0x34 Write Binary; [`tags`]: the tag services
-//!   0x4C/0x4D/0x48/0x4E on "P4012" symbolic paths.
+//!   with conversion; [`device`]: the axes, whose positions move while a jog velocity is set.
+//! - [`classes`]: class 0x64 "ACR Parameter", services 0x50-0x54; class 0x65 "ACR Group",
+//!   0x53 Read Group and 0x34 Write Binary; the tag services 0x4C/0x4D/0x48/0x4E on "P4012"
+//!   symbolic paths.
 //! - [`ioconfig`]: the I/O groups P37434, P37440-P37503 and their validation (Table 3);
 //!   [`assemblies`]: 101/102/3; [`status`]: the CIP status parameters P37424-P37439.
 //!
@@ -17,18 +17,14 @@
 //! in Run only (the stack never hands Idle data over, R6.4).
 
 pub mod assemblies;
-pub mod axes;
-pub mod class64;
-pub mod class65;
+pub mod classes;
+pub mod device;
 pub mod eds;
 pub mod identity;
 pub mod ioconfig;
 pub mod params;
 pub mod status;
-pub mod tags;
 
-#[cfg(test)]
-mod class1_tests;
 #[cfg(test)]
 mod tests;
 
@@ -42,7 +38,8 @@ use enip_stack::io::Kind as ConnectionKind;
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 
-use axes::Axes;
+use classes::{class64, class65, tags};
+use device::Axes;
 use ioconfig::{Direction, Layout};
 use params::{Kind, Slot, Store, Value};
 use status::CipStatus;

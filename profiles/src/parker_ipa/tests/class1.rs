@@ -13,7 +13,7 @@ use enip_stack::virtual_scanner::{Opened, VirtualScanner, SCANNER_IP};
 use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
 use enip_stack::Device;
 
-use super::ParkerIpa;
+use super::super::ParkerIpa;
 use crate::Profile;
 
 /// Point-to-point, scheduled priority, fixed size.

@@ -17,9 +17,9 @@ use enip_stack::cip::object::ClassDef;
 use enip_stack::cip::{CipError, CipResult, General, Request};
 use enip_stack::wire::Writer;
 
+use super::super::params::{self, AXIS_STRIDE};
+use super::super::ParkerIpa;
 use super::class64::{count, put};
-use super::params::{self, AXIS_STRIDE};
-use super::ParkerIpa;
 
 /// Class code.
 pub const CLASS: u16 = 0x65;

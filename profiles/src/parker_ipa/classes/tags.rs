@@ -17,9 +17,9 @@
 use enip_stack::cip::{CipError, CipResult, General, Request};
 use enip_stack::wire::Writer;
 
+use super::super::params::Kind;
+use super::super::ParkerIpa;
 use super::class64::{masks, MAX_BLOCK};
-use super::params::Kind;
-use super::ParkerIpa;
 
 /// CIP Data Table Read.
 pub const READ_TAG: u8 = 0x4C;

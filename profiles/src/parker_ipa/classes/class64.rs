@@ -14,8 +14,8 @@ use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General, Request};
 use enip_stack::wire::Writer;
 
-use super::params::{Kind, Value, COUNT};
-use super::ParkerIpa;
+use super::super::params::{Kind, Value, COUNT};
+use super::super::ParkerIpa;
 
 /// Class code.
 pub const CLASS: u16 = 0x64;
