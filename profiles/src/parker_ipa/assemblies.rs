@@ -12,8 +12,8 @@ use enip_stack::cip::CipResult;
 use enip_stack::{AssemblyInfo, AssemblyRole};
 
 use super::ioconfig::{Direction, Layout, MAX_LONGS};
+use super::memory::Memory;
 use super::params::Value;
-use super::ParkerIpa;
 
 /// Input assembly (IPA sends to PLC).
 pub const INPUT: u16 = 101;
@@ -49,10 +49,10 @@ pub const INFOS: [AssemblyInfo; 3] = [
 /// Writes the parameters of `layout` going `direction` into `out` (4 bytes each, in the
 /// group's wire type), zero after them; returns `out.len()`. Straight into the buffer the
 /// stack lends (the T->O datagram itself when producing).
-pub fn image(ipa: &ParkerIpa, layout: &Layout, direction: Direction, out: &mut [u8]) -> usize {
+pub fn image(memory: &Memory, layout: &Layout, direction: Direction, out: &mut [u8]) -> usize {
     out.fill(0);
     for ((p, wire), chunk) in layout.parameters(direction).zip(out.chunks_exact_mut(4)) {
-        let value = ipa.get(p).unwrap_or(Value::Long(0));
+        let value = memory.get(p).unwrap_or(Value::Long(0));
         chunk.copy_from_slice(&value.to_kind(wire).to_le_bytes());
     }
     out.len()
@@ -60,13 +60,13 @@ pub fn image(ipa: &ParkerIpa, layout: &Layout, direction: Direction, out: &mut [
 
 /// Applies consumed data: each 4-byte field, read in its group's wire type, goes to its
 /// parameter converted to the parameter's type.
-pub fn consume(ipa: &mut ParkerIpa, layout: &Layout, data: &[u8]) -> CipResult {
+pub fn consume(memory: &mut Memory, layout: &Layout, data: &[u8]) -> CipResult {
     for ((p, wire), chunk) in layout
         .parameters(Direction::Consume)
         .zip(data.chunks_exact(4))
     {
         if let Ok(bytes) = <[u8; 4]>::try_from(chunk) {
-            ipa.set(p, Value::from_le_bytes(wire, bytes));
+            memory.set(p, Value::from_le_bytes(wire, bytes));
         }
     }
     Ok(())

@@ -16,27 +16,6 @@ pub const MAX_PER_GROUP: i32 = 8;
 /// Most parameters each way (Table 4: 100 parameters, 3200 bits).
 pub const MAX_LONGS: usize = 100;
 
-/// The AOI configuration of `_ConfigureEIP` (p.9-10): start, count, direction, type per
-/// group; Program1 loads it at every power cycle, so the simulated controller boots with it.
-pub const AOI_GROUPS: [[i32; 4]; 16] = [
-    [12288, 8, 0, 1], // Group0 Current Position
-    [4120, 1, 0, 1],  // Group1 Primary Axis Flags
-    [4360, 1, 0, 1],  // Group2 QuanAxisFlags
-    [4600, 1, 0, 1],  // Group3 QuinAxisFlags
-    [4096, 8, 0, 1],  // Group4 InputsOutputsMisc
-    [4392, 1, 0, 1],  // Group5 Drive Status1 Flags
-    [4408, 1, 0, 1],  // Group6 Drive Status2 Flags
-    [12315, 5, 0, 2], // Group7 Monitor Parameters
-    [12370, 6, 0, 2], // Group8 Scaling
-    [4128, 8, 0, 1],  // Group9 Program Flags
-    [38912, 8, 0, 1], // Group10 User DINTs
-    [4156, 4, 1, 1],  // Group11 User Flags-Control Words
-    [12348, 4, 1, 2], // Group12 Jog Profile Parameters
-    [39000, 8, 1, 1], // Group13 User DINTs
-    [39200, 8, 1, 2], // Group14 User Reals
-    [39208, 8, 1, 2], // Group15 User Reals
-];
-
 /// Which way a group's data goes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Direction {

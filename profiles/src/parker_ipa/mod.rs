@@ -22,6 +22,7 @@ pub mod device;
 pub mod eds;
 pub mod identity;
 pub mod ioconfig;
+pub mod memory;
 pub mod params;
 pub mod status;
 
@@ -30,7 +31,7 @@ mod tests;
 
 use enip_stack::cip::context::RequestContext;
 use enip_stack::cip::object::ClassDef;
-use enip_stack::cip::{CipError, CipResult, General, Request};
+use enip_stack::cip::{CipError, CipResult, Request};
 use enip_stack::config::MAX_RPI_US;
 use enip_stack::device::{ConnectionEvent, InputChanges, OpenRequest};
 use enip_stack::io::status::{NOT_CONFIGURED, OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
@@ -41,7 +42,8 @@ use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 use classes::{class64, class65, tags};
 use device::Axes;
 use ioconfig::{Direction, Layout};
-use params::{Kind, Slot, Store, Value};
+use memory::Memory;
+use params::Value;
 use status::CipStatus;
 
 /// Minimum RPI, both directions (Table 4: 1 ms).
@@ -50,8 +52,7 @@ pub const MIN_RPI_US: u32 = 1_000;
 /// The IPA controller: its parameters, the latched I/O layout, the CIP status and the axes.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ParkerIpa {
-    store: Store,
-    status: CipStatus,
+    memory: Memory,
     /// The I/O layout validated at the last accepted Class 1 Forward_Open.
     layout: Layout,
     axes: Axes,
@@ -69,12 +70,12 @@ impl Default for ParkerIpa {
 impl ParkerIpa {
     /// The controller at power-up: Program1 has loaded the AOI I/O configuration (p.9).
     pub fn new() -> Self {
-        let store = Store::power_up();
+        let memory = Memory::power_up();
+        let store = &memory.store;
         let layout = ioconfig::validate(store.groups_in_use(), &store.config())
             .unwrap_or_else(|_| Layout::empty());
         ParkerIpa {
-            store,
-            status: CipStatus::default(),
+            memory,
             layout,
             axes: Axes::default(),
             changes: InputChanges::new(),
@@ -84,72 +85,18 @@ impl ParkerIpa {
 
     /// The value of parameter `p` in its native type, or `None` if it does not exist.
     pub fn get(&self, p: u32) -> Option<Value> {
-        let slot = Slot::of(p)?;
-        match slot {
-            Slot::Status(i) => Some(Value::Long(
-                self.status.param(i, self.store.groups_in_use()),
-            )),
-            _ => self.store.load(slot),
-        }
+        self.memory.get(p)
     }
 
     /// Writes `value` to parameter `p`, converted to its type; `None` if it does not exist.
     /// Computed status parameters ignore the write (R7.2).
     pub fn set(&mut self, p: u32, value: Value) -> Option<()> {
-        let slot = Slot::of(p)?;
-        self.store.store(slot, value);
-        self.changes.mark(assemblies::INPUT);
-        Some(())
-    }
-
-    /// 0x05 unless every parameter of P(first)..P(first+n-1) exists.
-    pub fn check(&self, first: u32, n: usize) -> CipResult {
-        let all = (0..n as u32).all(|k| first.checked_add(k).and_then(params::kind).is_some());
-        if all {
-            Ok(())
-        } else {
-            Err(CipError::new(General::PathDestinationUnknown))
-        }
-    }
-
-    /// Writes `n` values from P(first) as `kind` into the reply (0x05 if one is missing).
-    pub fn read_block(&self, first: u32, n: usize, kind: Kind, w: &mut Writer<'_>) -> CipResult {
-        self.check(first, n)?;
-        for k in 0..n as u32 {
-            let value = self
-                .get(first.saturating_add(k))
-                .ok_or(CipError::new(General::PathDestinationUnknown))?;
-            class64::put(w, value, kind)?;
-        }
-        Ok(())
-    }
-
-    /// Writes the 4-byte values of `data` (as `kind`) to P(first)..., all or nothing.
-    pub fn write_block(&mut self, first: u32, data: &[u8], kind: Kind) -> CipResult {
-        self.check(first, data.len() / 4)?;
-        for (k, chunk) in data.chunks_exact(4).enumerate() {
-            if let Ok(bytes) = <[u8; 4]>::try_from(chunk) {
-                self.set(
-                    first.saturating_add(k as u32),
-                    Value::from_le_bytes(kind, bytes),
-                );
-            }
-        }
-        Ok(())
-    }
-
-    /// P = (P AND `and`) OR `or`, on the value as a long, stored back in P's type.
-    pub fn and_or(&mut self, p: u32, and: i32, or: i32) -> CipResult {
-        let old = self
-            .get(p)
-            .ok_or(CipError::new(General::PathDestinationUnknown))?;
-        self.set(p, Value::Long((old.as_long() & and) | or));
-        Ok(())
+        self.memory.set(p, value)
     }
 
     /// The CIP status behind P37424-P37439.
     pub fn cip_status(&self) -> &CipStatus {
-        &self.status
+        &self.memory.status
     }
 
     /// The I/O layout latched at the last accepted Class 1 Forward_Open.
@@ -160,15 +107,18 @@ impl ParkerIpa {
     /// Validates the current group configuration for a Class 1 Forward_Open: latches it, or
     /// reports the Table 3 status in P37433-P37437 and refuses with 0x01/0x0110 (R5.8).
     fn configure(&mut self) -> CipResult {
-        match ioconfig::validate(self.store.groups_in_use(), &self.store.config()) {
+        match ioconfig::validate(
+            self.memory.store.groups_in_use(),
+            &self.memory.store.config(),
+        ) {
             Ok(layout) => {
-                self.status.entry = layout.last;
+                self.memory.status.entry = layout.last;
                 self.layout = layout;
                 Ok(())
             }
             Err(e) => {
-                self.status.status = e.status;
-                self.status.entry = e.entry;
+                self.memory.status.status = e.status;
+                self.memory.status.entry = e.entry;
                 Err(CipError::connection(NOT_CONFIGURED))
             }
         }
@@ -194,10 +144,13 @@ impl Device for ParkerIpa {
             assemblies::OUTPUT => Direction::Consume,
             _ => return data == usize::from(assembly.size),
         };
-        if self.status.class1_slot.is_some() {
+        if self.memory.status.class1_slot.is_some() {
             return true;
         }
-        match ioconfig::validate(self.store.groups_in_use(), &self.store.config()) {
+        match ioconfig::validate(
+            self.memory.store.groups_in_use(),
+            &self.memory.store.config(),
+        ) {
             Ok(layout) => layout.longs(direction).saturating_mul(4) <= data,
             Err(_) => true,
         }
@@ -209,18 +162,23 @@ impl Device for ParkerIpa {
             assemblies::OUTPUT => Direction::Consume,
             _ => return Ok(0),
         };
-        Ok(assemblies::image(self, &self.layout, direction, out))
+        Ok(assemblies::image(
+            &self.memory,
+            &self.layout,
+            direction,
+            out,
+        ))
     }
 
     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
         if instance != assemblies::OUTPUT {
             return Ok(());
         }
-        if self.status.class1_slot.is_some() {
-            self.status.class1_messages = self.status.class1_messages.wrapping_add(1);
+        if self.memory.status.class1_slot.is_some() {
+            self.memory.status.class1_messages = self.memory.status.class1_messages.wrapping_add(1);
         }
         let layout = self.layout.clone();
-        assemblies::consume(self, &layout, data)
+        assemblies::consume(&mut self.memory, &layout, data)
     }
 
     fn classes(&self) -> &[ClassDef] {
@@ -252,12 +210,14 @@ impl Device for ParkerIpa {
             None => req.path.symbol.is_some(),
         };
         if ours {
-            self.status.class3_messages = self.status.class3_messages.wrapping_add(1);
+            self.memory.status.class3_messages = self.memory.status.class3_messages.wrapping_add(1);
         }
         match class {
-            Some(class64::CLASS) => class64::handle(self, req, reply),
-            Some(class65::CLASS) => class65::handle(self, cx, req, reply),
-            None => tags::handle(self, req, reply),
+            Some(class64::CLASS) => class64::handle(&mut self.memory, req, reply),
+            Some(class65::CLASS) => {
+                class65::handle(&self.memory, &mut self.binary_bytes, cx, req, reply)
+            }
+            None => tags::handle(&mut self.memory, req, reply),
             Some(_) => None,
         }
     }
@@ -270,8 +230,8 @@ impl Device for ParkerIpa {
         if !request.is_class1() {
             return Ok(());
         }
-        self.status.attempt(request.originator);
-        if self.status.class1_slot.is_some() {
+        self.memory.status.attempt(request.originator);
+        if self.memory.status.class1_slot.is_some() {
             let ext = match request.kind {
                 ConnectionKind::ExclusiveOwner => OWNERSHIP_CONFLICT,
                 _ => OUT_OF_CONNECTIONS,
@@ -285,23 +245,32 @@ impl Device for ParkerIpa {
     fn connection_event(&mut self, event: ConnectionEvent) {
         match event {
             ConnectionEvent::Opened(c) if c.kind == ConnectionKind::Explicit => {
-                self.status.class3_open = self.status.class3_open.saturating_add(1);
+                self.memory.status.class3_open = self.memory.status.class3_open.saturating_add(1);
             }
-            ConnectionEvent::Opened(c) => self.status.opened(c.slot, c.t_o_rpi_us, c.o_t_rpi_us),
+            ConnectionEvent::Opened(c) => {
+                self.memory
+                    .status
+                    .opened(c.slot, c.t_o_rpi_us, c.o_t_rpi_us)
+            }
             ConnectionEvent::Closed(c, _) if c.kind == ConnectionKind::Explicit => {
-                self.status.class3_open = self.status.class3_open.saturating_sub(1);
+                self.memory.status.class3_open = self.memory.status.class3_open.saturating_sub(1);
             }
-            ConnectionEvent::Closed(c, _) => self.status.closed(c.slot),
+            ConnectionEvent::Closed(c, _) => self.memory.status.closed(c.slot),
             _ => {}
         }
     }
 
+    /// The input assembly changes with any parameter written (explicit, O->T) and while an
+    /// axis moves.
     fn input_changes(&mut self) -> Option<&mut InputChanges> {
+        if self.memory.take_written() {
+            self.changes.mark(assemblies::INPUT);
+        }
         Some(&mut self.changes)
     }
 
     fn poll(&mut self, now: Instant) -> Option<Instant> {
-        let (changed, next) = self.axes.poll(now, &mut self.store);
+        let (changed, next) = self.axes.poll(now, &mut self.memory.store);
         if changed {
             self.changes.mark(assemblies::INPUT);
         }
@@ -312,9 +281,9 @@ impl Device for ParkerIpa {
     /// reloads the I/O configuration); the counters and connection state stay, the stack
     /// closes every connection and reports it.
     fn reset(&mut self, _kind: u8) -> CipResult {
-        let status = self.status.clone();
+        let status = self.memory.status.clone();
         *self = ParkerIpa::new();
-        self.status = status;
+        self.memory.status = status;
         Ok(())
     }
 }

@@ -181,6 +181,27 @@ pub const ACTUAL_POSITION: u32 = 2;
 /// Axis parameter index of the jog velocity (P12348 for axis 0, Fig. 4).
 pub const JOG_VEL: u32 = 60;
 
+/// The AOI configuration of `_ConfigureEIP` (p.9-10): start, count, direction, type per
+/// group; Program1 loads it at every power cycle, so the simulated controller boots with it.
+pub const AOI_GROUPS: [[i32; 4]; 16] = [
+    [12288, 8, 0, 1], // Group0 Current Position
+    [4120, 1, 0, 1],  // Group1 Primary Axis Flags
+    [4360, 1, 0, 1],  // Group2 QuanAxisFlags
+    [4600, 1, 0, 1],  // Group3 QuinAxisFlags
+    [4096, 8, 0, 1],  // Group4 InputsOutputsMisc
+    [4392, 1, 0, 1],  // Group5 Drive Status1 Flags
+    [4408, 1, 0, 1],  // Group6 Drive Status2 Flags
+    [12315, 5, 0, 2], // Group7 Monitor Parameters
+    [12370, 6, 0, 2], // Group8 Scaling
+    [4128, 8, 0, 1],  // Group9 Program Flags
+    [38912, 8, 0, 1], // Group10 User DINTs
+    [4156, 4, 1, 1],  // Group11 User Flags-Control Words
+    [12348, 4, 1, 2], // Group12 Jog Profile Parameters
+    [39000, 8, 1, 1], // Group13 User DINTs
+    [39200, 8, 1, 2], // Group14 User Reals
+    [39208, 8, 1, 2], // Group15 User Reals
+];
+
 /// The stored parameters (everything but the computed status parameters), as raw 32-bit
 /// images of their native type.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -215,14 +236,14 @@ impl Store {
                 s.store(slot, Value::Long(v));
             }
         }
-        for (g, entry) in super::ioconfig::AOI_GROUPS.iter().enumerate() {
+        for (g, entry) in AOI_GROUPS.iter().enumerate() {
             for (k, v) in entry.iter().enumerate() {
                 if let Some(c) = s.config.get_mut(g.saturating_mul(4).saturating_add(k)) {
                     *c = *v as u32;
                 }
             }
         }
-        s.groups_in_use = super::ioconfig::AOI_GROUPS.len() as u32;
+        s.groups_in_use = AOI_GROUPS.len() as u32;
         s
     }
 

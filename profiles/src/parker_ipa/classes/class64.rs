@@ -14,8 +14,8 @@ use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General, Request};
 use enip_stack::wire::Writer;
 
-use super::super::params::{Kind, Value, COUNT};
-use super::super::ParkerIpa;
+use super::super::memory::Memory;
+use super::super::params::{Kind, COUNT};
 
 /// Class code.
 pub const CLASS: u16 = 0x64;
@@ -46,14 +46,14 @@ pub const CLASS_DEF: ClassDef = ClassDef {
 
 /// Answers a request to class 0x64; `None` leaves a non-vendor service on the class
 /// (instance 0) to the stack.
-pub fn handle(ipa: &mut ParkerIpa, req: &Request<'_>, w: &mut Writer<'_>) -> Option<CipResult> {
+pub fn handle(memory: &mut Memory, req: &Request<'_>, w: &mut Writer<'_>) -> Option<CipResult> {
     let instance = req.path.instance_or_point()?;
     Some(match req.service {
-        WRITE_FLOATS => write(ipa, instance, req.data, Kind::Float),
-        WRITE_LONGS => write(ipa, instance, req.data, Kind::Long),
-        READ_FLOATS => read(ipa, instance, req.data, Kind::Float, w),
-        READ_LONGS => read(ipa, instance, req.data, Kind::Long, w),
-        AND_OR => and_or(ipa, instance, req.data),
+        WRITE_FLOATS => write(memory, instance, req.data, Kind::Float),
+        WRITE_LONGS => write(memory, instance, req.data, Kind::Long),
+        READ_FLOATS => read(memory, instance, req.data, Kind::Float, w),
+        READ_LONGS => read(memory, instance, req.data, Kind::Long, w),
+        AND_OR => and_or(memory, instance, req.data),
         _ if instance == 0 => return None,
         _ => Err(General::ServiceNotSupported.into()),
     })
@@ -77,20 +77,20 @@ pub fn count(data: &[u8], max: usize) -> CipResult<usize> {
 }
 
 /// 0x51/0x53: `n` values from P(first) converted to `kind`.
-fn read(ipa: &mut ParkerIpa, first: u32, data: &[u8], kind: Kind, w: &mut Writer<'_>) -> CipResult {
+fn read(memory: &mut Memory, first: u32, data: &[u8], kind: Kind, w: &mut Writer<'_>) -> CipResult {
     let n = count(data, MAX_BLOCK)?;
-    ipa.read_block(first, n, kind, w)
+    memory.read_block(first, n, kind, w)
 }
 
 /// 0x50/0x52: the values in `data` (each 4 bytes of `kind`) to P(first)...
-fn write(ipa: &mut ParkerIpa, first: u32, data: &[u8], kind: Kind) -> CipResult {
+fn write(memory: &mut Memory, first: u32, data: &[u8], kind: Kind) -> CipResult {
     if data.is_empty() || !data.len().is_multiple_of(4) {
         return Err(err(General::NotEnoughData));
     }
     if data.len() / 4 > MAX_BLOCK {
         return Err(err(General::TooMuchData));
     }
-    ipa.write_block(first, data, kind)
+    memory.write_block(first, data, kind)
 }
 
 /// The AND and OR masks at the start of `data`; fewer than 8 bytes 0x13 (Table 8 case 5).
@@ -106,16 +106,10 @@ pub fn masks(data: &[u8]) -> CipResult<(i32, i32)> {
 
 /// 0x54: P(instance) = (P AND mask1) OR mask2, computed on the long (a float parameter is
 /// converted to long and back, R8.1).
-fn and_or(ipa: &mut ParkerIpa, p: u32, data: &[u8]) -> CipResult {
+fn and_or(memory: &mut Memory, p: u32, data: &[u8]) -> CipResult {
     let (and, or) = masks(data)?;
-    ipa.and_or(p, and, or)
+    memory.and_or(p, and, or)
 }
 
 /// Number of existing parameters (class attribute 3).
 pub const INSTANCES: u32 = COUNT as u32;
-
-/// Encodes `value` as `kind` into the reply.
-pub fn put(w: &mut Writer<'_>, value: Value, kind: Kind) -> CipResult {
-    w.bytes(&value.to_kind(kind).to_le_bytes())?;
-    Ok(())
-}

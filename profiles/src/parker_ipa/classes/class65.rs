@@ -17,9 +17,10 @@ use enip_stack::cip::object::ClassDef;
 use enip_stack::cip::{CipError, CipResult, General, Request};
 use enip_stack::wire::Writer;
 
+use super::super::memory::put;
+use super::super::memory::Memory;
 use super::super::params::{self, AXIS_STRIDE};
-use super::super::ParkerIpa;
-use super::class64::{count, put};
+use super::class64::count;
 
 /// Class code.
 pub const CLASS: u16 = 0x65;
@@ -46,17 +47,18 @@ pub const CLASS_DEF: ClassDef = ClassDef {
 /// Answers a request to class 0x65; `None` leaves a non-vendor service on the class
 /// (instance 0) to the stack.
 pub fn handle(
-    ipa: &mut ParkerIpa,
+    memory: &Memory,
+    binary_bytes: &mut u32,
     cx: &RequestContext,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> Option<CipResult> {
     let instance = req.path.instance_or_point()?;
     Some(match req.service {
-        READ_GROUP => read_group(ipa, instance, req.data, w),
+        READ_GROUP => read_group(memory, instance, req.data, w),
         WRITE_BINARY if !cx.is_connected() => Err(CipError::new(General::DeviceStateConflict)),
         WRITE_BINARY => {
-            ipa.binary_bytes = ipa.binary_bytes.wrapping_add(req.data.len() as u32);
+            *binary_bytes = binary_bytes.wrapping_add(req.data.len() as u32);
             Ok(())
         }
         _ if instance == 0 => return None,
@@ -65,7 +67,7 @@ pub fn handle(
 }
 
 /// 0x53: `n` elements P(instance + 256k), each in its native type.
-fn read_group(ipa: &mut ParkerIpa, instance: u32, data: &[u8], w: &mut Writer<'_>) -> CipResult {
+fn read_group(memory: &Memory, instance: u32, data: &[u8], w: &mut Writer<'_>) -> CipResult {
     if INVALID_CODES.contains(&(instance >> 8)) {
         return Err(CipError::new(General::PathDestinationUnknown));
     }
@@ -74,7 +76,8 @@ fn read_group(ipa: &mut ParkerIpa, instance: u32, data: &[u8], w: &mut Writer<'_
     let mut values = [None; MAX_GROUP_BLOCK];
     for (slot, p) in values.iter_mut().zip(elements) {
         *slot = Some(
-            ipa.get(p)
+            memory
+                .get(p)
                 .ok_or(CipError::new(General::PathDestinationUnknown))?,
         );
     }

@@ -17,8 +17,8 @@
 use enip_stack::cip::{CipError, CipResult, General, Request};
 use enip_stack::wire::Writer;
 
+use super::super::memory::Memory;
 use super::super::params::Kind;
-use super::super::ParkerIpa;
 use super::class64::{masks, MAX_BLOCK};
 
 /// CIP Data Table Read.
@@ -35,9 +35,9 @@ pub const DINT: u16 = 0x00C4;
 pub const REAL: u16 = 0x00CA;
 
 /// Answers a request whose path is a tag; `None` if the path has no symbolic segment.
-pub fn handle(ipa: &mut ParkerIpa, req: &Request<'_>, w: &mut Writer<'_>) -> Option<CipResult> {
+pub fn handle(memory: &mut Memory, req: &Request<'_>, w: &mut Writer<'_>) -> Option<CipResult> {
     let symbol = req.path.symbol?;
-    Some(serve(ipa, symbol, req, w))
+    Some(serve(memory, symbol, req, w))
 }
 
 fn err(g: General) -> CipError {
@@ -62,7 +62,7 @@ pub fn parameter(name: &[u8]) -> Option<u32> {
     (n <= 0xFFFF).then_some(n)
 }
 
-fn serve(ipa: &mut ParkerIpa, symbol: &[u8], req: &Request<'_>, w: &mut Writer<'_>) -> CipResult {
+fn serve(memory: &mut Memory, symbol: &[u8], req: &Request<'_>, w: &mut Writer<'_>) -> CipResult {
     let p = &req.path;
     let extra = p.class.is_some()
         || p.instance.is_some()
@@ -73,12 +73,12 @@ fn serve(ipa: &mut ParkerIpa, symbol: &[u8], req: &Request<'_>, w: &mut Writer<'
         .filter(|_| !extra)
         .ok_or(err(General::PathSegmentError))?;
     match req.service {
-        READ_TAG => read(ipa, first, req.data, Kind::Long, DINT, w),
-        READ_FLOAT_TAG => read(ipa, first, req.data, Kind::Float, REAL, w),
-        WRITE_TAG => write(ipa, first, req.data),
+        READ_TAG => read(memory, first, req.data, Kind::Long, DINT, w),
+        READ_FLOAT_TAG => read(memory, first, req.data, Kind::Float, REAL, w),
+        WRITE_TAG => write(memory, first, req.data),
         AND_OR_TAG => {
             let (and, or) = masks(req.data)?;
-            ipa.and_or(first, and, or)
+            memory.and_or(first, and, or)
         }
         _ => Err(err(General::ServiceNotSupported)),
     }
@@ -93,7 +93,7 @@ fn uint(data: &[u8], at: usize) -> CipResult<u16> {
 
 /// 0x4C/0x48: the type word then `count` values as `kind`.
 fn read(
-    ipa: &mut ParkerIpa,
+    memory: &mut Memory,
     first: u32,
     data: &[u8],
     kind: Kind,
@@ -104,13 +104,13 @@ fn read(
     if n == 0 || n > MAX_BLOCK {
         return Err(err(General::InvalidParameter));
     }
-    ipa.check(first, n)?;
+    memory.check(first, n)?;
     w.u16(code)?;
-    ipa.read_block(first, n, kind, w)
+    memory.read_block(first, n, kind, w)
 }
 
 /// 0x4D: type, count, values.
-fn write(ipa: &mut ParkerIpa, first: u32, data: &[u8]) -> CipResult {
+fn write(memory: &mut Memory, first: u32, data: &[u8]) -> CipResult {
     let kind = match uint(data, 0)? {
         DINT => Kind::Long,
         REAL => Kind::Float,
@@ -130,5 +130,5 @@ fn write(ipa: &mut ParkerIpa, first: u32, data: &[u8]) -> CipResult {
     if values.len() > 4 * n {
         return Err(err(General::TooMuchData));
     }
-    ipa.write_block(first, values, kind)
+    memory.write_block(first, values, kind)
 }
