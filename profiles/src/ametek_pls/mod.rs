@@ -4,8 +4,8 @@
 //! - [`identity`]: the Identity object (values are this project's, AM-ID-2).
 //! - [`assemblies`]: input 100 (17 words), output 150 (7 words), configuration 1 (empty).
 //! - [`classes`]: class 0xC0 (status, attributes 1-3) and 0xC1 (configuration, 1-38).
-//! - [`config`]: the stored configuration words; [`validate`]: the manual's rules.
-//! - [`engine`]: the resolver, offsets, inputs and outputs, advanced by [`Device::poll`].
+//! - [`params`]: the stored configuration words; [`validate`]: the manual's rules.
+//! - [`device`]: the resolver, offsets, inputs and outputs, advanced by [`Device::poll`].
 //! - [`storage`]: the program saved by program control (attribute 37).
 //! - [`leds`]: the MS and NS LEDs of Figure 1, logged at each transition.
 //!
@@ -17,18 +17,14 @@
 
 pub mod assemblies;
 pub mod classes;
-pub mod config;
+pub mod device;
 pub mod eds;
-pub mod engine;
 pub mod identity;
 pub mod leds;
+pub mod params;
 pub mod storage;
 pub mod validate;
 
-#[cfg(test)]
-mod class1_tests;
-#[cfg(test)]
-mod engine_tests;
 #[cfg(test)]
 mod tests;
 
@@ -40,8 +36,8 @@ use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, Device, Duration, IdentityInfo, Instant};
 
 use assemblies::{INPUT, INPUT_BYTES, OUTPUT, OUTPUT_BYTES};
-use config::{attr, decode_words, Config, CONTROL_WORDS, GROUPS, INPUTS, OFFSET_WORDS};
-use engine::{Engine, OutputData};
+use device::{Engine, OutputData};
+use params::{attr, decode_words, Config, CONTROL_WORDS, GROUPS, INPUTS, OFFSET_WORDS};
 use storage::{Nvram, Program, IMAGE_BYTES};
 use validate::Violation;
 
@@ -216,8 +212,8 @@ impl AmetekPls {
 
     /// A Set of class 0xC1 attribute `a` with `bytes` (exactly its size).
     fn set_config(&mut self, a: u16, bytes: &[u8]) -> CipResult {
-        let mut buf = [0u16; config::INPUT_WORDS];
-        let n = config::attribute_words(a);
+        let mut buf = [0u16; params::INPUT_WORDS];
+        let n = params::attribute_words(a);
         let words = buf.get_mut(..n).ok_or(General::AttributeNotSupported)?;
         decode_words(bytes, words);
         let words = &*words;

@@ -2,7 +2,7 @@
 //! [`Program`], the image the module saves, kept in [`Nvram`], a record of the adapter's
 //! store ([`crate::storage`]).
 
-use super::config::{CONFIG_BYTES, GROUPS};
+use super::params::{CONFIG_BYTES, GROUPS};
 use crate::storage::{key, Record, Saved};
 
 /// Bytes of the saved image: attributes 1-35 and 38, then the 8 group offsets.

@@ -8,7 +8,7 @@
 // most a few hundred), and attribute IDs matched to their ranges before any subtraction.
 #![allow(clippy::arithmetic_side_effects)]
 
-use super::config::{attr, setpoint, Config, GROUPS, HIGH_SPEED, INPUTS, INPUT_STRIDE};
+use super::params::{attr, setpoint, Config, GROUPS, HIGH_SPEED, INPUTS, INPUT_STRIDE};
 
 /// An error the module reports in input words 15-17: (code, 1-based word).
 pub type Violation = (u16, u16);

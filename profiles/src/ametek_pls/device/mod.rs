@@ -14,7 +14,7 @@
 
 use enip_stack::{Duration, Instant};
 
-use super::config::{setpoint, Config, GROUPS, HIGH_SPEED, INPUTS, OUTPUTS};
+use super::params::{setpoint, Config, GROUPS, HIGH_SPEED, INPUTS, OUTPUTS};
 use super::validate::input_type as t;
 
 /// Microseconds per minute: RPM to revolutions per microsecond.

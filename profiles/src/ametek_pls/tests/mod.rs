@@ -2,6 +2,9 @@
 //! attribute's size, the manual's examples of §2.3-2.10 and every validation rule of the
 //! digest with its CIP status and input words 15-17, the assemblies, and program control.
 
+mod class1;
+mod device;
+
 extern crate std;
 
 use core::net::Ipv4Addr;

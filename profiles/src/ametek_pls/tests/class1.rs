@@ -12,9 +12,9 @@ use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
 use enip_stack::wire::Writer;
 use enip_stack::Instant;
 
-use super::leds::NetworkStatus;
-use super::tests::{execute, le, pls_object, programmed, request, words};
-use super::AmetekPls;
+use super::super::leds::NetworkStatus;
+use super::super::AmetekPls;
+use super::{execute, le, pls_object, programmed, request, words};
 
 const RPI_US: u32 = 10_000;
 

@@ -9,9 +9,9 @@ use std::vec::Vec;
 use enip_stack::device::{CloseReason, ConnectionEvent};
 use enip_stack::{Device, Instant};
 
-use super::engine::window;
-use super::tests::{input, output, output_1, pls_object, programmed, set};
-use super::AmetekPls;
+use super::super::device::window;
+use super::super::AmetekPls;
+use super::{input, output, output_1, pls_object, programmed, set};
 
 const RUN: u16 = 1;
 const ADDON: u16 = 2;
@@ -174,9 +174,9 @@ fn reset_to_preset_group_on_the_leading_edge_only() {
     // 0xC0/2 input 9: leading and trailing positions 150 (where they were seen; the pair
     // is published at the leading edge, update mode 1), transition: leading and
     // trailing seen this revolution; 0xC0/3: input 9's offset is the group's new offset.
-    let status = super::tests::words(&get_c0(&mut pls, 2));
+    let status = super::words(&get_c0(&mut pls, 2));
     assert_eq!(status[24..27], [150, 150, 3]);
-    let offsets = super::tests::words(&get_c0(&mut pls, 3));
+    let offsets = super::words(&get_c0(&mut pls, 3));
     assert_eq!(offsets[16], offsets[0]);
     // Active low: the falling edge resets.
     input_9(&mut pls, [0b010, 0, 0, 120, 77, 0, 0]);
@@ -187,7 +187,7 @@ fn reset_to_preset_group_on_the_leading_edge_only() {
 }
 
 fn get_c0(pls: &mut AmetekPls, a: u8) -> Vec<u8> {
-    let (s, d) = super::tests::execute(pls, &super::tests::request(0x0E, 0xC0, 1, Some(a), &[]));
+    let (s, d) = super::execute(pls, &super::request(0x0E, 0xC0, 1, Some(a), &[]));
     assert_eq!(s, 0);
     d
 }
@@ -377,7 +377,7 @@ fn reset_to_preset_single_shot_expires_after_a_revolution() {
 
 #[test]
 fn leds_follow_configuration_fault_and_connections() {
-    use super::leds::{ModuleStatus, NetworkStatus};
+    use super::super::leds::{ModuleStatus, NetworkStatus};
     let mut pls = AmetekPls::new();
     assert_eq!(pls.leds().module_status(), ModuleStatus::Standby);
     assert_eq!(set(&mut pls, 1, &pls_object()), 0);
