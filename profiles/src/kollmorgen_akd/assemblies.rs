@@ -7,9 +7,9 @@
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole};
 
+use super::classes::position_controller;
 use super::dynamic_map;
 use super::handshake::Handshake;
-use super::position_controller;
 use super::state::State;
 
 /// Configuration assembly: 0 bytes (p.11).

@@ -17,8 +17,8 @@
 
 use enip_stack::cip::CipResult;
 
+use super::classes::parameter;
 use super::maps::{self, Which, SLOTS};
-use super::parameter;
 use super::params;
 use super::state::State;
 

@@ -18,11 +18,11 @@
 use enip_stack::cip::{CipError, General};
 
 use super::assemblies::{command_type as ty, control, map_type, Command, SIZE};
-use super::drive::{Mode, Refusal};
+use super::classes::position_controller;
+use super::device::{Mode, Refusal};
 use super::dynamic_map;
 use super::motion_tasks::{self, StartError};
 use super::params;
-use super::position_controller;
 use super::state::State;
 use super::KollmorgenAkd;
 
@@ -242,15 +242,15 @@ fn load(akd: &mut KollmorgenAkd, cmd: &Command<'_>) -> Result<(), CipError> {
             let view = params::view(u32::from(instance))
                 .ok_or(CipError::new(General::ObjectDoesNotExist))?;
             let result = match cmd.byte(6) {
-                0 => super::parameter::value(&akd.state, &view),
+                0 => super::classes::parameter::value(&akd.state, &view),
                 1 => {
                     let data = cmd.parameter_data();
-                    let value = super::parameter::decode(
+                    let value = super::classes::parameter::decode(
                         &view,
                         data.get(..usize::from(view.data_len())).unwrap_or(&data),
                     )?;
                     akd.write_parameter(&view, value)?;
-                    super::parameter::value(&akd.state, &view)
+                    super::classes::parameter::value(&akd.state, &view)
                 }
                 _ => return Err(invalid()),
             };

@@ -19,7 +19,7 @@
 use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::wire::Writer;
 
-use super::parameter::{DATA_LENGTH, DATA_TYPE, VALUE};
+use super::classes::parameter::{DATA_LENGTH, DATA_TYPE, VALUE};
 use super::params::{self, id, Rule, View};
 use super::state::State;
 

@@ -7,7 +7,7 @@
 //! - [`handshake`]: the control word and the Load/Start handshake.
 //! - [`position_controller`]: class 0x25; [`parameter`] and [`params`]: class 0x0F, with
 //!   [`maps`] (EIP.CMDMAP, EIP.RSPMAP) for [`dynamic_map`], map type 2.
-//! - [`drive`]: the simulation, advanced by [`Device::poll`] every millisecond;
+//! - [`device`]: the simulated drive, advanced by [`Device::poll`] every millisecond;
 //!   [`state`]: the settings and unit conversions; [`storage`]: DRV.NVSAVE's copy.
 //!
 //! Connections (p.10-11): exclusive owner, cyclic ("transmitted on a timer"), RPI 10 ms or
@@ -16,18 +16,19 @@
 //! requests to a class the drive does not have answer 0x16, "Class Not Supported" (p.10).
 
 pub mod assemblies;
-pub mod drive;
+pub mod classes;
+pub mod device;
 pub mod dynamic_map;
 pub mod eds;
 pub mod handshake;
 pub mod identity;
 pub mod maps;
 pub mod motion_tasks;
-pub mod parameter;
 pub mod params;
-pub mod position_controller;
 pub mod state;
 pub mod storage;
+
+use classes::{parameter, position_controller};
 
 #[cfg(test)]
 mod tests;

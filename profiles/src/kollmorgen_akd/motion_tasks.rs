@@ -4,7 +4,7 @@
 //! MT.CNTL hold its values, MT.SET stores them as task MT.NUM and MT.LOAD reads task MT.NUM
 //! back. The parameter instances are the project's (not in any retrieved Appendix B).
 
-use super::drive::Refusal;
+use super::device::Refusal;
 use super::state::State;
 
 /// Number of motion tasks (0 to 15).

@@ -4,7 +4,7 @@
 
 use enip_stack::cip::{CipError, CipResult, General};
 
-use super::drive::{Drive, Mode, Refusal, COUNTS_PER_REV};
+use super::device::{Drive, Mode, Refusal, COUNTS_PER_REV};
 use super::maps::Maps;
 use super::motion_tasks::MotionTasks;
 use super::params::STORED;
@@ -126,7 +126,7 @@ impl State {
         let max = if accel {
             1_000_000 * COUNTS_PER_REV
         } else {
-            super::drive::MAX_VELOCITY
+            super::device::MAX_VELOCITY
         };
         if units < 1 || counts > max {
             return Err(out_of_range());

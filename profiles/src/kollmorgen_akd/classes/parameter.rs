@@ -1,5 +1,5 @@
 //! The Parameter object (class 0x0F; manual 7.3, p.25-26) as a declared class: instance =
-//! the parameter's Appendix B index ([`super::params`]); attribute 1 the value, 5 the data
+//! the parameter's Appendix B index ([`super::super::params`]); attribute 1 the value, 5 the data
 //! type code, 6 the data length.
 //!
 //! A value is read as exactly its data length. A write must carry exactly that length
@@ -8,14 +8,14 @@
 //! parameter refuses 0x09; an unknown instance 0x16.
 //!
 //! Instances 1042 (EIP.CMDMAP) and 1043 (EIP.RSPMAP) are lists, not values of the table:
-//! [`super::maps`] serves them.
+//! [`super::super::maps`] serves them.
 
 use enip_stack::cip::object::{Access, AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::wire::Writer;
 
-use super::params::{self, Rule, View};
-use super::state::State;
+use super::super::params::{self, Rule, View};
+use super::super::state::State;
 
 /// Class code.
 pub const CLASS: u16 = 0x0F;

@@ -17,7 +17,7 @@ use enip_stack::wire::Writer;
 use enip_stack::{Adapter, Device, Instant, NetworkConfig};
 
 use super::assemblies::{control, status1, status2, COMMAND, RESPONSE};
-use super::drive::COUNTS_PER_REV;
+use super::device::COUNTS_PER_REV;
 use super::params::id;
 use super::storage::NvCopy;
 use super::KollmorgenAkd;

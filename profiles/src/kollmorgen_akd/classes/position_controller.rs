@@ -12,9 +12,9 @@ use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::wire::Writer;
 
-use super::drive::{Refusal, MAX_TORQUE_MA, MAX_VELOCITY};
-use super::params;
-use super::state::State;
+use super::super::device::{Refusal, MAX_TORQUE_MA, MAX_VELOCITY};
+use super::super::params;
+use super::super::state::State;
 
 /// Class code.
 pub const CLASS: u16 = 0x25;
