@@ -1,16 +1,13 @@
 //! The three assemblies (manual p.10-11) and the byte layouts of the command (O->T) and
-//! response (T->O) assemblies: the command as a view whose getters cannot panic, the
-//! response encoded from the drive's state every time the stack produces it.
+//! response (T->O) assemblies: the command as a view whose getters cannot panic; the
+//! response is encoded from the drive's state every time the stack produces it
+//! ([`super::handshake::encode`]).
 //!
 //! Every multi-byte field is least significant byte first (p.11, p.14).
 
-use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole};
 
-use super::classes::position_controller;
-use super::dynamic_map;
-use super::handshake::Handshake;
-use super::state::State;
+use super::maps::SLOTS;
 
 /// Configuration assembly: 0 bytes (p.11).
 pub const CONFIG: u16 = 100;
@@ -21,6 +18,10 @@ pub const COMMAND: u16 = 101;
 pub const RESPONSE: u16 = 102;
 /// Both I/O assemblies are 64 bytes.
 pub const SIZE: usize = 64;
+/// Bytes of the dynamic map (36-63): a DINT per slot of the map lists.
+pub const DYNAMIC_MAP_LEN: usize = 4 * SLOTS;
+/// First byte of the dynamic map in both I/O assemblies.
+pub const DYNAMIC_MAP_START: usize = 36;
 
 /// The assembly instances.
 pub const INFOS: [AssemblyInfo; 3] = [
@@ -138,7 +139,7 @@ pub mod response_type {
 pub mod map_type {
     /// Static map: bytes 36-63 are 0.
     pub const STATIC: u8 = 0;
-    /// Custom map 1: the project's fixed map (see [`super::custom_map`]).
+    /// Custom map 1: the project's fixed map (see [`super::super::handshake::custom_map`]).
     pub const CUSTOM_1: u8 = 1;
     /// Dynamic map: bytes 36-63 per EIP.RSPMAP / EIP.CMDMAP (see [`super::super::dynamic_map`]).
     pub const DYNAMIC: u8 = 2;
@@ -207,127 +208,7 @@ impl Command<'_> {
         self.byte(33)
     }
     /// Bytes 36-63: the command dynamic map.
-    pub fn dynamic_map(&self) -> [u8; dynamic_map::LEN] {
-        core::array::from_fn(|i| self.byte(i.saturating_add(dynamic_map::START)))
+    pub fn dynamic_map(&self) -> [u8; DYNAMIC_MAP_LEN] {
+        core::array::from_fn(|i| self.byte(i.saturating_add(DYNAMIC_MAP_START)))
     }
-}
-
-/// Status Word 1 from the drive's state.
-pub fn status_word_1(state: &State) -> u8 {
-    let d = &state.drive;
-    let mut s = 0;
-    for (on, bit) in [
-        (d.enabled(), status1::ENABLED),
-        (d.homed(), status1::HOMED),
-        (d.positive(), status1::DIRECTION),
-        (d.fault().is_some(), status1::FAULT),
-        (d.in_position(), status1::IN_POSITION),
-        (
-            super::motion_tasks::executing(state).is_some(),
-            status1::BLOCK,
-        ),
-        (d.in_motion(), status1::IN_MOTION),
-    ] {
-        if on {
-            s |= bit;
-        }
-    }
-    s
-}
-
-/// Status Word 2 from the drive's state and the handshake.
-pub fn status_word_2(state: &State) -> u8 {
-    let d = &state.drive;
-    let mut s = 0;
-    for (on, bit) in [
-        (state.load_complete, status2::LOAD_COMPLETE),
-        (d.negative_limit(), status2::NEGATIVE_SW_LIMIT),
-        (d.positive_limit(), status2::POSITIVE_SW_LIMIT),
-    ] {
-        if on {
-            s |= bit;
-        }
-    }
-    s
-}
-
-/// Bytes 4-7 for response type `kind`.
-fn response_data(state: &State, kind: u8) -> i32 {
-    let d = &state.drive;
-    match kind {
-        response_type::ACTUAL_POSITION => state.pos_units(d.position()),
-        response_type::COMMANDED_POSITION => state.pos_units(d.commanded_position()),
-        response_type::ACTUAL_VELOCITY => state.prof_units(d.velocity()),
-        response_type::COMMANDED_VELOCITY => state.prof_units(d.commanded_velocity()),
-        response_type::TORQUE => d.torque(),
-        _ => 0,
-    }
-}
-
-/// Custom map 1 (map type 1), a fixed project map of bytes 36-63: commanded position,
-/// commanded velocity, actual torque (mA), target position (attribute 6), target velocity
-/// (attribute 7), Position Controller mode, and 4 reserved bytes.
-pub fn custom_map(state: &State) -> [i32; 7] {
-    let d = &state.drive;
-    [
-        state.pos_units(d.commanded_position()),
-        state.prof_units(d.commanded_velocity()),
-        d.torque(),
-        state.pc.target_position,
-        state.pc.target_velocity,
-        i32::from(d.config.mode.code()),
-        0,
-    ]
-}
-
-/// Encodes the response assembly into `out` (64 bytes); returns the length.
-pub fn encode(state: &State, io: &Handshake, out: &mut [u8]) -> usize {
-    let cmd = Command(io.command());
-    let mut r = [0u8; SIZE];
-    r[0] = status_word_1(state);
-    r[1] = super::motion_tasks::executing(state).unwrap_or(0);
-    r[2] = status_word_2(state);
-    match io.error() {
-        Some(e) => {
-            r[3] = response_type::ERROR | (cmd.byte(3) & 0xE0);
-            r[4..8].copy_from_slice(&[e.code, e.additional, e.echo[0], e.echo[1]]);
-        }
-        None => {
-            r[3] = cmd.byte(3);
-            r[4..8].copy_from_slice(&response_data(state, cmd.response_type()).to_le_bytes());
-        }
-    }
-    let d = &state.drive;
-    r[8..12].copy_from_slice(&state.pos_units(d.position()).to_le_bytes());
-    r[12..16].copy_from_slice(&state.prof_units(d.velocity()).to_le_bytes());
-    r[16..20].copy_from_slice(&d.motionstat().to_le_bytes());
-    let attribute = cmd.attribute_to_get();
-    if attribute != 0 {
-        let mut value = [0u8; 8];
-        let mut w = Writer::new(&mut value);
-        // An attribute that does not exist, or is longer than 8 bytes, reports zeros.
-        if position_controller::read(state, u16::from(attribute), &mut w).is_err() {
-            value = [0; 8];
-        }
-        r[24..32].copy_from_slice(&value);
-    } else if let Some(result) = io.parameter_result() {
-        r[24..32].copy_from_slice(&result);
-    }
-    r[32] = attribute;
-    r[33] = cmd.map_type();
-    match cmd.map_type() {
-        map_type::CUSTOM_1 => {
-            for (chunk, v) in r[36..64].chunks_exact_mut(4).zip(custom_map(state)) {
-                chunk.copy_from_slice(&v.to_le_bytes());
-            }
-        }
-        map_type::DYNAMIC => r[36..64].copy_from_slice(&dynamic_map::response(state)),
-        // Static map (and any other value): bytes 36-63 stay 0.
-        _ => {}
-    }
-    let n = out.len().min(SIZE);
-    for (o, b) in out.iter_mut().zip(&r) {
-        *o = *b;
-    }
-    n
 }

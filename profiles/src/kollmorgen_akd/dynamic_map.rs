@@ -2,7 +2,7 @@
 //! of the command and response assemblies carry the parameters EIP.CMDMAP and EIP.RSPMAP
 //! list ([`super::maps`]).
 //!
-//! Layout: [`SLOTS`] slots of 4 bytes, slot k at bytes 36 + 4k .. 40 + 4k, LSB first, in
+//! Layout: [`super::maps::SLOTS`] slots of 4 bytes, slot k at bytes 36 + 4k .. 40 + 4k, LSB first, in
 //! list order; an empty slot is 0. A value is the parameter's value in its network scaling
 //! (Appendix B); a 1- or 2-byte parameter is widened (sign-extended when signed), an 8-byte
 //! one keeps its lower 32 bits, as its instance N + 1 reads (the manual's EIP.RSPMAP page:
@@ -17,15 +17,15 @@
 
 use enip_stack::cip::CipResult;
 
+use super::assemblies::{DYNAMIC_MAP_LEN, DYNAMIC_MAP_START};
 use super::classes::parameter;
-use super::maps::{self, Which, SLOTS};
-use super::params;
+use super::maps::{self, Which};
 use super::state::State;
 
 /// Bytes of the dynamic map (36-63).
-pub const LEN: usize = 4 * SLOTS;
+pub const LEN: usize = DYNAMIC_MAP_LEN;
 /// First byte of the dynamic map in both assemblies.
-pub const START: usize = 36;
+pub const START: usize = DYNAMIC_MAP_START;
 
 /// Response bytes 36-63: the values of the EIP.RSPMAP parameters.
 pub fn response(state: &State) -> [u8; LEN] {
@@ -62,7 +62,7 @@ pub fn apply_command(state: &mut State, data: &[u8; LEN]) -> CipResult {
         } else {
             i64::from(u32::from_le_bytes(bytes))
         };
-        params::write(&mut trial, view.param, value)?;
+        trial.set_param(view.param, value)?;
     }
     *state = trial;
     Ok(())

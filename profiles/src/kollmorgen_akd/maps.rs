@@ -17,11 +17,8 @@
 //!   value per parameter of the table).
 
 use enip_stack::cip::{CipError, CipResult, General};
-use enip_stack::wire::Writer;
 
-use super::classes::parameter::{DATA_LENGTH, DATA_TYPE, VALUE};
 use super::params::{self, id, Rule, View};
-use super::state::State;
 
 /// Slots of the dynamic map: 28 bytes of 4-byte values.
 pub const SLOTS: usize = 7;
@@ -89,48 +86,4 @@ pub fn entry(which: Which, entry: u16) -> CipResult<View> {
 
 fn invalid() -> CipError {
     CipError::new(General::InvalidAttributeValue)
-}
-
-/// Reads attribute `attribute` of list `which`.
-pub fn get(state: &State, which: Which, attribute: u16, w: &mut Writer<'_>) -> CipResult {
-    match attribute {
-        VALUE => {
-            for entry in state.maps.list(which) {
-                w.bytes(&entry.to_le_bytes())?;
-            }
-        }
-        DATA_TYPE => w.u8(LIST_TYPE)?,
-        DATA_LENGTH => w.u8(LIST_LEN as u8)?,
-        _ => return Err(General::AttributeNotSupported.into()),
-    }
-    Ok(())
-}
-
-/// Writes list `which` from `data` (14 bytes); every entry is checked before any is kept.
-pub fn set(state: &mut State, which: Which, data: &[u8]) -> CipResult {
-    if data.len() != LIST_LEN {
-        let g = if data.len() < LIST_LEN {
-            General::NotEnoughData
-        } else {
-            General::TooMuchData
-        };
-        return Err(CipError::new(g));
-    }
-    let mut list = [0u16; SLOTS];
-    for (slot, pair) in list.iter_mut().zip(data.chunks_exact(2)) {
-        let mut bytes = [0u8; 2];
-        for (dst, src) in bytes.iter_mut().zip(pair) {
-            *dst = *src;
-        }
-        let value = u16::from_le_bytes(bytes);
-        if value != 0 {
-            entry(which, value)?;
-        }
-        *slot = value;
-    }
-    match which {
-        Which::Command => state.maps.command = list,
-        Which::Response => state.maps.response = list,
-    }
-    Ok(())
 }

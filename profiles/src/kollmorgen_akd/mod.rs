@@ -3,12 +3,15 @@
 //!
 //! - [`identity`]: the Identity object values (project choices, documented).
 //! - [`assemblies`]: 100 (configuration, 0 bytes), 101 (command, 64 bytes with run/idle),
-//!   102 (response, 64 bytes), their layouts and the response encoder.
-//! - [`handshake`]: the control word and the Load/Start handshake.
-//! - [`position_controller`]: class 0x25; [`parameter`] and [`params`]: class 0x0F, with
-//!   [`maps`] (EIP.CMDMAP, EIP.RSPMAP) for [`dynamic_map`], map type 2.
+//!   102 (response, 64 bytes) and their layouts.
+//! - [`handshake`]: the control word, the Load/Start handshake and the response encoder.
+//! - [`params`]: the parameter table; [`classes`]: class 0x25 (Position Controller) and
+//!   class 0x0F (Parameter), with [`maps`] (EIP.CMDMAP, EIP.RSPMAP) for [`dynamic_map`],
+//!   map type 2.
 //! - [`device`]: the simulated drive, advanced by [`Device::poll`] every millisecond;
-//!   [`state`]: the settings and unit conversions; [`storage`]: DRV.NVSAVE's copy.
+//!   [`motion_tasks`]: its task table; [`state`]: the drive with the Position Controller
+//!   settings, the parameters' values and the unit conversions; [`storage`]: DRV.NVSAVE's
+//!   copy.
 //!
 //! Connections (p.10-11): exclusive owner, cyclic ("transmitted on a timer"), RPI 10 ms or
 //! more, multicast or point-to-point T->O. Other triggers are refused with 0x0103, shorter
@@ -99,49 +102,7 @@ impl KollmorgenAkd {
     /// Writes `value` to a parameter: commands execute (on any value), read-write ones are
     /// stored, read-only ones answer 0x0E.
     pub fn write_parameter(&mut self, view: &View, value: i64) -> CipResult {
-        match view.param.rule {
-            Rule::ReadOnly => Err(General::AttributeNotSettable.into()),
-            Rule::Command => self.execute(view.param.instance),
-            Rule::ReadWrite => params::write(&mut self.state, view.param, value),
-        }
-    }
-
-    /// Executes command parameter `instance`.
-    fn execute(&mut self, instance: u16) -> CipResult {
-        match instance {
-            id::HOME_MOVE => self.state.home(),
-            id::DRV_CLRFAULTS => {
-                self.state.drive.clear_faults();
-                Ok(())
-            }
-            id::DRV_NVSAVE => {
-                let image = self.image();
-                self.nv
-                    .save(Parameters(image))
-                    .map_err(|_| CipError::new(General::ResourceUnavailable))
-            }
-            id::MT_SET => {
-                self.state.tasks.set();
-                Ok(())
-            }
-            id::MT_LOAD => {
-                self.state.tasks.load();
-                Ok(())
-            }
-            // AIN.ZERO: the simulated analog input is always 0; nothing to zero.
-            _ => Ok(()),
-        }
-    }
-
-    /// The read-write parameters' values, in table order.
-    fn image(&self) -> storage::Image {
-        let mut image = [0; params::TABLE.len()];
-        for (slot, p) in image.iter_mut().zip(params::TABLE.iter()) {
-            if p.rule == Rule::ReadWrite {
-                *slot = params::read(&self.state, p);
-            }
-        }
-        image
+        parameter::write(&mut self.state, &mut self.nv, view, value)
     }
 
     /// Power-up: factory values, then the saved copy (unit parameters first, so the
@@ -157,7 +118,7 @@ impl KollmorgenAkd {
             for (p, value) in params::TABLE.iter().zip(image.iter()) {
                 if p.rule == Rule::ReadWrite && units(p) == pass {
                     // A value the table refuses keeps its factory value.
-                    let _ = params::write(&mut self.state, p, *value);
+                    let _ = self.state.set_param(p, *value);
                 }
             }
         }
@@ -175,7 +136,7 @@ impl Device for KollmorgenAkd {
 
     fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
         match instance {
-            assemblies::RESPONSE => Ok(assemblies::encode(&self.state, &self.io, out)),
+            assemblies::RESPONSE => Ok(handshake::encode(&self.state, &self.io, out)),
             assemblies::COMMAND => {
                 let cmd = self.io.command();
                 let n = out.len().min(cmd.len());
@@ -192,7 +153,7 @@ impl Device for KollmorgenAkd {
     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
         match instance {
             assemblies::COMMAND => {
-                handshake::consume(self, data);
+                self.io.consume(&mut self.state, &mut self.nv, data);
                 Ok(())
             }
             // The configuration assembly has no data.
@@ -240,7 +201,7 @@ impl Device for KollmorgenAkd {
         match at.class.id {
             parameter::CLASS => {
                 if let Some(which) = maps::which(at.instance) {
-                    return maps::get(&self.state, which, at.attribute.id, w);
+                    return parameter::get_map(&self.state.maps, which, at.attribute.id, w);
                 }
                 let view = params::view(at.instance).ok_or(General::ObjectDoesNotExist)?;
                 parameter::get(&self.state, &view, at.attribute.id, w)
@@ -258,7 +219,7 @@ impl Device for KollmorgenAkd {
         match at.class.id {
             parameter::CLASS => {
                 if let Some(which) = maps::which(at.instance) {
-                    return maps::set(&mut self.state, which, value);
+                    return parameter::set_map(&mut self.state.maps, which, value);
                 }
                 let view = params::view(at.instance).ok_or(General::ObjectDoesNotExist)?;
                 let v = parameter::decode(&view, value)?;

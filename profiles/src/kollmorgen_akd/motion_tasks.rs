@@ -5,7 +5,6 @@
 //! back. The parameter instances are the project's (not in any retrieved Appendix B).
 
 use super::device::Refusal;
-use super::state::State;
 
 /// Number of motion tasks (0 to 15).
 pub const TASKS: usize = 16;
@@ -65,44 +64,4 @@ pub enum StartError {
     Undefined,
     /// The drive refused (not homed: it faulted).
     Drive(Refusal),
-}
-
-/// Starts motion task `n` (a position move); `Ok(false)` if the drive is not ready.
-pub fn start(state: &mut State, n: u8) -> Result<bool, StartError> {
-    let task = state
-        .tasks
-        .table
-        .get(usize::from(n))
-        .copied()
-        .flatten()
-        .ok_or(StartError::Undefined)?;
-    let v = state
-        .check_profile(task.velocity, false)
-        .map_err(|_| StartError::Undefined)?;
-    let acc = state
-        .check_profile(task.acceleration, true)
-        .map_err(|_| StartError::Undefined)?;
-    let dec = state
-        .check_profile(task.deceleration, true)
-        .map_err(|_| StartError::Undefined)?;
-    let distance = state.pos_counts(task.position);
-    let target = if task.control & CNTL_RELATIVE != 0 {
-        state.drive.target().saturating_add(distance)
-    } else {
-        distance
-    };
-    let started = state
-        .drive
-        .start_move(target, v, acc, dec)
-        .map_err(StartError::Drive)?;
-    state.tasks.running = started.then_some(n);
-    Ok(started)
-}
-
-/// The task whose move runs now (response byte 1 and Status Word 1 bit 1).
-pub fn executing(state: &State) -> Option<u8> {
-    state
-        .tasks
-        .running
-        .filter(|_| state.drive.moving_to_target())
 }

@@ -15,8 +15,6 @@
 
 use enip_stack::cip::{CipError, CipResult, General};
 
-use super::state::State;
-
 /// How a parameter's value is scaled on the network.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Scale {
@@ -264,7 +262,8 @@ pub fn stored_defaults() -> [i64; STORED] {
     out
 }
 
-fn stored_index(id: u16) -> Option<usize> {
+/// The index in [`STORED`] of parameter `id`, if it only holds a value.
+pub fn stored_index(id: u16) -> Option<usize> {
     STORED_IDS.iter().chain([11].iter()).position(|&i| i == id)
 }
 
@@ -330,97 +329,10 @@ pub fn instances() -> impl Iterator<Item = u16> {
     })
 }
 
-fn range() -> CipError {
-    CipError::new(General::InvalidAttributeValue)
-}
-
-/// The value of `param` in network scaling.
-pub fn read(state: &State, param: &Param) -> i64 {
-    let d = &state.drive;
-    let pc = &state.pc;
-    match param.instance {
-        id::EIP_POSUNIT => i64::from(pc.position_units),
-        id::EIP_PROFUNIT => i64::from(pc.profile_units),
-        id::DRV_ACC => i64::from(pc.acceleration),
-        id::DRV_DEC => i64::from(pc.deceleration),
-        id::DRV_DECSTOP => state.prof_units64(d.config.decstop),
-        id::DRV_MOTIONSTAT => i64::from(d.motionstat()),
-        id::HOME_MODE => i64::from(d.config.home_mode),
-        id::HOME_P => state.pos_units64(d.config.home_position),
-        id::MT_TPOSWND => state.pos_units64(d.config.window),
-        id::PL_FB => state.pos_units64(d.position()),
-        id::VL_FB => state.prof_units64(d.velocity()),
-        // IL.FB is in amperes: x1000 gives milliamps.
-        id::IL_FB => i64::from(d.torque()),
-        id::SWLS_EN => i64::from(d.config.swls_enabled),
-        id::SWLS_LIMIT0 => state.pos_units64(d.config.limit0),
-        id::SWLS_LIMIT1 => state.pos_units64(d.config.limit1),
-        id::MT_NUM => i64::from(state.tasks.number),
-        id::MT_P => state.tasks.edit.position,
-        id::MT_V => state.tasks.edit.velocity,
-        id::MT_ACC => state.tasks.edit.acceleration,
-        id::MT_DEC => state.tasks.edit.deceleration,
-        id::MT_CNTL => state.tasks.edit.control,
-        other => stored_index(other)
-            .and_then(|i| state.stored.get(i).copied())
-            .unwrap_or(0),
-    }
-}
-
-/// Writes `value` (network scaling) to `param`, or refuses it with 0x09 and changes
-/// nothing. Commands are the caller's (they reach the drive and the NV copy).
-pub fn write(state: &mut State, param: &Param, value: i64) -> CipResult {
-    let positive = |v: i64| u32::try_from(v).ok().filter(|&v| v > 0).ok_or(range());
-    let profile32 = |s: &State, v: i64| {
-        s.check_profile(v, true)?;
-        i32::try_from(v).map_err(|_| range())
-    };
-    match param.instance {
-        id::EIP_POSUNIT => state.pc.position_units = positive(value)?,
-        id::EIP_PROFUNIT => state.pc.profile_units = positive(value)?,
-        id::DRV_ACC => state.pc.acceleration = profile32(state, value)?,
-        id::DRV_DEC => state.pc.deceleration = profile32(state, value)?,
-        id::DRV_DECSTOP => state.drive.config.decstop = state.check_profile(value, true)?,
-        id::HOME_MODE => state.drive.config.home_mode = home_mode(value)?,
-        id::HOME_P => state.drive.config.home_position = state.pos_counts(value),
-        id::MT_TPOSWND if value >= 0 => state.drive.config.window = state.pos_counts(value),
-        id::SWLS_EN if (0..=1).contains(&value) => state.drive.config.swls_enabled = value == 1,
-        id::SWLS_LIMIT0 => state.drive.config.limit0 = state.pos_counts(value),
-        id::SWLS_LIMIT1 => state.drive.config.limit1 = state.pos_counts(value),
-        id::MT_NUM => {
-            state.tasks.number = u8::try_from(value)
-                .ok()
-                .filter(|&n| usize::from(n) < super::motion_tasks::TASKS)
-                .ok_or(range())?
-        }
-        id::MT_P => state.tasks.edit.position = value,
-        id::MT_V if value >= 0 => state.tasks.edit.velocity = value,
-        id::MT_ACC if value >= 0 => state.tasks.edit.acceleration = value,
-        id::MT_DEC if value >= 0 => state.tasks.edit.deceleration = value,
-        id::MT_CNTL if (0..=1).contains(&value) => state.tasks.edit.control = value,
-        other => {
-            let fits = match param.len {
-                1 | 2 | 4 if param.signed => {
-                    let bits = u32::from(param.len).saturating_mul(8).saturating_sub(1);
-                    ((1i64 << bits).saturating_neg()..(1i64 << bits)).contains(&value)
-                }
-                1 | 2 | 4 => (0..(1i64 << (8 * u32::from(param.len)))).contains(&value),
-                _ => true,
-            };
-            let slot = stored_index(other)
-                .filter(|_| fits)
-                .and_then(|i| state.stored.get_mut(i))
-                .ok_or(range())?;
-            *slot = value;
-        }
-    }
-    Ok(())
-}
-
 /// HOME.MODE values the simulation implements: 0, "home using the current position".
 pub fn home_mode(value: i64) -> CipResult<i16> {
     match value {
         0 => Ok(0),
-        _ => Err(range()),
+        _ => Err(CipError::new(General::InvalidAttributeValue)),
     }
 }

@@ -6,8 +6,8 @@ use enip_stack::cip::{CipError, CipResult, General};
 
 use super::device::{Drive, Mode, Refusal, COUNTS_PER_REV};
 use super::maps::Maps;
-use super::motion_tasks::MotionTasks;
-use super::params::STORED;
+use super::motion_tasks::{MotionTasks, StartError, CNTL_RELATIVE, TASKS};
+use super::params::{self, id, Param, STORED};
 
 /// EIP.POSUNIT / EIP.PROFUNIT default: 2^16, so 2^16 units per revolution (parameter
 /// reference, "EIP.POSUNIT": "The default value is 2^16 = 65536"). Appendix A says
@@ -85,7 +85,7 @@ impl State {
         State {
             drive: Drive::new(),
             pc: Settings::new(),
-            stored: super::params::stored_defaults(),
+            stored: params::stored_defaults(),
             load_complete: false,
             tasks: MotionTasks::default(),
             maps: Maps::new(),
@@ -176,6 +176,131 @@ impl State {
         self.drive
             .start_homing()
             .map_err(|_| CipError::new(General::DeviceStateConflict))
+    }
+
+    /// The value of `param` in network scaling.
+    pub fn param(&self, param: &Param) -> i64 {
+        let d = &self.drive;
+        let pc = &self.pc;
+        match param.instance {
+            id::EIP_POSUNIT => i64::from(pc.position_units),
+            id::EIP_PROFUNIT => i64::from(pc.profile_units),
+            id::DRV_ACC => i64::from(pc.acceleration),
+            id::DRV_DEC => i64::from(pc.deceleration),
+            id::DRV_DECSTOP => self.prof_units64(d.config.decstop),
+            id::DRV_MOTIONSTAT => i64::from(d.motionstat()),
+            id::HOME_MODE => i64::from(d.config.home_mode),
+            id::HOME_P => self.pos_units64(d.config.home_position),
+            id::MT_TPOSWND => self.pos_units64(d.config.window),
+            id::PL_FB => self.pos_units64(d.position()),
+            id::VL_FB => self.prof_units64(d.velocity()),
+            // IL.FB is in amperes: x1000 gives milliamps.
+            id::IL_FB => i64::from(d.torque()),
+            id::SWLS_EN => i64::from(d.config.swls_enabled),
+            id::SWLS_LIMIT0 => self.pos_units64(d.config.limit0),
+            id::SWLS_LIMIT1 => self.pos_units64(d.config.limit1),
+            id::MT_NUM => i64::from(self.tasks.number),
+            id::MT_P => self.tasks.edit.position,
+            id::MT_V => self.tasks.edit.velocity,
+            id::MT_ACC => self.tasks.edit.acceleration,
+            id::MT_DEC => self.tasks.edit.deceleration,
+            id::MT_CNTL => self.tasks.edit.control,
+            other => params::stored_index(other)
+                .and_then(|i| self.stored.get(i).copied())
+                .unwrap_or(0),
+        }
+    }
+
+    /// Writes `value` (network scaling) to `param`, or refuses it with 0x09 and changes
+    /// nothing. Commands are the caller's (they reach the drive and the NV copy).
+    pub fn set_param(&mut self, param: &Param, value: i64) -> CipResult {
+        let positive = |v: i64| {
+            u32::try_from(v)
+                .ok()
+                .filter(|&v| v > 0)
+                .ok_or(out_of_range())
+        };
+        let profile32 = |s: &State, v: i64| {
+            s.check_profile(v, true)?;
+            i32::try_from(v).map_err(|_| out_of_range())
+        };
+        match param.instance {
+            id::EIP_POSUNIT => self.pc.position_units = positive(value)?,
+            id::EIP_PROFUNIT => self.pc.profile_units = positive(value)?,
+            id::DRV_ACC => self.pc.acceleration = profile32(self, value)?,
+            id::DRV_DEC => self.pc.deceleration = profile32(self, value)?,
+            id::DRV_DECSTOP => self.drive.config.decstop = self.check_profile(value, true)?,
+            id::HOME_MODE => self.drive.config.home_mode = params::home_mode(value)?,
+            id::HOME_P => self.drive.config.home_position = self.pos_counts(value),
+            id::MT_TPOSWND if value >= 0 => self.drive.config.window = self.pos_counts(value),
+            id::SWLS_EN if (0..=1).contains(&value) => self.drive.config.swls_enabled = value == 1,
+            id::SWLS_LIMIT0 => self.drive.config.limit0 = self.pos_counts(value),
+            id::SWLS_LIMIT1 => self.drive.config.limit1 = self.pos_counts(value),
+            id::MT_NUM => {
+                self.tasks.number = u8::try_from(value)
+                    .ok()
+                    .filter(|&n| usize::from(n) < TASKS)
+                    .ok_or(out_of_range())?
+            }
+            id::MT_P => self.tasks.edit.position = value,
+            id::MT_V if value >= 0 => self.tasks.edit.velocity = value,
+            id::MT_ACC if value >= 0 => self.tasks.edit.acceleration = value,
+            id::MT_DEC if value >= 0 => self.tasks.edit.deceleration = value,
+            id::MT_CNTL if (0..=1).contains(&value) => self.tasks.edit.control = value,
+            other => {
+                let fits = match param.len {
+                    1 | 2 | 4 if param.signed => {
+                        let bits = u32::from(param.len).saturating_mul(8).saturating_sub(1);
+                        ((1i64 << bits).saturating_neg()..(1i64 << bits)).contains(&value)
+                    }
+                    1 | 2 | 4 => (0..(1i64 << (8 * u32::from(param.len)))).contains(&value),
+                    _ => true,
+                };
+                let slot = params::stored_index(other)
+                    .filter(|_| fits)
+                    .and_then(|i| self.stored.get_mut(i))
+                    .ok_or(out_of_range())?;
+                *slot = value;
+            }
+        }
+        Ok(())
+    }
+
+    /// Starts motion task `n` (a position move); `Ok(false)` if the drive is not ready.
+    pub fn start_task(&mut self, n: u8) -> Result<bool, StartError> {
+        let task = self
+            .tasks
+            .table
+            .get(usize::from(n))
+            .copied()
+            .flatten()
+            .ok_or(StartError::Undefined)?;
+        let v = self
+            .check_profile(task.velocity, false)
+            .map_err(|_| StartError::Undefined)?;
+        let acc = self
+            .check_profile(task.acceleration, true)
+            .map_err(|_| StartError::Undefined)?;
+        let dec = self
+            .check_profile(task.deceleration, true)
+            .map_err(|_| StartError::Undefined)?;
+        let distance = self.pos_counts(task.position);
+        let target = if task.control & CNTL_RELATIVE != 0 {
+            self.drive.target().saturating_add(distance)
+        } else {
+            distance
+        };
+        let started = self
+            .drive
+            .start_move(target, v, acc, dec)
+            .map_err(StartError::Drive)?;
+        self.tasks.running = started.then_some(n);
+        Ok(started)
+    }
+
+    /// The task whose move runs now (response byte 1 and Status Word 1 bit 1).
+    pub fn executing_task(&self) -> Option<u8> {
+        self.tasks.running.filter(|_| self.drive.moving_to_target())
     }
 }
 

@@ -7,15 +7,17 @@
 //! (sign-extended for a signed one). Read-only parameters answer 0x0E to a write; a value a
 //! parameter refuses 0x09; an unknown instance 0x16.
 //!
-//! Instances 1042 (EIP.CMDMAP) and 1043 (EIP.RSPMAP) are lists, not values of the table:
-//! [`super::super::maps`] serves them.
+//! Instances 1042 (EIP.CMDMAP) and 1043 (EIP.RSPMAP) are lists, not values of the table
+//! ([`super::super::maps`]): [`get_map`] and [`set_map`] serve them.
 
 use enip_stack::cip::object::{Access, AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::wire::Writer;
 
-use super::super::params::{self, Rule, View};
+use super::super::maps::{self, Maps, Which, LIST_LEN, LIST_TYPE, SLOTS};
+use super::super::params::{self, id, Rule, View};
 use super::super::state::State;
+use super::super::storage::{Image, NvCopy, Parameters};
 
 /// Class code.
 pub const CLASS: u16 = 0x0F;
@@ -53,7 +55,7 @@ pub fn access(view: &View, id: u16, default: Access) -> Access {
 pub fn value(state: &State, view: &View) -> i64 {
     match view.param.rule {
         Rule::Command => 0,
-        _ => params::read(state, view.param),
+        _ => state.param(view.param),
     }
 }
 
@@ -97,4 +99,96 @@ pub fn decode(view: &View, data: &[u8]) -> CipResult<i64> {
     } else {
         unsigned as i64
     })
+}
+
+/// Writes `value` to a parameter: commands execute (on any value), read-write ones are
+/// stored, read-only ones answer 0x0E.
+pub fn write(state: &mut State, nv: &mut NvCopy, view: &View, value: i64) -> CipResult {
+    match view.param.rule {
+        Rule::ReadOnly => Err(General::AttributeNotSettable.into()),
+        Rule::Command => execute(state, nv, view.param.instance),
+        Rule::ReadWrite => state.set_param(view.param, value),
+    }
+}
+
+/// Executes command parameter `instance`; DRV.NVSAVE saves the read-write parameters to
+/// `nv`.
+fn execute(state: &mut State, nv: &mut NvCopy, instance: u16) -> CipResult {
+    match instance {
+        id::HOME_MOVE => state.home(),
+        id::DRV_CLRFAULTS => {
+            state.drive.clear_faults();
+            Ok(())
+        }
+        id::DRV_NVSAVE => {
+            let image = image(state);
+            nv.save(Parameters(image))
+                .map_err(|_| CipError::new(General::ResourceUnavailable))
+        }
+        id::MT_SET => {
+            state.tasks.set();
+            Ok(())
+        }
+        id::MT_LOAD => {
+            state.tasks.load();
+            Ok(())
+        }
+        // AIN.ZERO: the simulated analog input is always 0; nothing to zero.
+        _ => Ok(()),
+    }
+}
+
+/// The read-write parameters' values, in table order.
+pub fn image(state: &State) -> Image {
+    let mut image = [0; params::TABLE.len()];
+    for (slot, p) in image.iter_mut().zip(params::TABLE.iter()) {
+        if p.rule == Rule::ReadWrite {
+            *slot = state.param(p);
+        }
+    }
+    image
+}
+
+/// Reads attribute `attribute` of list `which` (EIP.CMDMAP or EIP.RSPMAP).
+pub fn get_map(maps: &Maps, which: Which, attribute: u16, w: &mut Writer<'_>) -> CipResult {
+    match attribute {
+        VALUE => {
+            for entry in maps.list(which) {
+                w.bytes(&entry.to_le_bytes())?;
+            }
+        }
+        DATA_TYPE => w.u8(LIST_TYPE)?,
+        DATA_LENGTH => w.u8(LIST_LEN as u8)?,
+        _ => return Err(General::AttributeNotSupported.into()),
+    }
+    Ok(())
+}
+
+/// Writes list `which` from `data` (14 bytes); every entry is checked before any is kept.
+pub fn set_map(maps: &mut Maps, which: Which, data: &[u8]) -> CipResult {
+    if data.len() != LIST_LEN {
+        let g = if data.len() < LIST_LEN {
+            General::NotEnoughData
+        } else {
+            General::TooMuchData
+        };
+        return Err(CipError::new(g));
+    }
+    let mut list = [0u16; SLOTS];
+    for (slot, pair) in list.iter_mut().zip(data.chunks_exact(2)) {
+        let mut bytes = [0u8; 2];
+        for (dst, src) in bytes.iter_mut().zip(pair) {
+            *dst = *src;
+        }
+        let value = u16::from_le_bytes(bytes);
+        if value != 0 {
+            maps::entry(which, value)?;
+        }
+        *slot = value;
+    }
+    match which {
+        Which::Command => maps.command = list,
+        Which::Response => maps.response = list,
+    }
+    Ok(())
 }

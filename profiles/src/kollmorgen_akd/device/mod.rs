@@ -12,168 +12,17 @@ use enip_stack::{Duration, Instant};
 
 /// The control tick.
 pub const TICK: Duration = Duration::from_micros(1_000);
-/// Control ticks per second.
-const TICKS_PER_S: i64 = 1_000;
 /// Most ticks one poll catches up on (a host that stalled longer loses the rest).
 const MAX_CATCH_UP: u32 = 10_000;
-/// Feedback counts per revolution (EIP.POSUNIT: "actual position feedback counts (at 32
-/// bits per revolution)").
-pub const COUNTS_PER_REV: i64 = 1 << 32;
-/// Acceleration (counts/s²) one milliamp of torque gives the simulated motor.
-pub const TORQUE_K: i64 = 65_536;
-/// Velocity limit (counts/s): 100 revolutions per second.
-pub const MAX_VELOCITY: i64 = 100 * COUNTS_PER_REV;
-/// Torque command limit, mA (the simulated drive's peak current).
-pub const MAX_TORQUE_MA: i32 = 20_000;
-/// Ticks a home move of mode 0 takes (MOTIONSTAT bit 3 "homing active" meanwhile).
-pub const HOME_TICKS: u32 = 20;
-/// Slowest speed of a move's last counts (counts/s), so every move reaches its target.
-const CREEP: i64 = TICKS_PER_S;
 
-/// DRV.MOTIONSTAT bits (AKD parameter reference).
-pub mod motionstat {
-    /// Motion task active.
-    pub const TASK_ACTIVE: u32 = 1 << 0;
-    /// Home position found.
-    pub const HOME_FOUND: u32 = 1 << 1;
-    /// Home routine finished.
-    pub const HOME_FINISHED: u32 = 1 << 2;
-    /// Homing active.
-    pub const HOMING: u32 = 1 << 3;
-    /// Emergency stop procedure in progress.
-    pub const ESTOP: u32 = 1 << 7;
-    /// Motion task completed: trajectory finished and inside MT.TPOSWND.
-    pub const TASK_COMPLETED: u32 = 1 << 11;
-    /// Motion task target velocity reached.
-    pub const VELOCITY_REACHED: u32 = 1 << 12;
-    /// Motion task fault.
-    pub const TASK_FAULT: u32 = 1 << 13;
-    /// Target position crossed.
-    pub const TARGET_CROSSED: u32 = 1 << 14;
-    /// Target position reached (inside MT.TPOSWND).
-    pub const TARGET_REACHED: u32 = 1 << 15;
-}
+mod config;
+mod trajectory;
 
-/// Operating mode (Position Controller attribute 3).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
-    /// 0: position mode (the default).
-    Position,
-    /// 1: velocity mode.
-    Velocity,
-    /// 2: torque mode.
-    Torque,
-}
-
-impl Mode {
-    /// The mode of attribute value `code`.
-    pub const fn from_code(code: u8) -> Option<Mode> {
-        match code {
-            0 => Some(Mode::Position),
-            1 => Some(Mode::Velocity),
-            2 => Some(Mode::Torque),
-            _ => None,
-        }
-    }
-    /// The attribute value of the mode.
-    pub const fn code(self) -> u8 {
-        match self {
-            Mode::Position => 0,
-            Mode::Velocity => 1,
-            Mode::Torque => 2,
-        }
-    }
-}
-
-/// A drive fault (Status Word 1 bit 3).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Fault {
-    /// A position-mode move was begun before the drive was homed (manual p.11).
-    NotHomed,
-}
-
-/// Why the drive refused to start something.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Refusal {
-    /// A position-mode move before homing: the drive faulted.
-    NotHomed,
-    /// The drive is disabled, stopping or faulted.
-    NotReady,
-}
-
-/// What the drive is doing.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Motion {
-    Idle,
-    /// A trapezoidal move to `target` counts.
-    Move {
-        target: i64,
-        v: i64,
-        acc: i64,
-        dec: i64,
-    },
-    /// A ramp to the signed velocity `v`.
-    Jog {
-        v: i64,
-        acc: i64,
-        dec: i64,
-    },
-    /// A ramp to standstill; `emergency` for a hard stop.
-    Stop {
-        dec: i64,
-        emergency: bool,
-    },
-    /// Homing (mode 0: the current position becomes HOME.P).
-    Homing {
-        ticks_left: u32,
-    },
-    /// Torque mode following the torque command.
-    Torque,
-}
-
-/// Settings the drive keeps as parameters (all in counts, counts/s or counts/s²).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Config {
-    /// Operating mode.
-    pub mode: Mode,
-    /// MT.TPOSWND: the in-position window.
-    pub window: i64,
-    /// SWLS.EN: software limits on.
-    pub swls_enabled: bool,
-    /// SWLS.LIMIT0: the negative software limit.
-    pub limit0: i64,
-    /// SWLS.LIMIT1: the positive software limit.
-    pub limit1: i64,
-    /// DRV.DECSTOP: deceleration of a hard stop and of a software-limit stop.
-    pub decstop: i64,
-    /// HOME.P: the position homing sets.
-    pub home_position: i64,
-    /// HOME.MODE.
-    pub home_mode: i16,
-}
-
-impl Config {
-    /// Power-up settings: position mode, a one-unit window (65536 counts), limits off at
-    /// +-1000 revolutions, hard stop at 1000 rev/s².
-    pub const fn new() -> Self {
-        Config {
-            mode: Mode::Position,
-            window: 65_536,
-            swls_enabled: false,
-            limit0: -1_000 * COUNTS_PER_REV,
-            limit1: 1_000 * COUNTS_PER_REV,
-            decstop: 1_000 * COUNTS_PER_REV,
-            home_position: 0,
-            home_mode: 0,
-        }
-    }
-}
-
-impl Default for Config {
-    fn default() -> Self {
-        Self::new()
-    }
-}
+pub use config::{
+    motionstat, Config, Fault, Mode, Refusal, COUNTS_PER_REV, HOME_TICKS, MAX_TORQUE_MA,
+    MAX_VELOCITY, TICKS_PER_S, TORQUE_K,
+};
+use trajectory::{Motion, CREEP};
 
 /// The simulated drive.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -203,20 +52,6 @@ impl Default for Drive {
     fn default() -> Self {
         Self::new()
     }
-}
-
-/// Integer square root (floor).
-fn isqrt(n: u128) -> u128 {
-    if n < 2 {
-        return n;
-    }
-    let mut x = n;
-    let mut y = x.div_ceil(2);
-    while y < x {
-        x = y;
-        y = x.saturating_add(n.checked_div(x).unwrap_or(0)) / 2;
-    }
-    x
 }
 
 impl Drive {
@@ -453,15 +288,7 @@ impl Drive {
 
     /// Ramps the velocity towards `v` with `acc` (speeding up) or `dec` (slowing down).
     fn ramp(&mut self, v: i64, acc: i64, dec: i64) {
-        let cur = self.velocity;
-        let reversing = (v > 0 && cur < 0) || (v < 0 && cur > 0);
-        let speeding_up = !reversing && v.unsigned_abs() > cur.unsigned_abs();
-        let step = (if speeding_up { acc } else { dec } / TICKS_PER_S).max(1);
-        self.velocity = if v > cur {
-            cur.saturating_add(step).min(v)
-        } else {
-            cur.saturating_sub(step).max(v)
-        };
+        self.velocity = trajectory::ramp(self.velocity, v, acc, dec);
     }
 
     /// One tick of a trapezoidal move: the speed the remaining distance allows at `dec`,
@@ -473,20 +300,7 @@ impl Drive {
             self.finish_move();
             return;
         }
-        let along = self.velocity.saturating_mul(dir);
-        let braking = isqrt(
-            (dec.unsigned_abs() as u128)
-                .saturating_mul(2)
-                .saturating_mul(remaining.unsigned_abs() as u128),
-        );
-        let allowed = i64::try_from(braking).unwrap_or(i64::MAX).min(v).max(CREEP);
-        let next = if along < 0 {
-            along.saturating_add((dec / TICKS_PER_S).max(1))
-        } else if allowed >= along {
-            allowed.min(along.saturating_add((acc / TICKS_PER_S).max(1)))
-        } else {
-            allowed
-        };
+        let next = trajectory::move_speed(remaining, self.velocity, v, acc, dec);
         self.velocity = next.saturating_mul(dir);
         let travel = next.saturating_add(self.position_rem.saturating_mul(dir)) / TICKS_PER_S;
         if next > 0 && i128::from(travel) >= i128::from(remaining).abs() {
