@@ -13,6 +13,12 @@
 //! runs one with the runtime (`enip-firmware`): it powers the profile up from its
 //! non-volatile store ([`PoweredUp`]), where the profile keeps its saved settings as one
 //! record ([`storage`]).
+//!
+//! Every profile is laid out the same way, one file per part: `mod.rs` (the profile's type
+//! and its `Device` impl), `identity.rs`, `assemblies.rs`, `params.rs` (the parameter
+//! table), `classes` (vendor classes), `device` (the simulated device), `storage.rs` (what
+//! it saves), `eds.rs` and `tests`; the crate's README has the whole scheme. The files of a
+//! profile import each other one way (`tests/module_graph.rs` checks it).
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
