@@ -1,7 +1,7 @@
 //! The three assemblies (manual p.10-11) and the byte layouts of the command (O->T) and
 //! response (T->O) assemblies: the command as a view whose getters cannot panic; the
 //! response is encoded from the drive's state every time the stack produces it
-//! ([`super::handshake::encode`]).
+//! ([`super::response::encode`]).
 //!
 //! Every multi-byte field is least significant byte first (p.11, p.14).
 
@@ -139,7 +139,7 @@ pub mod response_type {
 pub mod map_type {
     /// Static map: bytes 36-63 are 0.
     pub const STATIC: u8 = 0;
-    /// Custom map 1: the project's fixed map (see [`super::super::handshake::custom_map`]).
+    /// Custom map 1: the project's fixed map (see [`super::super::response::custom_map`]).
     pub const CUSTOM_1: u8 = 1;
     /// Dynamic map: bytes 36-63 per EIP.RSPMAP / EIP.CMDMAP (see [`super::super::dynamic_map`]).
     pub const DYNAMIC: u8 = 2;

@@ -4,7 +4,8 @@
 //! - [`identity`]: the Identity object values (project choices, documented).
 //! - [`assemblies`]: 100 (configuration, 0 bytes), 101 (command, 64 bytes with run/idle),
 //!   102 (response, 64 bytes) and their layouts.
-//! - [`handshake`]: the control word, the Load/Start handshake and the response encoder.
+//! - [`handshake`]: the control word and the Load/Start handshake; [`response`]: the
+//!   response assembly's encoder.
 //! - [`params`]: the parameter table; [`classes`]: class 0x25 (Position Controller) and
 //!   class 0x0F (Parameter), with [`maps`] (EIP.CMDMAP, EIP.RSPMAP) for [`dynamic_map`],
 //!   map type 2.
@@ -28,6 +29,7 @@ pub mod identity;
 pub mod maps;
 pub mod motion_tasks;
 pub mod params;
+pub mod response;
 pub mod state;
 pub mod storage;
 
@@ -136,7 +138,7 @@ impl Device for KollmorgenAkd {
 
     fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
         match instance {
-            assemblies::RESPONSE => Ok(handshake::encode(&self.state, &self.io, out)),
+            assemblies::RESPONSE => Ok(response::encode(&self.state, &self.io, out)),
             assemblies::COMMAND => {
                 let cmd = self.io.command();
                 let n = out.len().min(cmd.len());
@@ -153,7 +155,7 @@ impl Device for KollmorgenAkd {
     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
         match instance {
             assemblies::COMMAND => {
-                self.io.consume(&mut self.state, &mut self.nv, data);
+                handshake::consume(&mut self.io, &mut self.state, &mut self.nv, data);
                 Ok(())
             }
             // The configuration assembly has no data.
