@@ -119,9 +119,9 @@ fn network_settings(default_cidr: &str) {
 
 /// Writes `OUT_DIR/profile.rs` for the profile chosen by a `profile-NAME` feature
 /// (`profile-generic` when no other is enabled; two others are an error): the constant
-/// `NAME` and the type alias `Chosen` for `enip_firmware::profiles::<Name in CamelCase>`, which
+/// `NAME` and the type alias `Chosen` for `enip_profiles::<Name in CamelCase>`, which
 /// has a `new()` power-up constructor. The board links that one profile only (the run-time
-/// `enip_firmware::Profile` would link them all).
+/// `enip_profiles::Profile` would link them all).
 fn profile_from_features() {
     let mut chosen: Vec<String> = env::vars()
         .filter_map(|(k, _)| k.strip_prefix(PROFILE_FEATURE).map(str::to_string))
@@ -146,7 +146,7 @@ fn profile_from_features() {
         "/// The device profile's name (feature `profile-{name}`).\n\
          pub const NAME: &str = \"{name}\";\n\
          /// The device profile.\n\
-         pub type Chosen = enip_firmware::profiles::{camel};\n"
+         pub type Chosen = enip_profiles::{camel};\n"
     );
     fs::write(out_dir().join("profile.rs"), code).expect("OUT_DIR is writable");
 }

@@ -172,7 +172,6 @@ mod tests {
         assert_eq!(module_status(0x0C00), Indicator::Red);
     }
 
-    #[cfg(feature = "profile-generic")]
     #[test]
     fn network_status_off_without_address_else_flashing_green() {
         use core::net::Ipv4Addr;
@@ -180,7 +179,7 @@ mod tests {
             |ip| enip_stack::NetworkConfig::new_static(ip, Ipv4Addr::new(255, 255, 255, 0), [2; 6]);
         let mut ns = NetworkStatus::default();
         let mut adapter = Adapter::new(
-            crate::profiles::Generic::new(),
+            enip_profiles::Generic::new(),
             config(Ipv4Addr::UNSPECIFIED),
             1,
         );

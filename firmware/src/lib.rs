@@ -1,4 +1,4 @@
-//! The EtherNet/IP adapter runtime on embassy-net, and the device profiles.
+//! The EtherNet/IP adapter runtime on embassy-net.
 //!
 //! A board builds an [`embassy_net::Stack`] over a [`link::NetDriver`], shares an
 //! [`enip_stack::Adapter`] over a device profile in an [`AdapterCell`], spawns the link task
@@ -11,8 +11,6 @@
 //!   link task ([`link::run`]), which hands O->T datagrams to the adapter and sends T->O
 //!   data straight from it, and passes every other frame to embassy-net through a
 //!   [`link::NetDriver`];
-//! - [`profiles`] holds the shipped device profiles (each behind its `profile-NAME` feature)
-//!   and `Profile`, which picks one of them by name;
 //! - [`Resources`] are the socket buffers, which the board places (usually in a `static`),
 //!   and the embassy-net stack needs [`SOCKETS`] sockets (build its resources with
 //!   [`stack_resources`], which refuses fewer);
@@ -44,7 +42,6 @@ pub mod indicators;
 pub mod link;
 mod multicast;
 mod netif;
-pub mod profiles;
 mod resources;
 mod runtime;
 mod shared;
@@ -52,8 +49,6 @@ mod tcp;
 mod udp;
 
 pub use netif::network_config;
-#[cfg(feature = "_any-profile")]
-pub use profiles::Profile;
 pub use resources::{stack_resources, Resources, SOCKETS};
 pub use runtime::run;
 pub use shared::{share, with_adapter, AdapterCell, SharedAdapter};

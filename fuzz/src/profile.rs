@@ -22,7 +22,7 @@
 //! Reset the stack accepted is performed as a runtime does (connections closed,
 //! `Device::reset`).
 
-use enip_firmware::Profile;
+use enip_profiles::Profile;
 use enip_stack::cip::Request;
 use enip_stack::device::CloseReason;
 use enip_stack::{Adapter, Device, Duration, Instant};

@@ -2,7 +2,7 @@
 //! [`Adapter`] while checking the entry points' invariants.
 //!
 //! A script's first byte picks the device ([`device_byte`]): the small [`crate::device::TestDevice`] or one of
-//! the shipped profiles (`enip_firmware::Profile::NAMES`, saving to an erased
+//! the shipped profiles (`enip_profiles::Profile::NAMES`, saving to an erased
 //! [`crate::store`]), so every adapter target runs with every device that ships. The rest is a sequence of operations, each starting with one op byte, so libFuzzer splits
 //! the stream into accept/close/data events and chunk boundaries on its own.
 //!
@@ -16,7 +16,7 @@
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
-use enip_firmware::Profile;
+use enip_profiles::Profile;
 use enip_stack::config::{MAX_ENCAP_FRAME, MAX_PENDING_LIST_IDENTITY, MAX_SESSIONS};
 use enip_stack::wire::cpf::{self, item_type};
 use enip_stack::wire::encap::{command, Packet, HEADER_LEN};

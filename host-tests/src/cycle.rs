@@ -3,7 +3,7 @@
 
 use std::net::SocketAddrV4;
 
-use enip_firmware::profiles::generic::Generic;
+use enip_profiles::generic::Generic;
 use enip_stack::originator;
 use enip_stack::virtual_scanner::{VirtualScanner, SCANNER_IP};
 use enip_stack::wire::forward_open::Triad;

@@ -214,6 +214,7 @@ fn part(name: &str) -> &'static str {
     match path.split("::").next().unwrap_or("") {
         "enip_stack" => "enip-stack",
         "enip_firmware" => "firmware runtime",
+        "enip_profiles" => "device profile",
         "smoltcp" => "smoltcp",
         "embassy_net" => "embassy-net",
         "enip_qemu_mps2" => "board: LAN9118, timers",

@@ -15,17 +15,21 @@ pub const EXAMPLE_NUCLEO: &str = "io-block-nucleo";
 /// The profile a board runs unless told otherwise.
 pub const DEFAULT_PROFILE: &str = "generic";
 
-/// The firmware crate, whose `profile-NAME` features are the device profiles.
-const FIRMWARE: &str = "enip-firmware";
+/// The profiles crate, whose features enabling [`ANY_PROFILE`] are the device profiles.
+const PROFILES: &str = "enip-profiles";
+/// The internal feature of the profiles crate that every profile's feature enables.
+const ANY_PROFILE: &str = "_any-profile";
 
-/// The device profiles the firmware has: its `profile-NAME` features, sorted.
+/// The device profiles: the features of the profiles crate that are a profile, sorted.
 pub fn profiles(metadata: &Metadata) -> Result<Vec<String>> {
-    Ok(metadata
-        .features(FIRMWARE)?
-        .iter()
-        .filter_map(|f| f.strip_prefix("profile-"))
-        .map(str::to_string)
-        .collect())
+    let mut names = Vec::new();
+    for feature in metadata.features(PROFILES)? {
+        let enables = metadata.feature(PROFILES, &feature)?.unwrap_or_default();
+        if enables.iter().any(|f| f == ANY_PROFILE) {
+            names.push(feature);
+        }
+    }
+    Ok(names)
 }
 
 /// The release ELF of `board` (its binary has the crate's name).
@@ -67,8 +71,8 @@ pub fn clippy(board: &str) -> Result {
 mod tests {
     use super::*;
 
-    /// Every profile the firmware has can be chosen on both embedded boards (a `profile-NAME`
-    /// feature enabling the firmware's) and is compiled into `enip-host` by default.
+    /// Every profile can be chosen on both embedded boards (a `profile-NAME` feature
+    /// enabling the profiles crate's `NAME`) and is compiled into `enip-host` by default.
     #[test]
     fn every_profile_has_a_board_feature() {
         let metadata = Metadata::read().unwrap();
@@ -80,7 +84,7 @@ mod tests {
                 let enables = metadata.feature(board, &feature).unwrap();
                 assert_eq!(
                     enables,
-                    Some(vec![format!("{FIRMWARE}/{feature}")]),
+                    Some(vec![format!("{PROFILES}/{name}")]),
                     "{board}'s {feature}"
                 );
             }

@@ -1,6 +1,6 @@
 //! Footprint of the embedded boards: release ELF sizes (flash = vector table + text +
-//! rodata + data, static RAM = data + bss + uninit), what the stack, the firmware and
-//! embassy-net take of them (from the symbols), and the NUCLEO-F767ZI budget. Written to
+//! rodata + data, static RAM = data + bss + uninit), what the stack, the firmware, the
+//! profile and embassy-net take of them (from the symbols), and the NUCLEO-F767ZI budget. Written to
 //! `target/bench/footprint.json` and printed as a table.
 
 use std::collections::BTreeMap;
@@ -135,7 +135,7 @@ fn measure(elf: &str) -> Result<Image> {
     Ok(image)
 }
 
-/// Who a code or constant symbol belongs to: the stack, the firmware, embassy-net with
+/// Who a code or constant symbol belongs to: the stack, the firmware, the profiles, embassy-net with
 /// smoltcp, the task futures (where `enip_firmware::run` and the network runner are inlined),
 /// the HAL and runtime crates, `core` with the compiler builtins, or the rest (the board's
 /// own code and anonymous constants).
@@ -148,6 +148,7 @@ fn owner(symbol: &str) -> String {
     match krate {
         "enip_stack" => "stack",
         "enip_firmware" => "firmware",
+        "enip_profiles" => "profiles",
         "embassy_net" | "smoltcp" => "embassy-net+smoltcp",
         "core" | "compiler_builtins" => "core+builtins",
         k if k.starts_with("embassy_")
@@ -215,6 +216,10 @@ mod tests {
             "stack"
         );
         assert_eq!(owner("enip_firmware::tcp::serve::{{closure}}"), "firmware");
+        assert_eq!(
+            owner("<enip_profiles::generic::Generic as enip_stack::device::Device>::poll"),
+            "profiles"
+        );
         assert_eq!(
             owner("smoltcp::iface::interface::Interface::poll"),
             "embassy-net+smoltcp"

@@ -137,7 +137,7 @@ fn main() -> ExitCode {
         Command::Modules => module_graph::check(),
         Command::Smoke => smoke::run_smoke().map(|_| ()),
         Command::Faults => faults::run_all(),
-        // The firmware's EDS test knows every profile; asked to, it rewrites the files.
+        // The profiles' EDS test knows every profile; asked to, it rewrites the files.
         Command::Eds => util::run(
             util::cargo()
                 .args(["test", "every_eds_file_is_current"])

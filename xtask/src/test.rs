@@ -23,7 +23,7 @@ pub fn run_all() -> bool {
     // Host steps cover the default members (everything that builds on the host); the
     // workspace members outside them (the boards) build only for the embedded target, in
     // release as they ship.
-    let no_std = ["enip-stack", "enip-firmware"];
+    let no_std = ["enip-stack", "enip-firmware", "enip-profiles"];
     let mut cross_crates = Vec::new();
     // `&&` stops at the first failed step; the summary lists the steps that ran.
     let mut ok = steps.run("setup", || setup::all().map(|()| Outcome::Passed))
@@ -89,7 +89,14 @@ pub fn run_all() -> bool {
                 rustup
             };
             build.args(["build", "--target", setup::THUMB_TARGET]);
-            run(build.args(["-p", "enip-stack", "-p", "enip-firmware"]))?;
+            run(build.args([
+                "-p",
+                "enip-stack",
+                "-p",
+                "enip-firmware",
+                "-p",
+                "enip-profiles",
+            ]))?;
             forget_packaged_crates();
             cargo(&[
                 "publish",
@@ -99,6 +106,8 @@ pub fn run_all() -> bool {
                 "enip-stack",
                 "-p",
                 "enip-firmware",
+                "-p",
+                "enip-profiles",
             ])
         });
     for board in &cross_crates {
@@ -211,7 +220,8 @@ fn forget_packaged_crates() {
         {
             let name = entry.file_name();
             let name = name.to_string_lossy();
-            if name.starts_with("enip-stack-") || name.starts_with("enip-firmware-") {
+            let ours = ["enip-stack-", "enip-firmware-", "enip-profiles-"];
+            if ours.iter().any(|p| name.starts_with(p)) {
                 let path = entry.path();
                 let _ = if path.is_dir() {
                     std::fs::remove_dir_all(&path)

@@ -1,6 +1,6 @@
 //! The workspace as cargo describes it (`cargo metadata`, read with serde_json): which crates
 //! build only for the embedded target, the published crates' `rust-version`, and a package's
-//! features (the device profiles are the firmware's `profile-NAME` features).
+//! features (the device profiles are features of the profiles crate).
 
 use serde_json::Value;
 
@@ -89,7 +89,6 @@ impl Metadata {
     }
 
     /// What the feature `feature` of `package` enables (`None` if it has no such feature).
-    #[cfg(test)]
     pub fn feature(&self, package: &str, feature: &str) -> Result<Option<Vec<String>>> {
         let enables = self.package(package)?["features"][feature].as_array();
         Ok(enables.map(|list| {
@@ -113,9 +112,9 @@ mod tests {
         let toolchain = m.rust_version_toolchain("enip-stack").unwrap();
         assert_eq!(toolchain.split('.').count(), 3, "{toolchain}");
         assert!(m
-            .features("enip-firmware")
+            .features("enip-profiles")
             .unwrap()
-            .contains(&"profile-generic".to_string()));
+            .contains(&"generic".to_string()));
         assert_eq!(
             m.feature("enip-stack", "log").unwrap(),
             Some(vec!["dep:log".to_string()])

@@ -4,7 +4,7 @@
 //!
 //! ```no_run
 //! # use enip_stack::Device;
-//! # fn my_device() -> enip_firmware::profiles::Generic { enip_firmware::profiles::Generic::new() }
+//! # fn my_device() -> enip_profiles::Generic { enip_profiles::Generic::new() }
 //! let options = enip_host::Options::from_env_args("usage: my-device --tap IFNAME --ip A.B.C.D/LEN", |_, _| Ok(false));
 //! enip_host::run(my_device(), options)
 //! ```

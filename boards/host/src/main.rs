@@ -6,7 +6,7 @@ mod profile_options;
 
 use std::process::exit;
 
-use enip_firmware::Profile;
+use enip_profiles::Profile;
 use profile_options::ProfileOptions;
 
 /// How to invoke the program.

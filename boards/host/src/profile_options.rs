@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use enip_firmware::Profile;
+use enip_profiles::Profile;
 
 /// The profile options of the command line.
 #[derive(Debug, Default)]

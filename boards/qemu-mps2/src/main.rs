@@ -16,8 +16,8 @@ mod network {
 }
 
 use embassy_executor::Spawner;
-use enip_firmware::profiles::PoweredUp;
 use enip_firmware::AdapterCell;
+use enip_profiles::PoweredUp;
 
 /// The adapter over the chosen profile, for the whole run.
 static ADAPTER: AdapterCell<profile::Chosen> = AdapterCell::new();

@@ -9,9 +9,9 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use enip_firmware::Profile;
 use enip_fuzz::frames::{self, Connection, IoScript, TcpScript, UdpScript};
 use enip_fuzz::{io_script, profile, script};
+use enip_profiles::Profile;
 use enip_stack::wire::cpf;
 use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
 use enip_stack::wire::forward_open::ForwardOpenReplyRepr;

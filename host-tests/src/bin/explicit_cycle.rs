@@ -6,7 +6,7 @@
 
 use std::hint::black_box;
 
-use enip_firmware::profiles::generic::Generic;
+use enip_profiles::generic::Generic;
 use enip_stack::config::MAX_ENCAP_FRAME;
 use enip_stack::originator;
 use enip_stack::virtual_scanner::VirtualScanner;

@@ -8,7 +8,7 @@
 
 use std::hint::black_box;
 
-use enip_firmware::profiles::generic::Generic;
+use enip_profiles::generic::Generic;
 use enip_stack::{Adapter, Instant};
 use host_tests::cycle::{cycles_from_args, exclusive_owner, o_t_datagram, scanner_address, RPI_US};
 

@@ -288,7 +288,7 @@ fn get_attributes_all_of_every_object_dissects_cleanly() {
 #[test]
 #[ignore = "needs the Python peers (eds-pie)"]
 fn every_eds_file_is_clean() {
-    for profile in enip_firmware::Profile::NAMES {
+    for profile in enip_profiles::Profile::NAMES {
         let r = common::eds_check(profile);
         assert_eq!(r["protocol"], "EtherNetIP", "{profile}");
     }

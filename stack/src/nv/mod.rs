@@ -56,19 +56,13 @@ impl From<FlashError> for NvError {
     }
 }
 
-/// Record keys: who owns which record. The stack's are below 0x100; a device profile uses
-/// [`key::PROFILE_BASE`] and up.
+/// Record keys: who owns which record. The stack's are below 0x100; the device uses
+/// [`key::PROFILE_BASE`] and up (the shipped profiles' keys are theirs, in `enip-profiles`).
 pub mod key {
     /// The TCP/IP Interface object's settings (attributes 3, 5, 6, 8, 9 and 13).
     pub const TCP_IP: u16 = 0x0001;
-    /// First key of the device profile's records.
+    /// First key of the device's records.
     pub const PROFILE_BASE: u16 = 0x0100;
-    /// The PositionServo profile's EPM copy of its variables.
-    pub const POSITION_SERVO_EPM: u16 = PROFILE_BASE;
-    /// The Kollmorgen AKD profile's parameters saved by DRV.NVSAVE.
-    pub const KOLLMORGEN_AKD_PARAMETERS: u16 = PROFILE_BASE + 1;
-    /// The Ametek PLS profile's program saved to NVRAM.
-    pub const AMETEK_PLS_PROGRAM: u16 = PROFILE_BASE + 2;
 }
 
 /// Small numbered records that survive a power cycle; each write or removal is atomic, and so

@@ -4,7 +4,8 @@
 //! its files. A module depends on another when its code names it (`use crate::...`,
 //! `super::...`, or a path in an expression); comments, doc links and strings do not count.
 //! The module that declares a scope's children (its `lib.rs` or `mod.rs`) is left out of
-//! that scope's graph: it declares and re-exports them.
+//! that scope's graph: it declares and re-exports them. Test code (`#[cfg(test)]` modules,
+//! inline or in files of their own) is left out too: nothing depends on it.
 
 mod source;
 
@@ -58,6 +59,8 @@ pub fn check() -> Result {
 struct CrateGraph {
     /// Module path -> the file that defines it.
     files: BTreeMap<Vec<String>, PathBuf>,
+    /// The modules declared `#[cfg(test)]` in files of their own.
+    tests: BTreeSet<Vec<String>>,
 }
 
 /// Dependencies inside one scope: child -> (child it depends on -> a file that says so).
@@ -79,7 +82,17 @@ impl CrateGraph {
                 }
             }
         }
-        Ok(CrateGraph { files })
+        let mut tests = BTreeSet::new();
+        for (module, file) in &files {
+            let text = fs::read_to_string(file)
+                .map_err(|e| util::Error(format!("{}: {e}", file.display())))?;
+            for child in source::test_children(&source::code_only(&text)) {
+                let mut path = module.clone();
+                path.push(child);
+                tests.insert(path);
+            }
+        }
+        Ok(CrateGraph { files, tests })
     }
 
     /// The modules that are directories (`a/mod.rs`) directly under the crate root.
@@ -100,10 +113,14 @@ impl CrateGraph {
         let mut edges = Edges::new();
         for (module, file) in &self.files {
             let Some(from) = child(module) else { continue };
+            if self.tests.iter().any(|t| module.starts_with(t)) {
+                continue;
+            }
             let Ok(text) = fs::read_to_string(file) else {
                 continue;
             };
-            for mention in source::mentions(&source::code_only(&text)) {
+            let mentions = source::mentions(&source::code_only(&text));
+            for mention in mentions.into_iter().filter(|m| !m.in_test) {
                 let Some(target) = self.resolve(module, &mention) else {
                     continue;
                 };
@@ -274,6 +291,7 @@ mod tests {
         let mention = source::Mention {
             inline: vec![],
             segments: vec!["super".into(), "source".into(), "mentions".into()],
+            in_test: false,
         };
         let child = vec!["module_graph".to_string(), "source".to_string()];
         assert_eq!(
@@ -283,6 +301,7 @@ mod tests {
         let inline = source::Mention {
             inline: vec!["tests".into()],
             segments: vec!["super".into(), "cycles_of".into()],
+            in_test: true,
         };
         assert_eq!(graph.resolve(&this, &inline), Some(this.clone()));
     }

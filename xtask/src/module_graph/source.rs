@@ -10,6 +10,8 @@ pub struct Mention {
     pub inline: Vec<String>,
     /// The path's segments, e.g. `["super", "state", "Machine"]`.
     pub segments: Vec<String>,
+    /// True inside a `#[cfg(test)]` inline module.
+    pub in_test: bool,
 }
 
 /// `text` with comments removed and every string or character literal emptied, so that
@@ -96,21 +98,21 @@ fn raw_start(b: &[u8], at: usize) -> bool {
 pub fn mentions(code: &str) -> Vec<Mention> {
     let tokens = tokenize(code);
     let mut found = Vec::new();
-    // Inline modules: (name, brace depth inside it).
-    let mut inline: Vec<(String, usize)> = Vec::new();
+    // Inline modules: (name, brace depth inside it, test only).
+    let mut inline: Vec<(String, usize, bool)> = Vec::new();
     let mut depth = 0usize;
     let mut i = 0;
     while i < tokens.len() {
         match tokens[i].as_str() {
             "{" => depth += 1,
             "}" => {
-                if inline.last().is_some_and(|(_, d)| *d == depth) {
+                if inline.last().is_some_and(|(_, d, _)| *d == depth) {
                     inline.pop();
                 }
                 depth = depth.saturating_sub(1);
             }
             "mod" if tokens.get(i + 2).is_some_and(|t| t == "{") => {
-                inline.push((tokens[i + 1].clone(), depth + 1));
+                inline.push((tokens[i + 1].clone(), depth + 1, after_cfg_test(&tokens, i)));
             }
             "crate" | "super" | "self" if tokens.get(i + 1).is_some_and(|t| t == "::") => {
                 // Not the tail of a longer path (`a::self`).
@@ -120,10 +122,12 @@ pub fn mentions(code: &str) -> Vec<Mention> {
                 }
                 let mut paths = Vec::new();
                 i = use_tree(&tokens, i, Vec::new(), &mut paths);
-                let names: Vec<String> = inline.iter().map(|(n, _)| n.clone()).collect();
+                let names: Vec<String> = inline.iter().map(|(n, _, _)| n.clone()).collect();
+                let in_test = inline.iter().any(|(_, _, test)| *test);
                 found.extend(paths.into_iter().map(|segments| Mention {
                     inline: names.clone(),
                     segments,
+                    in_test,
                 }));
                 continue;
             }
@@ -132,6 +136,30 @@ pub fn mentions(code: &str) -> Vec<Mention> {
         i += 1;
     }
     found
+}
+
+/// The child modules declared test-only in a file of their own (`#[cfg(test)] mod x;`).
+pub fn test_children(code: &str) -> Vec<String> {
+    let tokens = tokenize(code);
+    (0..tokens.len())
+        .filter(|&i| tokens[i] == "mod" && tokens.get(i + 2).is_some_and(|t| t == ";"))
+        .filter(|&i| after_cfg_test(&tokens, i))
+        .map(|i| tokens[i + 1].clone())
+        .collect()
+}
+
+/// True if the item whose keyword is at `tokens[at]` carries `#[cfg(test)]` (possibly
+/// behind `pub` or `pub(crate)`).
+fn after_cfg_test(tokens: &[String], at: usize) -> bool {
+    const CFG_TEST: [&str; 7] = ["#", "[", "cfg", "(", "test", ")", "]"];
+    (at.saturating_sub(12)..at).any(|start| {
+        tokens
+            .get(start..start + CFG_TEST.len())
+            .is_some_and(|w| w.iter().zip(CFG_TEST).all(|(a, b)| a == b))
+            && tokens[start + CFG_TEST.len()..at]
+                .iter()
+                .all(|t| matches!(t.as_str(), "pub" | "(" | ")" | "crate" | "super"))
+    })
 }
 
 /// Reads the path (or `use` tree) starting at `tokens[i]`, appending every full path to
@@ -219,6 +247,16 @@ mod tests {
             .into_iter()
             .map(|m| (m.inline, m.segments.join("::")))
             .collect()
+    }
+
+    #[test]
+    fn test_modules_are_told_apart() {
+        let src = "#[cfg(test)]\nmod tests { use super::a; }\nmod b { use super::c; }\n\
+                   #[cfg(test)]\nmod file_tests;\npub mod d;\n#[cfg(test)] pub(crate) mod e;";
+        let code = code_only(src);
+        let tested: Vec<bool> = mentions(&code).iter().map(|m| m.in_test).collect();
+        assert_eq!(tested, [true, false]);
+        assert_eq!(test_children(&code), ["file_tests", "e"]);
     }
 
     #[test]

@@ -1,0 +1,5 @@
+//! The vendor classes: [`parameter`], class 0x0F, the drive's parameters by instance with
+//! the dynamic map's lists; [`position_controller`], class 0x25, the Position Controller.
+
+pub mod parameter;
+pub mod position_controller;
