@@ -14,7 +14,11 @@ fuzz_target!(|data: &[u8]| {
         }
         Err((service, e)) => {
             assert_eq!(service, data.first().copied().unwrap_or(0));
-            assert_ne!(e.general, 0, "an error with success status");
+            assert_ne!(
+                e.general,
+                enip_stack::cip::General::Success,
+                "an error with success status"
+            );
         }
     }
     let _ = Path::parse(data).map(|p| p.instance_or_point());

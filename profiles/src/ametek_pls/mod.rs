@@ -205,7 +205,8 @@ impl AmetekPls {
         match (a, code) {
             (attr::ENCODER, _) => CipError::new(General::ObjectStateConflict),
             (_, validate::RESOLVER) => CipError::new(General::DeviceStateConflict),
-            (_, validate::MEMORY) => CipError::raw(STORE_OPERATION_FAILURE),
+            // Error code 4: store operation failure ([R] AM-EX-5).
+            (_, validate::MEMORY) => CipError::new(General::StoreOperationFailure),
             _ => CipError::new(General::InvalidAttributeValue),
         }
     }
@@ -309,9 +310,6 @@ impl AmetekPls {
         }
     }
 }
-
-/// General status 0x19: store operation failure (error code 4, \[R\] AM-EX-5).
-const STORE_OPERATION_FAILURE: u8 = 0x19;
 
 impl Device for AmetekPls {
     fn identity(&self) -> &IdentityInfo {

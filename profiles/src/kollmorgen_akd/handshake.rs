@@ -117,7 +117,7 @@ pub fn consume(io: &mut Handshake, state: &mut State, nv: &mut NvCopy, data: &[u
             Err(e) => {
                 state.load_complete = false;
                 io.error = Some(LoadError {
-                    code: e.general,
+                    code: e.general.into(),
                     additional: ADDITIONAL,
                     echo: [cmd.byte(2), cmd.byte(3)],
                 });

@@ -287,7 +287,7 @@ mod tests {
 
     #[test]
     fn value_lengths() {
-        let len = |t: DataType, d: &[u8]| t.value_len(d, Some(3)).map_err(|e| e.general);
+        let len = |t: DataType, d: &[u8]| t.value_len(d, Some(3)).map_err(|e| e.general as u8);
         assert_eq!(len(DataType::Uint, &[1, 2, 3]), Ok(2));
         assert_eq!(len(DataType::Udint, &[1, 2, 3]), Err(0x13));
         assert_eq!(

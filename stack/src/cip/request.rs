@@ -135,7 +135,7 @@ mod tests {
 
     #[test]
     fn path_errors() {
-        let e = |b: &[u8]| Request::parse(b).unwrap_err().1.general;
+        let e = |b: &[u8]| Request::parse(b).unwrap_err().1.general as u8;
         assert_eq!(e(&[0x0E, 2, 0x20, 1, 0x20, 2]), 0x04); // class twice
         assert_eq!(e(&[0x0E, 1, 0x24, 1]), 0x04); // no class
         assert_eq!(e(&[0x0E, 2, 0x20, 1, 0x01, 0]), 0x04); // port segment

@@ -65,6 +65,123 @@ pub enum General {
     UnexpectedAttributeInList = 0x27,
     /// Attribute not gettable.
     AttributeNotGettable = 0x2C,
+    /// Object already exists.
+    ObjectAlreadyExists = 0x0D,
+    /// Fragmentation of a primitive value.
+    PrimitiveFragmentation = 0x12,
+    /// Service fragmentation sequence not in progress.
+    FragmentationNotInProgress = 0x17,
+    /// No stored attribute data.
+    NoStoredAttributeData = 0x18,
+    /// Routing failure: response packet too large.
+    ResponseTooLarge = 0x1B,
+    /// Invalid attribute value list.
+    InvalidAttributeValueList = 0x1D,
+    /// Write-once value or medium already written.
+    WriteOnceAlreadyWritten = 0x21,
+    /// Invalid reply received.
+    InvalidReplyReceived = 0x22,
+    /// Buffer overflow.
+    BufferOverflow = 0x23,
+    /// Message format error.
+    MessageFormatError = 0x24,
+    /// Key failure in path (electronic key mismatch).
+    KeyFailureInPath = 0x25,
+    /// Invalid member ID.
+    InvalidMemberId = 0x28,
+    /// Member not settable.
+    MemberNotSettable = 0x29,
+    /// Group 2 only server general failure.
+    Group2OnlyServerFailure = 0x2A,
+    /// Unknown Modbus error.
+    UnknownModbusError = 0x2B,
+    /// Instance not deletable.
+    InstanceNotDeletable = 0x2D,
+    /// Service not supported for the specified path.
+    ServiceNotSupportedForPath = 0x2E,
+}
+
+impl General {
+    /// Every general status code CIP defines (Vol 1, table B-1.1), in code order.
+    pub const ALL: [General; 47] = {
+        use General::*;
+        [
+            Success,
+            ConnectionFailure,
+            ResourceUnavailable,
+            InvalidParameterValue,
+            PathSegmentError,
+            PathDestinationUnknown,
+            PartialTransfer,
+            ConnectionLost,
+            ServiceNotSupported,
+            InvalidAttributeValue,
+            AttributeListError,
+            AlreadyInRequestedMode,
+            ObjectStateConflict,
+            ObjectAlreadyExists,
+            AttributeNotSettable,
+            PrivilegeViolation,
+            DeviceStateConflict,
+            ReplyDataTooLarge,
+            PrimitiveFragmentation,
+            NotEnoughData,
+            AttributeNotSupported,
+            TooMuchData,
+            ObjectDoesNotExist,
+            FragmentationNotInProgress,
+            NoStoredAttributeData,
+            StoreOperationFailure,
+            RequestTooLarge,
+            ResponseTooLarge,
+            MissingAttributeListEntryData,
+            InvalidAttributeValueList,
+            EmbeddedServiceError,
+            VendorSpecific,
+            InvalidParameter,
+            WriteOnceAlreadyWritten,
+            InvalidReplyReceived,
+            BufferOverflow,
+            MessageFormatError,
+            KeyFailureInPath,
+            PathSizeInvalid,
+            UnexpectedAttributeInList,
+            InvalidMemberId,
+            MemberNotSettable,
+            Group2OnlyServerFailure,
+            UnknownModbusError,
+            AttributeNotGettable,
+            InstanceNotDeletable,
+            ServiceNotSupportedForPath,
+        ]
+    };
+}
+
+impl From<General> for u8 {
+    fn from(g: General) -> u8 {
+        g as u8
+    }
+}
+
+impl From<General> for u16 {
+    fn from(g: General) -> u16 {
+        u16::from(g as u8)
+    }
+}
+
+/// A general status byte CIP does not define (reserved, or object class specific).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UnknownGeneral(pub u8);
+
+impl TryFrom<u8> for General {
+    type Error = UnknownGeneral;
+    fn try_from(code: u8) -> Result<Self, UnknownGeneral> {
+        // Codes 0x00-0x2E are all defined, in order.
+        General::ALL
+            .get(usize::from(code))
+            .copied()
+            .ok_or(UnknownGeneral(code))
+    }
 }
 
 /// Most additional status words an error carries.
@@ -75,7 +192,7 @@ pub const MAX_ADDITIONAL: usize = 6;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CipError {
     /// General status code.
-    pub general: u8,
+    pub general: General,
     additional: [u16; MAX_ADDITIONAL],
     additional_len: u8,
     keep_data: bool,
@@ -84,15 +201,6 @@ pub struct CipError {
 impl CipError {
     /// An error with a general status only.
     pub const fn new(general: General) -> Self {
-        CipError {
-            general: general as u8,
-            additional: [0; MAX_ADDITIONAL],
-            additional_len: 0,
-            keep_data: false,
-        }
-    }
-    /// An error with a raw general status code (vendor profiles).
-    pub const fn raw(general: u8) -> Self {
         CipError {
             general,
             additional: [0; MAX_ADDITIONAL],
@@ -150,7 +258,7 @@ impl CipError {
 
 impl core::fmt::Display for CipError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "general status {:#04x}", self.general)?;
+        write!(f, "general status {:#04x}", self.general as u8)?;
         let mut words = self.additional().iter();
         if let Some(ext) = words.next() {
             write!(f, ", extended {:#06x}", ext)?;
@@ -165,7 +273,7 @@ impl core::fmt::Display for CipError {
 #[cfg(feature = "defmt")]
 impl defmt::Format for CipError {
     fn format(&self, f: defmt::Formatter<'_>) {
-        defmt::write!(f, "general status {=u8:#04x}", self.general);
+        defmt::write!(f, "general status {=u8:#04x}", self.general as u8);
         let mut words = self.additional().iter();
         if let Some(ext) = words.next() {
             defmt::write!(f, ", extended {=u16:#06x}", ext);
@@ -198,7 +306,17 @@ pub type CipResult<T = ()> = core::result::Result<T, CipError>;
 
 #[cfg(test)]
 mod tests {
-    use super::General;
+    use super::{General, UnknownGeneral};
+
+    #[test]
+    fn every_defined_code_reads_back_and_the_rest_are_unknown() {
+        for code in 0..=u8::MAX {
+            match General::try_from(code) {
+                Ok(g) => assert_eq!(u8::from(g), code),
+                Err(e) => assert!(code > 0x2E && e == UnknownGeneral(code), "{code:#04x}"),
+            }
+        }
+    }
 
     #[test]
     fn shows_the_general_and_additional_status() {

@@ -296,7 +296,7 @@ pub fn forward_open<D: Device>(
 /// A configuration the device refused to take at Forward_Open: its connection failure as
 /// given, anything else 0x01/0x0110 (target not configured).
 fn configuration_refused(e: CipError) -> CipError {
-    if e.general == crate::cip::General::ConnectionFailure as u8 {
+    if e.general == crate::cip::General::ConnectionFailure {
         e
     } else {
         CipError::connection(ext::NOT_CONFIGURED)

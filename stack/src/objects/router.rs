@@ -72,7 +72,7 @@ fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> w
             let (words, n) = additional_bytes(e.additional());
             return ResponseRepr {
                 service: service | REPLY_BIT,
-                general_status: e.general,
+                general_status: e.general.into(),
                 additional_status: words.get(..n).unwrap_or(&[]),
                 data: &[],
             }

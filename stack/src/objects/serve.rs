@@ -222,7 +222,7 @@ fn get_list(obj: &mut dyn Object, instance: u32, data: &[u8], w: &mut Writer<'_>
         let got = lookup(obj.class(), Some(u32::from(id)))
             .and_then(|attr| get_one(obj, instance, &attr, w));
         if let Err(e) = got {
-            if e.general == General::ReplyDataTooLarge as u8 {
+            if e.general == General::ReplyDataTooLarge {
                 return Err(e);
             }
             w.truncate(value_at);

@@ -89,11 +89,6 @@ pub enum SegmentRepr<'a> {
     Data(&'a [u8]),
 }
 
-/// The name [`SegmentRepr`] had before the wire types were named alike; kept only for the
-/// device profiles' tests until they move to their own crate.
-#[doc(hidden)]
-pub use SegmentRepr as Segment;
-
 /// Segment byte of an electronic key.
 const KEY_SEGMENT: u8 = 0x34;
 /// Electronic key format 4.

@@ -437,11 +437,6 @@ impl<'a> ForwardCloseReplyRepr<'a> {
     }
 }
 
-/// The names [`ForwardOpenRepr`] and [`ForwardCloseRepr`] had before the wire types were
-/// named alike; kept only for the device profiles' tests until they move to their own crate.
-#[doc(hidden)]
-pub use {ForwardCloseRepr as ForwardClose, ForwardOpenRepr as ForwardOpen};
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,8 +7,8 @@ extern crate std;
 use std::vec::Vec;
 
 use enip_stack::virtual_scanner::VirtualScanner;
-use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{ForwardOpenRepr, NetworkParams, Triad};
 use enip_stack::wire::Writer;
 use enip_stack::Instant;
 
@@ -32,15 +32,15 @@ impl Scanner {
         let mut path = [0u8; 32];
         let mut w = Writer::new(&mut path);
         for seg in [
-            Segment::Logical(LogicalType::Class, 4),
-            Segment::Logical(LogicalType::Instance, 1),
-            Segment::Logical(LogicalType::ConnectionPoint, 150),
-            Segment::Logical(LogicalType::ConnectionPoint, 100),
+            SegmentRepr::Logical(LogicalType::Class, 4),
+            SegmentRepr::Logical(LogicalType::Instance, 1),
+            SegmentRepr::Logical(LogicalType::ConnectionPoint, 150),
+            SegmentRepr::Logical(LogicalType::ConnectionPoint, 100),
         ] {
             seg.emit(&mut w).unwrap();
         }
         let n = w.len();
-        let fo = ForwardOpen {
+        let fo = ForwardOpenRepr {
             large: false,
             priority_tick: 0x0A,
             timeout_ticks: 0x0E,

@@ -17,10 +17,10 @@ impl Scanner {
     /// Forward_Open 101 -> 102 with config 100.
     fn open(&mut self, rpi: u32, t_o_type: u16, transport: u8) -> Opened {
         let segs = [
-            Segment::Logical(LogicalType::Class, 4),
-            Segment::Logical(LogicalType::Instance, 100),
-            Segment::Logical(LogicalType::ConnectionPoint, 101),
-            Segment::Logical(LogicalType::ConnectionPoint, 102),
+            SegmentRepr::Logical(LogicalType::Class, 4),
+            SegmentRepr::Logical(LogicalType::Instance, 100),
+            SegmentRepr::Logical(LogicalType::ConnectionPoint, 101),
+            SegmentRepr::Logical(LogicalType::ConnectionPoint, 102),
         ];
         let mut path = [0u8; 32];
         let mut w = Writer::new(&mut path);
@@ -28,7 +28,7 @@ impl Scanner {
             s.emit(&mut w).unwrap();
         }
         let n = w.len();
-        let fo = ForwardOpen {
+        let fo = ForwardOpenRepr {
             large: false,
             priority_tick: 0x0A,
             timeout_ticks: 0x0E,

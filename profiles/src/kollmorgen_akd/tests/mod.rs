@@ -17,8 +17,8 @@ use std::vec::Vec;
 
 use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::nv::{CutFlash, SharedStore};
-use enip_stack::wire::epath::{LogicalType, Segment};
-use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{ForwardOpenRepr, NetworkParams, Triad};
 use enip_stack::wire::Writer;
 use enip_stack::{Adapter, Device, Instant, NetworkConfig};
 
@@ -168,7 +168,7 @@ fn execute_with_store(
     let data = reply[4 + 2 * usize::from(reply[3])..].to_vec();
     match reply[2] {
         0 => (Ok(()), data),
-        g => (Err(CipError::raw(g)), data),
+        g => (Err(CipError::new(General::try_from(g).unwrap())), data),
     }
 }
 

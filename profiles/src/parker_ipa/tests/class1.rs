@@ -10,7 +10,7 @@ use std::vec;
 use std::vec::Vec;
 
 use enip_stack::virtual_scanner::{Opened, VirtualScanner, SCANNER_IP};
-use enip_stack::wire::forward_open::{ForwardOpen, NetworkParams, Triad};
+use enip_stack::wire::forward_open::{ForwardOpenRepr, NetworkParams, Triad};
 use enip_stack::Device;
 
 use super::super::ParkerIpa;
@@ -61,7 +61,7 @@ impl<D: Device> Rig<D> {
         (general, data.to_vec())
     }
 
-    fn forward_open(&mut self, fo: &ForwardOpen<'_>) -> Opened {
+    fn forward_open(&mut self, fo: &ForwardOpenRepr<'_>) -> Opened {
         self.scanner.forward_open(fo)
     }
 
@@ -122,8 +122,8 @@ fn params(kind: u16, size: u16) -> NetworkParams {
 }
 
 /// An exclusive owner of 102/101 with data sizes `o_t`/`t_o` and RPIs in µs.
-fn fo(serial: u16, o_t: u16, t_o: u16, o_t_rpi: u32, t_o_rpi: u32) -> ForwardOpen<'static> {
-    ForwardOpen {
+fn fo(serial: u16, o_t: u16, t_o: u16, o_t_rpi: u32, t_o_rpi: u32) -> ForwardOpenRepr<'static> {
+    ForwardOpenRepr {
         large: false,
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,

@@ -52,7 +52,7 @@ fn execute(servo: &mut PositionServo, bytes: &[u8]) -> (CipResult, Vec<u8>) {
     let data = reply[4 + additional..].to_vec();
     match reply[2] {
         0 => (Ok(()), data),
-        g => (Err(CipError::raw(g)), data),
+        g => (Err(CipError::new(General::try_from(g).unwrap())), data),
     }
 }
 
@@ -290,14 +290,14 @@ fn attribute_lists_on_a_variable() {
     let mut list = vec![2, 0, 9, 0];
     list.extend_from_slice(&text("5"));
     let (r, d) = call(&mut servo, 0x04, 100, None, &list);
-    assert_eq!(r, Err(CipError::raw(0x0A)));
+    assert_eq!(r, Err(CipError::new(General::AttributeListError)));
     assert_eq!(d, [1, 0, 9, 0, 0x14, 0]);
     let mut list = vec![2, 0, 0, 0];
     list.extend_from_slice(&1u32.to_le_bytes());
     list.extend_from_slice(&[4, 0]);
     list.extend_from_slice(&text("3"));
     let (r, d) = call(&mut servo, 0x04, id::STATUS, None, &list);
-    assert_eq!(r, Err(CipError::raw(0x0A)));
+    assert_eq!(r, Err(CipError::new(General::AttributeListError)));
     assert_eq!(d, [2, 0, 0, 0, 0x0E, 0, 4, 0, 0x0E, 0]);
 }
 
