@@ -54,7 +54,7 @@
 //!     }
 //! }
 //! # let mut b = Block::default();
-//! # assert_eq!(b.write_assembly(CONFIG, &[101]).unwrap_err().general, 0x09);
+//! # assert_eq!(b.write_assembly(CONFIG, &[101]).unwrap_err().general, General::InvalidAttributeValue);
 //! ```
 //!
 //! The stack calls `write_assembly` with exactly the assembly's current size, and sends
