@@ -79,9 +79,6 @@ pub fn consume<D: Device>(
         return Err(Discard::Stale);
     }
     c.last_encap_sequence = Some(encap);
-    let expires = now.add(conn.timeout);
-    conn.expires = expires;
-    conn.last_activity = now;
 
     let sequence = get_u16(data, 0);
     let run = !c.run_idle || get_u32(data, SEQUENCE_LEN) & 1 == 1;
@@ -92,7 +89,7 @@ pub fn consume<D: Device>(
         c.last_sequence = Some(sequence);
     }
     let (instance, size, run_idle) = (c.instance, c.size, c.run_idle);
-    table.set_expiry(slot, expires);
+    table.feed(slot, now);
     if run_changed && run_idle {
         device.connection_event(ConnectionEvent::RunIdle(run));
     }

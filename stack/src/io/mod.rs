@@ -9,6 +9,7 @@ pub mod produce;
 mod schedule;
 pub mod status;
 pub mod table;
+mod timing;
 
 pub use connection::{Connection, Consumer, Kind, Producer, Transport, Trigger};
 pub use table::ConnectionTable;

@@ -38,6 +38,12 @@ impl Schedule {
         (self.first_slot, self.first_at)
     }
 
+    /// When the producer in `slot` is next due (`Instant::NEVER` for none).
+    #[inline]
+    pub(crate) fn at(&self, slot: usize) -> Instant {
+        self.due.get(slot).copied().unwrap_or(Instant::NEVER)
+    }
+
     /// The producer in `slot` is next due `at` (`Instant::NEVER`: it no longer produces).
     #[inline]
     pub(crate) fn set(&mut self, slot: usize, at: Instant) {
