@@ -1,8 +1,9 @@
 //! The fixed-size connection table: lookup, ID allocation, closing with dependants, and the
-//! one owner of the connections' timing (watchdogs, production deadlines, triggers): it
-//! changes only through the table's intents ([`ConnectionTable::open`],
-//! [`ConnectionTable::feed`], [`ConnectionTable::produce`], [`ConnectionTable::trigger`],
-//! [`ConnectionTable::close`]), which keep the next deadline and the first producer right.
+//! one owner of the connections' timing (watchdogs, last activity, production deadlines,
+//! triggers, in `io/timing.rs`). The timing changes only through the table's intents (`open`,
+//! `feed`, `produce`, `trigger`, `trigger_all`, `close`, `expire`), each of which keeps the
+//! next deadline and the first producer right; readers have `expires`, `last_activity`,
+//! `next_production` and `next_deadline`.
 
 use super::connection::{Connection, Kind, Producer, Transport, Trigger};
 use super::timing::Timing;
@@ -409,3 +410,6 @@ impl ConnectionTable {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;
