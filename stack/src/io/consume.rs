@@ -1,5 +1,5 @@
-//! Class 1 consumption: O->T datagrams from the originator, sequence rules, run/idle,
-//! and the inactivity watchdog.
+//! Class 1 consumption: O->T datagrams from the originator, sequence rules, run/idle; an
+//! accepted datagram feeds the connection's inactivity watchdog (the table's).
 
 use core::net::SocketAddrV4;
 

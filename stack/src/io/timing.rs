@@ -90,8 +90,7 @@ impl Timing {
                 inhibit_until: now,
             };
         }
-        self.schedule
-            .set(slot, if produces { now } else { Instant::NEVER });
+        self.reschedule(slot, if produces { now } else { Instant::NEVER });
     }
 
     /// The connection in `slot` closed: it is never due and never expires.
@@ -103,7 +102,7 @@ impl Timing {
         if let Some(p) = self.pending.get_mut(slot) {
             *p = Pending::NONE;
         }
-        self.schedule.set(slot, Instant::NEVER);
+        self.reschedule(slot, Instant::NEVER);
     }
 
     /// The originator of `slot` was heard at `now`: its watchdog fires `timeout` later.
@@ -131,7 +130,8 @@ impl Timing {
         };
         p.triggered = true;
         if p.inhibit_until < due {
-            self.schedule.set(slot, p.inhibit_until);
+            let at = p.inhibit_until;
+            self.reschedule(slot, at);
         }
     }
 
@@ -159,6 +159,14 @@ impl Timing {
             advance(self.schedule.at(slot), rpi, now)
         };
         self.schedule.set(slot, next);
+    }
+
+    /// The producer in `slot` is next due `at`, off the production path (opened, closed,
+    /// triggered): one shared copy of the schedule's update, where production has its own
+    /// inline.
+    #[inline(never)]
+    fn reschedule(&mut self, slot: usize, at: Instant) {
+        self.schedule.set(slot, at);
     }
 
     /// The slot of the producer due first at `now`, if one is due: the earliest deadline, the
