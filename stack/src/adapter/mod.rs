@@ -350,7 +350,7 @@ impl<D: Device> Adapter<D> {
     /// application-triggered connections producing it send as soon as their inhibit time
     /// allows. (A device says the same from inside with [`Device::input_changes`].)
     pub fn trigger_input(&mut self, instance: u16) {
-        produce::trigger(&mut self.connections, instance);
+        self.connections.trigger(instance);
     }
 
     /// The multicast group T->O data goes to while a multicast connection is open.
@@ -424,10 +424,10 @@ impl<D: Device> Adapter<D> {
 #[inline(never)]
 fn trigger_changes(connections: &mut ConnectionTable, changes: &mut InputChanges) {
     if changes.all() {
-        produce::trigger_all(connections);
+        connections.trigger_all();
     } else {
         for instance in changes.iter() {
-            produce::trigger(connections, instance);
+            connections.trigger(instance);
         }
     }
     changes.clear();

@@ -1,9 +1,11 @@
-//! One entry of the connection table and its per-direction state.
+//! One entry of the connection table and its per-direction state. Its timing (watchdog,
+//! last activity, production deadline, waiting trigger) is not here: the table keeps it
+//! ([`super::table::ConnectionTable`]), changed only through the table's intents.
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
 use crate::device::{ConnectionInfo, ConnectionPoints, Kind, Trigger};
-use crate::time::{Duration, Instant};
+use crate::time::Duration;
 use crate::wire::forward_open::Triad;
 
 /// O->T (consuming) state of a Class 1 connection.
@@ -32,32 +34,15 @@ pub struct Producer {
     pub size: u16,
     /// Where the datagrams go (originator or multicast group, port 2222).
     pub destination: SocketAddrV4,
-    /// The next production deadline.
-    pub next: Instant,
-    /// Earliest instant a triggered production may go (production inhibit).
-    pub inhibit_until: Instant,
-    /// Production inhibit time.
+    /// Production inhibit time: the least time between a production that carried a trigger
+    /// and the next triggered one.
     pub inhibit: Duration,
     /// What makes it produce.
     pub trigger: Trigger,
-    /// A change-of-state or application trigger is waiting.
-    pub triggered: bool,
     /// 32-bit encapsulation sequence number of the last datagram.
     pub encap_sequence: u32,
     /// 16-bit CIP sequence count of the last new data.
     pub sequence: u16,
-}
-
-impl Producer {
-    /// When it wants to send next: its RPI deadline, or earlier once triggered (not before
-    /// the inhibit time).
-    pub fn due_at(&self) -> Instant {
-        if self.triggered {
-            self.inhibit_until.min(self.next)
-        } else {
-            self.next
-        }
-    }
 }
 
 /// Direction-specific state.
@@ -90,9 +75,6 @@ pub struct Connection {
     pub points: ConnectionPoints,
     /// Socket index of the encapsulation session whose Forward_Open opened it.
     pub socket: u8,
-    /// When its last packet (O->T data, or a Class 3 request) arrived, or when it opened; the
-    /// session that opened it counts this as activity.
-    pub last_activity: Instant,
     /// O->T connection ID (chosen here).
     pub o_t_id: u32,
     /// T->O connection ID.
@@ -103,8 +85,6 @@ pub struct Connection {
     pub t_o_rpi: u32,
     /// Inactivity timeout: O->T RPI x multiplier.
     pub timeout: Duration,
-    /// When the inactivity watchdog fires.
-    pub expires: Instant,
     /// Direction-specific state.
     pub transport: Transport,
 }

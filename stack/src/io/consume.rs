@@ -1,5 +1,5 @@
-//! Class 1 consumption: O->T datagrams from the originator, sequence rules, run/idle,
-//! and the inactivity watchdog.
+//! Class 1 consumption: O->T datagrams from the originator, sequence rules, run/idle; an
+//! accepted datagram feeds the connection's inactivity watchdog (the table's).
 
 use core::net::SocketAddrV4;
 
@@ -79,9 +79,6 @@ pub fn consume<D: Device>(
         return Err(Discard::Stale);
     }
     c.last_encap_sequence = Some(encap);
-    let expires = now.add(conn.timeout);
-    conn.expires = expires;
-    conn.last_activity = now;
 
     let sequence = get_u16(data, 0);
     let run = !c.run_idle || get_u32(data, SEQUENCE_LEN) & 1 == 1;
@@ -92,7 +89,7 @@ pub fn consume<D: Device>(
         c.last_sequence = Some(sequence);
     }
     let (instance, size, run_idle) = (c.instance, c.size, c.run_idle);
-    table.set_expiry(slot, expires);
+    table.feed(slot, now);
     if run_changed && run_idle {
         device.connection_event(ConnectionEvent::RunIdle(run));
     }

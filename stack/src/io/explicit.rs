@@ -41,11 +41,8 @@ pub fn lookup(
         return None;
     }
     let repeat = *last_sequence == Some(sequence);
-    let expires = now.add(conn.timeout);
-    conn.expires = expires;
-    conn.last_activity = now;
     let t_o_id = conn.t_o_id;
-    table.set_expiry(slot, expires);
+    table.feed(slot, now);
     Some(if repeat {
         Step::Repeat { slot, t_o_id }
     } else {

@@ -8,6 +8,7 @@ pub(crate) mod open;
 pub(crate) mod produce;
 mod schedule;
 pub(crate) mod table;
+mod timing;
 
 pub use connection::{Connection, Consumer, Producer, Transport};
 pub use consume::{Accepted, Discard};

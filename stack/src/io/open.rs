@@ -8,9 +8,7 @@ use super::table::ConnectionTable;
 use crate::cip::class_id;
 use crate::cip::connection_status as ext;
 use crate::cip::status::{CipError, CipResult};
-use crate::config::{
-    FIRST_PACKET_GRACE_US, IO_PORT, MAX_EXPLICIT_CONNECTED, MAX_RPI_US, MIN_RPI_US,
-};
+use crate::config::{IO_PORT, MAX_EXPLICIT_CONNECTED, MAX_RPI_US, MIN_RPI_US};
 use crate::device::admission::rpi_check;
 use crate::device::{
     AssemblyInfo, AssemblyRole, ConnectionEvent, ConnectionPoints, Device, Direction, IdentityInfo,
@@ -208,15 +206,11 @@ pub fn forward_open<D: Device>(
         originator: origin.ip,
         points: ConnectionPoints::default(),
         socket: origin.socket,
-        last_activity: now,
         o_t_id: 0,
         t_o_id: fo.t_o_connection_id,
         o_t_rpi: fo.o_t_rpi,
         t_o_rpi: fo.t_o_rpi,
         timeout,
-        expires: now.add(Duration::from_micros(
-            timeout.as_micros().max(FIRST_PACKET_GRACE_US),
-        )),
         transport: Transport::Class3 {
             last_sequence: None,
         },
@@ -224,7 +218,7 @@ pub fn forward_open<D: Device>(
     let conn = if fo.transport_class() == 3 {
         explicit(fo, &path, base)?
     } else {
-        class1(table, device, fo, &path, origin, net, trigger, base, now)?
+        class1(table, device, fo, &path, origin, net, trigger, base)?
     };
     device.admit(&OpenRequest {
         kind: conn.kind,
@@ -273,7 +267,7 @@ pub fn forward_open<D: Device>(
     }
     let info = conn.info(slot);
     table
-        .insert(conn)
+        .open(conn, now)
         .ok_or(CipError::connection(ext::OUT_OF_CONNECTIONS))?;
     info!(
         "connection {} opened: {:?} from {}, points {:?}/{:?}/{:?}, RPI O->T {} us T->O {} us",
@@ -337,7 +331,6 @@ fn class1<D: Device>(
     net: &NetFacts,
     trigger: Trigger,
     base: Connection,
-    now: Instant,
 ) -> CipResult<Connection> {
     if path.class != Some(u32::from(class_id::ASSEMBLY)) {
         return Err(bad_segment());
@@ -466,11 +459,8 @@ fn class1<D: Device>(
         instance: producer_info.instance,
         size: produced,
         destination,
-        next: now,
-        inhibit_until: now,
         inhibit,
         trigger,
-        triggered: false,
         encap_sequence: 0,
         sequence: 0,
     };

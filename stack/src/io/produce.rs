@@ -1,31 +1,15 @@
-//! Class 1 production: exact deadlines (next = previous + RPI), sequence numbers per trigger,
-//! datagrams built straight into the caller's buffer.
+//! Class 1 production: sequence numbers per trigger, datagrams built straight into the
+//! caller's buffer. When a producer is due, and where its deadline moves (the exact grid
+//! `previous + RPI`), is the connection table's (its `due` and `produce`).
 
 use core::net::SocketAddrV4;
 
-use super::connection::{Producer, Transport};
+use super::connection::Producer;
 use super::table::ConnectionTable;
-use crate::device::Device;
-use crate::device::Trigger;
-use crate::time::{Duration, Instant};
+use crate::device::{Device, Trigger};
+use crate::time::Instant;
 use crate::wire::io_datagram::{IoDatagramRepr, HEADER_LEN, SEQUENCE_LEN};
 use crate::wire::Writer;
-
-/// The first deadline on the grid `previous + k * rpi` that is after `now` (k >= 1).
-fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
-    let rpi = u64::from(rpi.max(1));
-    let next = previous.add(Duration::from_micros(rpi));
-    if next > now {
-        return next;
-    }
-    let missed = now
-        .since(previous)
-        .as_micros()
-        .checked_div(rpi)
-        .unwrap_or(0)
-        .saturating_add(1);
-    previous.add(Duration::from_micros(missed.saturating_mul(rpi)))
-}
 
 /// A T->O datagram due for sending, from [`crate::Adapter::io_due`]: where it goes, its
 /// largest length, and the producer that builds it with [`crate::Adapter::write_io`].
@@ -47,10 +31,7 @@ fn datagram_len(size: u16) -> usize {
 
 /// The most overdue producer at `now`, or `None` if none is due.
 pub fn next_due(table: &ConnectionTable, now: Instant) -> Option<IoDue> {
-    let (slot, at) = table.next_producer();
-    if now < at {
-        return None;
-    }
+    let slot = table.due(now)?;
     let conn = table.get(slot)?;
     let p = conn.producer()?;
     Some(IoDue {
@@ -83,16 +64,14 @@ pub fn produce_due<D: Device>(
     now: Instant,
     out: &mut [u8],
 ) -> Option<(SocketAddrV4, usize)> {
-    let (slot, at) = table.next_producer();
-    if now < at {
-        return None;
-    }
+    let slot = table.due(now)?;
     produce_slot(table, device, slot, None, now, Some(out)).filter(|&(_, len)| len > 0)
 }
 
 /// Produces the connection in `slot` (if its T->O ID is still `t_o_id`, when given) into
-/// `out` and moves it to its next deadline: where the datagram goes and its length. `None`,
-/// changing nothing, if there is no such producer or `out` is too short for its datagram.
+/// `out` and lets the table move it to its next deadline: where the datagram goes and its
+/// length. `None`, changing nothing, if there is no such producer or `out` is too short for
+/// its datagram.
 #[inline(always)]
 fn produce_slot<D: Device>(
     table: &mut ConnectionTable,
@@ -102,53 +81,21 @@ fn produce_slot<D: Device>(
     now: Instant,
     out: Option<&mut [u8]>,
 ) -> Option<(SocketAddrV4, usize)> {
-    let conn = table
-        .get_mut(slot)
-        .filter(|c| t_o_id.is_none_or(|id| c.t_o_id == id))?;
-    let (rpi, t_o_id) = (conn.t_o_rpi, conn.t_o_id);
-    let Transport::Class1 {
-        producer: Some(p), ..
-    } = &mut conn.transport
-    else {
-        return None;
-    };
-    if out.as_ref().is_some_and(|o| o.len() < datagram_len(p.size)) {
-        return None;
-    }
-    let to = p.destination;
-    let len = produce(device, p, t_o_id, rpi, now, out);
-    let due_at = p.due_at();
-    table.set_due(slot, due_at);
-    Some((to, len))
-}
-
-/// One production of `p` at `now`: counts it, builds its datagram into `out` (if any, of at
-/// least its largest length) and moves it to its next deadline; returns the datagram's length.
-fn produce<D: Device>(
-    device: &mut D,
-    p: &mut Producer,
-    t_o_id: u32,
-    rpi: u32,
-    now: Instant,
-    out: Option<&mut [u8]>,
-) -> usize {
-    let triggered = p.triggered;
-    if p.trigger == Trigger::Cyclic || triggered {
-        p.sequence = p.sequence.wrapping_add(1);
-    }
-    p.encap_sequence = p.encap_sequence.wrapping_add(1);
-    let len = match out {
-        Some(out) => emit(device, p, t_o_id, out),
-        None => 0,
-    };
-    if triggered {
-        p.triggered = false;
-        p.inhibit_until = now.add(p.inhibit);
-        p.next = now.add(Duration::from_micros(u64::from(rpi)));
-    } else {
-        p.next = advance(p.next, rpi, now);
-    }
-    len
+    table.produce(slot, t_o_id, now, |p, t_o_id, triggered| {
+        if out.as_ref().is_some_and(|o| o.len() < datagram_len(p.size)) {
+            return None;
+        }
+        // New data: every production of a cyclic producer, a triggered one's when triggered.
+        if p.trigger == Trigger::Cyclic || triggered {
+            p.sequence = p.sequence.wrapping_add(1);
+        }
+        p.encap_sequence = p.encap_sequence.wrapping_add(1);
+        let len = match out {
+            Some(out) => emit(device, p, t_o_id, out),
+            None => 0,
+        };
+        Some((p.destination, len))
+    })
 }
 
 /// Builds the datagram of producer `p` (already counted) into `out`; returns its length.
@@ -183,43 +130,4 @@ fn emit<D: Device>(device: &mut D, p: &Producer, t_o_id: u32, out: &mut [u8]) ->
         return 0;
     }
     head.len().saturating_add(size)
-}
-
-/// Marks the producers of assembly `instance` with a change-of-state or application trigger
-/// as having new data.
-pub fn trigger(table: &mut ConnectionTable, instance: u16) {
-    trigger_where(table, |p| p.instance == instance);
-}
-
-/// Marks every producer with a change-of-state or application trigger as having new data.
-pub fn trigger_all(table: &mut ConnectionTable) {
-    trigger_where(table, |_| true);
-}
-
-fn trigger_where(table: &mut ConnectionTable, pick: impl Fn(&Producer) -> bool) {
-    for slot in table.slots_in_use() {
-        if let Some(Transport::Class1 {
-            producer: Some(p), ..
-        }) = table.get_mut(slot).map(|c| &mut c.transport)
-        {
-            if p.trigger != Trigger::Cyclic && pick(p) {
-                p.triggered = true;
-                let due = p.due_at();
-                table.set_due(slot, due);
-            }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn advance_keeps_the_grid() {
-        assert_eq!(advance(Instant(1000), 1000, Instant(1000)), Instant(2000));
-        assert_eq!(advance(Instant(1000), 1000, Instant(1999)), Instant(2000));
-        assert_eq!(advance(Instant(1000), 1000, Instant(2000)), Instant(3000));
-        assert_eq!(advance(Instant(1000), 1000, Instant(4500)), Instant(5000));
-    }
 }

@@ -1,23 +1,31 @@
-//! The production schedule: when each producer of the connection table is next due, and which
-//! is due first, known without a scan. Only a production that lets another producer come
-//! first looks at the others; a single producer, or one faster than the rest, never does.
+//! The production schedule: when each producer of the connection table is next due, and the
+//! producers in the order they are due (a list linked both ways, kept in order as they move),
+//! so the first is known without a scan. A producer that stays between its neighbours (a
+//! single producer, or one faster than the rest) compares with them alone; one that goes
+//! behind the others (equal RPIs taking turns) is placed from the back of the list, after
+//! one comparison, where a scan of every deadline used to find the new first.
 
 use crate::config::MAX_CONNECTIONS;
 use crate::time::Instant;
 
-/// The producers' deadlines by table slot, and the first of them.
+/// The end of the list, in both directions: `next[END]` is the first producer, `prev[END]`
+/// the last; `END` itself as a slot is never due.
+const END: usize = MAX_CONNECTIONS;
+const _: () = assert!(END <= u8::MAX as usize, "slots fit the list's links");
+
+/// The producers' deadlines by table slot, and their order.
 #[derive(Debug, Clone)]
 pub(crate) struct Schedule {
     /// Per slot: when its producer is next due (`Instant::NEVER` for none).
     due: [Instant; MAX_CONNECTIONS],
-    /// The earliest deadline and its slot, the lowest of equal ones: exact at all times.
-    first_at: Instant,
-    first_slot: usize,
-    /// No slot but `first_slot` is due before this: a lower bound, exact after a scan.
-    others: Instant,
-    /// One past the highest slot a scan found scheduled; later ones are scheduled only by a
-    /// `set`, which moves it.
-    end: usize,
+    /// The scheduled slots (those with a deadline), by deadline and the lower slot first on
+    /// a tie, linked through [`END`] both ways: `next[s]` follows `s`, `prev[s]` precedes it.
+    /// The links of a slot without a deadline mean nothing.
+    next: [u8; MAX_CONNECTIONS + 1],
+    prev: [u8; MAX_CONNECTIONS + 1],
+    /// The head of the list and its deadline, as every poll asks for them: a summary that
+    /// every [`Schedule::set`] keeps.
+    first: (usize, Instant),
 }
 
 impl Schedule {
@@ -25,17 +33,23 @@ impl Schedule {
     pub(crate) const fn new() -> Self {
         Schedule {
             due: [Instant::NEVER; MAX_CONNECTIONS],
-            first_at: Instant::NEVER,
-            first_slot: 0,
-            others: Instant::NEVER,
-            end: 0,
+            next: [END as u8; MAX_CONNECTIONS + 1],
+            prev: [END as u8; MAX_CONNECTIONS + 1],
+            first: (END, Instant::NEVER),
         }
     }
 
-    /// The slot due first and when (`Instant::NEVER` if none produces).
+    /// The slot due first and when (`Instant::NEVER`, and no slot of the table, if none
+    /// produces).
     #[inline]
     pub(crate) fn first(&self) -> (usize, Instant) {
-        (self.first_slot, self.first_at)
+        self.first
+    }
+
+    /// When the producer in `slot` is next due (`Instant::NEVER` for none).
+    #[inline]
+    pub(crate) fn at(&self, slot: usize) -> Instant {
+        self.due.get(slot).copied().unwrap_or(Instant::NEVER)
     }
 
     /// The producer in `slot` is next due `at` (`Instant::NEVER`: it no longer produces).
@@ -44,42 +58,75 @@ impl Schedule {
         let Some(d) = self.due.get_mut(slot) else {
             return;
         };
+        let listed = *d != Instant::NEVER;
         *d = at;
-        if slot == self.first_slot {
-            // Still before every other (its production, when it is the only one or the
-            // fastest), or else one of the others may now come first.
-            if at <= self.first_at || at < self.others {
-                self.first_at = at;
-            } else {
-                self.scan();
+        if listed && at != Instant::NEVER {
+            let (p, n) = (self.prev(slot), self.next(slot));
+            // Still after the one before it and before the one after it: the order stands.
+            if (p == END || self.before(p, slot)) && (n == END || self.before(slot, n)) {
+                if p == END {
+                    self.first.1 = at;
+                }
+                return;
             }
-        } else if at < self.first_at || (at == self.first_at && slot < self.first_slot) {
-            // It comes first; the former first is now the earliest of the others.
-            self.others = self.first_at;
-            (self.first_at, self.first_slot) = (at, slot);
-        } else {
-            self.others = self.others.min(at);
         }
-        if at != Instant::NEVER && slot >= self.end {
-            self.end = slot.saturating_add(1);
-        }
+        self.reorder(slot, listed);
     }
 
-    /// Finds the first producer and the earliest of the others.
-    fn scan(&mut self) {
-        let (mut slot, mut first, mut others, mut end) = (0, Instant::NEVER, Instant::NEVER, 0);
-        let scheduled = self.due.get(..self.end).unwrap_or(&self.due);
-        for (i, &at) in scheduled.iter().enumerate() {
-            if at < first {
-                (slot, first, others) = (i, at, first);
-            } else if at < others {
-                others = at;
-            }
-            if at != Instant::NEVER {
-                end = i.saturating_add(1);
-            }
+    /// Takes `slot` out of the list if it is `listed`, and puts it back in its place if it
+    /// has a deadline. Out of line: the common moves (one producer, or one that stays
+    /// first) never come here.
+    #[inline(never)]
+    fn reorder(&mut self, slot: usize, listed: bool) {
+        if listed {
+            self.join(self.prev(slot), self.next(slot));
         }
-        (self.first_slot, self.first_at, self.others, self.end) = (slot, first, others, end);
+        if self.at(slot) != Instant::NEVER {
+            self.insert(slot);
+        }
+        let head = self.next(END);
+        self.first = (head, self.at(head));
+    }
+
+    /// Puts `slot` (not in the list) in its place, looking from the back.
+    fn insert(&mut self, slot: usize) {
+        let mut p = self.prev(END);
+        // Bounded: the list holds at most every slot once.
+        for _ in 0..MAX_CONNECTIONS {
+            if p == END || self.before(p, slot) {
+                break;
+            }
+            p = self.prev(p);
+        }
+        let n = self.next(p);
+        self.join(p, slot);
+        self.join(slot, n);
+    }
+
+    /// True if `a` is due before `b`: earlier, or at the same time with the lower slot.
+    #[inline]
+    fn before(&self, a: usize, b: usize) -> bool {
+        (self.at(a), a) < (self.at(b), b)
+    }
+
+    /// The slot after `s` in the list (`END` after the last).
+    #[inline]
+    fn next(&self, s: usize) -> usize {
+        self.next.get(s).map_or(END, |&n| usize::from(n))
+    }
+
+    /// The slot before `s` in the list (`END` before the first).
+    #[inline]
+    fn prev(&self, s: usize) -> usize {
+        self.prev.get(s).map_or(END, |&p| usize::from(p))
+    }
+
+    /// Links `a` to `b`: `b` follows `a`.
+    #[inline]
+    fn join(&mut self, a: usize, b: usize) {
+        if let (Some(n), Some(p)) = (self.next.get_mut(a), self.prev.get_mut(b)) {
+            (*n, *p) = (b as u8, a as u8);
+        }
     }
 }
 
@@ -88,22 +135,37 @@ mod tests {
     use super::*;
 
     /// Checks `s` against the deadlines themselves: the first is the earliest (lowest slot on
-    /// a tie), no other is due before `others`, every scheduled slot is below `end`.
+    /// a tie), and the list holds every scheduled slot once, in order, linked both ways.
     fn check(s: &Schedule) -> (usize, Instant) {
         let first_at = s.due.iter().copied().min().unwrap();
         let (slot, at) = s.first();
+        assert_eq!(
+            (slot, at),
+            (s.next(END), s.at(s.next(END))),
+            "the summary is the head"
+        );
         assert_eq!(at, first_at);
         if at != Instant::NEVER {
             assert_eq!(slot, s.due.iter().position(|&d| d == first_at).unwrap());
+        } else {
+            assert_eq!(slot, END, "nothing scheduled");
         }
-        for (i, &d) in s.due.iter().enumerate() {
-            if i != slot {
-                assert!(d >= s.others, "slot {i} due {d:?} before {:?}", s.others);
+        let mut listed = heapless::Vec::<usize, MAX_CONNECTIONS>::new();
+        let mut p = END;
+        loop {
+            let n = s.next(p);
+            assert_eq!(s.prev(n), p, "links both ways");
+            if n == END {
+                break;
             }
-            if d != Instant::NEVER {
-                assert!(i < s.end);
-            }
+            listed.push(n).expect("no loop");
+            p = n;
         }
+        let mut expected: heapless::Vec<usize, MAX_CONNECTIONS> = (0..MAX_CONNECTIONS)
+            .filter(|&i| s.due[i] != Instant::NEVER)
+            .collect();
+        expected.sort_unstable_by_key(|&i| (s.due[i], i));
+        assert_eq!(listed, expected);
         (slot, at)
     }
 

@@ -1,8 +1,14 @@
-//! The fixed-size connection table: lookup, ID allocation, closing with dependants.
+//! The fixed-size connection table: lookup, ID allocation, closing with dependants, and the
+//! one owner of the connections' timing (watchdogs, last activity, production deadlines,
+//! triggers, in `io/timing.rs`). The timing changes only through the table's intents (`open`,
+//! `feed`, `produce`, `trigger`, `trigger_all`, `close`, `expire`), each of which keeps the
+//! next deadline and the first producer right; readers have `expires`, `last_activity`,
+//! `next_production` and `next_deadline`.
 
 use super::connection::{Connection, Producer, Transport};
-use super::schedule::Schedule;
+use super::timing::Timing;
 use crate::config::{MAX_CONNECTIONS, MAX_EXPLICIT_CONNECTED};
+use crate::device::Trigger;
 use crate::device::{CloseReason, ConnectionEvent, Device, Kind};
 use crate::time::Instant;
 use crate::wire::forward_open::Triad;
@@ -38,15 +44,9 @@ pub struct ConnectionTable {
     /// Exclusive-owner connections closed by their watchdog so far (wrapping).
     owner_timeouts: u32,
     timeouts: u16,
-    /// When each producer is next due, and which comes first.
-    schedule: Schedule,
-    /// Per slot: when its watchdog fires (`Instant::NEVER` for an empty slot); mirrors
-    /// [`Connection::expires`], kept by `insert` and [`ConnectionTable::set_expiry`].
-    expiry: [Instant; MAX_CONNECTIONS],
-    /// No watchdog fires before this instant: a lower bound that every move of an expiry
-    /// keeps, so [`ConnectionTable::expire`] looks at the slots only once it is reached, and
-    /// [`ConnectionTable::next_deadline`] only while it is not after the next production.
-    expiry_bound: Instant,
+    /// Every slot's watchdog, last activity and production deadline, and which comes first:
+    /// the only copy.
+    timing: Timing,
     /// One past the highest occupied slot: the watchdog scans stop there.
     used: usize,
     /// Some connection produces to a multicast group.
@@ -63,9 +63,7 @@ impl ConnectionTable {
             replies: [const { heapless::Vec::new() }; MAX_CONNECTIONS],
             owner_timeouts: 0,
             timeouts: 0,
-            schedule: Schedule::new(),
-            expiry: [Instant::NEVER; MAX_CONNECTIONS],
-            expiry_bound: Instant::NEVER,
+            timing: Timing::new(),
             used: 0,
             multicast: false,
         }
@@ -81,7 +79,8 @@ impl ConnectionTable {
     pub fn get(&self, slot: usize) -> Option<&Connection> {
         self.slots.get(slot).and_then(Option::as_ref)
     }
-    /// The connection in `slot`, mutably.
+    /// The connection in `slot`, mutably: its sequence counts and run/idle state (its timing
+    /// is the table's, changed only through the table's intents).
     pub(crate) fn get_mut(&mut self, slot: usize) -> Option<&mut Connection> {
         self.slots.get_mut(slot).and_then(Option::as_mut)
     }
@@ -128,45 +127,95 @@ impl ConnectionTable {
             }
         }
     }
-    /// The watchdog of the connection in `slot` (whose [`Connection::expires`] the caller
-    /// just moved) now fires `at`: traffic can bring it earlier than the first-packet grace.
-    pub(crate) fn set_expiry(&mut self, slot: usize, at: Instant) {
-        if let Some(e) = self.expiry.get_mut(slot) {
-            *e = at;
-        }
-        self.expiry_bound = self.expiry_bound.min(at);
+    /// When the watchdog of the connection in `slot` fires.
+    pub fn expires(&self, slot: usize) -> Option<Instant> {
+        self.get(slot).map(|_| self.timing.expires(slot))
     }
-    /// The producer in `slot` is next due `at` (produced, triggered, opened, closed).
-    pub(crate) fn set_due(&mut self, slot: usize, at: Instant) {
-        self.schedule.set(slot, at);
+    /// When the connection in `slot` last heard from its originator (O->T data, a Class 3
+    /// request), or when it opened; the session that opened it counts this as activity.
+    pub fn last_activity(&self, slot: usize) -> Option<Instant> {
+        self.get(slot).map(|_| self.timing.last_activity(slot))
     }
-    /// The producer due first, and when: the lowest slot of the earliest deadline
-    /// (`Instant::NEVER` if none produces).
-    pub(crate) fn next_producer(&self) -> (usize, Instant) {
-        self.schedule.first()
+    /// When the producer of the connection in `slot` is next due: on its grid
+    /// `previous + RPI`, or earlier once triggered (not before the inhibit time). `None`
+    /// without a producer of its own.
+    pub fn next_production(&self, slot: usize) -> Option<Instant> {
+        self.get(slot)
+            .and_then(Connection::producer)
+            .map(|_| self.timing.next_production(slot))
     }
-    /// The slot [`ConnectionTable::insert`] will use next, if one is free.
+    /// The slot [`ConnectionTable::open`] will use next, if one is free.
     pub fn free_slot(&self) -> Option<usize> {
         self.slots.iter().position(Option::is_none)
     }
-    /// Stores `conn` in a free slot and returns it; `None` (and `conn` dropped) if full.
-    pub fn insert(&mut self, conn: Connection) -> Option<usize> {
+    /// Opens `conn` in a free slot at `now` and returns the slot; `None` (and `conn`
+    /// dropped) if full. Its watchdog runs with the first-packet grace (its timeout, but at
+    /// least [`crate::config::FIRST_PACKET_GRACE_US`]), and its producer, if it has its own,
+    /// is due at once.
+    pub fn open(&mut self, conn: Connection, now: Instant) -> Option<usize> {
         let slot = self.free_slot()?;
-        if let Some(e) = self.expiry.get_mut(slot) {
-            *e = conn.expires;
-        }
-        self.expiry_bound = self.expiry_bound.min(conn.expires);
+        self.timing
+            .open(slot, now, conn.timeout, conn.producer().is_some());
         if let Some(s) = self.slots.get_mut(slot) {
             *s = Some(conn);
         }
         self.used = self.used.max(slot.saturating_add(1));
-        let due = self
-            .get(slot)
-            .and_then(Connection::producer)
-            .map(Producer::due_at);
-        self.set_due(slot, due.unwrap_or(Instant::NEVER));
         self.refresh_summary();
         Some(slot)
+    }
+    /// The originator of the connection in `slot` was heard at `now` (O->T data, a Class 3
+    /// request): its watchdog restarts, to fire one timeout (multiplier x RPI) later.
+    #[inline]
+    pub(crate) fn feed(&mut self, slot: usize, now: Instant) {
+        if let Some(c) = self.slots.get(slot).and_then(Option::as_ref) {
+            self.timing.feed(slot, now, c.timeout);
+        }
+    }
+    /// The slot of the producer due first at `now`, if one is due: the earliest deadline, the
+    /// lowest slot of equal ones.
+    #[inline]
+    pub(crate) fn due(&self, now: Instant) -> Option<usize> {
+        self.timing.due(now)
+    }
+    /// Produces the connection in `slot` (if its T->O ID is still `t_o_id`, when given) at
+    /// `now`. `build` counts and builds the datagram from its producer, given its T->O ID and
+    /// whether a trigger waits; when `build` returns `Some`, the producer moves on to its next
+    /// deadline (the next point of its grid `previous + RPI`, or one RPI after a production
+    /// that carried a trigger). `None`, with the timing unchanged, if there is no such
+    /// producer or `build` declines.
+    #[inline(always)]
+    pub(crate) fn produce<R>(
+        &mut self,
+        slot: usize,
+        t_o_id: Option<u32>,
+        now: Instant,
+        build: impl FnOnce(&mut Producer, u32, bool) -> Option<R>,
+    ) -> Option<R> {
+        let conn = self
+            .slots
+            .get_mut(slot)
+            .and_then(Option::as_mut)
+            .filter(|c| t_o_id.is_none_or(|id| c.t_o_id == id))?;
+        let (rpi, t_o_id) = (conn.t_o_rpi, conn.t_o_id);
+        let Transport::Class1 {
+            producer: Some(p), ..
+        } = &mut conn.transport
+        else {
+            return None;
+        };
+        let built = build(p, t_o_id, self.timing.triggered(slot))?;
+        self.timing.produced(slot, now, rpi, p.inhibit);
+        Some(built)
+    }
+    /// Input assembly `instance` has new data: its change-of-state and application-triggered
+    /// producers go as soon as their inhibit time allows.
+    pub(crate) fn trigger(&mut self, instance: u16) {
+        self.trigger_where(|p| p.instance == instance);
+    }
+    /// Every input has new data: every change-of-state and application-triggered producer
+    /// goes as soon as its inhibit time allows.
+    pub(crate) fn trigger_all(&mut self) {
+        self.trigger_where(|_| true);
     }
     /// The cached Class 3 reply of `slot`.
     pub fn cached_reply(&self, slot: usize) -> &[u8] {
@@ -207,16 +256,7 @@ impl ConnectionTable {
     }
     /// The earliest watchdog expiry or production deadline.
     pub fn next_deadline(&self) -> Option<Instant> {
-        // No watchdog fires before `expiry_bound`: while that is after the next production,
-        // the production is the answer and the expiries need no look.
-        let (_, production) = self.schedule.first();
-        let at = if production < self.expiry_bound {
-            production
-        } else {
-            let expiry = self.expiry.get(..self.used).unwrap_or(&self.expiry);
-            expiry.iter().fold(production, |a, &b| a.min(b))
-        };
-        (at != Instant::NEVER).then_some(at)
+        self.timing.next_deadline(self.used)
     }
     /// Closes the connection in `slot` and the listen-only connections that follow its
     /// production, telling `device` when the last exclusive owner goes.
@@ -224,7 +264,7 @@ impl ConnectionTable {
         let Some(conn) = self.slots.get_mut(slot).and_then(Option::take) else {
             return;
         };
-        self.clear_deadlines(slot);
+        self.timing.close(slot);
         info!(
             "connection {} closed ({:?} from {}): {}",
             slot,
@@ -240,7 +280,7 @@ impl ConnectionTable {
                     c.kind == Kind::ListenOnly && c.t_o_id == conn.t_o_id && c.producer().is_none()
                 };
                 if let Some(c) = self.slots.get_mut(i).and_then(|s| s.take_if(follows)) {
-                    self.clear_deadlines(i);
+                    self.timing.close(i);
                     info!(
                         "connection {} closed: {}",
                         i,
@@ -292,12 +332,12 @@ impl ConnectionTable {
     }
     /// Closes every connection whose watchdog expired by `now`; returns how many.
     pub fn expire<D: Device>(&mut self, now: Instant, device: &mut D) -> usize {
-        if now < self.expiry_bound {
+        if !self.timing.may_expire(now) {
             return 0;
         }
         let mut closed = 0usize;
         for slot in self.slots_in_use() {
-            if self.expiry.get(slot).is_none_or(|&at| at > now) {
+            if !self.timing.expired(slot, now) {
                 continue;
             }
             if let Some(owner) = self.get(slot).map(|c| c.kind == Kind::ExclusiveOwner) {
@@ -309,7 +349,7 @@ impl ConnectionTable {
                 closed = closed.saturating_add(1);
             }
         }
-        self.expiry_bound = self.expiry.iter().copied().min().unwrap_or(Instant::NEVER);
+        self.timing.swept();
         closed
     }
     /// Exclusive-owner connections closed by their watchdog since start-up (wrapping): what
@@ -325,7 +365,7 @@ impl ConnectionTable {
     pub fn last_activity_of_session(&self, socket: u8) -> Option<Instant> {
         self.iter()
             .filter(|(_, c)| c.socket == socket)
-            .map(|(_, c)| c.last_activity)
+            .map(|(slot, _)| self.timing.last_activity(slot))
             .max()
     }
     /// Closes the Class 3 connections of the session on socket `socket`; its Class 1
@@ -344,12 +384,15 @@ impl ConnectionTable {
         }
     }
 
-    /// An emptied slot is never due and never expires.
-    fn clear_deadlines(&mut self, slot: usize) {
-        if let Some(e) = self.expiry.get_mut(slot) {
-            *e = Instant::NEVER;
+    /// Triggers the change-of-state and application-triggered producers that `pick` chooses.
+    fn trigger_where(&mut self, pick: impl Fn(&Producer) -> bool) {
+        let slots = self.slots.get(..self.used).unwrap_or(&self.slots);
+        for (slot, conn) in slots.iter().enumerate() {
+            let producer = conn.as_ref().and_then(Connection::producer);
+            if producer.is_some_and(|p| p.trigger != Trigger::Cyclic && pick(p)) {
+                self.timing.trigger(slot);
+            }
         }
-        self.set_due(slot, Instant::NEVER);
     }
     /// Recomputes what the open connections add up to (after an open or a close): the owned
     /// outputs, and whether any produces multicast.
@@ -365,3 +408,6 @@ impl ConnectionTable {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

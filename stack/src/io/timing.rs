@@ -1,0 +1,344 @@
+//! The connection table's timing state, each instant stored once: per slot, when its
+//! watchdog fires, when its originator was last heard, when its producer is next due and
+//! whether a trigger waits; and the summaries that say what comes first without a scan (the
+//! first producer, a lower bound of the watchdogs). Only [`super::table::ConnectionTable`]
+//! holds one, and it changes it only through the intents here (opened, closed, fed,
+//! triggered, produced), each of which keeps the summaries right.
+//!
+//! The production deadline is the instant the producer is due. Without a trigger it lies on
+//! the grid `previous + RPI`; a trigger brings it forward to the end of the inhibit time
+//! (never later than the grid's), and a production that carried a trigger starts a new grid
+//! one RPI later. So the grid's own next point need not be kept beside it: while a trigger
+//! waits nothing reads it, and without one it is the deadline.
+
+use super::schedule::Schedule;
+use crate::config::{FIRST_PACKET_GRACE_US, MAX_CONNECTIONS};
+use crate::time::{Duration, Instant};
+
+/// The first deadline on the grid `previous + k * rpi` that is after `now` (k >= 1): a late
+/// production keeps the grid, skipping the points already past.
+fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
+    let rpi = u64::from(rpi.max(1));
+    let next = previous.add(Duration::from_micros(rpi));
+    if next > now {
+        return next;
+    }
+    let missed = now
+        .since(previous)
+        .as_micros()
+        .checked_div(rpi)
+        .unwrap_or(0)
+        .saturating_add(1);
+    previous.add(Duration::from_micros(missed.saturating_mul(rpi)))
+}
+
+/// A producer's trigger state: a change of state or application trigger waiting, and the
+/// end of the production inhibit time it waits for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Pending {
+    triggered: bool,
+    inhibit_until: Instant,
+}
+
+impl Pending {
+    const NONE: Pending = Pending {
+        triggered: false,
+        inhibit_until: Instant(0),
+    };
+}
+
+/// The timing state of every slot of the connection table, and its summaries.
+#[derive(Debug, Clone)]
+pub(super) struct Timing {
+    /// Per slot: when its watchdog fires (`Instant::NEVER` for an empty slot).
+    expiry: [Instant; MAX_CONNECTIONS],
+    /// No watchdog fires before this instant: a lower bound that every move of an expiry
+    /// keeps and a sweep ([`Timing::swept`]) makes exact, so the watchdogs are looked at
+    /// only once it is reached, and [`Timing::next_deadline`] only while it is not after the
+    /// first production.
+    expiry_bound: Instant,
+    /// Per slot: when its originator was last heard (O->T data, a Class 3 request), or when
+    /// it opened.
+    last_activity: [Instant; MAX_CONNECTIONS],
+    /// Per slot: the production deadline (`Instant::NEVER` for no producer of its own), and
+    /// which comes first.
+    schedule: Schedule,
+    /// Per slot: the producer's trigger state.
+    pending: [Pending; MAX_CONNECTIONS],
+}
+
+impl Timing {
+    /// No slot open.
+    pub(super) const fn new() -> Self {
+        Timing {
+            expiry: [Instant::NEVER; MAX_CONNECTIONS],
+            expiry_bound: Instant::NEVER,
+            last_activity: [Instant(0); MAX_CONNECTIONS],
+            schedule: Schedule::new(),
+            pending: [Pending::NONE; MAX_CONNECTIONS],
+        }
+    }
+
+    /// A connection opened in `slot` at `now`: its watchdog runs `timeout`, but at least the
+    /// first-packet grace; if it `produces`, its producer is due at once.
+    pub(super) fn open(&mut self, slot: usize, now: Instant, timeout: Duration, produces: bool) {
+        let grace = Duration::from_micros(timeout.as_micros().max(FIRST_PACKET_GRACE_US));
+        self.heard(slot, now, now.add(grace));
+        if let Some(p) = self.pending.get_mut(slot) {
+            *p = Pending {
+                triggered: false,
+                inhibit_until: now,
+            };
+        }
+        self.reschedule(slot, if produces { now } else { Instant::NEVER });
+    }
+
+    /// The connection in `slot` closed: it is never due and never expires.
+    pub(super) fn close(&mut self, slot: usize) {
+        if let Some(e) = self.expiry.get_mut(slot) {
+            // Later than any bound: the bound stays a lower bound.
+            *e = Instant::NEVER;
+        }
+        if let Some(p) = self.pending.get_mut(slot) {
+            *p = Pending::NONE;
+        }
+        self.reschedule(slot, Instant::NEVER);
+    }
+
+    /// The originator of `slot` was heard at `now`: its watchdog fires `timeout` later.
+    #[inline]
+    pub(super) fn feed(&mut self, slot: usize, now: Instant, timeout: Duration) {
+        self.heard(slot, now, now.add(timeout));
+    }
+
+    /// Heard at `now`, the watchdog of `slot` now fires `expires` (traffic can bring it
+    /// earlier than the first-packet grace: the bound follows).
+    #[inline]
+    fn heard(&mut self, slot: usize, now: Instant, expires: Instant) {
+        if let (Some(e), Some(a)) = (self.expiry.get_mut(slot), self.last_activity.get_mut(slot)) {
+            (*e, *a) = (expires, now);
+        }
+        self.expiry_bound = self.expiry_bound.min(expires);
+    }
+
+    /// New data for the producer in `slot`: it is due at the end of its inhibit time, if that
+    /// is before its deadline. A slot without a producer (never due) stays so.
+    pub(super) fn trigger(&mut self, slot: usize) {
+        let due = self.schedule.at(slot);
+        let Some(p) = self.pending.get_mut(slot).filter(|_| due != Instant::NEVER) else {
+            return;
+        };
+        p.triggered = true;
+        if p.inhibit_until < due {
+            let at = p.inhibit_until;
+            self.reschedule(slot, at);
+        }
+    }
+
+    /// True if a trigger waits on the producer in `slot`.
+    #[inline]
+    pub(super) fn triggered(&self, slot: usize) -> bool {
+        self.pending.get(slot).is_some_and(|p| p.triggered)
+    }
+
+    /// The producer in `slot` produced at `now`: after a trigger, the next production is one
+    /// `rpi` later and the next trigger waits out `inhibit`; otherwise the grid moves on to
+    /// its first point after `now`.
+    #[inline]
+    pub(super) fn produced(&mut self, slot: usize, now: Instant, rpi: u32, inhibit: Duration) {
+        let Some(p) = self.pending.get_mut(slot) else {
+            return;
+        };
+        let next = if p.triggered {
+            *p = Pending {
+                triggered: false,
+                inhibit_until: now.add(inhibit),
+            };
+            now.add(Duration::from_micros(u64::from(rpi)))
+        } else {
+            advance(self.schedule.at(slot), rpi, now)
+        };
+        self.schedule.set(slot, next);
+    }
+
+    /// The producer in `slot` is next due `at`, off the production path (opened, closed,
+    /// triggered): one shared copy of the schedule's update, where production has its own
+    /// inline.
+    #[inline(never)]
+    fn reschedule(&mut self, slot: usize, at: Instant) {
+        self.schedule.set(slot, at);
+    }
+
+    /// The slot of the producer due first at `now`, if one is due: the earliest deadline, the
+    /// lowest slot of equal ones. The one rule of "a producer is due".
+    #[inline]
+    pub(super) fn due(&self, now: Instant) -> Option<usize> {
+        let (slot, at) = self.schedule.first();
+        (now >= at).then_some(slot)
+    }
+
+    /// When the watchdog of `slot` fires (`Instant::NEVER` for an empty slot).
+    pub(super) fn expires(&self, slot: usize) -> Instant {
+        self.expiry.get(slot).copied().unwrap_or(Instant::NEVER)
+    }
+
+    /// When the producer of `slot` is next due (`Instant::NEVER` for none).
+    pub(super) fn next_production(&self, slot: usize) -> Instant {
+        self.schedule.at(slot)
+    }
+
+    /// When the originator of `slot` was last heard, or it opened.
+    pub(super) fn last_activity(&self, slot: usize) -> Instant {
+        self.last_activity.get(slot).copied().unwrap_or(Instant(0))
+    }
+
+    /// False if no watchdog can have fired by `now`: the sweep can be skipped.
+    #[inline]
+    pub(super) fn may_expire(&self, now: Instant) -> bool {
+        now >= self.expiry_bound
+    }
+
+    /// True if the watchdog of `slot` fired by `now`.
+    pub(super) fn expired(&self, slot: usize, now: Instant) -> bool {
+        self.expires(slot) <= now
+    }
+
+    /// A sweep closed every expired slot: the bound becomes the earliest watchdog left.
+    pub(super) fn swept(&mut self) {
+        self.expiry_bound = self.expiry.iter().copied().min().unwrap_or(Instant::NEVER);
+    }
+
+    /// The earliest watchdog expiry or production deadline among the slots below `end`.
+    pub(super) fn next_deadline(&self, end: usize) -> Option<Instant> {
+        // No watchdog fires before `expiry_bound`: while that is after the first production,
+        // the production is the answer and the watchdogs need no look.
+        let (_, production) = self.schedule.first();
+        let at = if production < self.expiry_bound {
+            production
+        } else {
+            let expiry = self.expiry.get(..end).unwrap_or(&self.expiry);
+            expiry.iter().fold(production, |a, &b| a.min(b))
+        };
+        (at != Instant::NEVER).then_some(at)
+    }
+
+    /// Checks the summaries against the per-slot state (tests only): the bound is at most
+    /// every expiry, the first producer is the earliest deadline, lowest slot on a tie.
+    #[cfg(test)]
+    pub(super) fn assert_consistent(&self) {
+        let earliest = self.expiry.iter().copied().min().unwrap_or(Instant::NEVER);
+        assert!(
+            self.expiry_bound <= earliest,
+            "bound {:?} after the earliest expiry {earliest:?}",
+            self.expiry_bound
+        );
+        let first = (0..MAX_CONNECTIONS)
+            .map(|s| self.schedule.at(s))
+            .min()
+            .unwrap_or(Instant::NEVER);
+        let (slot, at) = self.schedule.first();
+        assert_eq!(at, first, "first production");
+        if at != Instant::NEVER {
+            assert_eq!(
+                Some(slot),
+                (0..MAX_CONNECTIONS).position(|s| self.schedule.at(s) == at)
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const RPI: u32 = 1_000;
+
+    #[test]
+    fn advance_keeps_the_grid() {
+        assert_eq!(advance(Instant(1000), 1000, Instant(1000)), Instant(2000));
+        assert_eq!(advance(Instant(1000), 1000, Instant(1999)), Instant(2000));
+        assert_eq!(advance(Instant(1000), 1000, Instant(2000)), Instant(3000));
+        assert_eq!(advance(Instant(1000), 1000, Instant(4500)), Instant(5000));
+    }
+
+    #[test]
+    fn an_opened_producer_is_due_at_once_and_then_on_its_grid() {
+        let mut t = Timing::new();
+        t.open(2, Instant(500), Duration(4_000), true);
+        assert_eq!(t.due(Instant(499)), None);
+        assert_eq!(t.due(Instant(500)), Some(2));
+        t.produced(2, Instant(700), RPI, Duration(0));
+        assert_eq!(
+            t.next_production(2),
+            Instant(1_500),
+            "on the grid, not 700 + RPI"
+        );
+        t.produced(2, Instant(3_900), RPI, Duration(0));
+        assert_eq!(
+            t.next_production(2),
+            Instant(4_500),
+            "late: the points past are skipped"
+        );
+        t.assert_consistent();
+    }
+
+    #[test]
+    fn the_watchdog_starts_with_the_grace_and_runs_from_each_feed() {
+        let mut t = Timing::new();
+        t.open(0, Instant(0), Duration(4_000), false);
+        assert_eq!(t.expires(0), Instant(FIRST_PACKET_GRACE_US));
+        assert_eq!(t.next_deadline(1), Some(Instant(FIRST_PACKET_GRACE_US)));
+        t.feed(0, Instant(100), Duration(4_000));
+        assert_eq!(
+            (t.expires(0), t.last_activity(0)),
+            (Instant(4_100), Instant(100))
+        );
+        assert_eq!(t.next_deadline(1), Some(Instant(4_100)));
+        assert!(!t.expired(0, Instant(4_099)) && t.expired(0, Instant(4_100)));
+        t.close(0);
+        t.swept();
+        assert!(!t.may_expire(Instant(u64::MAX - 1)));
+        assert_eq!(t.next_deadline(1), None);
+        t.assert_consistent();
+    }
+
+    #[test]
+    fn a_trigger_waits_out_the_inhibit_time_and_restarts_the_grid() {
+        let mut t = Timing::new();
+        t.open(1, Instant(0), Duration(4_000), true);
+        t.produced(1, Instant(0), 10_000, Duration(0));
+        t.trigger(1);
+        assert!(t.triggered(1));
+        assert_eq!(t.next_production(1), Instant(0), "no inhibit yet: at once");
+        t.produced(1, Instant(300), 10_000, Duration(2_000));
+        assert!(!t.triggered(1));
+        assert_eq!(
+            t.next_production(1),
+            Instant(10_300),
+            "a new grid from the production"
+        );
+        t.trigger(1);
+        assert_eq!(
+            t.next_production(1),
+            Instant(2_300),
+            "the inhibit time's end"
+        );
+        t.trigger(1);
+        assert_eq!(
+            t.next_production(1),
+            Instant(2_300),
+            "a second trigger changes nothing"
+        );
+        t.assert_consistent();
+    }
+
+    #[test]
+    fn a_slot_without_a_producer_is_never_due_even_when_triggered() {
+        let mut t = Timing::new();
+        t.open(3, Instant(0), Duration(4_000), false);
+        t.trigger(3);
+        assert!(!t.triggered(3));
+        assert_eq!(t.next_production(3), Instant::NEVER);
+        assert_eq!(t.due(Instant(u64::MAX - 1)), None);
+    }
+}
