@@ -88,7 +88,7 @@ pub fn code_only(text: &str) -> String {
 
 /// True if the `r` at `at` starts a raw string rather than ending an identifier.
 fn raw_start(b: &[u8], at: usize) -> bool {
-    let after = b[at + 1..].iter().skip_while(|&&h| h == b'#').next();
+    let after = b[at + 1..].iter().find(|&&h| h != b'#');
     let before = at.checked_sub(1).map(|p| b[p]);
     after == Some(&b'"') && !before.is_some_and(|p| p.is_ascii_alphanumeric() || p == b'_')
 }
