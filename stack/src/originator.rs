@@ -10,7 +10,8 @@ use crate::wire::register_session::{RegisterSessionRepr, PROTOCOL_VERSION};
 use crate::wire::rr_data::{self, RrDataRepr};
 use crate::wire::{Error, Result, Writer};
 
-/// Writes an encapsulation frame with `command` and a body from `body`; returns its length.
+/// Writes an encapsulation frame with `command` and a body from `body`
+/// ([`EncapRepr::emit_with_body`]); returns its length.
 pub fn frame(
     out: &mut [u8],
     command: u16,
@@ -19,20 +20,16 @@ pub fn frame(
     body: impl FnOnce(&mut Writer<'_>) -> Result<()>,
 ) -> Result<usize> {
     let mut w = Writer::new(out);
-    w.zeros(HEADER_LEN)?;
-    body(&mut w)?;
-    let len = w.len();
-    let length = u16::try_from(len.saturating_sub(HEADER_LEN)).map_err(|_| Error::Exhausted)?;
-    EncapRepr {
+    let header = EncapRepr {
         command,
-        length,
+        length: 0,
         session_handle,
         status: 0,
         sender_context,
         options: 0,
-    }
-    .emit(&mut Writer::new(out))?;
-    Ok(len)
+    };
+    header.emit_with_body(&mut w, body)?;
+    Ok(w.len())
 }
 
 /// A RegisterSession request.
