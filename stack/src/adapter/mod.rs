@@ -304,11 +304,13 @@ impl<D: Device> Adapter<D> {
     /// Closes connections whose watchdog expired, then writes the most overdue T->O datagram
     /// into `out` (at least the largest input assembly plus 20 bytes) and returns its
     /// destination (UDP port 2222 of the originator or multicast group) and length. Call until
-    /// it returns `None`, then sleep until [`Self::next_deadline`].
+    /// it returns `None`, then sleep until [`Self::next_deadline`]. The same as
+    /// [`Self::io_due`] then [`Self::write_io`] into `out`; `None`, changing nothing, if `out`
+    /// is too short for the datagram due.
     pub fn poll_io(&mut self, now: Instant, out: &mut [u8]) -> Option<(SocketAddrV4, usize)> {
-        let inner = &mut self.inner;
-        inner.connections.expire(now, &mut inner.device);
-        produce::produce_due(&mut inner.connections, &mut inner.device, now, out)
+        let due = self.io_due(now)?;
+        let len = self.write_io(due, now, Some(out));
+        (len > 0).then_some((due.to, len))
     }
 
     /// Closes connections whose watchdog expired, then returns the most overdue T->O
