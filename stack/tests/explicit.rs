@@ -226,7 +226,11 @@ fn tcp_framing_across_segments_keeps_order_and_replies_in_place() {
     let stream = [frame.clone(), frame.clone(), frame.clone()].concat();
     let cut = [n / 2, 2 * n + 5];
     let mut replies = Vec::new();
-    for seg in [&stream[..cut[0]], &stream[cut[0]..cut[1]], &stream[cut[1]..]] {
+    for seg in [
+        &stream[..cut[0]],
+        &stream[cut[0]..cut[1]],
+        &stream[cut[1]..],
+    ] {
         let mut rest = seg;
         while !rest.is_empty() {
             let out = h
@@ -262,11 +266,17 @@ fn a_frame_over_capacity_is_answered_0x65_and_closed_however_it_arrives() {
             assert_eq!((out.consumed, out.close), (rest.len(), true));
             assert_eq!(out.reply_len, HEADER_LEN);
         } else {
-            assert_eq!((out.consumed, out.reply_len, out.close), (24, HEADER_LEN, true));
+            assert_eq!(
+                (out.consumed, out.reply_len, out.close),
+                (24, HEADER_LEN, true)
+            );
         }
         let r = &reply[..HEADER_LEN];
         assert_eq!(encap_status(r), 0x65);
-        assert_eq!((&r[..2], &r[2..4], &r[12..20]), (&f[..2], &[0, 0][..], &[7; 8][..]));
+        assert_eq!(
+            (&r[..2], &r[2..4], &r[12..20]),
+            (&f[..2], &[0, 0][..], &[7; 8][..])
+        );
     }
 }
 

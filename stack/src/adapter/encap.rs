@@ -3,9 +3,9 @@
 use core::net::SocketAddrV4;
 
 use super::{Inner, TcpOutcome};
-use crate::encap::session::Session;
 use crate::cip::context::{RequestContext, Via};
 use crate::device::Device;
+use crate::encap::session::Session;
 use crate::io::explicit;
 use crate::io::open::Origin;
 use crate::objects::router;
@@ -227,9 +227,13 @@ impl<D: Device> Inner<D> {
             self.objects.link.count_discard();
             return 0;
         };
-        let Some(step) =
-            explicit::lookup(&mut self.connections, o_t_id, session.index as u8, sequence, now)
-        else {
+        let Some(step) = explicit::lookup(
+            &mut self.connections,
+            o_t_id,
+            session.index as u8,
+            sequence,
+            now,
+        ) else {
             self.objects.link.count_discard();
             return 0;
         };

@@ -319,7 +319,10 @@ mod tests {
         };
         // The buffer was emptied: the next frame is borrowed from the input.
         assert_eq!((second.as_ptr(), consumed), (rest.as_ptr(), 26));
-        assert!(matches!(f.feed(&rest[26..]), Feed::Frame { consumed: 27, .. }));
+        assert!(matches!(
+            f.feed(&rest[26..]),
+            Feed::Frame { consumed: 27, .. }
+        ));
         assert_eq!(f.feed(&[]), Feed::Buffered);
     }
 
@@ -327,7 +330,10 @@ mod tests {
     fn a_frame_longer_than_capacity_is_refused_with_its_header() {
         let long = frame(MAX_ENCAP_DATA as u16 + 1, 7);
         let at_capacity = frame(MAX_ENCAP_DATA as u16, 8);
-        assert_eq!(run(&mut Framer::new(), &at_capacity, 100), vec![at_capacity]);
+        assert_eq!(
+            run(&mut Framer::new(), &at_capacity, 100),
+            vec![at_capacity]
+        );
         // Whole, or with its header split.
         for first in [long.len(), 30, 24, 10, 1] {
             let mut f = Framer::new();

@@ -7,7 +7,10 @@ pub(crate) mod explicit;
 pub(crate) mod open;
 // `produce_due` is left unused by `Adapter::poll_io`, now built on `io_due` and `write_io`;
 // it goes with the rewrite of this module's files under way, and this line with it.
-#[expect(dead_code, reason = "produce::produce_due, superseded by Adapter::poll_io")]
+#[expect(
+    dead_code,
+    reason = "produce::produce_due, superseded by Adapter::poll_io"
+)]
 pub(crate) mod produce;
 mod schedule;
 pub(crate) mod table;

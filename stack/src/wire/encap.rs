@@ -219,11 +219,18 @@ mod tests {
         assert_eq!(w.written(), &REGISTER[..]);
         let mut short = [0u8; 27];
         let mut w = Writer::new(&mut short);
-        assert_eq!(h.emit_with_body(&mut w, |w| w.u32(1)), Err(Error::Exhausted));
+        assert_eq!(
+            h.emit_with_body(&mut w, |w| w.u32(1)),
+            Err(Error::Exhausted)
+        );
         let mut big = [0u8; 70_000];
         let mut w = Writer::new(&mut big);
         let huge = h.emit_with_body(&mut w, |w| w.zeros(65_536));
-        assert_eq!(huge, Err(Error::Exhausted), "data longer than the length field");
+        assert_eq!(
+            huge,
+            Err(Error::Exhausted),
+            "data longer than the length field"
+        );
     }
 
     #[test]
