@@ -263,18 +263,21 @@ mod tests {
         frames
     }
 
+    /// The frame and the input consumed of a [`Feed::Frame`].
+    fn whole(feed: Feed<'_>) -> (&[u8], usize) {
+        match feed {
+            Feed::Frame {
+                frame, consumed, ..
+            } => (frame, consumed),
+            other => panic!("no frame: {other:?}"),
+        }
+    }
+
     #[test]
     fn a_whole_frame_at_the_front_is_borrowed_not_copied() {
         let mut f = Framer::new();
         let data = [frame(6, 1), frame(0, 2)].concat();
-        let Feed::Frame {
-            frame: got,
-            consumed,
-            ..
-        } = f.feed(&data)
-        else {
-            panic!("no frame");
-        };
+        let (got, consumed) = whole(f.feed(&data));
         assert_eq!((consumed, got.as_ptr()), (30, data.as_ptr()));
         assert!(f.buf.is_empty());
     }
@@ -296,33 +299,16 @@ mod tests {
     fn several_frames_in_one_segment_one_per_call() {
         let mut f = Framer::new();
         // A frame split, then its end and two more in one segment.
-        let whole = [frame(6, 1), frame(2, 2), frame(3, 3)].concat();
-        assert_eq!(f.feed(&whole[..10]), Feed::Buffered);
-        let segment = &whole[10..];
-        let Feed::Frame {
-            frame: first,
-            consumed,
-            ..
-        } = f.feed(segment)
-        else {
-            panic!("no frame");
-        };
+        let stream = [frame(6, 1), frame(2, 2), frame(3, 3)].concat();
+        assert_eq!(f.feed(&stream[..10]), Feed::Buffered);
+        let segment = &stream[10..];
+        let (first, consumed) = whole(f.feed(segment));
         assert_eq!((first, consumed), (&frame(6, 1)[..], 20));
         let rest = &segment[consumed..];
-        let Feed::Frame {
-            frame: second,
-            consumed,
-            ..
-        } = f.feed(rest)
-        else {
-            panic!("no frame");
-        };
+        let (second, consumed) = whole(f.feed(rest));
         // The buffer was emptied: the next frame is borrowed from the input.
         assert_eq!((second.as_ptr(), consumed), (rest.as_ptr(), 26));
-        assert!(matches!(
-            f.feed(&rest[26..]),
-            Feed::Frame { consumed: 27, .. }
-        ));
+        assert_eq!(whole(f.feed(&rest[26..])).1, 27);
         assert_eq!(f.feed(&[]), Feed::Buffered);
     }
 
