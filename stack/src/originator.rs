@@ -1,7 +1,7 @@
 //! Frame builders and reply parsers for the originator (scanner) side: what a test scanner
 //! or a PLC sends to an adapter. Everything writes into caller buffers.
 
-use crate::wire::cpf::{self, item_type, ItemHeaderRepr, ItemRepr, SockAddrRepr};
+use crate::wire::cpf::{self, item_type, ItemHeaderRepr, SockAddrRepr};
 use crate::wire::encap::{command, EncapRepr, HEADER_LEN};
 use crate::wire::epath::SegmentRepr;
 use crate::wire::io_datagram::{self, IoDatagramRepr};
@@ -101,12 +101,7 @@ pub fn send_unit_data(
     mr: impl FnOnce(&mut Writer<'_>) -> Result<()>,
 ) -> Result<usize> {
     frame(out, command::SEND_UNIT_DATA, session_handle, [0; 8], |w| {
-        RrDataRepr::CIP.emit(w)?;
-        w.u16(2)?;
-        ItemRepr::new(item_type::CONNECTED_ADDRESS, &o_t_id.to_le_bytes()).emit(w)?;
-        ItemHeaderRepr::new(item_type::CONNECTED_DATA, 0).emit(w)?;
-        let at = w.len();
-        w.u16(sequence)?;
+        let at = rr_data::emit_connected(w, o_t_id, sequence)?;
         mr(w)?;
         w.patch_item_len(at);
         Ok(())

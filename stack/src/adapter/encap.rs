@@ -10,7 +10,7 @@ use crate::io::explicit;
 use crate::io::open::Origin;
 use crate::objects::router;
 use crate::time::Instant;
-use crate::wire::cpf::{self, item_type, ItemHeaderRepr, ItemRepr, SockAddrRepr};
+use crate::wire::cpf::{self, item_type, ItemHeaderRepr, SockAddrRepr};
 use crate::wire::encap::{command, status, EncapRepr, Packet, HEADER_LEN};
 use crate::wire::identity_item::{listen_socket, IdentityRepr, ServiceRepr};
 use crate::wire::register_session::{self, RegisterSessionRepr, PROTOCOL_VERSION};
@@ -238,20 +238,11 @@ impl<D: Device> Inner<D> {
             return 0;
         };
         let origin = Self::origin(session, None);
-        let body = |w: &mut Writer<'_>, t_o_id: u32| -> crate::wire::Result<usize> {
-            RrDataRepr::CIP.emit(w)?;
-            w.u16(2)?;
-            ItemRepr::new(item_type::CONNECTED_ADDRESS, &t_o_id.to_le_bytes()).emit(w)?;
-            ItemHeaderRepr::new(item_type::CONNECTED_DATA, 0).emit(w)?;
-            let at = w.len();
-            w.u16(sequence)?;
-            Ok(at)
-        };
         match step {
             explicit::Step::Repeat { slot, t_o_id } => {
                 let cached = explicit::cached(&self.connections, slot);
                 with_body(&header.reply(status::SUCCESS, 0), out, |w| {
-                    let at = body(w, t_o_id)?;
+                    let at = rr_data::emit_connected(w, t_o_id, sequence)?;
                     w.bytes(cached)?;
                     w.patch_item_len(at);
                     Ok(())
@@ -266,7 +257,7 @@ impl<D: Device> Inner<D> {
                 let mut ctx = self.ctx(cx, origin);
                 let mut reply_at = 0;
                 let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
-                    let at = body(w, t_o_id)?;
+                    let at = rr_data::emit_connected(w, t_o_id, sequence)?;
                     reply_at = at.saturating_add(2);
                     router::respond(&mut ctx, request, w, 0)?;
                     w.patch_item_len(at);
