@@ -22,7 +22,7 @@ const STATE_OPERATIONAL: u8 = 3;
 
 impl<D: Device> Inner<D> {
     /// Answers one complete frame received on `session`'s socket, whose `header` the caller
-    /// parsed; the outcome's `consumed` is left for the caller.
+    /// parsed; the outcome's `consumed` and `reset` are left for the caller.
     pub(crate) fn tcp_frame(
         &mut self,
         mut session: Session<'_>,

@@ -241,6 +241,7 @@ impl<D: Device> Adapter<D> {
                 ..TcpOutcome::default()
             },
         };
+        // The Reset the frame's request accepted (or one an `execute` left untaken).
         outcome.reset = inner.objects.pending_reset.take();
         outcome
     }
