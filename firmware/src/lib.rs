@@ -4,9 +4,10 @@
 //! [`enip_stack::Adapter`] over a device profile in an [`AdapterCell`], spawns the link task
 //! with its Ethernet driver, and awaits [`run`] next to the stack's runner:
 //!
-//! - [`run`] serves the three encapsulation TCP sockets and the UDP socket on port 44818,
-//!   keeps the adapter's view of the interface current, and runs the device's own clock
-//!   (`Device::poll`, e.g. a simulated drive's control tick);
+//! - [`run`] serves the three encapsulation TCP sockets ([`tcp`], with the session timeouts
+//!   every runtime shares) and the UDP socket on port 44818, keeps the adapter's view of the
+//!   interface current, and runs the device's own clock (`Device::poll`, e.g. a simulated
+//!   drive's control tick);
 //! - [`link`] is Class 1 I/O at the Ethernet frame level: the board's driver belongs to the
 //!   link task ([`link::run`]), which hands O->T datagrams to the adapter and sends T->O
 //!   data straight from it, and passes every other frame to embassy-net through a
@@ -45,7 +46,7 @@ mod netif;
 mod resources;
 mod runtime;
 mod shared;
-mod tcp;
+pub mod tcp;
 mod udp;
 
 pub use netif::network_config;

@@ -1,36 +1,31 @@
 //! One encapsulation TCP socket on port 44818: accept, feed the adapter, reply, close, listen
 //! again. Each socket is its own future, so a slow or silent peer holds up only its own socket.
+//!
+//! The session timeouts here ([`WRITE_TIMEOUT`], [`LINGER`]) are every runtime's: the host's
+//! kernel-socket runtime (`enip-host --bind`) uses them too.
 
 use embassy_net::tcp::{State, TcpSocket};
 use embassy_net::Stack;
 use embassy_time::{with_deadline, with_timeout, Duration, Timer};
 use enip_stack::config::ENCAP_PORT;
 use enip_stack::device::CloseReason;
-use enip_stack::{Device, SocketId};
+use enip_stack::{Device, SocketId, TcpOutcome};
 
 use crate::clock::{now, to_embassy};
 use crate::netif::v4_endpoint;
 use crate::resources::TcpBuffers;
 use crate::shared::{with_adapter, SharedAdapter};
 
-/// Longest wait for a reply to fit in the transmit buffer (or be acknowledged before a reset).
-const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
-/// Longest wait for the peer to acknowledge our FIN and send its own when closing.
-const LINGER: Duration = Duration::from_secs(2);
+/// Longest wait for a reply to fit in the transmit buffer (or be acknowledged before a reset);
+/// a peer that takes longer loses its connection.
+pub const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
+/// Longest wait for the peer to acknowledge our FIN and send its own when closing; then the
+/// connection is reset.
+pub const LINGER: Duration = Duration::from_secs(2);
 /// Longest wait for the RST of an aborted connection to go out.
 const ABORT_FLUSH: Duration = Duration::from_millis(100);
 /// Pause before listening again after the socket refused to listen.
 const RETRY: Duration = Duration::from_millis(100);
-
-/// What one received chunk led to.
-struct Step {
-    /// Bytes of reply at the start of the reply buffer.
-    reply_len: usize,
-    /// Close the connection after the reply.
-    close: bool,
-    /// An Identity Reset to perform once the reply is out.
-    reset: Option<u8>,
-}
 
 /// Serves TCP socket `id` forever, one connection after the other.
 pub(crate) async fn serve<D: Device>(
@@ -74,10 +69,10 @@ async fn converse<D: Device>(
     loop {
         let deadline = with_adapter(adapter, |a| a.tcp_deadline(id));
         let read = socket.read_with(|data| feed(adapter, id, data, reply));
-        let step = match deadline {
+        let outcome = match deadline {
             None => read.await,
             Some(at) => match with_deadline(to_embassy(at), read).await {
-                Ok(step) => step,
+                Ok(outcome) => outcome,
                 // The timeout (TCP/IP attribute 13) may have been changed meanwhile.
                 Err(_) if idle(adapter, id) => {
                     debug!("tcp socket {}: inactivity timeout", id.0);
@@ -87,15 +82,15 @@ async fn converse<D: Device>(
             },
         };
         // An error here is the peer's FIN or RST.
-        let Ok(step) = step else { return };
-        if step.reply_len > 0 {
-            let out = reply.get(..step.reply_len).unwrap_or(&[]);
+        let Ok(outcome) = outcome else { return };
+        if outcome.reply_len > 0 {
+            let out = reply.get(..outcome.reply_len).unwrap_or(&[]);
             if write_all(socket, out).await.is_err() {
                 warn!("tcp socket {}: reply not sent in time", id.0);
                 return;
             }
         }
-        if let Some(kind) = step.reset {
+        if let Some(kind) = outcome.reset {
             let _ = with_timeout(WRITE_TIMEOUT, socket.flush()).await;
             info!(
                 "identity reset type {} requested on tcp socket {}",
@@ -104,29 +99,21 @@ async fn converse<D: Device>(
             with_adapter(adapter, |a| a.close_all(CloseReason::Reset));
             on_reset(kind);
         }
-        if step.close {
+        if outcome.close {
             return;
         }
     }
 }
 
-/// Hands received bytes to the adapter; returns the bytes consumed and what to do next.
+/// Hands received bytes to the adapter; returns the bytes consumed and what follows.
 fn feed<D: Device>(
     adapter: &SharedAdapter<D>,
     id: SocketId,
     data: &mut [u8],
     reply: &mut [u8],
-) -> (usize, Step) {
-    with_adapter(adapter, |a| {
-        let out = a.tcp_receive(id, data, now(), reply);
-        let step = Step {
-            reply_len: out.reply_len.min(reply.len()),
-            // Consuming nothing would spin forever: treat it as a broken stream.
-            close: out.close || out.consumed == 0,
-            reset: a.take_reset(),
-        };
-        (out.consumed.min(data.len()), step)
-    })
+) -> (usize, TcpOutcome) {
+    let outcome = with_adapter(adapter, |a| a.tcp_receive(id, data, now(), reply));
+    (outcome.consumed.min(data.len()), outcome)
 }
 
 /// True if the connection on `id` has been idle past the inactivity timeout.

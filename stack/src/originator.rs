@@ -1,7 +1,7 @@
 //! Frame builders and reply parsers for the originator (scanner) side: what a test scanner
 //! or a PLC sends to an adapter. Everything writes into caller buffers.
 
-use crate::wire::cpf::{self, item_type, ItemHeaderRepr, ItemRepr, SockAddrRepr};
+use crate::wire::cpf::{self, item_type, ItemHeaderRepr, SockAddrRepr};
 use crate::wire::encap::{command, EncapRepr, HEADER_LEN};
 use crate::wire::epath::SegmentRepr;
 use crate::wire::io_datagram::{self, IoDatagramRepr};
@@ -10,7 +10,8 @@ use crate::wire::register_session::{RegisterSessionRepr, PROTOCOL_VERSION};
 use crate::wire::rr_data::{self, RrDataRepr};
 use crate::wire::{Error, Result, Writer};
 
-/// Writes an encapsulation frame with `command` and a body from `body`; returns its length.
+/// Writes an encapsulation frame with `command` and a body from `body`
+/// ([`EncapRepr::emit_with_body`]); returns its length.
 pub fn frame(
     out: &mut [u8],
     command: u16,
@@ -19,20 +20,16 @@ pub fn frame(
     body: impl FnOnce(&mut Writer<'_>) -> Result<()>,
 ) -> Result<usize> {
     let mut w = Writer::new(out);
-    w.zeros(HEADER_LEN)?;
-    body(&mut w)?;
-    let len = w.len();
-    let length = u16::try_from(len.saturating_sub(HEADER_LEN)).map_err(|_| Error::Exhausted)?;
-    EncapRepr {
+    let header = EncapRepr {
         command,
-        length,
+        length: 0,
         session_handle,
         status: 0,
         sender_context,
         options: 0,
-    }
-    .emit(&mut Writer::new(out))?;
-    Ok(len)
+    };
+    header.emit_with_body(&mut w, body)?;
+    Ok(w.len())
 }
 
 /// A RegisterSession request.
@@ -104,12 +101,7 @@ pub fn send_unit_data(
     mr: impl FnOnce(&mut Writer<'_>) -> Result<()>,
 ) -> Result<usize> {
     frame(out, command::SEND_UNIT_DATA, session_handle, [0; 8], |w| {
-        RrDataRepr::CIP.emit(w)?;
-        w.u16(2)?;
-        ItemRepr::new(item_type::CONNECTED_ADDRESS, &o_t_id.to_le_bytes()).emit(w)?;
-        ItemHeaderRepr::new(item_type::CONNECTED_DATA, 0).emit(w)?;
-        let at = w.len();
-        w.u16(sequence)?;
+        let at = rr_data::emit_connected(w, o_t_id, sequence)?;
         mr(w)?;
         w.patch_item_len(at);
         Ok(())

@@ -213,6 +213,96 @@ fn tcp_framing_split_and_batched() {
 }
 
 #[test]
+fn tcp_framing_across_segments_keeps_order_and_replies_in_place() {
+    let mut h = Harness::new();
+    let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+    let n = originator::send_rr_data(&mut buf, h.session, None, |w| {
+        originator::request(w, 0x0E, &path(1, 1, Some(7)), &[])
+    })
+    .unwrap();
+    let frame = buf[..n].to_vec();
+    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    // Half a frame, then its other half with a whole frame and the start of a third.
+    let stream = [frame.clone(), frame.clone(), frame.clone()].concat();
+    let cut = [n / 2, 2 * n + 5];
+    let mut replies = Vec::new();
+    for seg in [
+        &stream[..cut[0]],
+        &stream[cut[0]..cut[1]],
+        &stream[cut[1]..],
+    ] {
+        let mut rest = seg;
+        while !rest.is_empty() {
+            let out = h
+                .adapter
+                .tcp_receive(SocketId(0), rest, Instant(0), &mut reply);
+            assert!(out.consumed > 0 && !out.close && out.reset.is_none());
+            rest = &rest[out.consumed..];
+            if out.reply_len > 0 {
+                replies.push(reply[..out.reply_len].to_vec());
+            }
+        }
+    }
+    assert_eq!(replies.len(), 3);
+    assert!(replies.iter().all(|r| r == &replies[0]));
+    assert_eq!(status(&replies[0]).2, b"\x0btest device");
+}
+
+#[test]
+fn a_frame_over_capacity_is_answered_0x65_and_closed_however_it_arrives() {
+    for first in [24, 10, 1] {
+        let mut h = Harness::new();
+        let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+        let f = header(0x6F, (MAX_ENCAP_FRAME - HEADER_LEN + 1) as u16, h.session);
+        let out = h
+            .adapter
+            .tcp_receive(SocketId(0), &f[..first], Instant(0), &mut reply);
+        if first < HEADER_LEN {
+            assert_eq!((out.consumed, out.reply_len, out.close), (first, 0, false));
+            let rest = [&f[first..], &[0u8; 8][..]].concat();
+            let out = h
+                .adapter
+                .tcp_receive(SocketId(0), &rest, Instant(0), &mut reply);
+            assert_eq!((out.consumed, out.close), (rest.len(), true));
+            assert_eq!(out.reply_len, HEADER_LEN);
+        } else {
+            assert_eq!(
+                (out.consumed, out.reply_len, out.close),
+                (24, HEADER_LEN, true)
+            );
+        }
+        let r = &reply[..HEADER_LEN];
+        assert_eq!(encap_status(r), 0x65);
+        assert_eq!(
+            (&r[..2], &r[2..4], &r[12..20]),
+            (&f[..2], &[0, 0][..], &[7; 8][..])
+        );
+    }
+}
+
+#[test]
+fn an_identity_reset_is_in_the_outcome_of_its_frame() {
+    let mut h = Harness::new();
+    let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+    let n = originator::send_rr_data(&mut buf, h.session, None, |w| {
+        originator::request(w, 0x05, &path(1, 1, None), &[0])
+    })
+    .unwrap();
+    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    let out = h
+        .adapter
+        .tcp_receive(SocketId(0), &buf[..n], Instant(0), &mut reply);
+    assert_eq!((out.consumed, out.close, out.reset), (n, false, Some(0)));
+    assert_eq!(status(&reply[..out.reply_len]).0, 0);
+    // Reported once.
+    let out = h
+        .adapter
+        .tcp_receive(SocketId(0), &header(0, 0, 0), Instant(0), &mut reply);
+    assert_eq!((out.reply_len, out.reset), (0, None));
+    assert_eq!(h.adapter.take_reset(), None);
+}
+
+#[test]
 fn encapsulation_errors() {
     let mut h = Harness::new();
     let mut reply = vec![0u8; MAX_ENCAP_FRAME];

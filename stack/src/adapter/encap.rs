@@ -2,14 +2,15 @@
 
 use core::net::SocketAddrV4;
 
-use super::Adapter;
+use super::{Inner, TcpOutcome};
 use crate::cip::context::{RequestContext, Via};
 use crate::device::Device;
+use crate::encap::session::Session;
 use crate::io::explicit;
 use crate::io::open::Origin;
 use crate::objects::router;
 use crate::time::Instant;
-use crate::wire::cpf::{self, item_type, ItemHeaderRepr, ItemRepr, SockAddrRepr};
+use crate::wire::cpf::{self, item_type, ItemHeaderRepr, SockAddrRepr};
 use crate::wire::encap::{command, status, EncapRepr, Packet, HEADER_LEN};
 use crate::wire::identity_item::{listen_socket, IdentityRepr, ServiceRepr};
 use crate::wire::register_session::{self, RegisterSessionRepr, PROTOCOL_VERSION};
@@ -19,60 +20,64 @@ use crate::wire::Writer;
 /// Identity state reported in ListIdentity: operational.
 const STATE_OPERATIONAL: u8 = 3;
 
-/// What to do after handling one TCP frame: reply length, and whether to close.
-type TcpAction = (usize, bool);
-
-impl<D: Device> Adapter<D> {
-    /// Handles one complete frame from TCP socket `index`, whose `header` the caller parsed.
+impl<D: Device> Inner<D> {
+    /// Answers one complete frame received on `session`'s socket, whose `header` the caller
+    /// parsed; the outcome's `consumed` and `reset` are left for the caller.
     pub(crate) fn tcp_frame(
         &mut self,
-        index: usize,
+        mut session: Session<'_>,
         header: &EncapRepr,
         frame: &[u8],
         now: Instant,
         reply: &mut [u8],
-    ) -> TcpAction {
+    ) -> TcpOutcome {
         self.objects.link.count_in(frame.len(), true);
         if header.options != 0 {
             // Vol 2, 2-3.6: a frame with non-zero options is discarded.
             self.objects.link.count_discard();
-            return (0, false);
+            return TcpOutcome::default();
         }
         let data = frame.get(HEADER_LEN..).unwrap_or(&[]);
-        let session = self.sessions.get(index).and_then(|s| s.handle);
-        let action = match header.command {
-            command::NOP => (0, false),
-            command::LIST_IDENTITY => (
-                self.list_identity_reply(header.session_handle, header.sender_context, reply),
-                false,
-            ),
-            command::LIST_SERVICES => (list_services_reply(header, reply), false),
-            command::LIST_INTERFACES => (list_interfaces_reply(header, reply), false),
-            command::REGISTER_SESSION => (self.register_session(index, header, data, reply), false),
-            command::UNREGISTER_SESSION if session.is_some_and(|h| h == header.session_handle) => {
-                (0, true)
+        let registered = session.handle();
+        let mut close = false;
+        let reply_len = match header.command {
+            command::NOP => 0,
+            command::LIST_IDENTITY => {
+                self.list_identity_reply(header.session_handle, header.sender_context, reply)
+            }
+            command::LIST_SERVICES => list_services_reply(header, reply),
+            command::LIST_INTERFACES => list_interfaces_reply(header, reply),
+            command::REGISTER_SESSION => register_session(&mut session, header, data, reply),
+            command::UNREGISTER_SESSION if registered == Some(header.session_handle) => {
+                close = true;
+                0
             }
             command::UNREGISTER_SESSION | command::SEND_RR_DATA | command::SEND_UNIT_DATA
-                if session.is_none_or(|h| h != header.session_handle) =>
+                if registered != Some(header.session_handle) =>
             {
-                (error_reply(header, status::INVALID_SESSION, reply), false)
+                error_reply(header, status::INVALID_SESSION, reply)
             }
             command::SEND_RR_DATA => {
-                let len = self.send_rr_data(index, header, data, now, reply);
+                let len = self.send_rr_data(&session, header, data, now, reply);
                 self.after_explicit_request();
-                (len, false)
+                len
             }
             command::SEND_UNIT_DATA => {
-                let len = self.send_unit_data(index, header, data, now, reply);
+                let len = self.send_unit_data(&session, header, data, now, reply);
                 self.after_explicit_request();
-                (len, false)
+                len
             }
-            _ => (error_reply(header, status::INVALID_COMMAND, reply), false),
+            _ => error_reply(header, status::INVALID_COMMAND, reply),
         };
-        if action.0 > 0 {
-            self.objects.link.count_out(action.0);
+        if reply_len > 0 {
+            self.objects.link.count_out(reply_len);
         }
-        action
+        TcpOutcome {
+            consumed: 0,
+            reply_len,
+            close,
+            reset: None,
+        }
     }
 
     /// Handles one datagram received on UDP 44818.
@@ -157,68 +162,20 @@ impl<D: Device> Adapter<D> {
         })
     }
 
-    fn register_session(
-        &mut self,
-        index: usize,
-        header: &EncapRepr,
-        data: &[u8],
-        out: &mut [u8],
-    ) -> usize {
-        let request = match register_session::Packet::new_checked(data) {
-            Ok(p) => RegisterSessionRepr::parse(&p),
-            Err(_) => return error_reply(header, status::INVALID_LENGTH, out),
-        };
-        let already = self.sessions.get(index).is_some_and(|s| s.handle.is_some());
-        let (status, handle) = if already {
-            (status::INVALID_COMMAND, header.session_handle)
-        } else if request.protocol_version != PROTOCOL_VERSION || request.options != 0 {
-            (status::UNSUPPORTED_PROTOCOL, header.session_handle)
-        } else {
-            let h = self.sessions.new_handle(index);
-            if let Some(peer) = self.peer(index) {
-                info!(
-                    "session {:#010x} registered by {} (socket {})",
-                    h, peer, index
-                );
-            }
-            if let Some(s) = self.sessions.get_mut(index) {
-                s.handle = Some(h);
-            }
-            (status::SUCCESS, h)
-        };
-        let reply = EncapRepr {
-            session_handle: handle,
-            ..header.reply(status, 0)
-        };
-        with_body(&reply, out, |w| {
-            RegisterSessionRepr {
-                protocol_version: PROTOCOL_VERSION,
-                options: 0,
-            }
-            .emit(w)
-        })
-    }
-
-    /// The originator of requests on socket `index`.
-    fn origin(&self, index: usize, t_o_sockaddr: Option<SockAddrRepr>) -> Option<Origin> {
-        let peer = self.peer(index)?;
+    /// The originator of requests on `session`.
+    fn origin(session: &Session<'_>, t_o_sockaddr: Option<SockAddrRepr>) -> Option<Origin> {
         Some(Origin {
-            ip: *peer.ip(),
-            socket: index as u8,
+            ip: *session.peer?.ip(),
+            socket: session.index as u8,
             t_o_sockaddr,
         })
-    }
-
-    /// The peer of the session on socket `index`.
-    fn peer(&self, index: usize) -> Option<SocketAddrV4> {
-        self.sessions.get(index)?.peer
     }
 
     /// SendRRData: a null address item and an unconnected data item carrying a request,
     /// optionally followed by socket address items (Forward_Open).
     fn send_rr_data(
         &mut self,
-        index: usize,
+        session: &Session<'_>,
         header: &EncapRepr,
         data: &[u8],
         now: Instant,
@@ -230,8 +187,8 @@ impl<D: Device> Adapter<D> {
         let Some((request, t_o_sockaddr)) = unconnected_request(data) else {
             return error_reply(header, status::INCORRECT_DATA, out);
         };
-        let origin = self.origin(index, t_o_sockaddr);
-        let cx = RequestContext::unconnected(self.peer(index), now);
+        let origin = Self::origin(session, t_o_sockaddr);
+        let cx = RequestContext::unconnected(session.peer, now);
         let mut ctx = self.ctx(cx, origin);
         let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
             RrDataRepr::CIP.emit(w)?;
@@ -260,7 +217,7 @@ impl<D: Device> Adapter<D> {
     /// request) on a Class 3 connection of this session. Unknown connections are dropped.
     fn send_unit_data(
         &mut self,
-        index: usize,
+        session: &Session<'_>,
         header: &EncapRepr,
         data: &[u8],
         now: Instant,
@@ -270,27 +227,22 @@ impl<D: Device> Adapter<D> {
             self.objects.link.count_discard();
             return 0;
         };
-        let Some(step) =
-            explicit::lookup(&mut self.connections, o_t_id, index as u8, sequence, now)
-        else {
+        let Some(step) = explicit::lookup(
+            &mut self.connections,
+            o_t_id,
+            session.index as u8,
+            sequence,
+            now,
+        ) else {
             self.objects.link.count_discard();
             return 0;
         };
-        let origin = self.origin(index, None);
-        let body = |w: &mut Writer<'_>, t_o_id: u32| -> crate::wire::Result<usize> {
-            RrDataRepr::CIP.emit(w)?;
-            w.u16(2)?;
-            ItemRepr::new(item_type::CONNECTED_ADDRESS, &t_o_id.to_le_bytes()).emit(w)?;
-            ItemHeaderRepr::new(item_type::CONNECTED_DATA, 0).emit(w)?;
-            let at = w.len();
-            w.u16(sequence)?;
-            Ok(at)
-        };
+        let origin = Self::origin(session, None);
         match step {
             explicit::Step::Repeat { slot, t_o_id } => {
                 let cached = explicit::cached(&self.connections, slot);
                 with_body(&header.reply(status::SUCCESS, 0), out, |w| {
-                    let at = body(w, t_o_id)?;
+                    let at = rr_data::emit_connected(w, t_o_id, sequence)?;
                     w.bytes(cached)?;
                     w.patch_item_len(at);
                     Ok(())
@@ -299,13 +251,13 @@ impl<D: Device> Adapter<D> {
             explicit::Step::Execute { slot, t_o_id } => {
                 let cx = RequestContext {
                     via: Via::Connected { slot },
-                    peer: self.peer(index),
+                    peer: session.peer,
                     now,
                 };
                 let mut ctx = self.ctx(cx, origin);
                 let mut reply_at = 0;
                 let len = with_body(&header.reply(status::SUCCESS, 0), out, |w| {
-                    let at = body(w, t_o_id)?;
+                    let at = rr_data::emit_connected(w, t_o_id, sequence)?;
                     reply_at = at.saturating_add(2);
                     router::respond(&mut ctx, request, w, 0)?;
                     w.patch_item_len(at);
@@ -317,6 +269,44 @@ impl<D: Device> Adapter<D> {
             }
         }
     }
+}
+
+/// RegisterSession: registers `session` under a fresh handle unless it has one.
+fn register_session(
+    session: &mut Session<'_>,
+    header: &EncapRepr,
+    data: &[u8],
+    out: &mut [u8],
+) -> usize {
+    let request = match register_session::Packet::new_checked(data) {
+        Ok(p) => RegisterSessionRepr::parse(&p),
+        Err(_) => return error_reply(header, status::INVALID_LENGTH, out),
+    };
+    let (status, handle) = if session.handle().is_some() {
+        (status::INVALID_COMMAND, header.session_handle)
+    } else if request.protocol_version != PROTOCOL_VERSION || request.options != 0 {
+        (status::UNSUPPORTED_PROTOCOL, header.session_handle)
+    } else {
+        let h = session.register();
+        if let Some(peer) = session.peer {
+            info!(
+                "session {:#010x} registered by {} (socket {})",
+                h, peer, session.index
+            );
+        }
+        (status::SUCCESS, h)
+    };
+    let reply = EncapRepr {
+        session_handle: handle,
+        ..header.reply(status, 0)
+    };
+    with_body(&reply, out, |w| {
+        RegisterSessionRepr {
+            protocol_version: PROTOCOL_VERSION,
+            options: 0,
+        }
+        .emit(w)
+    })
 }
 
 /// The request in a SendRRData CPF (null address, unconnected data, then at most socket
@@ -373,23 +363,16 @@ fn connected_request(data: &[u8]) -> Option<(u32, u16, &[u8])> {
     ))
 }
 
-/// Writes `header` and a body produced by `body`, with the header's length set to the body's.
-/// Returns the frame length, or 0 if it did not fit.
+/// Writes the frame of `header` with a body from `body` ([`EncapRepr::emit_with_body`]);
+/// returns its length, or 0 if it did not fit.
 fn with_body(
     header: &EncapRepr,
     out: &mut [u8],
     body: impl FnOnce(&mut Writer<'_>) -> crate::wire::Result<()>,
 ) -> usize {
     let mut w = Writer::new(out);
-    if w.zeros(HEADER_LEN).is_err() || body(&mut w).is_err() {
-        return 0;
-    }
-    let len = w.len();
-    let Ok(length) = u16::try_from(len.saturating_sub(HEADER_LEN)) else {
-        return 0;
-    };
-    match (EncapRepr { length, ..*header }).emit(&mut Writer::new(out)) {
-        Ok(()) => len,
+    match header.emit_with_body(&mut w, body) {
+        Ok(()) => w.len(),
         Err(_) => 0,
     }
 }

@@ -7,10 +7,9 @@ mod encap;
 use core::net::{Ipv4Addr, SocketAddrV4};
 
 use crate::cip::context::RequestContext;
-use crate::config::MAX_ENCAP_FRAME;
 use crate::device::{CloseReason, Device, InputChanges};
 use crate::encap::list_identity::DelayedReplies;
-use crate::encap::session::{Need, Sessions};
+use crate::encap::session::{Feed, Sessions};
 use crate::io::consume::{self, Accepted, Discard};
 use crate::io::open::Origin;
 use crate::io::produce::{self, IoDue};
@@ -20,30 +19,46 @@ use crate::nv::{NvError, NvStore};
 use crate::objects::{Ctx, ObjectState};
 use crate::rng::Rng;
 use crate::time::{Duration, Instant};
-use crate::wire::encap::{status, EncapRepr, HEADER_LEN};
+use crate::wire::encap::{status, HEADER_LEN};
 
 /// Index of one of the runtime's [`MAX_SESSIONS`](crate::config::MAX_SESSIONS) TCP sockets
 /// on port 44818.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SocketId(pub u8);
 
-/// What [`Adapter::tcp_receive`] did with received bytes.
+/// What [`Adapter::tcp_receive`] did with received bytes, and what the runtime does next:
+/// send the reply, then perform the Reset (if any), then close (if told to).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct TcpOutcome {
-    /// Bytes of the input consumed; call again with the rest.
+    /// Bytes of the input consumed; call again with the rest. More than 0 whenever the input
+    /// was not empty, unless `close` is set.
     pub consumed: usize,
     /// Bytes of reply written at the start of the reply buffer (0: nothing to send).
     pub reply_len: usize,
     /// Close the TCP connection once the reply is sent.
     pub close: bool,
+    /// An Identity Reset the request accepted, of this type: once the reply has gone out, the
+    /// runtime closes every connection ([`Adapter::close_all`] with [`CloseReason::Reset`])
+    /// and performs it.
+    pub reset: Option<u8>,
 }
 
 /// An EtherNet/IP adapter for device `D`.
 pub struct Adapter<D: Device> {
+    /// Everything that answers a frame.
+    inner: Inner<D>,
+    /// One encapsulation session per TCP socket, each framing its socket's byte stream. Kept
+    /// apart from `inner` (as smoltcp keeps `InterfaceInner` apart from what borrows it) so
+    /// that a frame reassembled in a session's buffer is answered from there, not copied out
+    /// first: the frame and its session are borrowed from here while `inner` answers.
+    sessions: Sessions,
+}
+
+/// The adapter but for its sessions: the device, the objects and the connections.
+pub(crate) struct Inner<D: Device> {
     pub(crate) device: D,
     pub(crate) objects: ObjectState,
     pub(crate) net: NetworkConfig,
-    pub(crate) sessions: Sessions,
     pub(crate) delayed: DelayedReplies,
     pub(crate) connections: ConnectionTable,
     pub(crate) rng: Rng,
@@ -58,14 +73,16 @@ impl<D: Device> Adapter<D> {
         let handle_seed = rng.next_u64() as u32;
         let id_seed = rng.next_u64() as u32;
         Adapter {
-            device,
-            objects: ObjectState::new(),
-            net,
+            inner: Inner {
+                device,
+                objects: ObjectState::new(),
+                net,
+                delayed: DelayedReplies::new(),
+                connections: ConnectionTable::new(id_seed),
+                rng,
+                store: None,
+            },
             sessions: Sessions::new(handle_seed),
-            delayed: DelayedReplies::new(),
-            connections: ConnectionTable::new(id_seed),
-            rng,
-            store: None,
         }
     }
 
@@ -75,11 +92,11 @@ impl<D: Device> Adapter<D> {
     /// loaded; on a read error the factory defaults hold and the store is still used.
     pub fn attach_store(&mut self, store: &'static mut dyn NvStore) -> Result<bool, NvError> {
         let loaded = crate::objects::tcpip::TcpIpState::stored(store);
-        self.store = Some(store);
+        self.inner.store = Some(store);
         let stored = loaded?;
         let found = stored.is_some();
         if let Some(st) = stored {
-            let tcpip = &mut self.objects.tcpip;
+            let tcpip = &mut self.inner.objects.tcpip;
             tcpip.config_control = st.config_control;
             tcpip.interface = st.interface;
             tcpip.host_name = st.host_name;
@@ -92,49 +109,50 @@ impl<D: Device> Adapter<D> {
 
     /// The device profile.
     pub fn device(&self) -> &D {
-        &self.device
+        &self.inner.device
     }
     /// The device profile, mutably.
     pub fn device_mut(&mut self) -> &mut D {
-        &mut self.device
+        &mut self.inner.device
     }
     /// Takes the device back, ending the adapter.
     pub fn into_device(self) -> D {
-        self.device
+        self.inner.device
     }
     /// Runs one Message Router request (service, path, data) as an unconnected request
     /// with no session, and writes the Message Router response into `reply`; returns its
     /// length. For a device's own tests and local tools: the same objects and rules a
-    /// scanner's request meets.
+    /// scanner's request meets. A Reset it accepted is then in [`Self::take_reset`].
     pub fn execute(&mut self, request: &[u8], now: Instant, reply: &mut [u8]) -> usize {
-        let mut ctx = self.ctx(RequestContext::unconnected(None, now), None);
+        let inner = &mut self.inner;
+        let mut ctx = inner.ctx(RequestContext::unconnected(None, now), None);
         let mut w = crate::wire::Writer::new(reply);
         // Fails only if not even an error header fits; then nothing was written.
         let _ = crate::objects::router::respond(&mut ctx, request, &mut w, 0);
         let len = w.len();
-        self.after_explicit_request();
+        inner.after_explicit_request();
         len
+    }
+    /// The Identity Reset a request run by [`Self::execute`] accepted, if any, for the caller
+    /// to perform. (Over TCP, [`TcpOutcome::reset`] reports it.)
+    pub fn take_reset(&mut self) -> Option<u8> {
+        self.inner.objects.pending_reset.take()
     }
     /// The stack's object state (TCP/IP settings, counters).
     pub fn objects(&self) -> &ObjectState {
-        &self.objects
+        &self.inner.objects
     }
     /// The connection table.
     pub fn connections(&self) -> &ConnectionTable {
-        &self.connections
+        &self.inner.connections
     }
     /// The interface configuration.
     pub fn network(&self) -> &NetworkConfig {
-        &self.net
+        &self.inner.net
     }
     /// Reports a new interface configuration (DHCP lease, link change).
     pub fn set_network(&mut self, net: NetworkConfig) {
-        self.net = net;
-    }
-    /// The Reset the Identity object accepted, if any; the runtime performs it after the
-    /// reply has gone out.
-    pub fn take_reset(&mut self) -> Option<u8> {
-        self.objects.pending_reset.take()
+        self.inner.net = net;
     }
 
     /// A TCP connection from `peer` was accepted on `socket`.
@@ -153,7 +171,8 @@ impl<D: Device> Adapter<D> {
             info!("tcp connection from {} closed (socket {})", peer, socket.0);
         }
         self.sessions.reset(usize::from(socket.0), None, now);
-        self.connections.close_session(socket.0, &mut self.device);
+        let inner = &mut self.inner;
+        inner.connections.close_session(socket.0, &mut inner.device);
     }
 
     /// When the connection on `socket` has been idle for the encapsulation inactivity timeout
@@ -161,12 +180,12 @@ impl<D: Device> Adapter<D> {
     /// CIP connections its Forward_Opens opened (Class 1 O->T data included) counts as activity,
     /// so a session is not closed under a running I/O connection.
     pub fn tcp_deadline(&self, socket: SocketId) -> Option<Instant> {
-        let secs = self.objects.tcpip.inactivity_timeout_s;
+        let secs = self.inner.objects.tcpip.inactivity_timeout_s;
         let slot = self.sessions.get(usize::from(socket.0))?;
         if secs == 0 || slot.peer.is_none() {
             return None;
         }
-        let last = match self.connections.last_activity_of_session(socket.0) {
+        let last = match self.inner.connections.last_activity_of_session(socket.0) {
             Some(io) => io.max(slot.last_activity),
             None => slot.last_activity,
         };
@@ -174,8 +193,9 @@ impl<D: Device> Adapter<D> {
     }
 
     /// Feeds bytes received on `socket`. At most one frame is handled per call: the reply (if
-    /// any) is in `reply[..reply_len]`; call again with `data[consumed..]` until all is used.
-    /// `reply` should hold [`crate::config::MAX_ENCAP_FRAME`] bytes.
+    /// any) is in `reply[..reply_len]`, and the outcome says what follows it; call again with
+    /// `data[consumed..]` until all is used. `reply` should hold
+    /// [`crate::config::MAX_ENCAP_FRAME`] bytes.
     pub fn tcp_receive(
         &mut self,
         socket: SocketId,
@@ -183,87 +203,47 @@ impl<D: Device> Adapter<D> {
         now: Instant,
         reply: &mut [u8],
     ) -> TcpOutcome {
-        let index = usize::from(socket.0);
-        let Some(slot) = self.sessions.get_mut(index) else {
-            return TcpOutcome {
+        let inner = &mut self.inner;
+        let mut outcome = match self.sessions.receive(usize::from(socket.0), data, now) {
+            Some((
+                Feed::Frame {
+                    header,
+                    frame,
+                    consumed,
+                },
+                session,
+            )) => TcpOutcome {
+                consumed,
+                ..inner.tcp_frame(session, &header, frame, now, reply)
+            },
+            Some((Feed::Buffered, _)) => TcpOutcome {
                 consumed: data.len(),
-                reply_len: 0,
-                close: true,
-            };
-        };
-        slot.last_activity = now;
-        // Fast path: a whole frame at the front of `data` with nothing buffered is not copied.
-        if slot.rx.is_empty() {
-            if let Need::Complete(header) = crate::encap::session::frame_need(data) {
-                let len = HEADER_LEN + usize::from(header.length);
-                let frame = data.get(..len).unwrap_or(&[]);
-                let (reply_len, close) = self.tcp_frame(index, &header, frame, now, reply);
-                return TcpOutcome {
-                    consumed: len,
-                    reply_len,
-                    close,
-                };
-            }
-        }
-        let mut consumed = 0;
-        loop {
-            let Some(slot) = self.sessions.get_mut(index) else {
-                return TcpOutcome {
+                ..TcpOutcome::default()
+            },
+            Some((Feed::TooLong(header), _)) => {
+                warn!(
+                    "encapsulation length over capacity; closing socket {}",
+                    socket.0
+                );
+                inner.objects.link.count_discard();
+                let mut w = crate::wire::Writer::new(reply);
+                let sent = header.reply(status::INVALID_LENGTH, 0).emit(&mut w);
+                TcpOutcome {
                     consumed: data.len(),
-                    reply_len: 0,
+                    reply_len: if sent.is_ok() { HEADER_LEN } else { 0 },
                     close: true,
-                };
-            };
-            match slot.need() {
-                Need::Bytes(n) => {
-                    let rest = data.get(consumed..).unwrap_or(&[]);
-                    if rest.is_empty() {
-                        return TcpOutcome {
-                            consumed,
-                            reply_len: 0,
-                            close: false,
-                        };
-                    }
-                    let take = n.min(rest.len());
-                    // Cannot fail: `need` never asks beyond the frame capacity.
-                    let _ = slot.rx.extend_from_slice(rest.get(..take).unwrap_or(&[]));
-                    consumed = consumed.saturating_add(take);
-                }
-                Need::TooLong => {
-                    warn!(
-                        "encapsulation length over capacity; closing socket {}",
-                        index
-                    );
-                    let header = EncapRepr::parse_header(&slot.rx).ok();
-                    slot.rx.clear();
-                    self.objects.link.count_discard();
-                    let reply_len = header
-                        .and_then(|h| {
-                            let reply = &mut crate::wire::Writer::new(reply);
-                            h.reply(status::INVALID_LENGTH, 0).emit(reply).ok()
-                        })
-                        .map_or(0, |_| HEADER_LEN);
-                    return TcpOutcome {
-                        consumed: data.len(),
-                        reply_len,
-                        close: true,
-                    };
-                }
-                Need::Complete(header) => {
-                    // Handling needs the whole adapter, so the frame moves out of the slot
-                    // first: its bytes only, not the buffer's whole capacity.
-                    let mut frame = heapless::Vec::<u8, MAX_ENCAP_FRAME>::new();
-                    let _ = frame.extend_from_slice(&slot.rx);
-                    slot.rx.clear();
-                    let (reply_len, close) = self.tcp_frame(index, &header, &frame, now, reply);
-                    return TcpOutcome {
-                        consumed,
-                        reply_len,
-                        close,
-                    };
+                    reset: None,
                 }
             }
-        }
+            None => TcpOutcome {
+                consumed: data.len(),
+                close: true,
+                ..TcpOutcome::default()
+            },
+        };
+        // The Reset the frame's request accepted (or one an `execute` left untaken).
+        outcome.reset = inner.objects.pending_reset.take();
+        outcome
     }
 
     /// Feeds a datagram received on UDP port 44818 from `from`, sent to `to` (used to tell a
@@ -276,15 +256,17 @@ impl<D: Device> Adapter<D> {
         now: Instant,
         reply: &mut [u8],
     ) -> usize {
-        let broadcast = self.net.is_broadcast(to) || to.is_multicast();
-        self.udp_frame(from, broadcast, data, now, reply)
+        let broadcast = self.inner.net.is_broadcast(to) || to.is_multicast();
+        self.inner.udp_frame(from, broadcast, data, now, reply)
     }
 
     /// Writes a delayed ListIdentity reply that is due at `now` into `out`; returns its
     /// destination and length. Call until it returns `None`.
     pub fn poll_udp(&mut self, now: Instant, out: &mut [u8]) -> Option<(SocketAddrV4, usize)> {
-        let p = self.delayed.take_due(now)?;
-        let len = self.list_identity_reply(p.session_handle, p.sender_context, out);
+        let p = self.inner.delayed.take_due(now)?;
+        let len = self
+            .inner
+            .list_identity_reply(p.session_handle, p.sender_context, out);
         Some((p.to, len))
     }
 
@@ -295,10 +277,11 @@ impl<D: Device> Adapter<D> {
         data: &[u8],
         now: Instant,
     ) -> Result<Accepted, Discard> {
-        let r = consume::consume(&mut self.connections, &mut self.device, from, data, now);
+        let inner = &mut self.inner;
+        let r = consume::consume(&mut inner.connections, &mut inner.device, from, data, now);
         match r {
-            Ok(_) => self.apply_input_changes(),
-            Err(_) => self.objects.link.count_discard(),
+            Ok(_) => inner.apply_input_changes(),
+            Err(_) => inner.objects.link.count_discard(),
         }
         r
     }
@@ -306,8 +289,8 @@ impl<D: Device> Adapter<D> {
     /// Runs the device's own behaviour ([`Device::poll`]) at `now`, then triggers the inputs
     /// it says changed; returns when the device next wants to run.
     pub fn poll_device(&mut self, now: Instant) -> Option<Instant> {
-        let next = self.device.poll(now);
-        self.apply_input_changes();
+        let next = self.inner.device.poll(now);
+        self.inner.apply_input_changes();
         next
     }
 
@@ -315,16 +298,20 @@ impl<D: Device> Adapter<D> {
     /// [`CloseReason::Reset`] before it performs an Identity Reset), telling the device of
     /// each.
     pub fn close_all(&mut self, reason: CloseReason) {
-        self.connections.close_all(reason, &mut self.device);
+        let inner = &mut self.inner;
+        inner.connections.close_all(reason, &mut inner.device);
     }
 
     /// Closes connections whose watchdog expired, then writes the most overdue T->O datagram
     /// into `out` (at least the largest input assembly plus 20 bytes) and returns its
     /// destination (UDP port 2222 of the originator or multicast group) and length. Call until
-    /// it returns `None`, then sleep until [`Self::next_deadline`].
+    /// it returns `None`, then sleep until [`Self::next_deadline`]. The same as
+    /// [`Self::io_due`] then [`Self::write_io`] into `out`; `None`, changing nothing, if `out`
+    /// is too short for the datagram due.
     pub fn poll_io(&mut self, now: Instant, out: &mut [u8]) -> Option<(SocketAddrV4, usize)> {
-        self.connections.expire(now, &mut self.device);
-        produce::produce_due(&mut self.connections, &mut self.device, now, out)
+        let due = self.io_due(now)?;
+        let len = self.write_io(due, now, Some(out));
+        (len > 0).then_some((due.to, len))
     }
 
     /// Closes connections whose watchdog expired, then returns the most overdue T->O
@@ -333,8 +320,9 @@ impl<D: Device> Adapter<D> {
     /// `write_io(due, now, None)` when there is nowhere to send it); call again until
     /// `None`, as with [`Self::poll_io`].
     pub fn io_due(&mut self, now: Instant) -> Option<IoDue> {
-        self.connections.expire(now, &mut self.device);
-        produce::next_due(&self.connections, now)
+        let inner = &mut self.inner;
+        inner.connections.expire(now, &mut inner.device);
+        produce::next_due(&inner.connections, now)
     }
 
     /// Writes the T->O datagram `due` (from [`Self::io_due`], with no other call between)
@@ -343,42 +331,47 @@ impl<D: Device> Adapter<D> {
     /// connection's size). `out` `None` drops the datagram. Returns 0, changing nothing, if
     /// `out` is too short or the connection is gone.
     pub fn write_io(&mut self, due: IoDue, now: Instant, out: Option<&mut [u8]>) -> usize {
-        produce::write(&mut self.connections, &mut self.device, due, now, out)
+        let inner = &mut self.inner;
+        produce::write(&mut inner.connections, &mut inner.device, due, now, out)
     }
 
     /// Tells the stack that input assembly `instance` has new data: change-of-state and
     /// application-triggered connections producing it send as soon as their inhibit time
     /// allows. (A device says the same from inside with [`Device::input_changes`].)
     pub fn trigger_input(&mut self, instance: u16) {
-        self.connections.trigger(instance);
+        self.inner.connections.trigger(instance);
     }
 
     /// The multicast group T->O data goes to while a multicast connection is open.
     pub fn multicast_group(&self) -> Option<Ipv4Addr> {
-        self.connections.produces_multicast().then(|| {
-            self.objects
+        let inner = &self.inner;
+        inner.connections.produces_multicast().then(|| {
+            inner
+                .objects
                 .tcpip
-                .multicast_in_use(&self.device, &self.net)
+                .multicast_in_use(&inner.device, &inner.net)
                 .0
         })
     }
 
     /// TTL for multicast T->O datagrams (TCP/IP attribute 8).
     pub fn multicast_ttl(&self) -> u8 {
-        self.objects
+        let inner = &self.inner;
+        inner
+            .objects
             .tcpip
-            .multicast_in_use(&self.device, &self.net)
+            .multicast_in_use(&inner.device, &inner.net)
             .1
     }
 
     /// The next instant [`Self::poll_udp`] has a delayed reply to send.
     pub fn udp_deadline(&self) -> Option<Instant> {
-        self.delayed.next_due()
+        self.inner.delayed.next_due()
     }
 
     /// The next instant [`Self::poll_io`] has work: a production or a watchdog expiry.
     pub fn io_deadline(&self) -> Option<Instant> {
-        self.connections.next_deadline()
+        self.inner.connections.next_deadline()
     }
 
     /// The earliest of [`Self::udp_deadline`] and [`Self::io_deadline`].
@@ -388,7 +381,9 @@ impl<D: Device> Adapter<D> {
             (a, b) => a.or(b),
         }
     }
+}
 
+impl<D: Device> Inner<D> {
     /// The service context for a request.
     pub(crate) fn ctx(&mut self, request: RequestContext, origin: Option<Origin>) -> Ctx<'_, D> {
         Ctx {

@@ -1,4 +1,5 @@
-//! The session table: one slot per TCP socket, with its frame reassembly buffer.
+//! The session table: one slot per TCP socket, each framing its socket's byte stream into
+//! encapsulation frames ([`Framer::feed`]).
 
 use core::net::SocketAddrV4;
 
@@ -6,15 +7,113 @@ use crate::config::{MAX_ENCAP_DATA, MAX_ENCAP_FRAME, MAX_SESSIONS};
 use crate::time::Instant;
 use crate::wire::encap::{EncapRepr, HEADER_LEN};
 
-/// How much of the current frame the slot still lacks.
+/// What [`Framer::feed`] made of the bytes it was given.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Need {
-    /// This many more bytes.
-    Bytes(usize),
-    /// The frame is complete; its header, parsed once for whoever handles it.
-    Complete(EncapRepr),
-    /// The header declares more data than the stack accepts.
-    TooLong,
+pub enum Feed<'a> {
+    /// A whole frame: its header, parsed once for whoever answers it, and its bytes. They are
+    /// borrowed from the input when the frame stood whole at its front with nothing buffered
+    /// (no copy), else from the framer's buffer. `consumed` bytes of the input were used.
+    Frame {
+        /// The frame's header.
+        header: EncapRepr,
+        /// The whole frame, header included.
+        frame: &'a [u8],
+        /// Bytes of the input used.
+        consumed: usize,
+    },
+    /// The frame is not complete yet: all of the input is buffered.
+    Buffered,
+    /// The header declares more data than the stack accepts
+    /// ([`MAX_ENCAP_DATA`]); nothing is buffered.
+    TooLong(EncapRepr),
+}
+
+/// Reassembles encapsulation frames from one TCP byte stream.
+#[derive(Debug, Clone)]
+pub struct Framer {
+    /// The first bytes of a frame that arrived split across segments.
+    buf: heapless::Vec<u8, MAX_ENCAP_FRAME>,
+    /// `buf` holds a whole frame already handed out: it is dropped at the next feed.
+    handed_out: bool,
+}
+
+impl Framer {
+    const fn new() -> Self {
+        Framer {
+            buf: heapless::Vec::new(),
+            handed_out: false,
+        }
+    }
+
+    /// Feeds bytes received in order: returns the next whole frame, if they complete one, and
+    /// buffers what is left of an incomplete one. At most one frame per call: give the rest
+    /// of the input (after `consumed`) to the next call. The frame borrowed from the buffer
+    /// stays valid until then.
+    pub fn feed<'a>(&'a mut self, data: &'a [u8]) -> Feed<'a> {
+        if self.handed_out {
+            self.buf.clear();
+            self.handed_out = false;
+        }
+        if self.buf.is_empty() {
+            if let Ok(header) = EncapRepr::parse_header(data) {
+                match accepted(header) {
+                    Ok(len) if data.len() >= len => {
+                        return Feed::Frame {
+                            header,
+                            frame: data.get(..len).unwrap_or(&[]),
+                            consumed: len,
+                        }
+                    }
+                    Ok(_) => {}
+                    Err(header) => return Feed::TooLong(header),
+                }
+            }
+            // Cannot fail: shorter than the frame it starts, which fits the buffer.
+            let _ = self.buf.extend_from_slice(data);
+            return Feed::Buffered;
+        }
+        // The header first, then as much of the data as it declares.
+        let mut consumed = self.take(data, HEADER_LEN);
+        let Ok(header) = EncapRepr::parse_header(&self.buf) else {
+            return Feed::Buffered;
+        };
+        let len = match accepted(header) {
+            Ok(len) => len,
+            Err(header) => {
+                self.buf.clear();
+                return Feed::TooLong(header);
+            }
+        };
+        let rest = data.get(consumed..).unwrap_or(&[]);
+        consumed = consumed.saturating_add(self.take(rest, len));
+        if self.buf.len() < len {
+            return Feed::Buffered;
+        }
+        self.handed_out = true;
+        Feed::Frame {
+            header,
+            frame: &self.buf,
+            consumed,
+        }
+    }
+
+    /// Moves bytes from the front of `data` into the buffer until it holds `upto` bytes;
+    /// returns how many it moved.
+    fn take(&mut self, data: &[u8], upto: usize) -> usize {
+        let n = upto.saturating_sub(self.buf.len()).min(data.len());
+        // Cannot fail: `upto` is at most a frame, which fits the buffer.
+        let _ = self.buf.extend_from_slice(data.get(..n).unwrap_or(&[]));
+        n
+    }
+}
+
+/// The length of the frame `header` starts (at most [`MAX_ENCAP_FRAME`]), or the header back
+/// if it declares more data than the stack accepts.
+fn accepted(header: EncapRepr) -> Result<usize, EncapRepr> {
+    if usize::from(header.length) > MAX_ENCAP_DATA {
+        return Err(header);
+    }
+    Ok(HEADER_LEN.saturating_add(usize::from(header.length)))
 }
 
 /// One TCP socket's encapsulation state.
@@ -24,10 +123,10 @@ pub struct Slot {
     pub peer: Option<SocketAddrV4>,
     /// The registered session handle, if any.
     pub handle: Option<u32>,
-    /// Bytes of a frame received so far.
-    pub rx: heapless::Vec<u8, MAX_ENCAP_FRAME>,
     /// Last time a byte arrived.
     pub last_activity: Instant,
+    /// Frames arriving on the socket.
+    framer: Framer,
 }
 
 impl Slot {
@@ -35,32 +134,37 @@ impl Slot {
         Slot {
             peer: None,
             handle: None,
-            rx: heapless::Vec::new(),
             last_activity: Instant(0),
+            framer: Framer::new(),
         }
-    }
-
-    /// What the frame being reassembled still needs.
-    pub fn need(&self) -> Need {
-        frame_need(&self.rx)
     }
 }
 
-/// What a frame whose first bytes are `rx` still needs.
-pub fn frame_need(rx: &[u8]) -> Need {
-    if rx.len() < HEADER_LEN {
-        return Need::Bytes(HEADER_LEN.saturating_sub(rx.len()));
+/// The session a frame arrived on, as the command handling sees it: its own socket's state
+/// only, borrowed beside the frame its [`Framer`] holds.
+#[derive(Debug)]
+pub struct Session<'a> {
+    /// The socket's index.
+    pub index: usize,
+    /// The peer of the TCP connection.
+    pub peer: Option<SocketAddrV4>,
+    handle: &'a mut Option<u32>,
+    next_handle: &'a mut u32,
+}
+
+impl Session<'_> {
+    /// The registered session handle, if any.
+    pub fn handle(&self) -> Option<u32> {
+        *self.handle
     }
-    let Ok(header) = EncapRepr::parse_header(rx) else {
-        return Need::Bytes(HEADER_LEN.saturating_sub(rx.len()));
-    };
-    let length = usize::from(header.length);
-    if length > MAX_ENCAP_DATA {
-        return Need::TooLong;
-    }
-    match (HEADER_LEN + length).checked_sub(rx.len()) {
-        Some(0) | None => Need::Complete(header),
-        Some(n) => Need::Bytes(n),
+
+    /// Registers the session under a fresh handle and returns it. Handles are non-zero and
+    /// carry the socket index plus one in their low byte, so no two sockets share one.
+    pub fn register(&mut self) -> u32 {
+        *self.next_handle = self.next_handle.wrapping_add(0x100);
+        let h = (*self.next_handle & !0xFF) | (self.index as u32 & 0xFF).wrapping_add(1);
+        *self.handle = Some(h);
+        h
     }
 }
 
@@ -83,19 +187,28 @@ impl Sessions {
     pub fn get(&self, index: usize) -> Option<&Slot> {
         self.slots.get(index)
     }
-    /// The slot of socket `index`, mutably.
-    pub fn get_mut(&mut self, index: usize) -> Option<&mut Slot> {
-        self.slots.get_mut(index)
-    }
-    /// A fresh non-zero handle that no slot uses; the socket index is in the low byte.
-    pub fn new_handle(&mut self, index: usize) -> u32 {
-        loop {
-            self.next_handle = self.next_handle.wrapping_add(0x100);
-            let h = (self.next_handle & !0xFF) | (index as u32).wrapping_add(1);
-            if h != 0 && !self.slots.iter().any(|s| s.handle == Some(h)) {
-                return h;
-            }
-        }
+    /// Feeds bytes received on socket `index` at `now` to its [`Framer`]; returns what it
+    /// made of them and the session to answer a frame. `None` if there is no such socket.
+    pub fn receive<'a>(
+        &'a mut self,
+        index: usize,
+        data: &'a [u8],
+        now: Instant,
+    ) -> Option<(Feed<'a>, Session<'a>)> {
+        let Slot {
+            peer,
+            handle,
+            last_activity,
+            framer,
+        } = self.slots.get_mut(index)?;
+        *last_activity = now;
+        let session = Session {
+            index,
+            peer: *peer,
+            handle,
+            next_handle: &mut self.next_handle,
+        };
+        Some((framer.feed(data), session))
     }
     /// Resets socket `index` to a fresh connection from `peer` (or to free, with `None`).
     pub fn reset(&mut self, index: usize, peer: Option<SocketAddrV4>, now: Instant) {
@@ -109,27 +222,127 @@ impl Sessions {
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
+    use std::{vec, vec::Vec};
+
     use super::*;
 
+    /// A frame with command 0x6F, `len` data bytes numbered from 1 and `context` as its
+    /// sender context's first byte.
+    fn frame(len: u16, context: u8) -> Vec<u8> {
+        let mut f = vec![0u8; HEADER_LEN];
+        f[0] = 0x6F;
+        f[2..4].copy_from_slice(&len.to_le_bytes());
+        f[12] = context;
+        f.extend((1..=len).map(|b| b as u8));
+        f
+    }
+
+    /// Feeds `data` in chunks of `chunk` bytes (each chunk until used); the frames handed out.
+    fn run(framer: &mut Framer, data: &[u8], chunk: usize) -> Vec<Vec<u8>> {
+        let mut frames = Vec::new();
+        for piece in data.chunks(chunk) {
+            let mut rest = piece;
+            loop {
+                match framer.feed(rest) {
+                    Feed::Frame {
+                        header,
+                        frame,
+                        consumed,
+                    } => {
+                        assert!(consumed > 0);
+                        assert_eq!(frame.len(), HEADER_LEN + usize::from(header.length));
+                        frames.push(frame.to_vec());
+                        rest = &rest[consumed..];
+                    }
+                    Feed::Buffered => break,
+                    Feed::TooLong(h) => panic!("too long: {h:?}"),
+                }
+            }
+        }
+        frames
+    }
+
+    /// The frame and the input consumed of a [`Feed::Frame`].
+    fn whole(feed: Feed<'_>) -> (&[u8], usize) {
+        match feed {
+            Feed::Frame {
+                frame, consumed, ..
+            } => (frame, consumed),
+            other => panic!("no frame: {other:?}"),
+        }
+    }
+
     #[test]
-    fn need_counts_header_then_data() {
-        let mut h = [0u8; 30];
-        h[2] = 6;
-        assert_eq!(frame_need(&h[..10]), Need::Bytes(14));
-        assert_eq!(frame_need(&h[..24]), Need::Bytes(6));
-        assert!(matches!(frame_need(&h[..30]), Need::Complete(_)));
-        h[2] = 0xFF;
-        h[3] = 0xFF;
-        assert_eq!(frame_need(&h[..24]), Need::TooLong);
+    fn a_whole_frame_at_the_front_is_borrowed_not_copied() {
+        let mut f = Framer::new();
+        let data = [frame(6, 1), frame(0, 2)].concat();
+        let (got, consumed) = whole(f.feed(&data));
+        assert_eq!((consumed, got.as_ptr()), (30, data.as_ptr()));
+        assert!(f.buf.is_empty());
+    }
+
+    #[test]
+    fn frames_split_anywhere_come_out_whole() {
+        let data = [frame(6, 1), frame(0, 2), frame(1000, 3), frame(4, 4)].concat();
+        for chunk in [1, 2, 5, 23, 24, 25, 29, 31, 600, 2000] {
+            let frames = run(&mut Framer::new(), &data, chunk);
+            assert_eq!(
+                frames,
+                vec![frame(6, 1), frame(0, 2), frame(1000, 3), frame(4, 4)],
+                "chunks of {chunk}"
+            );
+        }
+    }
+
+    #[test]
+    fn several_frames_in_one_segment_one_per_call() {
+        let mut f = Framer::new();
+        // A frame split, then its end and two more in one segment.
+        let stream = [frame(6, 1), frame(2, 2), frame(3, 3)].concat();
+        assert_eq!(f.feed(&stream[..10]), Feed::Buffered);
+        let segment = &stream[10..];
+        let (first, consumed) = whole(f.feed(segment));
+        assert_eq!((first, consumed), (&frame(6, 1)[..], 20));
+        let rest = &segment[consumed..];
+        let (second, consumed) = whole(f.feed(rest));
+        // The buffer was emptied: the next frame is borrowed from the input.
+        assert_eq!((second.as_ptr(), consumed), (rest.as_ptr(), 26));
+        assert_eq!(whole(f.feed(&rest[26..])).1, 27);
+        assert_eq!(f.feed(&[]), Feed::Buffered);
+    }
+
+    #[test]
+    fn a_frame_longer_than_capacity_is_refused_with_its_header() {
+        let long = frame(MAX_ENCAP_DATA as u16 + 1, 7);
+        let at_capacity = frame(MAX_ENCAP_DATA as u16, 8);
+        assert_eq!(
+            run(&mut Framer::new(), &at_capacity, 100),
+            vec![at_capacity]
+        );
+        // Whole, or with its header split.
+        for first in [long.len(), 30, 24, 10, 1] {
+            let mut f = Framer::new();
+            let header = EncapRepr::parse_header(&long).unwrap();
+            let got = match f.feed(&long[..first]) {
+                Feed::Buffered => f.feed(&long[first..]),
+                other => other,
+            };
+            assert_eq!(got, Feed::TooLong(header), "first segment {first}");
+            assert!(f.buf.is_empty());
+        }
     }
 
     #[test]
     fn handles_unique_and_nonzero() {
         let mut s = Sessions::new(u32::MAX - 0x100);
-        let a = s.new_handle(0);
-        s.get_mut(0).unwrap().handle = Some(a);
-        let b = s.new_handle(1);
+        let (_, mut zero) = s.receive(0, &[], Instant(0)).unwrap();
+        let a = zero.register();
+        assert_eq!(zero.handle(), Some(a));
+        let (_, mut one) = s.receive(1, &[], Instant(0)).unwrap();
+        let b = one.register();
         assert!(a != 0 && b != 0 && a != b);
-        assert_eq!(b & 0xFF, 2);
+        assert_eq!((a & 0xFF, b & 0xFF), (1, 2));
+        assert_eq!(s.get(0).unwrap().handle, Some(a));
     }
 }

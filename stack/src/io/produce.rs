@@ -56,18 +56,6 @@ pub fn write<D: Device>(
     produce_slot(table, device, due.slot, Some(due.t_o_id), now, out).map_or(0, |(_, len)| len)
 }
 
-/// Writes the most overdue datagram into `out` and returns where it goes and its length;
-/// `None` if nothing is due at `now` (or `out` is too short for it).
-pub fn produce_due<D: Device>(
-    table: &mut ConnectionTable,
-    device: &mut D,
-    now: Instant,
-    out: &mut [u8],
-) -> Option<(SocketAddrV4, usize)> {
-    let slot = table.due(now)?;
-    produce_slot(table, device, slot, None, now, Some(out)).filter(|&(_, len)| len > 0)
-}
-
 /// Produces the connection in `slot` (if its T->O ID is still `t_o_id`, when given) into
 /// `out` and lets the table move it to its next deadline: where the datagram goes and its
 /// length. `None`, changing nothing, if there is no such producer or `out` is too short for

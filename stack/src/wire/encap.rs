@@ -172,6 +172,22 @@ impl EncapRepr {
         put_u32(buf, field::OPTIONS, self.options);
         Ok(())
     }
+    /// Writes a whole frame: this header, with its length set to that of the data part
+    /// `body` writes after it. The one writer of encapsulation frames with a body, for
+    /// replies and requests alike.
+    pub fn emit_with_body(
+        &self,
+        w: &mut Writer<'_>,
+        body: impl FnOnce(&mut Writer<'_>) -> Result<()>,
+    ) -> Result<()> {
+        let at = w.len();
+        self.emit(w)?;
+        body(w)?;
+        let data = w.len().saturating_sub(at).saturating_sub(HEADER_LEN);
+        let length = u16::try_from(data).map_err(|_| Error::Exhausted)?;
+        w.patch_u16(at.saturating_add(field::LENGTH), length);
+        Ok(())
+    }
     /// The header of a reply to `self` with `status` and `length` bytes of data.
     pub const fn reply(&self, status: u32, length: u16) -> EncapRepr {
         EncapRepr {
@@ -193,6 +209,29 @@ mod tests {
         0x65, 0x00, 0x04, 0x00, 0, 0, 0, 0, 0, 0, 0, 0, 1, 2, 3, 4, 5, 6, 7, 8, 0, 0, 0, 0, 1, 0,
         0, 0,
     ];
+
+    #[test]
+    fn emits_a_frame_with_its_body_length() {
+        let mut buf = [0u8; 40];
+        let mut w = Writer::new(&mut buf);
+        let h = EncapRepr::parse(&Packet::new_checked(&REGISTER[..]).unwrap()).unwrap();
+        h.emit_with_body(&mut w, |w| w.u32(1)).unwrap();
+        assert_eq!(w.written(), &REGISTER[..]);
+        let mut short = [0u8; 27];
+        let mut w = Writer::new(&mut short);
+        assert_eq!(
+            h.emit_with_body(&mut w, |w| w.u32(1)),
+            Err(Error::Exhausted)
+        );
+        let mut big = [0u8; 70_000];
+        let mut w = Writer::new(&mut big);
+        let huge = h.emit_with_body(&mut w, |w| w.zeros(65_536));
+        assert_eq!(
+            huge,
+            Err(Error::Exhausted),
+            "data longer than the length field"
+        );
+    }
 
     #[test]
     fn parses_register_session() {

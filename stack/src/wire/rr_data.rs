@@ -1,6 +1,7 @@
 //! The SendRRData / SendUnitData data part: interface handle, timeout, then a CPF.
 
 use super::bytes::{get_u16, get_u32};
+use super::cpf::{item_type, ItemHeaderRepr, ItemRepr};
 use super::{Error, Result, Writer};
 
 /// Bytes before the CPF.
@@ -65,6 +66,20 @@ impl RrDataRepr {
         w.u32(self.interface_handle)?;
         w.u16(self.timeout)
     }
+}
+
+/// Writes the data part of a SendUnitData frame, request or reply, up to its message: the CIP
+/// prefix, the connected address item of `connection_id`, then the connected data item's
+/// header and `sequence` count. Returns where that item's data begins, for
+/// [`Writer::patch_item_len`] once the message after it is written.
+pub fn emit_connected(w: &mut Writer<'_>, connection_id: u32, sequence: u16) -> Result<usize> {
+    RrDataRepr::CIP.emit(w)?;
+    w.u16(2)?;
+    ItemRepr::new(item_type::CONNECTED_ADDRESS, &connection_id.to_le_bytes()).emit(w)?;
+    ItemHeaderRepr::new(item_type::CONNECTED_DATA, 0).emit(w)?;
+    let at = w.len();
+    w.u16(sequence)?;
+    Ok(at)
 }
 
 #[cfg(test)]

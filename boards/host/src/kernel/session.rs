@@ -1,24 +1,22 @@
 //! One encapsulation session's connection on port 44818 ([`Slot`]): reads into its own
 //! buffer only when its previous reply has gone out, hands the bytes to the adapter frame by
 //! frame, writes each reply, performs an Identity Reset once its reply is out, and on a close
-//! shuts its side down and waits (bounded) for the peer's FIN.
+//! shuts its side down and waits (bounded) for the peer's FIN. The timeouts are the embedded
+//! runtime's ([`enip_firmware::tcp`]).
 
 use std::io::{self, Read, Write};
 use std::net::{Shutdown, SocketAddrV4, TcpStream};
 use std::os::fd::{AsRawFd, RawFd};
 use std::time::Duration;
 
+use enip_firmware::tcp::{LINGER, WRITE_TIMEOUT};
 use enip_stack::config::MAX_ENCAP_FRAME;
 use enip_stack::device::CloseReason;
-use enip_stack::{Adapter, Device, Instant, SocketId};
+use enip_stack::{Adapter, Device, Instant, SocketId, TcpOutcome};
 use socket2::SockRef;
 
 /// Bytes read from a connection at once.
 const RX_LEN: usize = 2048;
-/// Longest wait for a reply to be taken by the kernel before the connection is reset.
-const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
-/// Longest wait for the peer's FIN after ours.
-const LINGER: Duration = Duration::from_secs(2);
 
 /// One session's buffers (allocated once) and connection.
 pub struct Slot {
@@ -45,25 +43,14 @@ struct Conn {
 /// Where a connection is in its life.
 #[derive(Clone, Copy)]
 enum State {
-    /// Serving frames; `then` is what to do once the pending reply is out, and
-    /// `write_deadline` when that reply must be out.
+    /// Serving frames; `then` is the outcome of the frame whose reply is pending (its Reset
+    /// and close follow the reply), and `write_deadline` when that reply must be out.
     Open {
-        then: After,
+        then: TcpOutcome,
         write_deadline: Option<Instant>,
     },
     /// Our FIN is sent; reading until the peer's, at most until `until`.
     Closing { until: Instant },
-}
-
-/// What follows a reply.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum After {
-    /// Serve the next frame.
-    Continue,
-    /// Close the connection.
-    Close,
-    /// Perform an Identity Reset of this type (then close the connection if `close`).
-    Reset { kind: u8, close: bool },
 }
 
 /// How far a reply got.
@@ -158,7 +145,7 @@ impl Slot {
         self.conn = Some(Conn {
             stream,
             state: State::Open {
-                then: After::Continue,
+                then: TcpOutcome::default(),
                 write_deadline: None,
             },
             idle_check: adapter.tcp_deadline(self.id),
@@ -269,16 +256,10 @@ impl Slot {
                 return replied;
             }
             let data = self.rx.get(self.rx_start..self.rx_end).unwrap_or(&[]);
-            let outcome = adapter.tcp_receive(self.id, data, now, self.reply.as_mut_slice());
-            self.rx_start += outcome.consumed.min(data.len());
-            let close = outcome.close || outcome.consumed == 0;
-            let then = match adapter.take_reset() {
-                Some(kind) => After::Reset { kind, close },
-                None if close => After::Close,
-                None => After::Continue,
-            };
+            let then = adapter.tcp_receive(self.id, data, now, self.reply.as_mut_slice());
+            self.rx_start += then.consumed.min(data.len());
             self.out_start = 0;
-            self.out_end = outcome.reply_len.min(MAX_ENCAP_FRAME);
+            self.out_end = then.reply_len.min(MAX_ENCAP_FRAME);
             replied |= self.out_end > 0;
             match self.flush(now) {
                 Flush::Done => self.after_reply(then, adapter, now, on_reset),
@@ -320,7 +301,7 @@ impl Slot {
                 Ok(n) if n > 0 => self.out_start += n,
                 Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
                     if let State::Open { write_deadline, .. } = &mut conn.state {
-                        write_deadline.get_or_insert(now.add(micros(WRITE_TIMEOUT)));
+                        write_deadline.get_or_insert(now.add(stack_duration(WRITE_TIMEOUT)));
                     }
                     return Flush::Pending;
                 }
@@ -336,10 +317,10 @@ impl Slot {
         Flush::Done
     }
 
-    /// Does what follows a reply that went out.
+    /// Does what follows a reply that went out: the Reset, then the close, `then` asks for.
     fn after_reply<D: Device>(
         &mut self,
-        then: After,
+        then: TcpOutcome,
         adapter: &mut Adapter<D>,
         now: Instant,
         on_reset: fn(u8),
@@ -349,22 +330,18 @@ impl Slot {
             ..
         }) = self.conn.as_mut()
         {
-            *t = After::Continue;
+            *t = TcpOutcome::default();
         }
-        match then {
-            After::Continue => {}
-            After::Close => self.close(adapter, now),
-            After::Reset { kind, close } => {
-                log::info!(
-                    "identity reset type {kind} requested on tcp socket {}",
-                    self.id.0
-                );
-                adapter.close_all(CloseReason::Reset);
-                on_reset(kind);
-                if close {
-                    self.close(adapter, now);
-                }
-            }
+        if let Some(kind) = then.reset {
+            log::info!(
+                "identity reset type {kind} requested on tcp socket {}",
+                self.id.0
+            );
+            adapter.close_all(CloseReason::Reset);
+            on_reset(kind);
+        }
+        if then.close {
+            self.close(adapter, now);
         }
     }
 
@@ -379,7 +356,7 @@ impl Slot {
         }
         let _ = conn.stream.shutdown(Shutdown::Write);
         conn.state = State::Closing {
-            until: now.add(micros(LINGER)),
+            until: now.add(stack_duration(LINGER)),
         };
         self.out_start = self.out_end;
         self.rx_start = self.rx_end;
@@ -440,4 +417,9 @@ pub fn reset(stream: TcpStream) {
 /// A standard duration as the stack's.
 pub fn micros(d: Duration) -> enip_stack::time::Duration {
     enip_stack::time::Duration::from_micros(d.as_micros() as u64)
+}
+
+/// One of the embedded runtime's durations as the stack's.
+fn stack_duration(d: embassy_time::Duration) -> enip_stack::time::Duration {
+    enip_stack::time::Duration::from_micros(d.as_micros())
 }
