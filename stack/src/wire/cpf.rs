@@ -56,6 +56,7 @@ impl<'a> ItemRepr<'a> {
         ItemRepr { type_id, data }
     }
     /// Parses the item at the front of `r`.
+    #[inline]
     pub fn parse(r: &mut Reader<'a>) -> Result<ItemRepr<'a>> {
         let header = ItemHeaderRepr::parse(r)?;
         let data = r.take(usize::from(header.len))?;
@@ -101,6 +102,7 @@ impl ItemHeaderRepr {
         ItemHeaderRepr { type_id, len }
     }
     /// Parses the item header at the front of `r`.
+    #[inline]
     pub fn parse(r: &mut Reader<'_>) -> Result<ItemHeaderRepr> {
         Ok(ItemHeaderRepr {
             type_id: r.u16()?,
@@ -112,6 +114,7 @@ impl ItemHeaderRepr {
         ITEM_HEADER_LEN
     }
     /// Writes the type and length.
+    #[inline]
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
         w.u16(self.type_id)?;
         w.u16(self.len)
@@ -180,6 +183,7 @@ pub struct Items<'a> {
 
 impl<'a> Iterator for Items<'a> {
     type Item = ItemRepr<'a>;
+    #[inline]
     fn next(&mut self) -> Option<ItemRepr<'a>> {
         if self.left == 0 {
             return None;
