@@ -36,8 +36,8 @@
 )]
 
 // The stack's logging macros (its `fmt` module), decided by this crate's `log` and `defmt`
-// features.
-#[macro_use(info, warn)]
+// features; only the Ametek profile logs.
+#[cfg_attr(feature = "ametek-pls", macro_use(info, warn))]
 extern crate enip_stack;
 
 #[cfg(feature = "ametek-pls")]
