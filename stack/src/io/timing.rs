@@ -216,10 +216,17 @@ impl Timing {
         let at = if production < self.expiry_bound {
             production
         } else {
-            let expiry = self.expiry.get(..end).unwrap_or(&self.expiry);
-            expiry.iter().fold(production, |a, &b| a.min(b))
+            self.earliest_expiry(end, production)
         };
         (at != Instant::NEVER).then_some(at)
+    }
+
+    /// The earliest of `production` and the watchdogs below `end`: out of line, so the many
+    /// callers of [`Self::next_deadline`] inline only its common answer.
+    #[inline(never)]
+    fn earliest_expiry(&self, end: usize, production: Instant) -> Instant {
+        let expiry = self.expiry.get(..end).unwrap_or(&self.expiry);
+        expiry.iter().fold(production, |a, &b| a.min(b))
     }
 
     /// Checks the summaries against the per-slot state (tests only): the bound is at most
