@@ -114,7 +114,6 @@ impl ItemHeaderRepr {
         ITEM_HEADER_LEN
     }
     /// Writes the type and length.
-    #[inline]
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
         w.u16(self.type_id)?;
         w.u16(self.len)
