@@ -19,6 +19,11 @@ use host_tests::scanner::{Response, Session};
 const DEFAULT_GROUP: Ipv4Addr = Ipv4Addr::new(239, 192, 15, 32);
 /// The group the test moves to through variable 275.
 const OTHER_GROUP: Ipv4Addr = Ipv4Addr::new(239, 192, 2, 3);
+/// Multicast datagrams a connection must deliver: half a second's worth at the 5 ms RPI.
+const ENOUGH: usize = 100;
+/// How long they may take: well inside the connection's 10 s first-packet grace (the test
+/// sends no O->T data), with room for the emulated board losing periods on a busy host.
+const WINDOW: Duration = Duration::from_secs(3);
 
 /// One Forward_Open the test sends.
 struct Case {
@@ -97,12 +102,14 @@ fn forward_open(
     }
 }
 
-/// T->O datagrams of connection `id` arriving on `rx` within `window`.
-fn count_datagrams(rx: &UdpSocket, id: u32, window: Duration) -> usize {
+/// T->O datagrams of connection `id` arriving on `rx`, counted until [`ENOUGH`] have come
+/// or [`WINDOW`] has passed. The count stops early rather than over a fixed time, since an
+/// emulated board on a loaded host may lose whole periods while the host runs other work.
+fn count_datagrams(rx: &UdpSocket, id: u32) -> usize {
     let mut buf = [0u8; 600];
-    let until = Instant::now() + window;
+    let until = Instant::now() + WINDOW;
     let mut seen = 0;
-    while Instant::now() < until {
+    while Instant::now() < until && seen < ENOUGH {
         if let Ok((n, _)) = rx.recv_from(&mut buf) {
             let ours = buf
                 .get(..n)
@@ -141,7 +148,7 @@ fn connections(s: &mut Session) -> std::io::Result<Seen> {
         match s.forward_open(&fo)? {
             Ok(reply) => {
                 let n = if c.multicast && c.o_t > 2 {
-                    count_datagrams(&rx, reply.t_o_connection_id, Duration::from_millis(500))
+                    count_datagrams(&rx, reply.t_o_connection_id)
                 } else {
                     0
                 };
@@ -162,7 +169,7 @@ fn connections(s: &mut Session) -> std::io::Result<Seen> {
     let name = "multicast owner on 239.192.2.3";
     match s.forward_open(&forward_open(8, &owner.points, owner.o_t, owner.t_o, true))? {
         Ok(reply) => {
-            let n = count_datagrams(&rx, reply.t_o_connection_id, Duration::from_millis(500));
+            let n = count_datagrams(&rx, reply.t_o_connection_id);
             seen.push((name, 0, n));
             s.forward_close(reply.triad)?;
         }
@@ -203,8 +210,7 @@ pub fn connections_scenario(t: &dyn Target) {
         assert_eq!((*name, *g), (want_name, want_g), "{seen:?}");
         match want_n {
             Some(v) => assert_eq!(*n, v, "{name}"),
-            // 5 ms RPI for 0.5 s: about 100 datagrams.
-            None => assert!(*n >= 50, "{name}: {n} multicast datagrams"),
+            None => assert_eq!(*n, ENOUGH, "{name}: multicast datagrams in {WINDOW:?}"),
         }
     }
 }
