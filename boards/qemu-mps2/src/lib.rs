@@ -102,7 +102,12 @@ pub async fn run<D: Device>(
         }
         _ => panic!("cannot spawn the network and link tasks"),
     }
-    log::info!("enip-qemu-mps2: MAC {mac:02x?}, listening on {address}/{prefix_len}");
+    // Each byte through `u32`'s hex formatter, which the image has already; a byte list's
+    // Debug would add more.
+    let [a, b, c, d, e, g] = mac.map(u32::from);
+    log::info!(
+        "enip-qemu-mps2: MAC {a:02x}:{b:02x}:{c:02x}:{d:02x}:{e:02x}:{g:02x}, listening on {address}/{prefix_len}"
+    );
     enip_firmware::run(
         net,
         adapter,

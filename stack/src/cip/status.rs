@@ -258,13 +258,14 @@ impl CipError {
 
 impl core::fmt::Display for CipError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "general status {:#04x}", self.general as u8)?;
+        // Every number through `u32`'s formatter: one hex routine in a logging image.
+        write!(f, "general status {:#04x}", u32::from(self.general as u8))?;
         let mut words = self.additional().iter();
         if let Some(ext) = words.next() {
-            write!(f, ", extended {:#06x}", ext)?;
+            write!(f, ", extended {:#06x}", u32::from(*ext))?;
         }
         for word in words {
-            write!(f, ", {:#06x}", word)?;
+            write!(f, ", {:#06x}", u32::from(*word))?;
         }
         Ok(())
     }

@@ -67,7 +67,7 @@ fn finish(w: &mut Writer<'_>, start: usize, service: u8, result: CipResult) -> w
             return Ok(());
         }
         Err(e) => {
-            debug!("service {:#04x}: {}", service, e);
+            debug!("service {:#04x}: {}", u32::from(service), e);
             w.truncate(start);
             let (words, n) = additional_bytes(e.additional());
             return ResponseRepr {
