@@ -39,6 +39,9 @@ pub const APT_PACKAGES: &[(&str, &[&str])] = &[
     ("util-linux", &["chrt", "--version"]),
     // Where the eip2nats bridge publishes the T->O data EIPScanner receives.
     ("nats-server", &["nats-server", "--version"]),
+    // Layer-2 peers of the conformance tests: an LLDP agent and an ARP prober (RFC 5227).
+    ("lldpd", &["lldpd", "-v"]),
+    ("arping", &["arping", "--help"]),
 ];
 
 /// Everything: Rust target and toolchains, Debian packages, Python and npm peers.
