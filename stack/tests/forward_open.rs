@@ -310,6 +310,31 @@ fn error_electronic_key() {
             },
             Some(0x0116),
         ),
+        // With the compatibility bit a key names a device to emulate: zero is no value.
+        (
+            ElectronicKey {
+                vendor_id: 0,
+                compatibility: true,
+                ..good
+            },
+            Some(0x0114),
+        ),
+        (
+            ElectronicKey {
+                device_type: 0,
+                compatibility: true,
+                ..good
+            },
+            Some(0x0115),
+        ),
+        (
+            ElectronicKey {
+                major_revision: 0,
+                compatibility: true,
+                ..good
+            },
+            Some(0x0116),
+        ),
     ];
     for (i, (key, want)) in cases.iter().enumerate() {
         let mut buf = [0u8; 64];

@@ -1,12 +1,15 @@
 //! A Message Router request as objects see it: service, decoded request path, data.
 
 use super::status::{CipError, CipResult, General};
-use crate::wire::epath::{LogicalType, SegmentRepr, Segments};
+use crate::wire::epath::{ElectronicKey, LogicalType, SegmentRepr, Segments};
 use crate::wire::message_router::{RequestPacket, RequestRepr};
 
 /// The addressing parts of a request path.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Path<'a> {
+    /// The electronic key the path starts with, if any: the Message Router checks it
+    /// against the Identity object before the request runs.
+    pub key: Option<ElectronicKey>,
     /// Class ID.
     pub class: Option<u32>,
     /// Instance ID.
@@ -22,11 +25,13 @@ pub struct Path<'a> {
 }
 
 impl<'a> Path<'a> {
-    /// Decodes a padded request path; anything but logical and symbolic segments, a repeated
-    /// segment, or a path with neither class nor symbol is a path segment error (0x04).
+    /// Decodes a padded request path; anything but an electronic key as the first segment
+    /// and logical and symbolic segments after it, a repeated segment, or a path with
+    /// neither class nor symbol is a path segment error (0x04).
     pub fn parse(raw: &'a [u8]) -> CipResult<Path<'a>> {
         let mut p = Path::default();
         let mut segments = Segments::new(raw);
+        let mut first = true;
         loop {
             // Most paths are 8-bit logical segments only: those skip the general decoder.
             let seg = match segments.next_logical8() {
@@ -50,11 +55,13 @@ impl<'a> Path<'a> {
                     };
                     set_once(slot, v)?;
                 }
+                SegmentRepr::ElectronicKey(k) if first => p.key = Some(k),
                 SegmentRepr::Symbolic(s) if p.symbol.is_none() && p.class.is_none() => {
                     p.symbol = Some(s);
                 }
                 _ => return Err(CipError::new(General::PathSegmentError)),
             }
+            first = false;
         }
         if p.class.is_none() && p.symbol.is_none() {
             return Err(CipError::new(General::PathSegmentError));
@@ -131,6 +138,63 @@ mod tests {
         let r = Request::parse(&[0x4C, 4, 0x91, 5, b'P', b'4', b'0', b'1', b'2', 0, 1, 0]).unwrap();
         assert_eq!(r.path.symbol, Some(&b"P4012"[..]));
         assert_eq!(r.data, &[1, 0]);
+    }
+
+    /// Key format 4 for vendor 1, device type 12, product 65001, revision 1.2.
+    const KEY: [u8; 10] = [0x34, 4, 1, 0, 12, 0, 0xE9, 0xFD, 1, 2];
+
+    #[test]
+    fn a_key_first_in_the_path_is_kept_for_the_router() {
+        let raw = [&[0x0E, 8][..], &KEY, &[0x20, 0x01, 0x24, 0x01, 0x30, 0x07]].concat();
+        let r = Request::parse(&raw).unwrap();
+        let key = r.path.key.unwrap();
+        assert_eq!(
+            (key.vendor_id, key.device_type, key.product_code),
+            (1, 12, 65001)
+        );
+        assert_eq!((key.major_revision, key.minor_revision), (1, 2));
+        assert!(!key.compatibility);
+        assert_eq!(
+            (r.path.class, r.path.instance, r.path.attribute),
+            (Some(1), Some(1), Some(7))
+        );
+        // The compatibility flag is bit 7 of the major revision byte.
+        let mut compatible = raw.clone();
+        compatible[10] |= 0x80;
+        let key = Request::parse(&compatible).unwrap().path.key.unwrap();
+        assert!(key.compatibility);
+        assert_eq!(key.major_revision, 1);
+        // Before a symbolic segment too.
+        let raw = [
+            &[0x4C, 9][..],
+            &KEY,
+            &[0x91, 5, b'P', b'4', b'0', b'1', b'2', 0],
+        ]
+        .concat();
+        let r = Request::parse(&raw).unwrap();
+        assert!(r.path.key.is_some());
+        assert_eq!(r.path.symbol, Some(&b"P4012"[..]));
+    }
+
+    #[test]
+    fn a_key_anywhere_but_first_is_a_path_segment_error() {
+        let e = |b: &[u8]| Request::parse(b).unwrap_err().1.general as u8;
+        let after_class = [
+            &[0x0E, 8][..],
+            &[0x20, 0x01],
+            &KEY,
+            &[0x24, 0x01, 0x30, 0x07],
+        ]
+        .concat();
+        assert_eq!(e(&after_class), 0x04);
+        let twice = [&[0x0E, 12][..], &KEY, &KEY, &[0x20, 0x01, 0x24, 0x01]].concat();
+        assert_eq!(e(&twice), 0x04);
+        // A key alone addresses nothing.
+        assert_eq!(e(&[&[0x0E, 5][..], &KEY].concat()), 0x04);
+        // Key formats other than 4 are not decoded.
+        let mut format5 = [&[0x0E, 8][..], &KEY, &[0x20, 0x01, 0x24, 0x01, 0x30, 0x07]].concat();
+        format5[3] = 5;
+        assert_eq!(e(&format5), 0x04);
     }
 
     #[test]

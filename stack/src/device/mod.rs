@@ -4,6 +4,7 @@
 
 pub mod admission;
 pub mod connection_kind;
+pub mod electronic_key;
 pub mod events;
 pub mod inputs;
 pub mod multicast;
@@ -17,6 +18,7 @@ use crate::wire::Writer;
 
 pub use admission::{Direction, OpenRequest};
 pub use connection_kind::{Kind, Trigger};
+pub use electronic_key::KeyMismatch;
 pub use events::{CloseReason, ConnectionEvent, ConnectionInfo, ConnectionPoints};
 pub use inputs::InputChanges;
 pub use multicast::{Multicast, MulticastConfig};

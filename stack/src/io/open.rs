@@ -10,9 +10,10 @@ use crate::cip::connection_status as ext;
 use crate::cip::status::{CipError, CipResult};
 use crate::config::{IO_PORT, MAX_EXPLICIT_CONNECTED, MAX_RPI_US, MIN_RPI_US};
 use crate::device::admission::rpi_check;
+use crate::device::electronic_key::{self, KeyMismatch};
 use crate::device::{
-    AssemblyInfo, AssemblyRole, ConnectionEvent, ConnectionPoints, Device, Direction, IdentityInfo,
-    Kind, OpenRequest, Trigger,
+    AssemblyInfo, AssemblyRole, ConnectionEvent, ConnectionPoints, Device, Direction, Kind,
+    OpenRequest, Trigger,
 };
 use crate::time::{Duration, Instant};
 use crate::wire::cpf::SockAddrRepr;
@@ -94,28 +95,6 @@ impl<'a> ConnPath<'a> {
     }
 }
 
-/// Checks an electronic key against the identity (zero fields match anything).
-fn check_key(key: &ElectronicKey, id: &IdentityInfo) -> CipResult {
-    if (key.vendor_id != 0 && key.vendor_id != id.vendor_id)
-        || (key.product_code != 0 && key.product_code != id.product_code)
-    {
-        return Err(CipError::connection(ext::KEY_VENDOR_PRODUCT));
-    }
-    if key.device_type != 0 && key.device_type != id.device_type {
-        return Err(CipError::connection(ext::KEY_DEVICE_TYPE));
-    }
-    let (major, minor) = id.revision;
-    let revision_ok = key.major_revision == 0
-        || (key.major_revision == major
-            && (key.minor_revision == 0
-                || key.minor_revision == minor
-                || (key.compatibility && key.minor_revision <= minor)));
-    if !revision_ok {
-        return Err(CipError::connection(ext::KEY_REVISION));
-    }
-    Ok(())
-}
-
 /// 0x0112 with the acceptable values if an RPI in use lies outside the stack's range.
 fn check_rpis(fo: &ForwardOpenRepr<'_>) -> CipResult {
     let used = |p: &NetworkParams| p.connection_type != ConnectionType::Null;
@@ -188,7 +167,7 @@ pub fn forward_open<D: Device>(
     }
     let path = ConnPath::parse(fo.path)?;
     if let Some(key) = &path.key {
-        check_key(key, device.identity())?;
+        electronic_key::check(key, device.identity()).map_err(KeyMismatch::connection_failure)?;
     }
     check_rpis(fo)?;
     if ot != ConnectionType::PointToPoint

@@ -1,11 +1,13 @@
-//! The Message Router: frames a request, sends it to the object its path names, and writes
-//! the response with the right general and additional status.
+//! The Message Router: frames a request, checks the electronic key its path may start with,
+//! sends it to the object its path names, and writes the response with the right general and
+//! additional status.
 
 use super::{assembly, connection_manager, ethernet_link, identity};
 use super::{message_router, tcpip, vendor, Ctx};
 use crate::cip::class_id;
 use crate::cip::request::Request;
 use crate::cip::status::CipResult;
+use crate::device::electronic_key::{self, KeyMismatch};
 use crate::device::Device;
 use crate::wire::message_router::{ResponseRepr, REPLY_BIT};
 use crate::wire::{self, Writer};
@@ -28,7 +30,9 @@ pub(crate) fn respond<D: Device>(
 }
 
 /// Executes a framed request; an Unconnected_Send to this device is answered by its embedded
-/// request's response (framed once, here).
+/// request's response (framed once, here). A request whose path starts with an electronic
+/// key the device does not match is not executed: key failure in path (0x25) with the part
+/// that failed, as [`electronic_key`] says.
 fn respond_to<D: Device>(
     ctx: &mut Ctx<'_, D>,
     req: &Request<'_>,
@@ -36,6 +40,11 @@ fn respond_to<D: Device>(
     depth: u8,
 ) -> wire::Result<()> {
     let start = w.len();
+    if let Some(key) = &req.path.key {
+        if let Err(part) = electronic_key::check(key, ctx.device.identity()) {
+            return finish(w, start, req.service, Err(KeyMismatch::path_failure(part)));
+        }
+    }
     if connection_manager::is_unconnected_send(req) {
         // An embedded request that cannot even be framed is the Unconnected_Send's error.
         let inner = connection_manager::embedded_request(req, depth)
