@@ -163,8 +163,16 @@ pub fn requests() -> Vec<(&'static str, Vec<u8>)> {
             request(0x4B, &[0x91, 5, b'P', b'4', b'0', b'1', b'2', 0], &[1, 2]),
         ),
         ("vendor_echo", request(0x4B, &path(0x64, 1, None), b"echo")),
+        (
+            "keyed_get_identity_name",
+            request(0x0E, &[&KEY[..], &path(0x01, 1, Some(7))].concat(), &[]),
+        ),
     ]
 }
+
+/// The fuzzing device's electronic key (vendor 0xFFFE, device type 0x0C, product 1),
+/// compatible with revision 1.1.
+pub const KEY: [u8; 10] = [0x34, 4, 0xFE, 0xFF, 0x0C, 0, 1, 0, 0x81, 1];
 
 /// Builds a TCP script (see [`crate::script`]).
 #[derive(Debug, Clone)]
