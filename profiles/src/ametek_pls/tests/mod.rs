@@ -4,6 +4,7 @@
 
 mod class1;
 mod device;
+mod inputs;
 
 extern crate std;
 
