@@ -17,9 +17,9 @@ use host_tests::rig::{Rig, BOARD_IP};
 /// Bound for one peer program run.
 const PEER_TIMEOUT: Duration = Duration::from_secs(120);
 /// The RPI of the acceptance list: 10 ms.
-const RPI_MS: u32 = 10;
+pub(crate) const RPI_MS: u32 = 10;
 /// Forward_Open timeout multiplier code 2: the watchdog is 16 x RPI.
-const MULTIPLIER: u32 = 2;
+pub(crate) const MULTIPLIER: u32 = 2;
 /// The profile's name.
 const PROFILE: &str = "ametek-pls";
 /// Slack for the host being descheduled, and the peer's sampling, in ms.
@@ -32,7 +32,7 @@ fn pcap(name: &str) -> PathBuf {
 }
 
 /// Starts the host board with the profile and `extra` arguments, capturing into `name`.
-fn start(name: &str, extra: &[&str]) -> Rig {
+pub(crate) fn start(name: &str, extra: &[&str]) -> Rig {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     let bin = std::env::var_os("ENIP_HOST_BIN").unwrap_or("target/debug/enip-host".into());
     Rig::start_with_args(&root.join(bin), PROFILE, extra, Some(&pcap(name)))
@@ -40,7 +40,7 @@ fn start(name: &str, extra: &[&str]) -> Rig {
 }
 
 /// Runs the peer script `ametek_pls_<name>.py` with `input`; returns its JSON.
-fn peer(rig: &Rig, name: &str, input: Value) -> Value {
+pub(crate) fn peer(rig: &Rig, name: &str, input: Value) -> Value {
     let script = format!("ametek_pls_{name}.py");
     let out = peers::run(rig.ns(), &script, &input, PEER_TIMEOUT)
         .unwrap_or_else(|e| panic!("{e}\nboard log:\n{}", rig.board_log()));
