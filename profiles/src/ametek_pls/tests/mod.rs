@@ -443,11 +443,17 @@ fn attribute_lists_are_served() {
     assert_eq!(s, 0);
     assert_eq!(words(&d), [2, 35, 0, 0, 0, 0, 37, 0, 0, 0]);
     // Set_Attribute_List of 0xC1/35: applied like a Set_Attribute_Single.
-    let (s, d) = execute(&mut pls, &request(0x04, 0xC1, 1, None, &le(&[1, 35, 60, 1500, 1])));
+    let (s, d) = execute(
+        &mut pls,
+        &request(0x04, 0xC1, 1, None, &le(&[1, 35, 60, 1500, 1])),
+    );
     assert_eq!((s, words(&d)), (0, vec![1, 35, 0]));
     assert_eq!(words(&get(&mut pls, 0xC1, 35)), [60, 1500, 1]);
     // A broken rule in a list: that attribute's status is 0x09, the error words latch.
-    let (s, d) = execute(&mut pls, &request(0x04, 0xC1, 1, None, &le(&[1, 35, 2049, 0, 1])));
+    let (s, d) = execute(
+        &mut pls,
+        &request(0x04, 0xC1, 1, None, &le(&[1, 35, 2049, 0, 1])),
+    );
     assert_eq!((s, words(&d)), (0x0A, vec![1, 35, 0x09]));
     assert_eq!(error(&mut pls), [1, 35, 1]);
     // On 0xC0 (Get only): Get_Attribute_List serves, Set_Attribute_List refuses (0x0E).

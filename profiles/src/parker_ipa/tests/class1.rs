@@ -197,11 +197,28 @@ fn rslogix_example_with_the_aoi_configuration() {
     assert!(data[192..].iter().all(|&b| b == 0));
     // Quaternary flags (group 2) at offset 36, monitor floats (group 7) at 84.
     assert_eq!(i32s(&data[36..40]), [1630535712]);
-    // The jog velocity moves axis 0: group 0 (current position) changes.
+    // The jog profile alone starts nothing: group 0 (current position) stays.
     let before = i32s(&data[0..4])[0];
-    let later = rig.advance(100_000);
-    let after = i32s(&later.last().unwrap().1[0..4])[0];
+    let mut later = Vec::new();
+    for _ in 0..10 {
+        rig.o_t(open.o_t_id, true, &out);
+        later = rig.advance(10_000);
+    }
+    assert_eq!(i32s(&later.last().unwrap().1[0..4])[0], before);
+    // Jog forward (P4360 bit 16, set with 0x54): axis 0 moves, bit 18 (jog active) shows.
+    let mut mr = vec![0x54, 0x03, 0x20, 0x64, 0x25, 0x00];
+    mr.extend_from_slice(&4360u16.to_le_bytes());
+    mr.extend_from_slice(&(-1i32).to_le_bytes());
+    mr.extend_from_slice(&(1i32 << 16).to_le_bytes());
+    assert_eq!(rig.ucmm(&mr).0, 0);
+    for _ in 0..20 {
+        rig.o_t(open.o_t_id, true, &out);
+        later = rig.advance(10_000);
+    }
+    let last = &later.last().unwrap().1;
+    let after = i32s(&last[0..4])[0];
     assert!(after > before, "{before} -> {after}");
+    assert_eq!(i32s(&last[36..40]), [1630535712 | 0b101 << 16]);
     // Counters.
     let status = rig.longs(37424, 4);
     assert!(status[1] >= 1 && status[2] >= 5, "{status:?}");
@@ -254,7 +271,8 @@ fn one_class1_connection_at_a_time() {
     let dup = rig.forward_open(&fo(1, 400, 400, 10_000, 10_000));
     assert_eq!((dup.general, dup.extended), (0x01, Some(0x0100)));
     assert_eq!(rig.longs(37433, 1), [1]);
-    assert_eq!(rig.longs(37430, 1), [2], "two attempts reached the profile");
+    // The refused second scanner leaves P37429/P37430 on the running connection's client.
+    assert_eq!(rig.longs(37429, 2), [0xC612_0001u32 as i32, 1]);
     // The first keeps running.
     for _ in 2..5 {
         let sent = rig.advance(10_000);
