@@ -415,10 +415,17 @@ fn class3_connection_write_binary_and_status() {
     let open = rig.forward_open(&c3);
     assert_eq!(open.general, 0, "{open:?}");
     assert_eq!(rig.longs(37424, 1), [2], "P37424: a Class 3 stream");
-    let binary = [0x34, 0x02, 0x20, 0x65, 0x24, 0x01, 0x00, 0x01, 0x02, 0x03];
+    // Binary Set Long P38912 = 66 runs over Class 3; a data packet request (Table 7 "No")
+    // is refused with 0x08; unconnected, 0x10 (case 2).
+    let binary = [
+        0x34, 0x02, 0x20, 0x65, 0x24, 0x01, 0x00, 0x89, 0x00, 0x98, 66, 0, 0, 0,
+    ];
     assert_eq!(rig.connected(open.o_t_id, 1, &binary), (0, vec![]));
+    assert_eq!(rig.longs(38912, 1), [66]);
+    let packet = [0x34, 0x02, 0x20, 0x65, 0x24, 0x01, 0x00, 0x18, 0x00, 0xFF];
+    assert_eq!(rig.connected(open.o_t_id, 3, &packet).0, 0x08);
     assert_eq!(rig.ucmm(&binary).0, 0x10);
-    assert_eq!(rig.scanner.adapter().device().binary_bytes, 4);
+    assert_eq!(rig.scanner.adapter().device().binary_bytes, 8);
     // The same read over Class 3 and UCMM.
     let read = [
         0x53, 0x03, 0x20, 0x64, 0x25, 0x00, 0x08, 0x11, 0x03, 0, 0, 0,
