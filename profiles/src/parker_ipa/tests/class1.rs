@@ -482,3 +482,60 @@ fn exact_configured_sizes_connect_on<D: Device>(mut rig: Rig<D>) {
     rig.o_t(open.o_t_id, true, &out);
     assert_eq!(rig.longs(39000, 1), [5]);
 }
+
+/// A configuration written while a Class 1 connection runs changes nothing on it (the
+/// layout latched at its Forward_Open stays, the connection is not closed); the next
+/// Forward_Open uses it.
+#[test]
+fn a_configuration_change_waits_for_the_next_forward_open() {
+    let mut rig = Rig::new();
+    rig.write_longs(38912, &[11, 12]);
+    rig.write_longs(39168, &[0, 0]);
+    let open = rig.forward_open(&fo(1, 400, 400, 10_000, 10_000));
+    assert_eq!(open.general, 0);
+    rig.configure(&FOUR_GROUPS);
+    let mut sent = Vec::new();
+    for _ in 0..10 {
+        rig.o_t(open.o_t_id, true, &[0; 400]);
+        sent = rig.advance(10_000);
+    }
+    let data = &sent.last().expect("still producing").1;
+    assert_eq!(data.len(), 400);
+    assert_eq!(i32s(&data[160..168]), [11, 12], "the AOI layout still");
+    assert_eq!(rig.longs(37433, 1), [1]);
+    assert_eq!(rig.forward_close(1), 0);
+    let open = rig.forward_open(&fo(2, 400, 400, 10_000, 10_000));
+    assert_eq!(open.general, 0);
+    let data = &rig.advance(10_000).last().unwrap().1.clone();
+    assert_eq!(
+        i32s(&data[0..8]),
+        [11, 12],
+        "group 0 of the new layout: P38912"
+    );
+}
+
+/// The manual's "unlimited" Class 3 connections: 9 beside the Class 1 connection (the
+/// stack's 10 slots), the next one refused with 0x0113.
+#[test]
+fn nine_class3_connections_beside_the_class1_connection() {
+    let mut rig = Rig::new();
+    assert_eq!(
+        rig.forward_open(&fo(1, 400, 400, 10_000, 10_000)).general,
+        0
+    );
+    let path = [0x20, 0x02, 0x24, 0x01];
+    for serial in 10..20u16 {
+        let mut c3 = fo(serial, 0, 0, 1_000_000, 1_000_000);
+        c3.transport = 0xA3;
+        c3.o_t_params = params(P2P, 500);
+        c3.t_o_params = params(P2P, 500);
+        c3.path = &path;
+        let open = rig.forward_open(&c3);
+        if serial < 19 {
+            assert_eq!(open.general, 0, "Class 3 number {}", serial - 9);
+        } else {
+            assert_eq!((open.general, open.extended), (0x01, Some(0x0113)));
+        }
+    }
+    assert_eq!(rig.longs(37428, 1), [10]);
+}
