@@ -232,10 +232,17 @@ fn motion(rig: &Rig) {
     const FLAGS: i64 = 1_630_535_712;
     let r = peer(rig, "motion", json!({"host": BOARD_IP.to_string()}));
     assert_eq!(r["fig4_write"], json!(0), "{r}");
-    assert_eq!(r["fig4_positions"][0], r["fig4_positions"][1], "figure 4 moved: {r}");
+    assert_eq!(
+        r["fig4_positions"][0], r["fig4_positions"][1],
+        "figure 4 moved: {r}"
+    );
     assert_eq!(r["fig4_flags"], json!([FLAGS]), "{r}");
     assert_eq!(r["set_jog"], json!(0), "{r}");
-    assert_eq!(r["jog_flags"], json!([FLAGS | 0b101 << 16]), "jog fwd + active: {r}");
+    assert_eq!(
+        r["jog_flags"],
+        json!([FLAGS | 0b101 << 16]),
+        "jog fwd + active: {r}"
+    );
     // 15 units/s for about 0.5 s.
     let moved = r["jog_position"][0].as_i64().unwrap_or(0);
     assert!((4..=12).contains(&moved), "{moved}: {r}");
@@ -249,7 +256,11 @@ fn motion(rig: &Rig) {
     assert_eq!(r["mask"], json!(0), "{r}");
     assert_eq!(r["mask_value"], json!([1]), "{r}");
     assert_eq!(r["refused"], json!([0x08, 0x08, 0x13, 0x20]), "{r}");
-    assert_eq!(r["refused_value"], json!([-7]), "a refused request ran: {r}");
+    assert_eq!(
+        r["refused_value"],
+        json!([-7]),
+        "a refused request ran: {r}"
+    );
     assert_eq!(r["ucmm"], json!(0x10), "{r}");
 }
 

@@ -118,7 +118,7 @@ fn apply(memory: &mut Memory, command: Command) {
             let _ = memory.and_or(p, !nand, or);
         }
         Command::Bit(b, on) => {
-            let p = FLAGS_FIRST + b / 32;
+            let p = FLAGS_FIRST.saturating_add(b / 32);
             let mask = 1i32 << (b % 32);
             let _ = if on {
                 memory.and_or(p, -1, mask)
