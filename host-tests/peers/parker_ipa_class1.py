@@ -5,7 +5,7 @@ pycomm3 for the explicit side (configuration P37434/P37440.., status P37424-P374
 Scenario: a 4-group configuration; O->T data lands in the configured parameters; an
 explicit write to a produced parameter shows in the T->O data (delay measured); the status
 parameters report the connection; a second Class 1 Forward_Open is refused while the first
-keeps running; after Forward_Close P37433 = 0. Then the configuration errors 2, 3, 4, 5 and 7
+keeps running (P37429/P37430 still the first client); after Forward_Close P37433 = 0. Then the configuration errors 2, 3, 4, 5 and 7
 (each Forward_Open refused, P37433-P37437 read back, the manual's example 2 among them),
 RPI 0.5 ms refused either way and 1 ms accepted, a multicast T->O, and the loss of O->T
 (the watchdog closes the connection, P37433 = 0, a new Forward_Open succeeds).
@@ -149,6 +149,8 @@ def scenario(enip, host, rpi, res):
         ipa.write_longs(d, 38912, [-5])
         res["first_still_runs"] = owner.wait_for(lambda b: dint(b, 0) == -5, 2.0)
         res["status_after_second"] = ipa.read_longs(d, 37433, 1)
+        # P37429/P37430 still describe the running connection's client.
+        res["client_after_second"] = ipa.read_longs(d, 37429, 2)
         res["close"] = owner.close()
         owner.done()
         time.sleep(0.05)

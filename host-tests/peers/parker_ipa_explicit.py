@@ -73,8 +73,11 @@ def main():
         out["case4_unchanged"] = ipa.read_longs(d, 38912, 1) + ipa.read_floats(d, 39168, 1)
         out["case5_unchanged"] = ipa.read_longs(d, 4111, 1)
         # Over a Class 3 connection: the binary command, and a read equal to UCMM's.
-        out["c3_binary"] = result(request(d, WRITE_BINARY, GROUP, 1, b"\x01\x02\x03\x04",
+        # Binary Set Long (00 89, index 0x9800 = P38912) = 5.
+        out["c3_binary"] = result(request(d, WRITE_BINARY, GROUP, 1,
+                                          b"\x00\x89\x00\x98\x05\x00\x00\x00",
                                           connected=True))
+        out["c3_binary_value"] = ipa.read_longs(d, 38912, 1)
         out["c3_read"] = result(request(d, READ_LONGS, PARAMETER, 4360, longs([3]),
                                         connected=True))
         out["c3_stream"] = ipa.read_longs(d, 37424, 1, connected=True)

@@ -17,7 +17,9 @@ fn usage() -> String {
          enip-host --eds [--profile NAME]\n\n\
          \x20 --profile NAME     device profile: {} (default: generic)\n\
          \x20 --eds              print the profile's EDS file and exit\n\
-         \x20 --pls-rpm RPM      ametek-pls: speed of the simulated resolver (default 0)\n{}",
+         \x20 --pls-rpm RPM      ametek-pls: speed of the simulated resolver (default 0)\n\
+         \x20 --pls-resolver-fault on|off\n\
+         \x20                    ametek-pls: the resolver reports a fault (default off)\n{}",
         Profile::NAMES.join(", "),
         enip_host::OPTIONS_USAGE
     )

@@ -1,6 +1,6 @@
-//! The profile options of the host board: `--pls-rpm` for the ametek-pls profile's simulated
-//! resolver; and every profile's saved settings kept in the adapter's non-volatile store
-//! (`--nv-file`).
+//! The profile options of the host board: `--pls-rpm` and `--pls-resolver-fault` for the
+//! ametek-pls profile's simulated resolver; and every profile's saved settings kept in the
+//! adapter's non-volatile store (`--nv-file`).
 
 use std::path::Path;
 
@@ -9,8 +9,11 @@ use enip_profiles::Profile;
 /// The profile options of the command line.
 #[derive(Debug, Default)]
 pub struct ProfileOptions {
-    /// `--pls-rpm RPM`: speed of the ametek-pls profile's simulated resolver.
-    pub pls_rpm: u16,
+    /// `--pls-rpm RPM`: speed of the ametek-pls profile's simulated resolver (else the
+    /// speed built in, `ENIP_PLS_RPM`, 0 by default).
+    pub pls_rpm: Option<u16>,
+    /// `--pls-resolver-fault on|off`: the simulated resolver reports a fault.
+    pub pls_resolver_fault: bool,
 }
 
 impl ProfileOptions {
@@ -18,9 +21,18 @@ impl ProfileOptions {
     pub fn take(&mut self, flag: &str, value: &str) -> Result<bool, String> {
         match flag {
             "--pls-rpm" => {
-                self.pls_rpm = value
-                    .parse()
-                    .map_err(|_| format!("bad --pls-rpm {value:?} (0 to 65535)"))?
+                self.pls_rpm = Some(
+                    value
+                        .parse()
+                        .map_err(|_| format!("bad --pls-rpm {value:?} (0 to 65535)"))?,
+                )
+            }
+            "--pls-resolver-fault" => {
+                self.pls_resolver_fault = match value {
+                    "on" => true,
+                    "off" => false,
+                    _ => return Err(format!("bad --pls-resolver-fault {value:?} (on or off)")),
+                }
             }
             _ => return Ok(false),
         }
@@ -37,7 +49,8 @@ pub fn set_up(
 ) -> Result<(), String> {
     profile.attach_store(enip_host::shared_store(nv_file)?);
     if let Profile::AmetekPls(pls) = profile {
-        pls.set_resolver(options.pls_rpm, false);
+        let rpm = options.pls_rpm.unwrap_or(pls.engine().rpm());
+        pls.set_resolver(rpm, options.pls_resolver_fault);
     }
     Ok(())
 }

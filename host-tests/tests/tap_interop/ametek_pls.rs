@@ -17,9 +17,9 @@ use host_tests::rig::{Rig, BOARD_IP};
 /// Bound for one peer program run.
 const PEER_TIMEOUT: Duration = Duration::from_secs(120);
 /// The RPI of the acceptance list: 10 ms.
-const RPI_MS: u32 = 10;
+pub(crate) const RPI_MS: u32 = 10;
 /// Forward_Open timeout multiplier code 2: the watchdog is 16 x RPI.
-const MULTIPLIER: u32 = 2;
+pub(crate) const MULTIPLIER: u32 = 2;
 /// The profile's name.
 const PROFILE: &str = "ametek-pls";
 /// Slack for the host being descheduled, and the peer's sampling, in ms.
@@ -32,7 +32,7 @@ fn pcap(name: &str) -> PathBuf {
 }
 
 /// Starts the host board with the profile and `extra` arguments, capturing into `name`.
-fn start(name: &str, extra: &[&str]) -> Rig {
+pub(crate) fn start(name: &str, extra: &[&str]) -> Rig {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     let bin = std::env::var_os("ENIP_HOST_BIN").unwrap_or("target/debug/enip-host".into());
     Rig::start_with_args(&root.join(bin), PROFILE, extra, Some(&pcap(name)))
@@ -40,7 +40,7 @@ fn start(name: &str, extra: &[&str]) -> Rig {
 }
 
 /// Runs the peer script `ametek_pls_<name>.py` with `input`; returns its JSON.
-fn peer(rig: &Rig, name: &str, input: Value) -> Value {
+pub(crate) fn peer(rig: &Rig, name: &str, input: Value) -> Value {
     let script = format!("ametek_pls_{name}.py");
     let out = peers::run(rig.ns(), &script, &input, PEER_TIMEOUT)
         .unwrap_or_else(|e| panic!("{e}\nboard log:\n{}", rig.board_log()));
@@ -386,9 +386,37 @@ fn inside(pos: u64, on: u64, off: u64) -> bool {
 #[ignore = "needs root: network namespace and TAP"]
 fn ametek_pls_moving_resolver() {
     let rig = start("ametek_pls_moving", &["--pls-rpm", "60"]);
+    moving(&rig);
+    common::finish(rig);
+}
+
+/// The emulated board built with `ENIP_PLS_RPM=60` (its ELF in
+/// `ENIP_QEMU_AMETEK_PLS_MOVING_ELF`): the same moving-resolver scenario as on the host
+/// board (skipped, loudly, without the ELF).
+#[test]
+#[ignore = "needs root and ENIP_QEMU_AMETEK_PLS_MOVING_ELF"]
+fn ametek_pls_moving_resolver_on_qemu() {
+    let var = "ENIP_QEMU_AMETEK_PLS_MOVING_ELF";
+    let Some(elf) = std::env::var_os(var) else {
+        eprintln!("SKIPPED: set {var} to an ametek-pls QEMU ELF built with ENIP_PLS_RPM=60");
+        return;
+    };
+    let rig = Rig::start_qemu(
+        std::path::Path::new(&elf),
+        Some(&pcap("ametek_pls_qemu_moving")),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    moving(&rig);
+    let log = rig.board_log();
+    assert!(!log.contains("PANIC"), "the board panicked:\n{log}");
+    common::finish(rig);
+}
+
+/// Every T->O sample of 3 s consistent with the windows; the resolver at 60 RPM.
+fn moving(rig: &Rig) {
     let input = json!({"host": BOARD_IP.to_string(), "rpi_ms": RPI_MS,
                        "multiplier": MULTIPLIER, "seconds": 3.0});
-    let r = peer(&rig, "moving", input);
+    let r = peer(rig, "moving", input);
     assert_eq!(r["writes"], json!([0, 0, 0]), "{r}");
     assert_eq!(r["forward_open"], 0, "{r}");
     let samples = r["samples"].as_array().unwrap();
@@ -428,7 +456,6 @@ fn ametek_pls_moving_resolver() {
     let dt = last[0].as_f64().unwrap() - first[0].as_f64().unwrap();
     assert!(dt > 2500.0, "{dt}");
     assert_eq!(r["forward_close"], 0, "{r}");
-    common::finish(rig);
 }
 
 /// Both scenarios on the QEMU board, one boot (skipped, loudly, without the ELF).

@@ -28,6 +28,7 @@
 //!   is flagged "Unsupported Logical Segment Format" although the reply bytes are fine.
 
 mod ametek_pls;
+mod ametek_pls_inputs;
 mod class1;
 mod class3;
 mod common;

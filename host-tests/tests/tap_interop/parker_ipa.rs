@@ -1,6 +1,7 @@
 //! The Parker IPA / ACR9000 profile (`--profile parker-ipa`) replaying its manual's examples
 //! with peers nobody here wrote: pycomm3 (UCMM and Class 3) for classes 0x64/0x65 and every
-//! Table 8 error, cpppo for the "P..." tag services, the PyPI `ethernetip` package for
+//! Table 8 error and for the jog command and the binary commands, cpppo for the "P..." tag
+//! services, the PyPI `ethernetip` package for
 //! Class 1 (scripts `host-tests/peers/parker_ipa_*.py`), and eds-pie for the EDS. The same
 //! scenarios run on the QEMU board ([`parker_ipa_on_qemu`], one boot) when
 //! `ENIP_QEMU_PARKER_IPA_ELF` names an `enip-qemu-mps2` ELF built with the parker-ipa profile.
@@ -102,6 +103,7 @@ fn explicit(rig: &Rig) {
     assert_eq!(r["case4_unchanged"], json!([0, 0.0]));
     assert_eq!(r["case5_unchanged"], json!([0x12345655]));
     ok("c3_binary", "");
+    assert_eq!(r["c3_binary_value"], json!([5]), "binary Set Long ran: {r}");
     ok("c3_read", "200030612000306100005000");
     assert_eq!(
         r["c3_stream"],
@@ -187,6 +189,11 @@ fn class1(rig: &Rig, slack_ms: f64) {
     assert_eq!(r["second_open"], json!(0x0106), "{r}");
     assert_eq!(r["first_still_runs"], json!(true), "{r}");
     assert_eq!(r["status_after_second"], json!([1]), "{r}");
+    assert_eq!(
+        r["client_after_second"],
+        json!([s[5], s[6]]),
+        "P37429/P37430 keep the running connection's client: {r}"
+    );
     assert_eq!(r["status_closed"], json!([0]), "{r}");
     for (k, status) in [("error2", 2), ("error3", 3), ("error4", 4), ("error5", 5)] {
         assert_eq!(r[k]["open"], json!(0x0110), "{k}: {r}");
@@ -212,6 +219,51 @@ fn class1(rig: &Rig, slack_ms: f64) {
     assert_eq!(r["timeout_reopen"], json!(0), "{r}");
 }
 
+#[test]
+#[ignore = "needs root: network namespace and TAP"]
+fn parker_ipa_jog_and_binary_with_pycomm3() {
+    let rig = start("parker_ipa_motion");
+    motion(&rig);
+    common::finish(rig);
+}
+
+/// The axes move only on a jog command; the binary commands of Table 7 run or are refused.
+fn motion(rig: &Rig) {
+    const FLAGS: i64 = 1_630_535_712;
+    let r = peer(rig, "motion", json!({"host": BOARD_IP.to_string()}));
+    assert_eq!(r["fig4_write"], json!(0), "{r}");
+    assert_eq!(
+        r["fig4_positions"][0], r["fig4_positions"][1],
+        "figure 4 moved: {r}"
+    );
+    assert_eq!(r["fig4_flags"], json!([FLAGS]), "{r}");
+    assert_eq!(r["set_jog"], json!(0), "{r}");
+    assert_eq!(
+        r["jog_flags"],
+        json!([FLAGS | 0b101 << 16]),
+        "jog fwd + active: {r}"
+    );
+    // 15 units/s for about 0.5 s.
+    let moved = r["jog_position"][0].as_i64().unwrap_or(0);
+    assert!((4..=12).contains(&moved), "{moved}: {r}");
+    assert_eq!(r["clr_jog"], json!(0), "{r}");
+    let stopped = &r["stopped_positions"];
+    assert_eq!(stopped[0], stopped[1], "still moving after CLR: {r}");
+    assert_eq!(r["stopped_flags"], json!([FLAGS]), "{r}");
+    assert_eq!(r["set_long_ieee"], json!(0), "{r}");
+    assert_eq!(r["set_long_value"], json!([-7]), "{r}");
+    assert_eq!(r["set_ieee_value"], json!([2.5]), "{r}");
+    assert_eq!(r["mask"], json!(0), "{r}");
+    assert_eq!(r["mask_value"], json!([1]), "{r}");
+    assert_eq!(r["refused"], json!([0x08, 0x08, 0x13, 0x20]), "{r}");
+    assert_eq!(
+        r["refused_value"],
+        json!([-7]),
+        "a refused request ran: {r}"
+    );
+    assert_eq!(r["ucmm"], json!(0x10), "{r}");
+}
+
 /// A named scenario.
 type Scenario = (&'static str, fn(&Rig));
 
@@ -224,8 +276,9 @@ fn parker_ipa_on_qemu() {
     };
     let rig =
         Rig::start_qemu(&elf, Some(&pcap("parker_ipa_qemu"))).unwrap_or_else(|e| panic!("{e}"));
-    let scenarios: [Scenario; 3] = [
+    let scenarios: [Scenario; 4] = [
         ("manual examples (pycomm3)", explicit),
+        ("jog and binary commands (pycomm3)", motion),
         ("tags (cpppo)", tags),
         ("Class 1 (ethernetip)", |rig| class1(rig, 40.0)),
     ];

@@ -8,6 +8,7 @@
 //! - [`device`]: the resolver, offsets, inputs and outputs, advanced by [`Device::poll`].
 //! - [`storage`]: the program saved by program control (attribute 37).
 //! - [`leds`]: the MS and NS LEDs of Figure 1, logged at each transition.
+//! - [`board`]: the resolver speed a board without a command line builds in.
 //!
 //! A Set of 0xC1 is validated whole; a broken rule leaves everything as it was, answers
 //! 0x09 (codes 1, 2), 0x10 (code 3), 0x19 (code 4) or 0x0C (the encoder object on this
@@ -16,6 +17,7 @@
 //! count as all-zero output data: Run Enable 0, no forces, soft inputs low.
 
 pub mod assemblies;
+pub mod board;
 pub mod classes;
 pub mod device;
 pub mod eds;
@@ -108,6 +110,7 @@ impl AmetekPls {
             changes: InputChanges::new(),
             leds: leds::Leds::new(),
         };
+        pls.engine.set_resolver(board::BUILD_RPM, false);
         pls.power_up();
         pls
     }
@@ -232,16 +235,17 @@ impl AmetekPls {
                 self.last_control.copy_from_slice(words);
             }
             _ => {
+                let old: [_; INPUTS] = core::array::from_fn(|i| self.cfg.input(i));
                 let slot = self
                     .cfg
                     .words_mut(a)
                     .ok_or(General::AttributeNotSupported)?;
                 slot.copy_from_slice(words);
                 self.configured = true;
+                self.engine.inputs_changed(&self.cfg, &old);
             }
         }
-        self.engine
-            .set_group_offsets(&self.cfg, self.engine.group_offset);
+        self.engine.rescale(&self.cfg);
         self.engine.compute(&self.cfg);
         self.mark_changed();
         Ok(())
@@ -425,6 +429,7 @@ impl Device for AmetekPls {
                 .map_err(|_| General::StoreOperationFailure)?;
         }
         self.power_up();
+        self.leds.reset();
         Ok(())
     }
 

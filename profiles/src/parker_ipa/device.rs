@@ -1,13 +1,26 @@
-//! The simulated axes: while an axis's jog velocity (P12348 + 256a, units per second) is
-//! not zero, its current and actual positions (P12288/P12290 + 256a, longs) move by it, so
-//! the Class 1 input data visibly changes. Nothing else moves (the manual's examples need
-//! no motion; the AOIs' AcroBASIC programs are not in the manual).
+//! The simulated axes. Axis `a` jogs while its jog command says so: bit 16 (jog forward)
+//! or bit 17 (jog reverse) of its quaternary axis flags P(4360 + a), exactly one of them,
+//! with a non-zero jog velocity P(12348 + 256a) (units per second, its magnitude; the
+//! direction comes from the bit). Its current and actual positions (P12288/P12290 + 256a,
+//! longs) then move by it and bit 18 (jog active) of the same flags is set; with neither bit,
+//! both, or a zero velocity the axis stands still and bit 18 is clear. Writing a jog profile
+//! (the manual's figure 4) starts nothing. The bit numbers are this simulation's choice
+//! (the public ACR documents at hand do not give them); acceleration, deceleration and jerk
+//! are stored but not simulated (the velocity applies at once).
 
 use enip_stack::{Duration, Instant};
 
 use super::params::{
     Slot, Store, Value, ACTUAL_POSITION, AXES, AXIS_FIRST, AXIS_STRIDE, CURRENT_POSITION, JOG_VEL,
+    QUATERNARY_FLAGS_FIRST,
 };
+
+/// Quaternary axis flag: jog forward (command).
+pub const JOG_FORWARD: i32 = 1 << 16;
+/// Quaternary axis flag: jog reverse (command).
+pub const JOG_REVERSE: i32 = 1 << 17;
+/// Quaternary axis flag: jog active (status, set while the axis moves).
+pub const JOG_ACTIVE: i32 = 1 << 18;
 
 /// Step while an axis moves.
 pub const MOVING_PERIOD: Duration = Duration::from_millis(1);
@@ -31,8 +44,46 @@ fn slot(axis: usize, index: u32) -> Option<Slot> {
     Slot::of(AXIS_FIRST.saturating_add(offset))
 }
 
+fn flags(axis: usize) -> Option<Slot> {
+    Slot::of(QUATERNARY_FLAGS_FIRST.saturating_add(axis as u32))
+}
+
+/// The signed velocity axis `axis` is commanded to jog at (0 when it stands still).
+fn commanded(store: &Store, axis: usize) -> f64 {
+    let bits = flags(axis)
+        .and_then(|s| store.load(s))
+        .map_or(0, Value::as_long);
+    let speed = slot(axis, JOG_VEL)
+        .and_then(|s| store.load(s))
+        .map_or(0.0, |v| f64::from(v.as_float()).abs());
+    if !speed.is_finite() {
+        return 0.0;
+    }
+    match (bits & JOG_FORWARD != 0, bits & JOG_REVERSE != 0) {
+        (true, false) => speed,
+        (false, true) => -speed,
+        _ => 0.0,
+    }
+}
+
+/// Sets or clears the jog-active flag of `axis`; true if it changed.
+fn show_active(store: &mut Store, axis: usize, active: bool) -> bool {
+    let Some(s) = flags(axis) else {
+        return false;
+    };
+    let old = store.load(s).map_or(0, Value::as_long);
+    let new = if active {
+        old | JOG_ACTIVE
+    } else {
+        old & !JOG_ACTIVE
+    };
+    store.store(s, Value::Long(new));
+    new != old
+}
+
 impl Axes {
-    /// Advances every axis to `now`; true if a position changed. Returns the next step too.
+    /// Advances every axis to `now`; true if a position or a jog-active flag changed.
+    /// Returns the next step too.
     pub fn poll(&mut self, now: Instant, store: &mut Store) -> (bool, Instant) {
         let elapsed = self
             .last
@@ -41,15 +92,14 @@ impl Axes {
         let mut changed = false;
         let mut moving = false;
         for (axis, residue) in self.residue.iter_mut().enumerate() {
-            let velocity = slot(axis, JOG_VEL)
-                .and_then(|s| store.load(s))
-                .map_or(0.0, Value::as_float);
-            if velocity == 0.0 || !velocity.is_finite() {
+            let velocity = commanded(store, axis);
+            changed |= show_active(store, axis, velocity != 0.0);
+            if velocity == 0.0 {
                 *residue = 0;
                 continue;
             }
             moving = true;
-            *residue = residue.saturating_add((f64::from(velocity) * elapsed as f64) as i64);
+            *residue = residue.saturating_add((velocity * elapsed as f64) as i64);
             let whole = *residue / MICRO;
             *residue %= MICRO;
             if whole == 0 {

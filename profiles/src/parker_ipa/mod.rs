@@ -3,10 +3,10 @@
 //!
 //! - [`identity`]: the Identity object (the manual has none; digest section 2).
 //! - [`params`]: the P parameters (float, long and flag ranges, axes, user banks), typed,
-//!   with conversion; [`device`]: the axes, whose positions move while a jog velocity is set.
+//!   with conversion; [`device`]: the axes, which move while their jog command bits say so.
 //! - [`classes`]: class 0x64 "ACR Parameter", services 0x50-0x54; class 0x65 "ACR Group",
-//!   0x53 Read Group and 0x34 Write Binary; the tag services 0x4C/0x4D/0x48/0x4E on "P4012"
-//!   symbolic paths.
+//!   0x53 Read Group and 0x34 Write Binary ([`classes::binary`]); the tag services
+//!   0x4C/0x4D/0x48/0x4E on "P4012" symbolic paths.
 //! - [`ioconfig`]: the I/O groups P37434, P37440-P37503 and their validation (Table 3);
 //!   [`assemblies`]: 101/102/3; [`status`]: the CIP status parameters P37424-P37439.
 //!
@@ -57,7 +57,7 @@ pub struct ParkerIpa {
     layout: Layout,
     axes: Axes,
     changes: InputChanges,
-    /// Bytes of binary commands received (class 0x65 service 0x34), discarded.
+    /// Bytes of binary commands executed (class 0x65 service 0x34).
     pub binary_bytes: u32,
 }
 
@@ -215,7 +215,7 @@ impl Device for ParkerIpa {
         match class {
             Some(class64::CLASS) => class64::handle(&mut self.memory, req, reply),
             Some(class65::CLASS) => {
-                class65::handle(&self.memory, &mut self.binary_bytes, cx, req, reply)
+                class65::handle(&mut self.memory, &mut self.binary_bytes, cx, req, reply)
             }
             None => tags::handle(&mut self.memory, req, reply),
             Some(_) => None,
@@ -223,14 +223,14 @@ impl Device for ParkerIpa {
     }
 
     /// Class 1 admission in the order of R5.10 (the stack has already refused duplicates,
-    /// bad paths, sizes and RPIs below its own minimum): note the attempt (P37429, P37430);
-    /// a second Class 1 connection 0x0106 (exclusive owner) or 0x0113; RPI below 1 ms
-    /// 0x0112; the group configuration (statuses 2-7, 0x0110).
+    /// bad paths, sizes and RPIs below its own minimum): a second Class 1 connection 0x0106
+    /// (exclusive owner) or 0x0113, leaving P37429/P37430 on the running connection's
+    /// client; else note the attempt (P37429, P37430); RPI below 1 ms 0x0112; the group
+    /// configuration (statuses 2-7, 0x0110).
     fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
         if !request.is_class1() {
             return Ok(());
         }
-        self.memory.status.attempt(request.originator);
         if self.memory.status.class1_slot.is_some() {
             let ext = match request.kind {
                 ConnectionKind::ExclusiveOwner => OWNERSHIP_CONFLICT,
@@ -238,6 +238,7 @@ impl Device for ParkerIpa {
             };
             return Err(CipError::connection(ext));
         }
+        self.memory.status.attempt(request.originator);
         request.refuse_rpi(MIN_RPI_US, MAX_RPI_US)?;
         self.configure()
     }

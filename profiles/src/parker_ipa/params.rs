@@ -215,6 +215,9 @@ pub struct Store {
     user_floats: [u32; USER_FLOATS_COUNT],
 }
 
+/// Axis 0's quaternary axis flags (axis `a` at P4360 + a, Fig. 7).
+pub const QUATERNARY_FLAGS_FIRST: u32 = 4360;
+
 /// Quaternary axis flags P4360-P4362 as Fig. 7 (p.26) shows them.
 const QUATERNARY_FLAGS: [(u32, i32); 3] = [(4360, 1630535712), (4361, 1630535712), (4362, 5242880)];
 

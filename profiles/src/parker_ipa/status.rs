@@ -6,8 +6,9 @@
 //! Class 1 O->T packets applied, P37426 explicit requests to the controller (A4: "Received"
 //! in the report); P37427 is always 0 (requests are handled at once); P37428 counts open
 //! connections; P37429 is the Class 1 originator's IPv4, first octet most significant
-//! (A11), set at every Class 1 Forward_Open the profile sees; P37430 counts those attempts
-//! (A12); P37431/P37432 are the T->O/O->T intervals in ms; P37433 is Table 3's status;
+//! (A11), set at every Class 1 Forward_Open the profile sees while no Class 1 connection
+//! runs (a second scanner refused with 0x0106/0x0113 leaves the running connection's
+//! client); P37430 counts those attempts (A12); P37431/P37432 are the T->O/O->T intervals in ms; P37433 is Table 3's status;
 //! P37434 (groups in use) is stored with the configuration; P37435-P37437 the last
 //! configuration entry (R7.3); P37438-P37439 read 0.
 

@@ -96,9 +96,20 @@ impl InputState {
         }
     }
 
-    /// The leading edge of input `i`, its group at `pos`, scale factor `sf`: its function
-    /// acts on its own state and says what it does to the offsets.
-    pub fn trigger(&mut self, cfg: &Config, i: usize, pos: u16, sf: i32) -> Effect {
+    /// Its function starts afresh (its configuration changed); the capture registers stay.
+    pub fn restart(&mut self) {
+        *self = InputState {
+            latch: self.latch,
+            registers: self.registers,
+            transition: self.transition,
+            ..InputState::IDLE
+        };
+    }
+
+    /// The leading edge of input `i`, its group at `pos` (at `sample` in the frame an
+    /// average records), its function acts on its own state and says what it does
+    /// to the offsets.
+    pub fn trigger(&mut self, cfg: &Config, i: usize, pos: u16, sample: u16) -> Effect {
         let [_, _, _, kind, p1, p2, p3] = cfg.input(i);
         let inside = |on: u16, off: u16| window(pos, on, off);
         match kind % t::GROUP {
@@ -112,15 +123,16 @@ impl InputState {
             22 => {
                 let n = p1.clamp(1, 32) as u8;
                 if let Some(slot) = self.history.get_mut(usize::from(self.history_next % 32)) {
-                    *slot = pos;
+                    *slot = sample;
                 }
                 self.history_next = (self.history_next + 1) % n;
                 self.history_len = (self.history_len + 1).min(n);
                 let len = usize::from(self.history_len);
                 let sum: u32 = self.history.iter().take(len).map(|&p| u32::from(p)).sum();
-                let average = (sum / len.max(1) as u32) as u16;
-                // The average input position becomes the program's zero ([R], README).
-                Effect::Preset((i32::from(pos) - i32::from(average)).rem_euclid(sf) as u16)
+                // The average of the recorded positions is the preset (§2.6): the position
+                // at the input becomes it. The positions are recorded in a frame the
+                // resets do not move, so the average settles.
+                Effect::Preset((sum / len.max(1) as u32) as u16)
             }
             23 if inside(p2, p3) => {
                 self.shot = Shot::Running(0);
@@ -140,20 +152,22 @@ impl InputState {
         }
     }
 
-    /// The crossings during the last tick, which travelled `travel` counts to `pos` (scale
-    /// factor `sf`): zero (capture registers, transition status), the windows (single-shot
+    /// The crossings during the last tick, which travelled `travel` counts to the group
+    /// position `pos` and the resolver's `raw` position (scale factor `sf`): zero (capture registers, transition status), the windows (single-shot
     /// and advanced enables), one revolution after a single shot. `Some(seen)` when the
     /// input's window ended: whether the input was seen in it (else its warning is set).
     pub fn revolution(
         &mut self,
         cfg: &Config,
         i: usize,
-        pos: u16,
+        (pos, raw): (u16, u16),
         travel: u32,
         sf: u16,
     ) -> Option<bool> {
         let [bits, _, _, kind, p1, p2, p3] = cfg.input(i);
-        if crossed(pos, travel, 0, sf) {
+        // The resolver's zero (§2.6 bits 1-2: "when the resolver position goes through
+        // zero"), not the group's, which an offset moves.
+        if crossed(raw, travel, 0, sf) {
             if (bits >> 1) & 3 == 0 {
                 self.registers = self.latch;
             }
@@ -200,14 +214,23 @@ pub fn active(cfg: &Config, levels: u16, i: usize) -> bool {
     ((levels >> i) & 1 == 1) == (bits & 1 == 1)
 }
 
+/// True for the reset to preset types (20-23, 120-123), the inputs with an input offset.
+pub fn is_preset(kind: u16) -> bool {
+    matches!(kind, 20..=23 | 120..=123)
+}
+
+/// The outputs (0-based bit mask) of group `g`.
+pub fn group_outputs(cfg: &Config, g: usize) -> u32 {
+    u32::from(cfg.group_word(g, 1)) | u32::from(cfg.group_word(g, 2)) << 16
+}
+
 /// The outputs (0-based bit mask) input `i` of type `kind` acts on: its group's outputs for
 /// the group types, else its masks (inside its group).
 pub fn input_outputs(cfg: &Config, i: usize, kind: u16) -> u32 {
     let Some(g) = cfg.group_of_input(i) else {
         return 0;
     };
-    let [hs, ls] = [cfg.group_word(g, 1), cfg.group_word(g, 2)];
-    let group = u32::from(hs) | u32::from(ls) << 16;
+    let group = group_outputs(cfg, g);
     if kind >= t::GROUP {
         return group;
     }

@@ -14,7 +14,7 @@
 
 use enip_stack::{Duration, Instant};
 
-use super::params::{setpoint, Config, GROUPS, HIGH_SPEED, INPUTS, OUTPUTS};
+use super::params::{setpoint, Config, GROUPS, HIGH_SPEED, INPUTS, INPUT_STRIDE, OUTPUTS};
 use super::validate::input_type as t;
 
 mod addon;
@@ -39,6 +39,9 @@ pub struct Engine {
     last: Option<Instant>,
     /// Group offsets (0xC0/3 words 1-8), 0..SF-1.
     pub group_offset: [u16; GROUPS],
+    /// The group offsets without the resets to preset of the whole group: the frame the
+    /// average reset to preset records its positions in.
+    base_offset: [u16; GROUPS],
     /// Input offsets (0xC0/3 words 9-24).
     pub input_offset: [u16; INPUTS],
     /// Outputs reset by a reset-to-preset input of a subset: their own offset.
@@ -75,6 +78,7 @@ impl Engine {
             fault: false,
             last: None,
             group_offset: [0; GROUPS],
+            base_offset: [0; GROUPS],
             input_offset: [0; INPUTS],
             output_offset: [None; OUTPUTS],
             tune: [0; OUTPUTS],
@@ -169,17 +173,19 @@ impl Engine {
             let value = i32::from(words.get(g + 1).copied().unwrap_or(0) as i16);
             let sf = i32::from(cfg.scale(g));
             let raw = i32::from(self.raw(cfg, g));
-            let Some(slot) = self.group_offset.get_mut(g) else {
+            let (Some(slot), Some(base)) =
+                (self.group_offset.get_mut(g), self.base_offset.get_mut(g))
+            else {
                 continue;
             };
-            let current = i32::from(*slot);
-            let offset = match (mask >> (2 * g)) & 3 {
-                1 => value - raw,
-                2 => value,
-                3 => current + value,
+            let (offset, frame) = match (mask >> (2 * g)) & 3 {
+                1 => (value - raw, value - raw),
+                2 => (value, value),
+                3 => (i32::from(*slot) + value, i32::from(*base) + value),
                 _ => continue,
             };
             *slot = offset.rem_euclid(sf) as u16;
+            *base = frame.rem_euclid(sf) as u16;
         }
         self.refresh_positions(cfg);
     }
@@ -188,6 +194,7 @@ impl Engine {
     /// setpoint tuning undone).
     pub fn clear_offsets(&mut self, cfg: &Config) {
         self.group_offset = [0; GROUPS];
+        self.base_offset = [0; GROUPS];
         self.input_offset = [0; INPUTS];
         self.output_offset = [None; OUTPUTS];
         self.tune = [0; OUTPUTS];
@@ -196,10 +203,39 @@ impl Engine {
 
     /// Restores group offsets saved with the program.
     pub fn set_group_offsets(&mut self, cfg: &Config, offsets: [u16; GROUPS]) {
-        for (g, (slot, o)) in self.group_offset.iter_mut().zip(offsets).enumerate() {
-            *slot = o % cfg.scale(g);
+        self.group_offset = offsets;
+        self.base_offset = offsets;
+        self.rescale(cfg);
+    }
+
+    /// Brings the offsets inside 0..SF-1 after a change of the configuration.
+    pub fn rescale(&mut self, cfg: &Config) {
+        let groups = self
+            .group_offset
+            .iter_mut()
+            .zip(self.base_offset.iter_mut());
+        for (g, (slot, base)) in groups.enumerate() {
+            *slot %= cfg.scale(g);
+            *base %= cfg.scale(g);
         }
         self.refresh_positions(cfg);
+    }
+
+    /// Attribute 34 was written (`old`: the inputs before): an input whose words changed
+    /// starts its function afresh (capture registers kept), and one that is no longer a
+    /// reset to preset input reports input offset 0 (§2.13).
+    pub fn inputs_changed(&mut self, cfg: &Config, old: &[[u16; INPUT_STRIDE]; INPUTS]) {
+        let inputs = self.inputs.iter_mut().zip(self.input_offset.iter_mut());
+        for (i, ((st, offset), before)) in inputs.zip(old).enumerate() {
+            let now = cfg.input(i);
+            if now == *before {
+                continue;
+            }
+            st.restart();
+            if !inputs::is_preset(now[3]) {
+                *offset = 0;
+            }
+        }
     }
 
     /// Starts the add-on test (rising edge of output word 1 bit 1) with attribute 35.
@@ -243,8 +279,19 @@ impl Engine {
         let pos = self.position(g);
         let raw = i32::from(self.raw(cfg, g));
         let outputs = inputs::input_outputs(cfg, i, kind);
+        let group = inputs::group_outputs(cfg, g);
+        // A reset to preset of every output of the group resets the group (§2.6: only a
+        // subset mask keeps the group position).
+        let whole = kind >= t::GROUP || outputs == group;
+        // The average records positions in the group's frame before its own resets.
+        let base = i32::from(self.base_offset.get(g).copied().unwrap_or(0));
+        let sample = if whole {
+            (raw + base).rem_euclid(sf) as u16
+        } else {
+            pos
+        };
         let effect = match self.inputs.get_mut(i) {
-            Some(st) => st.trigger(cfg, i, pos, sf),
+            Some(st) => st.trigger(cfg, i, pos, sample),
             None => Effect::None,
         };
         match effect {
@@ -256,7 +303,8 @@ impl Engine {
                 }
             }
             Effect::OffsetTune(counts) => {
-                if let Some(slot) = self.group_offset.get_mut(g) {
+                let slots = self.group_offset.get_mut(g).into_iter();
+                for slot in slots.chain(self.base_offset.get_mut(g)) {
                     let offset = i32::from(*slot) + i32::from(counts);
                     *slot = offset.rem_euclid(sf) as u16;
                 }
@@ -266,15 +314,14 @@ impl Engine {
                 if let Some(slot) = self.input_offset.get_mut(i) {
                     *slot = offset;
                 }
-                if kind >= t::GROUP {
+                if whole {
                     if let Some(slot) = self.group_offset.get_mut(g) {
                         *slot = offset;
                     }
-                } else {
-                    for o in bits(outputs) {
-                        if let Some(slot) = self.output_offset.get_mut(o) {
-                            *slot = Some(offset);
-                        }
+                }
+                for o in bits(if whole { group } else { outputs }) {
+                    if let Some(slot) = self.output_offset.get_mut(o) {
+                        *slot = (!whole).then_some(offset);
                     }
                 }
             }
@@ -319,11 +366,11 @@ impl Engine {
                 continue;
             };
             let travel = self.travel.get(g).copied().unwrap_or(0);
-            let (pos, sf) = (self.position(g), cfg.scale(g));
+            let (pos, raw, sf) = (self.position(g), self.raw(cfg, g), cfg.scale(g));
             let Some(st) = self.inputs.get_mut(i) else {
                 continue;
             };
-            match st.revolution(cfg, i, pos, travel, sf) {
+            match st.revolution(cfg, i, (pos, raw), travel, sf) {
                 Some(true) => self.warnings &= !(1 << i),
                 Some(false) => self.warnings |= 1 << i,
                 None => {}

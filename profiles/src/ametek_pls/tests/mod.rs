@@ -4,6 +4,7 @@
 
 mod class1;
 mod device;
+mod inputs;
 
 extern crate std;
 
@@ -424,12 +425,42 @@ fn cip_statuses_of_the_stack_leave_the_error_words_alone() {
         execute(&mut pls, &request(service, class, instance, attr, data)).0
     };
     assert_eq!(call(0x0E, 0xC1, 1, Some(39), &[]), 0x14);
-    assert!(matches!(call(0x0E, 0xC1, 2, Some(1), &[]), 0x05 | 0x16));
+    assert_eq!(call(0x0E, 0xC1, 2, Some(1), &[]), 0x16);
     assert_eq!(call(0x10, 0xC0, 1, Some(1), &[0; 4]), 0x0E);
     assert_eq!(call(0x01, 0xC1, 1, None, &[]), 0x08);
     assert_eq!(call(0x10, 0xC1, 1, Some(1), &[0; 95]), 0x13);
     assert_eq!(call(0x10, 0xC1, 1, Some(1), &[0; 97]), 0x15);
     assert_eq!(error(&mut pls), [0; 3]);
+}
+
+/// Get_Attribute_List and Set_Attribute_List (0x03/0x04) are served on both classes, with
+/// the same checks as the single services.
+#[test]
+fn attribute_lists_are_served() {
+    let mut pls = programmed();
+    // Get_Attribute_List of 0xC1 attributes 35 and 37: count 2, then (id, status, value).
+    let (s, d) = execute(&mut pls, &request(0x03, 0xC1, 1, None, &le(&[2, 35, 37])));
+    assert_eq!(s, 0);
+    assert_eq!(words(&d), [2, 35, 0, 0, 0, 0, 37, 0, 0, 0]);
+    // Set_Attribute_List of 0xC1/35: applied like a Set_Attribute_Single.
+    let (s, d) = execute(
+        &mut pls,
+        &request(0x04, 0xC1, 1, None, &le(&[1, 35, 60, 1500, 1])),
+    );
+    assert_eq!((s, words(&d)), (0, vec![1, 35, 0]));
+    assert_eq!(words(&get(&mut pls, 0xC1, 35)), [60, 1500, 1]);
+    // A broken rule in a list: that attribute's status is 0x09, the error words latch.
+    let (s, d) = execute(
+        &mut pls,
+        &request(0x04, 0xC1, 1, None, &le(&[1, 35, 2049, 0, 1])),
+    );
+    assert_eq!((s, words(&d)), (0x0A, vec![1, 35, 0x09]));
+    assert_eq!(error(&mut pls), [1, 35, 1]);
+    // On 0xC0 (Get only): Get_Attribute_List serves, Set_Attribute_List refuses (0x0E).
+    let (s, d) = execute(&mut pls, &request(0x03, 0xC0, 1, None, &le(&[1, 1])));
+    assert_eq!((s, d.len()), (0, 10));
+    let (s, d) = execute(&mut pls, &request(0x04, 0xC0, 1, None, &le(&[1, 1, 0, 0])));
+    assert_eq!((s, words(&d)), (0x0A, vec![1, 1, 0x0E]));
 }
 
 #[test]

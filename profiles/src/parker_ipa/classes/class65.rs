@@ -7,10 +7,10 @@
 //! for every code), each in its own type (REAL or DINT, p.28); a missing element 0x05.
 //! The group code is checked before the block size (the path before the data).
 //!
-//! Write Binary: the bytes of an ACR binary packet feed the command stream a Class 3
+//! Write Binary: the bytes of ACR binary packets feed the command stream a Class 3
 //! connection owns, so it needs one (Table 8 case 2, "No Class 3 connection exists": 0x10
-//! over UCMM, R8.6). The simulated controller counts the bytes and discards them (R8.4);
-//! the instance is ignored; no reply data. Any other service 0x08.
+//! over UCMM, R8.6). Over a Class 3 connection the commands run ([`super::binary`]); the
+//! instance is ignored; no reply data. Any other service 0x08.
 
 use enip_stack::cip::context::RequestContext;
 use enip_stack::cip::object::ClassDef;
@@ -20,6 +20,7 @@ use enip_stack::wire::Writer;
 use super::super::memory::put;
 use super::super::memory::Memory;
 use super::super::params::{self, AXIS_STRIDE};
+use super::binary;
 use super::class64::count;
 
 /// Class code.
@@ -47,7 +48,7 @@ pub const CLASS_DEF: ClassDef = ClassDef {
 /// Answers a request to class 0x65; `None` leaves a non-vendor service on the class
 /// (instance 0) to the stack.
 pub fn handle(
-    memory: &Memory,
+    memory: &mut Memory,
     binary_bytes: &mut u32,
     cx: &RequestContext,
     req: &Request<'_>,
@@ -57,10 +58,9 @@ pub fn handle(
     Some(match req.service {
         READ_GROUP => read_group(memory, instance, req.data, w),
         WRITE_BINARY if !cx.is_connected() => Err(CipError::new(General::DeviceStateConflict)),
-        WRITE_BINARY => {
+        WRITE_BINARY => binary::execute(memory, req.data).map(|()| {
             *binary_bytes = binary_bytes.wrapping_add(req.data.len() as u32);
-            Ok(())
-        }
+        }),
         _ if instance == 0 => return None,
         _ => Err(General::ServiceNotSupported.into()),
     })

@@ -197,11 +197,28 @@ fn rslogix_example_with_the_aoi_configuration() {
     assert!(data[192..].iter().all(|&b| b == 0));
     // Quaternary flags (group 2) at offset 36, monitor floats (group 7) at 84.
     assert_eq!(i32s(&data[36..40]), [1630535712]);
-    // The jog velocity moves axis 0: group 0 (current position) changes.
+    // The jog profile alone starts nothing: group 0 (current position) stays.
     let before = i32s(&data[0..4])[0];
-    let later = rig.advance(100_000);
-    let after = i32s(&later.last().unwrap().1[0..4])[0];
+    let mut later = Vec::new();
+    for _ in 0..10 {
+        rig.o_t(open.o_t_id, true, &out);
+        later = rig.advance(10_000);
+    }
+    assert_eq!(i32s(&later.last().unwrap().1[0..4])[0], before);
+    // Jog forward (P4360 bit 16, set with 0x54): axis 0 moves, bit 18 (jog active) shows.
+    let mut mr = vec![0x54, 0x03, 0x20, 0x64, 0x25, 0x00];
+    mr.extend_from_slice(&4360u16.to_le_bytes());
+    mr.extend_from_slice(&(-1i32).to_le_bytes());
+    mr.extend_from_slice(&(1i32 << 16).to_le_bytes());
+    assert_eq!(rig.ucmm(&mr).0, 0);
+    for _ in 0..20 {
+        rig.o_t(open.o_t_id, true, &out);
+        later = rig.advance(10_000);
+    }
+    let last = &later.last().unwrap().1;
+    let after = i32s(&last[0..4])[0];
     assert!(after > before, "{before} -> {after}");
+    assert_eq!(i32s(&last[36..40]), [1630535712 | 0b101 << 16]);
     // Counters.
     let status = rig.longs(37424, 4);
     assert!(status[1] >= 1 && status[2] >= 5, "{status:?}");
@@ -254,7 +271,8 @@ fn one_class1_connection_at_a_time() {
     let dup = rig.forward_open(&fo(1, 400, 400, 10_000, 10_000));
     assert_eq!((dup.general, dup.extended), (0x01, Some(0x0100)));
     assert_eq!(rig.longs(37433, 1), [1]);
-    assert_eq!(rig.longs(37430, 1), [2], "two attempts reached the profile");
+    // The refused second scanner leaves P37429/P37430 on the running connection's client.
+    assert_eq!(rig.longs(37429, 2), [0xC612_0001u32 as i32, 1]);
     // The first keeps running.
     for _ in 2..5 {
         let sent = rig.advance(10_000);
@@ -397,10 +415,17 @@ fn class3_connection_write_binary_and_status() {
     let open = rig.forward_open(&c3);
     assert_eq!(open.general, 0, "{open:?}");
     assert_eq!(rig.longs(37424, 1), [2], "P37424: a Class 3 stream");
-    let binary = [0x34, 0x02, 0x20, 0x65, 0x24, 0x01, 0x00, 0x01, 0x02, 0x03];
+    // Binary Set Long P38912 = 66 runs over Class 3; a data packet request (Table 7 "No")
+    // is refused with 0x08; unconnected, 0x10 (case 2).
+    let binary = [
+        0x34, 0x02, 0x20, 0x65, 0x24, 0x01, 0x00, 0x89, 0x00, 0x98, 66, 0, 0, 0,
+    ];
     assert_eq!(rig.connected(open.o_t_id, 1, &binary), (0, vec![]));
+    assert_eq!(rig.longs(38912, 1), [66]);
+    let packet = [0x34, 0x02, 0x20, 0x65, 0x24, 0x01, 0x00, 0x18, 0x00, 0xFF];
+    assert_eq!(rig.connected(open.o_t_id, 3, &packet).0, 0x08);
     assert_eq!(rig.ucmm(&binary).0, 0x10);
-    assert_eq!(rig.scanner.adapter().device().binary_bytes, 4);
+    assert_eq!(rig.scanner.adapter().device().binary_bytes, 8);
     // The same read over Class 3 and UCMM.
     let read = [
         0x53, 0x03, 0x20, 0x64, 0x25, 0x00, 0x08, 0x11, 0x03, 0, 0, 0,
@@ -456,4 +481,61 @@ fn exact_configured_sizes_connect_on<D: Device>(mut rig: Rig<D>) {
     out[0..4].copy_from_slice(&5i32.to_le_bytes());
     rig.o_t(open.o_t_id, true, &out);
     assert_eq!(rig.longs(39000, 1), [5]);
+}
+
+/// A configuration written while a Class 1 connection runs changes nothing on it (the
+/// layout latched at its Forward_Open stays, the connection is not closed); the next
+/// Forward_Open uses it.
+#[test]
+fn a_configuration_change_waits_for_the_next_forward_open() {
+    let mut rig = Rig::new();
+    rig.write_longs(38912, &[11, 12]);
+    rig.write_longs(39168, &[0, 0]);
+    let open = rig.forward_open(&fo(1, 400, 400, 10_000, 10_000));
+    assert_eq!(open.general, 0);
+    rig.configure(&FOUR_GROUPS);
+    let mut sent = Vec::new();
+    for _ in 0..10 {
+        rig.o_t(open.o_t_id, true, &[0; 400]);
+        sent = rig.advance(10_000);
+    }
+    let data = &sent.last().expect("still producing").1;
+    assert_eq!(data.len(), 400);
+    assert_eq!(i32s(&data[160..168]), [11, 12], "the AOI layout still");
+    assert_eq!(rig.longs(37433, 1), [1]);
+    assert_eq!(rig.forward_close(1), 0);
+    let open = rig.forward_open(&fo(2, 400, 400, 10_000, 10_000));
+    assert_eq!(open.general, 0);
+    let data = &rig.advance(10_000).last().unwrap().1.clone();
+    assert_eq!(
+        i32s(&data[0..8]),
+        [11, 12],
+        "group 0 of the new layout: P38912"
+    );
+}
+
+/// The manual's "unlimited" Class 3 connections: 9 beside the Class 1 connection (the
+/// stack's 10 slots), the next one refused with 0x0113.
+#[test]
+fn nine_class3_connections_beside_the_class1_connection() {
+    let mut rig = Rig::new();
+    assert_eq!(
+        rig.forward_open(&fo(1, 400, 400, 10_000, 10_000)).general,
+        0
+    );
+    let path = [0x20, 0x02, 0x24, 0x01];
+    for serial in 10..20u16 {
+        let mut c3 = fo(serial, 0, 0, 1_000_000, 1_000_000);
+        c3.transport = 0xA3;
+        c3.o_t_params = params(P2P, 500);
+        c3.t_o_params = params(P2P, 500);
+        c3.path = &path;
+        let open = rig.forward_open(&c3);
+        if serial < 19 {
+            assert_eq!(open.general, 0, "Class 3 number {}", serial - 9);
+        } else {
+            assert_eq!((open.general, open.extended), (0x01, Some(0x0113)));
+        }
+    }
+    assert_eq!(rig.longs(37428, 1), [10]);
 }

@@ -1,6 +1,7 @@
 //! The manual's explicit examples and error cases, through the stack (`Adapter::execute`,
 //! unconnected): classes 0x64 and 0x65, tags, status parameters, identity.
 
+mod binary;
 mod class1;
 mod tags;
 
@@ -403,24 +404,65 @@ fn identity_and_class_attributes() {
     assert_eq!(get(&mut ipa, 0x65, 0, 1).2, [1, 0]);
 }
 
+/// Polls every millisecond for `ms` from `t` (µs); returns the new time.
+fn run_for(ipa: &mut ParkerIpa, t: u64, ms: u64) -> u64 {
+    let mut now = t;
+    for _ in 0..ms {
+        now += 1_000;
+        ipa.poll(Instant(now));
+    }
+    now
+}
+
+fn flags(ipa: &ParkerIpa, axis: u32) -> i32 {
+    ipa.get(4360 + axis).unwrap().as_long()
+}
+
+/// The manual's figure 4 write sets a jog profile and starts nothing; an axis moves only
+/// while its jog forward or reverse bit is set, and its jog-active flag shows it.
 #[test]
-fn positions_move_while_a_jog_velocity_is_set() {
+fn axes_move_only_on_a_jog_command() {
+    use super::device::{JOG_ACTIVE, JOG_FORWARD, JOG_REVERSE};
     let mut ipa = ParkerIpa::new();
     ipa.poll(Instant(0));
-    ipa.set(12348, Value::Float(1000.0));
-    ipa.set(12348 + 256 * 3, Value::Float(-500.0));
-    let mut t = 0;
-    while t < 100_000 {
-        t += 1_000;
-        ipa.poll(Instant(t));
-    }
-    assert_eq!(ipa.get(12288), Some(Value::Long(100)));
-    assert_eq!(ipa.get(12290), Some(Value::Long(100)));
-    assert_eq!(ipa.get(12290 + 768), Some(Value::Long(-50)));
-    assert_eq!(ipa.get(12290 + 256), Some(Value::Long(0)));
-    ipa.set(12348, Value::Float(0.0));
-    ipa.poll(Instant(t + 50_000));
-    assert_eq!(ipa.get(12290), Some(Value::Long(100)));
+    let figure_4 = req(0x50, 0x64, 12348, &floats(&[15.0, 150.0, 125.0, 625.0]));
+    assert_eq!(run(&mut ipa, &figure_4).0, 0);
+    ipa.set(12348 + 256 * 3, Value::Float(500.0));
+    let t = run_for(&mut ipa, 0, 1_000);
+    assert_eq!(
+        ipa.get(12288),
+        Some(Value::Long(0)),
+        "figure 4 starts nothing"
+    );
+    assert_eq!(ipa.get(12290 + 768), Some(Value::Long(0)));
+    assert_eq!(flags(&ipa, 0), 1630535712, "Fig. 7 flags, not jogging");
+    // Jog forward on axis 0 (15 units/s), reverse on axis 3 (500 units/s).
+    ipa.set(4360, Value::Long(flags(&ipa, 0) | JOG_FORWARD));
+    ipa.set(4363, Value::Long(JOG_REVERSE));
+    let t = run_for(&mut ipa, t, 2_000);
+    assert_eq!(ipa.get(12288), Some(Value::Long(30)));
+    assert_eq!(ipa.get(12290), Some(Value::Long(30)));
+    assert_eq!(ipa.get(12290 + 768), Some(Value::Long(-1000)));
+    assert_eq!(flags(&ipa, 0), 1630535712 | JOG_FORWARD | JOG_ACTIVE);
+    assert_eq!(flags(&ipa, 3), JOG_REVERSE | JOG_ACTIVE);
+    assert_eq!(
+        ipa.get(12290 + 256),
+        Some(Value::Long(0)),
+        "axis 1 has no command"
+    );
+    // Both bits: no motion. A zero velocity with the bit set: no motion, not active.
+    ipa.set(4360, Value::Long(flags(&ipa, 0) | JOG_REVERSE));
+    ipa.set(12348 + 256 * 3, Value::Float(0.0));
+    let t = run_for(&mut ipa, t, 500);
+    assert_eq!(ipa.get(12288), Some(Value::Long(30)));
+    assert_eq!(ipa.get(12290 + 768), Some(Value::Long(-1000)));
+    assert_eq!(flags(&ipa, 0) & JOG_ACTIVE, 0);
+    assert_eq!(flags(&ipa, 3), JOG_REVERSE);
+    // The command cleared: the axis stops.
+    ipa.set(4360, Value::Long(1630535712));
+    run_for(&mut ipa, t, 500);
+    assert_eq!(ipa.get(12288), Some(Value::Long(30)));
+    assert_eq!(flags(&ipa, 0), 1630535712);
 }
 
 #[test]
