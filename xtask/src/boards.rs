@@ -43,8 +43,15 @@ pub fn elf(board: &str) -> PathBuf {
 /// Builds `board` in release for the Cortex-M target, running `profile` (its
 /// `profile-NAME` feature; the default profile needs none); returns the ELF.
 pub fn build(board: &str, profile: &str) -> Result<PathBuf> {
+    build_with(board, profile, &[])
+}
+
+/// [`build`] with build-time settings in the environment (e.g. the Ametek profile's
+/// `ENIP_PLS_RPM`, read with `option_env!`, so cargo rebuilds when it changes).
+pub fn build_with(board: &str, profile: &str, env: &[(&str, &str)]) -> Result<PathBuf> {
     let mut cargo = util::cargo();
     cargo.args(["build", "-p", board, "--release", "--target", THUMB_TARGET]);
+    cargo.envs(env.iter().copied());
     if profile != DEFAULT_PROFILE {
         cargo.args(["--features", &format!("profile-{profile}")]);
     }

@@ -164,6 +164,11 @@ fn tap_interop() -> Result<Outcome> {
         std::fs::copy(boards::build(boards::QEMU, profile)?, &elf)?;
         elves.push((rig::qemu_elf_var(profile), elf));
     }
+    // The Ametek PLS whose resolver turns from power-up (60 RPM, a build-time setting).
+    let moving = util::target_dir().join("qemu-ametek-pls-moving.elf");
+    let built = boards::build_with(boards::QEMU, "ametek-pls", &[("ENIP_PLS_RPM", "60")])?;
+    std::fs::copy(built, &moving)?;
+    elves.push(("ENIP_QEMU_AMETEK_PLS_MOVING_ELF".to_string(), moving));
     run(interop(&[]).envs(elves))?;
     Ok(Outcome::Passed)
 }
