@@ -67,7 +67,7 @@ fn sent<D: Device>(a: &mut Adapter<D>, now: u64) -> Option<(u16, Vec<u8>, Vec<u8
         return None;
     }
     let pdu = LldpduRepr::parse(&out[..n]).expect("our LLDPDU parses");
-    assert_eq!(pdu.chassis_mac(), Some(OUR_MAC));
+    assert_eq!(pdu.neighbor_mac(), OUR_MAC);
     let id = pdu
         .cip_identification
         .map(|i| i.vendor_id.to_le_bytes().to_vec());
@@ -149,16 +149,18 @@ fn management_attributes_and_set_rules() {
     assert_eq!(set(&mut a, 0, m, 3, &[2]), 0);
     assert_eq!(sent(&mut a, SECOND).unwrap().0, 10);
     assert_eq!(a.lldp_deadline(), Some(Instant(6 * SECOND)));
-    // Port bit off: one shutdown LLDPDU, then silence, and received LLDPDUs are ignored.
+    // Port bit off: one shutdown LLDPDU, then silence; received LLDPDUs are still taken in
+    // (bit 0 governs reception).
     assert_eq!(set(&mut a, 2 * SECOND, m, 1, &[2, 0, 1]), 0);
     assert_eq!(sent(&mut a, 2 * SECOND).unwrap().0, 0);
     assert_eq!(a.lldp_deadline(), None);
-    a.lldp_receive(
-        [2, 0, 0, 0, 0, 9],
-        &neighbour([2, 0, 0, 0, 0, 9], 60),
-        Instant(3),
-    );
-    assert_eq!(get(&mut a, 3, 0x10A, 0, 3), (0, vec![0, 0]));
+    a.lldp_receive(&neighbour([2, 0, 0, 0, 0, 9], 60), Instant(3));
+    assert_eq!(get(&mut a, 3, 0x10A, 0, 3), (0, vec![1, 0]));
+    // Global bit off: received LLDPDUs are ignored.
+    assert_eq!(set(&mut a, 3 * SECOND, m, 1, &[2, 0, 2]), 0);
+    assert!(sent(&mut a, 3 * SECOND).is_none());
+    a.lldp_receive(&neighbour([2, 0, 0, 0, 0, 8], 60), Instant(4));
+    assert_eq!(get(&mut a, 4, 0x10A, 0, 3), (0, vec![1, 0]));
     assert_eq!(set(&mut a, 4 * SECOND, m, 1, &[2, 0, 3]), 0);
     assert_eq!(sent(&mut a, 4 * SECOND).unwrap().0, 10);
 }
@@ -217,7 +219,7 @@ fn data_table_lists_neighbours_ages_them_and_keeps_eight() {
     let mut a = adapter();
     let t = 0x10A;
     let mac = [0x02, 0x42, 0xC6, 0x12, 0x00, 0x01];
-    a.lldp_receive(mac, &neighbour(mac, 4), Instant(5 * SECOND));
+    a.lldp_receive(&neighbour(mac, 4), Instant(5 * SECOND));
     assert_eq!(get(&mut a, 5 * SECOND, t, 0, 3), (0, vec![1, 0]));
     assert_eq!(get(&mut a, 5 * SECOND, t, 1, 1), (0, vec![1, 0]));
     assert_eq!(get(&mut a, 5 * SECOND, t, 1, 2), (0, mac.to_vec()));
@@ -236,7 +238,7 @@ fn data_table_lists_neighbours_ages_them_and_keeps_eight() {
     assert_eq!(get(&mut a, 5 * SECOND, t, 1, 9), (0, vec![5, 0, 0, 0]));
     assert_eq!(get(&mut a, 5 * SECOND, 0x109, 1, 5), (0, vec![5, 0, 0, 0]));
     // The same LLDPDU again refreshes the TTL without a change.
-    a.lldp_receive(mac, &neighbour(mac, 4), Instant(8 * SECOND));
+    a.lldp_receive(&neighbour(mac, 4), Instant(8 * SECOND));
     assert_eq!(get(&mut a, 11 * SECOND, t, 1, 9), (0, vec![5, 0, 0, 0]));
     // Aged out at 8 + 4 s; the Last Change is that moment.
     assert_eq!(get(&mut a, 12 * SECOND, t, 1, 2).0, 0x16);
@@ -247,7 +249,7 @@ fn data_table_lists_neighbours_ages_them_and_keeps_eight() {
     // Eight neighbours are kept, a ninth is dropped; TTL 0 removes one at once.
     for i in 0..9u8 {
         let m = [2, 0, 0, 0, 1, i];
-        a.lldp_receive(m, &neighbour(m, 60), Instant(20 * SECOND));
+        a.lldp_receive(&neighbour(m, 60), Instant(20 * SECOND));
     }
     assert_eq!(get(&mut a, 20 * SECOND, t, 0, 3), (0, vec![8, 0]));
     assert_eq!(
@@ -255,11 +257,25 @@ fn data_table_lists_neighbours_ages_them_and_keeps_eight() {
         (0, vec![2, 0, 0, 0, 1, 7])
     );
     let gone = [2, 0, 0, 0, 1, 3];
-    a.lldp_receive(gone, &neighbour(gone, 0), Instant(21 * SECOND));
+    a.lldp_receive(&neighbour(gone, 0), Instant(21 * SECOND));
     assert_eq!(get(&mut a, 21 * SECOND, t, 4, 2).0, 0x16);
     assert_eq!(get(&mut a, 21 * SECOND, t, 0, 3), (0, vec![7, 0]));
     // Malformed LLDPDUs change nothing.
-    a.lldp_receive(gone, &[0x02, 0x07, 4, 1, 2], Instant(22 * SECOND));
+    a.lldp_receive(&[0x02, 0x07, 4, 1, 2], Instant(22 * SECOND));
     assert_eq!(get(&mut a, 22 * SECOND, t, 0, 3), (0, vec![7, 0]));
     assert_eq!(a.objects().lldp.discarded, 1);
+}
+
+#[test]
+fn shutdown_lldpdu_on_demand_only_while_lldp_transmits() {
+    let mut a = adapter();
+    let mut out = [0u8; MAX_LLDPDU];
+    let n = a.lldp_shutdown(&mut out);
+    let pdu = LldpduRepr::parse(&out[..n]).expect("the shutdown LLDPDU parses");
+    assert_eq!((pdu.ttl, pdu.neighbor_mac()), (0, OUR_MAC));
+    assert_eq!(pdu.system_name, None);
+    // It leaves the schedule alone: the first LLDPDU is still due at start.
+    assert_eq!(a.lldp_deadline(), Some(Instant(0)));
+    assert_eq!(set(&mut a, 0, 0x109, 1, &[2, 0, 2]), 0);
+    assert_eq!(a.lldp_shutdown(&mut out), 0);
 }

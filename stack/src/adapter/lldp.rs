@@ -25,15 +25,15 @@ fn description(name: &[u8]) -> &[u8] {
 }
 
 impl<D: Device> Adapter<D> {
-    /// Takes in an LLDPDU (the payload of an LLDP frame) that came from the MAC address
-    /// `source` at `now`; ignored while LLDP is off, counted as discarded if malformed.
-    pub fn lldp_receive(&mut self, source: [u8; 6], lldpdu: &[u8], now: Instant) {
+    /// Takes in an LLDPDU (the payload of an LLDP frame) received at `now`; ignored while
+    /// LLDP is off globally (LLDP Enable bit 0), counted as discarded if malformed.
+    pub fn lldp_receive(&mut self, lldpdu: &[u8], now: Instant) {
         let lldp = &mut self.inner.objects.lldp;
-        if !lldp.config.enabled() {
+        if !lldp.config.receives() {
             return;
         }
         match LldpduRepr::parse(lldpdu) {
-            Ok(pdu) => lldp.neighbors.receive(&pdu, lldpdu, source, now),
+            Ok(pdu) => lldp.neighbors.receive(&pdu, lldpdu, now),
             Err(_) => {
                 lldp.discarded = lldp.discarded.wrapping_add(1);
                 self.inner.objects.link.count_discard();
@@ -44,9 +44,25 @@ impl<D: Device> Adapter<D> {
     /// Writes the LLDPDU due at `now` into `out` (at least [`MAX_LLDPDU`] bytes) and returns
     /// its length; 0 if none is due (or `out` is too short: then it is dropped).
     pub fn lldp_transmit(&mut self, now: Instant, out: &mut [u8]) -> usize {
-        let Some(due) = self.inner.objects.lldp.take_due(now) else {
+        match self.inner.objects.lldp.take_due(now) {
+            Some(due) => self.write_lldpdu(due, out),
+            None => 0,
+        }
+    }
+
+    /// Writes the shutdown LLDPDU (TTL 0) into `out` now, whatever the schedule, for a
+    /// runtime that is about to stop: the neighbours forget the adapter at once. Its length,
+    /// 0 if LLDP does not transmit (or `out` is too short).
+    pub fn lldp_shutdown(&self, out: &mut [u8]) -> usize {
+        if !self.inner.objects.lldp.config.transmits() {
             return 0;
-        };
+        }
+        self.write_lldpdu(LldpDue::Shutdown, out)
+    }
+
+    /// Writes the LLDPDU `due` from the Identity, TCP/IP and Ethernet Link objects; its
+    /// length, 0 if `out` is too short.
+    fn write_lldpdu(&self, due: LldpDue, out: &mut [u8]) -> usize {
         let inner = &self.inner;
         let id = inner.device.identity();
         let local = LocalSystem {

@@ -20,11 +20,13 @@ use crate::config::MAX_LLDP_NEIGHBORS;
 use crate::device::Device;
 use crate::nv::crc32;
 use crate::time::{Duration, Instant};
-use crate::wire::lldp::{CipIdentification, LldpduRepr, MAX_ADDRESSES};
+use crate::wire::lldp::{
+    CipIdentification, LldpduRepr, CHASSIS_INTERFACE_NAME, MAX_ADDRESSES, PORT_INTERFACE_NAME,
+};
 use crate::wire::Writer;
 
-/// Longest interface label kept of a neighbour.
-pub const MAX_LABEL: usize = 32;
+/// Longest interface label kept of a neighbour (attribute 3 allows 64 characters).
+pub const MAX_LABEL: usize = 64;
 
 /// One neighbour's data.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -33,10 +35,11 @@ pub struct Neighbor {
     msap: u32,
     /// CRC-32 of the whole LLDPDU last received: a change shows as another value.
     digest: u32,
-    /// Attribute 2: the neighbour's MAC address (Chassis ID, else CIP MAC Address, else
-    /// the frame's source).
+    /// Attribute 2: the neighbour's MAC address: the CIP MAC Address TLV's, else a Chassis
+    /// ID or Port ID of the MAC address subtype, else all zero.
     pub mac: [u8; 6],
-    /// Attribute 3: CIP Interface Label, else Port Description, else a textual Port ID.
+    /// Attribute 3: the CIP Interface Label TLV, else a Chassis ID or Port ID of the
+    /// interface name subtype, else empty.
     pub label: heapless::Vec<u8, MAX_LABEL>,
     /// Attribute 4: the Time To Live announced, in seconds.
     pub ttl_s: u16,
@@ -83,8 +86,8 @@ impl NeighborTable {
         }
     }
 
-    /// Takes in an LLDPDU `pdu` (its bytes `raw`) received at `now` from `source`.
-    pub fn receive(&mut self, pdu: &LldpduRepr<'_>, raw: &[u8], source: [u8; 6], now: Instant) {
+    /// Takes in an LLDPDU `pdu` (its bytes `raw`) received at `now`.
+    pub fn receive(&mut self, pdu: &LldpduRepr<'_>, raw: &[u8], now: Instant) {
         self.expire(now);
         let msap = msap(pdu);
         let at = self
@@ -112,7 +115,7 @@ impl NeighborTable {
         *slot = Some(Neighbor {
             msap,
             digest,
-            mac: pdu.chassis_mac().unwrap_or(source),
+            mac: pdu.neighbor_mac(),
             label: label(pdu),
             ttl_s: pdu.ttl,
             capabilities: pdu.capabilities.unwrap_or((0, 0)),
@@ -157,15 +160,12 @@ fn msap(pdu: &LldpduRepr<'_>) -> u32 {
     crc32(w.written())
 }
 
-/// The interface label of a neighbour: its CIP Interface Label, Port Description or a Port ID
-/// of a textual subtype (interface alias, interface name, locally assigned), cut to fit.
+/// The interface label of a neighbour: its CIP Interface Label, else a Chassis ID or Port ID
+/// of the interface name subtype, else empty; cut to fit.
 fn label(pdu: &LldpduRepr<'_>) -> heapless::Vec<u8, MAX_LABEL> {
-    let port = matches!(pdu.port_subtype, 1 | 5 | 7).then_some(pdu.port_id);
-    let text = pdu
-        .cip_interface_label
-        .or(pdu.port_description)
-        .or(port)
-        .unwrap_or(&[]);
+    let chassis = (pdu.chassis_subtype == CHASSIS_INTERFACE_NAME).then_some(pdu.chassis_id);
+    let port = (pdu.port_subtype == PORT_INTERFACE_NAME).then_some(pdu.port_id);
+    let text = pdu.cip_interface_label.or(chassis).or(port).unwrap_or(&[]);
     let text = text.get(..MAX_LABEL).unwrap_or(text);
     heapless::Vec::from_slice(text).unwrap_or_default()
 }
@@ -262,4 +262,32 @@ pub(crate) fn handle<D: Device>(
     let now = ctx.now();
     ctx.state.lldp.neighbors.expire(now);
     serve(&mut DataTable(ctx), req, w)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn label_is_the_cip_label_else_an_interface_name_id() {
+        let mut pdu = LldpduRepr {
+            chassis_subtype: CHASSIS_INTERFACE_NAME,
+            chassis_id: b"bridge0",
+            port_subtype: PORT_INTERFACE_NAME,
+            port_id: b"eth0",
+            ttl: 10,
+            ..LldpduRepr::default()
+        };
+        assert_eq!(label(&pdu).as_slice(), b"bridge0");
+        pdu.chassis_subtype = 4;
+        assert_eq!(label(&pdu).as_slice(), b"eth0");
+        pdu.cip_interface_label = Some(b"Port 2");
+        assert_eq!(label(&pdu).as_slice(), b"Port 2");
+        // Other subtypes (here a locally assigned Port ID) give no label; a long one is cut.
+        pdu.cip_interface_label = None;
+        pdu.port_subtype = 7;
+        assert!(label(&pdu).is_empty());
+        pdu.cip_interface_label = Some(&[b'x'; 100]);
+        assert_eq!(label(&pdu).len(), MAX_LABEL);
+    }
 }

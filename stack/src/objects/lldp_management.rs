@@ -62,9 +62,15 @@ impl LldpConfig {
         tx_hold: DEFAULT_TX_HOLD,
     };
 
-    /// True if LLDP runs on the port: both the global and the port's bit set.
-    pub fn enabled(&self) -> bool {
+    /// True if LLDPDUs go out on the port: both the global and the port's bit set.
+    pub fn transmits(&self) -> bool {
         self.enable & (ENABLE_GLOBAL | ENABLE_PORT_1) == ENABLE_GLOBAL | ENABLE_PORT_1
+    }
+
+    /// True if received LLDPDUs are taken in: the global bit set (the per-port bits are
+    /// about transmission only).
+    pub fn receives(&self) -> bool {
+        self.enable & ENABLE_GLOBAL != 0
     }
 
     /// The Time To Live announced: msgTxInterval x msgTxHold, at most 65 535 s.
@@ -170,7 +176,7 @@ impl LldpState {
         if self.shutdown_pending {
             return Some(Instant(0));
         }
-        self.config.enabled().then_some(self.next_tx)
+        self.config.transmits().then_some(self.next_tx)
     }
 
     /// What is due at `now`, now counted as sent (the next one scheduled).
@@ -178,7 +184,7 @@ impl LldpState {
         if core::mem::take(&mut self.shutdown_pending) {
             return Some(LldpDue::Shutdown);
         }
-        if !self.config.enabled() || now < self.next_tx {
+        if !self.config.transmits() || now < self.next_tx {
             return None;
         }
         self.last_tx = Some(now);
@@ -190,12 +196,12 @@ impl LldpState {
     /// Applies new settings: a change is announced, and turning LLDP off sends the shutdown
     /// LLDPDU.
     fn reconfigure(&mut self, config: LldpConfig) {
-        let was = self.config.enabled();
+        let was = self.config.transmits();
         self.config = config;
-        if was && !config.enabled() {
+        if was && !config.transmits() {
             self.shutdown_pending = true;
         }
-        if !was && config.enabled() {
+        if !was && config.transmits() {
             self.next_tx = Instant(0);
         }
         self.local_changed();

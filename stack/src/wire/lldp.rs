@@ -60,6 +60,10 @@ pub mod odva {
 
 /// Chassis ID subtype: MAC address (802.1AB table 8-2).
 pub const CHASSIS_MAC: u8 = 4;
+/// Chassis ID subtype: interface name (802.1AB table 8-2).
+pub const CHASSIS_INTERFACE_NAME: u8 = 6;
+/// Port ID subtype: MAC address (802.1AB table 8-3).
+pub const PORT_MAC: u8 = 3;
 /// Port ID subtype: interface name (802.1AB table 8-3).
 pub const PORT_INTERFACE_NAME: u8 = 5;
 /// System capability bit: station only (802.1AB table 8-4).
@@ -251,13 +255,19 @@ impl<'a> LldpduRepr<'a> {
         }
     }
 
-    /// The neighbour's MAC address: the Chassis ID when it is one, else the CIP MAC Address
-    /// TLV's, else `None`.
-    pub fn chassis_mac(&self) -> Option<[u8; 6]> {
-        let chassis = (self.chassis_subtype == CHASSIS_MAC)
-            .then(|| <[u8; 6]>::try_from(self.chassis_id).ok())
-            .flatten();
-        chassis.or(self.cip_mac)
+    /// The sender's MAC address as the LLDP Data Table object takes it: the CIP MAC Address
+    /// TLV's, else the Chassis ID's or the Port ID's when of the MAC address subtype, else
+    /// all zero.
+    pub fn neighbor_mac(&self) -> [u8; 6] {
+        let mac = |subtype: u8, want: u8, id: &[u8]| {
+            (subtype == want)
+                .then(|| <[u8; 6]>::try_from(id).ok())
+                .flatten()
+        };
+        self.cip_mac
+            .or_else(|| mac(self.chassis_subtype, CHASSIS_MAC, self.chassis_id))
+            .or_else(|| mac(self.port_subtype, PORT_MAC, self.port_id))
+            .unwrap_or_default()
     }
 }
 

@@ -43,7 +43,7 @@ fn own_lldpdu_round_trips() {
     // Chassis ID: type 1, length 7, subtype MAC.
     assert_eq!(&bytes[..3], &[0x02, 0x07, CHASSIS_MAC]);
     let pdu = LldpduRepr::parse(&bytes).unwrap();
-    assert_eq!(pdu.chassis_mac(), Some(MAC));
+    assert_eq!(pdu.neighbor_mac(), MAC);
     assert_eq!((pdu.port_subtype, pdu.port_id), (5, &b"Port 1"[..]));
     assert_eq!(pdu.ttl, 120);
     assert_eq!(pdu.system_name, Some(&b"press-4"[..]));
@@ -159,4 +159,28 @@ fn arbitrary_bytes_never_panic() {
         }
         let _ = LldpduRepr::parse(&b);
     }
+}
+
+#[test]
+fn neighbor_mac_prefers_the_cip_mac_then_the_chassis_then_the_port() {
+    // Chassis ID of subtype 7 (locally assigned), Port ID of subtype 3 (MAC address).
+    let port_mac = [0x02, 0, 0, 0, 0, 0x33];
+    let mut bytes = heapless::Vec::<u8, 64>::new();
+    bytes
+        .extend_from_slice(&[0x02, 0x04, 7, b'b', b'o', b'x'])
+        .unwrap();
+    bytes.extend_from_slice(&[0x04, 0x07, PORT_MAC]).unwrap();
+    bytes.extend_from_slice(&port_mac).unwrap();
+    bytes.extend_from_slice(&[0x06, 0x02, 0, 30]).unwrap();
+    let pdu = LldpduRepr::parse(&bytes).unwrap();
+    assert_eq!(pdu.neighbor_mac(), port_mac);
+    // Without a MAC anywhere: all zero.
+    let mut no_mac = bytes.clone();
+    no_mac[6 + 2] = PORT_INTERFACE_NAME;
+    assert_eq!(LldpduRepr::parse(&no_mac).unwrap().neighbor_mac(), [0; 6]);
+    // The CIP MAC Address TLV comes first, before a Chassis ID of the MAC subtype.
+    let own = emitted(&local(30), false);
+    let mut pdu = LldpduRepr::parse(&own).unwrap();
+    pdu.cip_mac = Some([0x02, 0, 0, 0, 0, 0x44]);
+    assert_eq!(pdu.neighbor_mac(), [0x02, 0, 0, 0, 0, 0x44]);
 }
