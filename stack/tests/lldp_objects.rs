@@ -4,10 +4,9 @@
 
 use std::cell::RefCell;
 use std::net::Ipv4Addr;
-use std::rc::Rc;
 
 use enip_stack::adapter::MAX_LLDPDU;
-use enip_stack::nv::{AbStore, NvError, NvStore, RamFlash, IMAGE_SIZE, MAX_WRITE_SIZE};
+use enip_stack::nv::{AbStore, NvStore, RamFlash, SharedStore, IMAGE_SIZE, MAX_WRITE_SIZE};
 use enip_stack::wire::lldp::{CipIdentification, LldpduRepr, LocalSystem};
 use enip_stack::wire::Writer;
 use enip_stack::{Adapter, Device, Instant, NetworkConfig};
@@ -167,51 +166,34 @@ fn management_attributes_and_set_rules() {
 
 #[test]
 fn settings_survive_a_restart_and_a_factory_reset_clears_them() {
-    let store = Shared(Rc::new(RefCell::new(AbStore::mount(RamFlash::new()))));
+    let store = store();
     let mut a = adapter();
-    a.attach_store(leak(&store)).unwrap();
+    a.attach_store(leak(store)).unwrap();
     assert_eq!(set(&mut a, 0, 0x109, 2, &[7, 0]), 0);
     assert_eq!(set(&mut a, 0, 0x109, 3, &[9]), 0);
     // The same store under a new adapter: the settings are back.
     let mut b = adapter();
-    b.attach_store(leak(&store)).unwrap();
+    b.attach_store(leak(store)).unwrap();
     assert_eq!(get(&mut b, 0, 0x109, 1, 2), (0, vec![7, 0]));
     assert_eq!(get(&mut b, 0, 0x109, 1, 3), (0, vec![9]));
     // Identity Reset type 1: factory defaults, also after the next start.
     assert_eq!(call(&mut b, 0, 0x05, 0x01, 1, 0, &[1]).0, 0);
     assert_eq!(get(&mut b, 0, 0x109, 1, 2), (0, vec![30, 0]));
     let mut c = adapter();
-    c.attach_store(leak(&store)).unwrap();
+    c.attach_store(leak(store)).unwrap();
     assert_eq!(get(&mut c, 0, 0x109, 1, 3), (0, vec![4]));
 }
 
-/// One store shared by the adapters of a test (each restart is a new adapter).
-#[derive(Clone)]
-struct Shared(Rc<RefCell<AbStore<RamFlash<{ MAX_WRITE_SIZE + IMAGE_SIZE }>>>>);
-
-impl NvStore for Shared {
-    fn read(&mut self, key: u16, buf: &mut [u8]) -> Result<Option<usize>, NvError> {
-        self.0.borrow_mut().read(key, buf)
-    }
-    fn write(&mut self, key: u16, value: &[u8]) -> Result<(), NvError> {
-        self.0.borrow_mut().write(key, value)
-    }
-    fn remove(&mut self, key: u16) -> Result<(), NvError> {
-        self.0.borrow_mut().remove(key)
-    }
-    fn begin(&mut self) -> Result<(), NvError> {
-        self.0.borrow_mut().begin()
-    }
-    fn commit(&mut self) -> Result<(), NvError> {
-        self.0.borrow_mut().commit()
-    }
-    fn abandon(&mut self) {
-        self.0.borrow_mut().abandon()
-    }
+/// A store that outlives the adapters of a test (each restart is a new adapter).
+fn store() -> &'static RefCell<dyn NvStore> {
+    Box::leak(Box::new(RefCell::new(AbStore::mount(RamFlash::<
+        { MAX_WRITE_SIZE + IMAGE_SIZE },
+    >::new()))))
 }
 
-fn leak(s: &Shared) -> &'static mut dyn NvStore {
-    Box::leak(Box::new(s.clone()))
+/// A handle on `cell` for one adapter.
+fn leak(cell: &'static RefCell<dyn NvStore>) -> &'static mut dyn NvStore {
+    Box::leak(Box::new(SharedStore::new(cell)))
 }
 
 #[test]

@@ -62,7 +62,7 @@ pub(crate) fn service<D: Driver>(
         return (None, false);
     }
     let deadline = port.lldp_deadline();
-    if !deadline.is_some_and(|d| d <= at) {
+    if deadline.is_none_or(|d| d > at) {
         return (deadline, false);
     }
     let Some(tx) = driver.transmit(cx) else {

@@ -2,7 +2,7 @@
 //! one instance per neighbour, kept for the Time To Live they announced.
 //!
 //! A neighbour is known by its MSAP identifier (Chassis ID and Port ID, 802.1AB 8.5.1),
-//! kept as their CRC-32. Instance `n` is slot `n` of the table and keeps its number while the
+//! kept as the CRC-32 of those two TLVs. Instance `n` is slot `n` of the table and keeps its number while the
 //! neighbour stays; a table entry expires at the time of its last LLDPDU plus the TTL it
 //! carried (checked whenever the table is read or fed, so nothing needs a timer), and an
 //! LLDPDU with TTL 0 removes it at once. A new neighbour that finds the table full is
@@ -31,7 +31,7 @@ pub const MAX_LABEL: usize = 64;
 /// One neighbour's data.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Neighbor {
-    /// CRC-32 of the Chassis ID and Port ID TLVs' contents.
+    /// CRC-32 of the Chassis ID and Port ID TLVs.
     msap: u32,
     /// CRC-32 of the whole LLDPDU last received: a change shows as another value.
     digest: u32,
@@ -89,7 +89,7 @@ impl NeighborTable {
     /// Takes in an LLDPDU `pdu` (its bytes `raw`) received at `now`.
     pub fn receive(&mut self, pdu: &LldpduRepr<'_>, raw: &[u8], now: Instant) {
         self.expire(now);
-        let msap = msap(pdu);
+        let msap = crc32(pdu.msap);
         let at = self
             .slots
             .iter()
@@ -145,19 +145,6 @@ impl Default for NeighborTable {
     fn default() -> Self {
         Self::new()
     }
-}
-
-/// The MSAP identifier of `pdu`: CRC-32 over the Chassis ID and Port ID with their subtypes.
-fn msap(pdu: &LldpduRepr<'_>) -> u32 {
-    let mut key = [0u8; 2 * 257];
-    let mut w = Writer::new(&mut key);
-    // Both IDs are at most 256 bytes (checked by the parser): they fit.
-    let _ = w
-        .u8(pdu.chassis_subtype)
-        .and_then(|_| w.bytes(pdu.chassis_id))
-        .and_then(|_| w.u8(pdu.port_subtype))
-        .and_then(|_| w.bytes(pdu.port_id));
-    crc32(w.written())
 }
 
 /// The interface label of a neighbour: its CIP Interface Label, else a Chassis ID or Port ID
@@ -252,15 +239,13 @@ impl<D: Device> Object for DataTable<'_, '_, D> {
     }
 }
 
-/// Handles a request to the LLDP Data Table class or one of its instances, after dropping
-/// the entries that expired.
-pub(crate) fn handle<D: Device>(
+/// Handles a request to the LLDP Data Table class or one of its instances (the caller drops
+/// the entries that expired first).
+pub(crate) fn serve_table<D: Device>(
     ctx: &mut Ctx<'_, D>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
-    let now = ctx.now();
-    ctx.state.lldp.neighbors.expire(now);
     serve(&mut DataTable(ctx), req, w)
 }
 

@@ -8,7 +8,7 @@
 //! link coming up); TTL = msgTxInterval x msgTxHold (at most 65 535 s). Turning LLDP off sends
 //! one shutdown LLDPDU (TTL 0). The runtime builds the frames: [`crate::Adapter::lldp_transmit`].
 
-use super::lldp_data_table::{seconds, NeighborTable};
+use super::lldp_data_table::{seconds, serve_table, NeighborTable};
 use super::serve::{serve, Object};
 use super::Ctx;
 use crate::cip::object::{AttributeDef, ClassDef, DataType};
@@ -46,7 +46,7 @@ pub(crate) const RECORD_MAX: usize = 5;
 /// The settable attributes 1-3.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LldpConfig {
-    /// Attribute 1: [`ENABLE_GLOBAL`] and [`ENABLE_PORT_1`].
+    /// Attribute 1: bit 0 LLDP on globally, bit 1 on for the port (Ethernet Link instance 1).
     pub enable: u8,
     /// Attribute 2: msgTxInterval in seconds.
     pub tx_interval_s: u16,
@@ -283,7 +283,8 @@ impl<D: Device> Object for Management<'_, '_, D> {
     }
 }
 
-/// Handles a request to the LLDP Management class or its instance 1.
+/// Handles a request to the LLDP Management or the LLDP Data Table class or one of their
+/// instances, after dropping the neighbours whose TTL ran out.
 pub(crate) fn handle<D: Device>(
     ctx: &mut Ctx<'_, D>,
     req: &Request<'_>,
@@ -291,6 +292,9 @@ pub(crate) fn handle<D: Device>(
 ) -> CipResult {
     let now = ctx.now();
     ctx.state.lldp.neighbors.expire(now);
+    if req.path.class == Some(u32::from(class_id::LLDP_DATA_TABLE)) {
+        return serve_table(ctx, req, w);
+    }
     serve(&mut Management(ctx), req, w)
 }
 

@@ -149,6 +149,9 @@ fn next_tlv<'a>(r: &mut Reader<'a>) -> Result<Tlv<'a>> {
 /// A received LLDPDU, checked, its fields borrowed from the data.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct LldpduRepr<'a> {
+    /// The Chassis ID and Port ID TLVs as received, headers included: the sender's MSAP
+    /// identifier (802.1AB 8.5.1) in one slice.
+    pub msap: &'a [u8],
     /// Chassis ID subtype.
     pub chassis_subtype: u8,
     /// Chassis ID (after the subtype).
@@ -182,10 +185,12 @@ impl<'a> LldpduRepr<'a> {
         let mut r = Reader::new(data);
         let chassis = mandatory(&mut r, tlv::CHASSIS_ID, ID_LEN)?;
         let port = mandatory(&mut r, tlv::PORT_ID, ID_LEN)?;
+        let msap_len = data.len().saturating_sub(r.remaining());
         let ttl = mandatory(&mut r, tlv::TTL, 2..=MAX_INFO)?;
         let (chassis_subtype, chassis_id) = chassis.split_first().ok_or(Error::Truncated)?;
         let (port_subtype, port_id) = port.split_first().ok_or(Error::Truncated)?;
         let mut pdu = LldpduRepr {
+            msap: data.get(..msap_len).unwrap_or_default(),
             chassis_subtype: *chassis_subtype,
             chassis_id,
             port_subtype: *port_subtype,

@@ -45,6 +45,8 @@ fn own_lldpdu_round_trips() {
     let pdu = LldpduRepr::parse(&bytes).unwrap();
     assert_eq!(pdu.neighbor_mac(), MAC);
     assert_eq!((pdu.port_subtype, pdu.port_id), (5, &b"Port 1"[..]));
+    // The MSAP identifier: both ID TLVs, headers included (2 + 7 and 2 + 7 bytes).
+    assert_eq!(pdu.msap, &bytes[..18]);
     assert_eq!(pdu.ttl, 120);
     assert_eq!(pdu.system_name, Some(&b"press-4"[..]));
     assert_eq!(pdu.capabilities, Some((0x80, 0x80)));
