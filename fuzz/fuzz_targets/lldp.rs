@@ -34,5 +34,8 @@ fuzz_target!(|data: &[u8]| {
     assert_eq!(listed, expected, "{parsed:?}");
     let mut out = [0u8; MAX_LLDPDU];
     let n = adapter.lldp_transmit(at(3), &mut out);
-    assert!(n > 0 && LldpduRepr::parse(&out[..n]).is_ok(), "our own LLDPDU");
+    assert!(
+        n > 0 && LldpduRepr::parse(&out[..n]).is_ok(),
+        "our own LLDPDU"
+    );
 });
