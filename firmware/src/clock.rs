@@ -1,4 +1,5 @@
-//! Conversions between embassy-time instants and the stack's microsecond [`enip_stack::Instant`].
+//! Conversions between embassy-time instants and the stack's microsecond
+//! [`enip_stack::Instant`], and the earlier of two deadlines.
 
 /// The current time as the stack counts it.
 pub(crate) fn now() -> enip_stack::Instant {
@@ -15,6 +16,17 @@ pub(crate) fn to_embassy(at: enip_stack::Instant) -> embassy_time::Instant {
     embassy_time::Instant::try_from_micros(at.as_micros()).unwrap_or(embassy_time::Instant::MAX)
 }
 
+/// The earlier of two deadlines (`None` is never).
+pub(crate) fn earliest(
+    a: Option<enip_stack::Instant>,
+    b: Option<enip_stack::Instant>,
+) -> Option<enip_stack::Instant> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -27,5 +39,14 @@ mod tests {
             to_embassy(enip_stack::Instant::from_micros(u64::MAX)),
             embassy_time::Instant::MAX
         );
+    }
+
+    #[test]
+    fn earliest_treats_none_as_never() {
+        let (one, two) = (enip_stack::Instant(1), enip_stack::Instant(2));
+        assert_eq!(earliest(Some(two), Some(one)), Some(one));
+        assert_eq!(earliest(None, Some(two)), Some(two));
+        assert_eq!(earliest(Some(one), None), Some(one));
+        assert_eq!(earliest(None, None), None);
     }
 }

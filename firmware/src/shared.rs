@@ -1,6 +1,6 @@
 //! The adapter shared between the runtime's tasks on one single-threaded executor: the
 //! wake-up that tells the link task its deadline moved, the note that the multicast group
-//! may have changed, and its Class 1 calls as an [`IoPort`].
+//! may have changed, and its Class 1 and LLDP calls as an [`IoPort`] and [`LldpPort`].
 
 use core::cell::{Cell, RefCell};
 use core::net::SocketAddrV4;
@@ -13,7 +13,8 @@ use embassy_sync::waitqueue::WakerRegistration;
 use enip_stack::{Adapter, Device, Instant, IoDue, NetworkConfig};
 use static_cell::StaticCell;
 
-use crate::link::IoPort;
+use crate::clock::earliest;
+use crate::link::{IoPort, LldpPort};
 
 /// An [`Adapter`] shared by the runtime's futures and the link task; never borrowed across
 /// an `.await`.
@@ -59,9 +60,9 @@ impl<D: Device> Default for AdapterCell<D> {
     }
 }
 
-/// Runs `f` with exclusive access to the shared adapter. If `f` brought the I/O deadline
-/// forward (a Forward_Open, a trigger), the link task is woken to honour it; if it changed
-/// the multicast group, the runtime joins the new one.
+/// Runs `f` with exclusive access to the shared adapter. If `f` brought the link task's
+/// deadline forward (a Forward_Open, a trigger, an LLDP change), the link task is woken to
+/// honour it; if it changed the multicast group, the runtime joins the new one.
 ///
 /// The borrow cannot be taken twice: every caller returns before its next `.await`, and the
 /// executor runs one task at a time.
@@ -71,11 +72,11 @@ pub fn with_adapter<D: Device, R>(
 ) -> R {
     let (r, moved, regrouped) = shared.adapter.lock(|cell| {
         let mut a = cell.borrow_mut();
-        let (deadline, group) = (a.io_deadline(), a.multicast_group());
+        let (deadline, group) = (link_deadline(&a), a.multicast_group());
         let r = f(&mut a);
         (
             r,
-            earlier(a.io_deadline(), deadline),
+            earlier(link_deadline(&a), deadline),
             a.multicast_group() != group,
         )
     });
@@ -144,6 +145,33 @@ impl<D: Device> IoPort for SharedAdapter<D> {
         self.io_waker.borrow_mut().register(cx.waker());
         Poll::Pending
     }
+}
+
+impl<D: Device> LldpPort for SharedAdapter<D> {
+    fn lldp_receive(&self, lldpdu: &[u8], now: Instant) {
+        with_adapter_quiet(self, |a| a.lldp_receive(lldpdu, now));
+    }
+
+    fn lldp_transmit(&self, now: Instant, out: &mut [u8]) -> usize {
+        with_adapter_quiet(self, |a| a.lldp_transmit(now, out))
+    }
+
+    fn lldp_shutdown(&self, out: &mut [u8]) -> usize {
+        with_adapter_quiet(self, |a| a.lldp_shutdown(out))
+    }
+
+    fn lldp_deadline(&self) -> Option<Instant> {
+        with_adapter_quiet(self, |a| a.lldp_deadline())
+    }
+
+    fn lldp_link_up(&self) {
+        with_adapter_quiet(self, |a| a.lldp_link_up());
+    }
+}
+
+/// The link task's next deadline: a production, a watchdog expiry or an LLDPDU.
+fn link_deadline<D: Device>(a: &Adapter<D>) -> Option<Instant> {
+    earliest(a.io_deadline(), a.lldp_deadline())
 }
 
 /// True if deadline `a` comes before `b` (`None` is never).

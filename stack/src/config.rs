@@ -18,6 +18,8 @@ pub const MAX_MULTIPLE_SERVICES: usize = 32;
 pub const MAX_HOST_NAME: usize = 64;
 /// Longest domain name (TCP/IP attribute 5), as CIP allows.
 pub const MAX_DOMAIN_NAME: usize = 48;
+/// LLDP neighbours kept in the LLDP Data Table object (0x10A).
+pub const MAX_LLDP_NEIGHBORS: usize = 8;
 /// TCP and UDP port of the encapsulation protocol (defined by the codec).
 pub use crate::wire::encap::ENCAP_PORT;
 /// UDP port of Class 0/1 implicit I/O (defined by the codec).

@@ -155,11 +155,11 @@ fn tap_interop() -> Result<Outcome> {
         "io-block-host",
     ]))?;
     // The profiles' scenarios also run on the emulated board: a copy of its ELF per profile
-    // but the default one (ENIP_QEMU_<PROFILE>_ELF), since the smoke run rebuilds the same
-    // path with the default profile.
+    // (ENIP_QEMU_<PROFILE>_ELF), the default one's too (the LLDP test), since the smoke run
+    // rebuilds the build path with the default profile.
     let mut elves = Vec::new();
     let profiles = boards::profiles(&Metadata::read()?)?;
-    for profile in profiles.iter().filter(|p| *p != boards::DEFAULT_PROFILE) {
+    for profile in &profiles {
         let elf = util::target_dir().join(format!("qemu-{profile}.elf"));
         std::fs::copy(boards::build(boards::QEMU, profile)?, &elf)?;
         elves.push((rig::qemu_elf_var(profile), elf));

@@ -15,8 +15,9 @@
 //! [`enip_host_runtime`] (waiting in one `ppoll` on the TAP and the next timer); on kernel
 //! sockets it drives the same [`enip_stack::Adapter`] from one `ppoll` event loop (TCP and
 //! UDP 44818, UDP 2222). Either way it wraps the device in a [`enip_stack::Adapter`], logs
-//! to stderr (`RUST_LOG`, default `info`), exits 0 on SIGINT or SIGTERM and 1 on any start-up
-//! error.
+//! to stderr (`RUST_LOG`, default `info`), exits 0 on SIGINT or SIGTERM (on a TAP after the
+//! LLDP shutdown frame, so that neighbours forget the adapter at once; on kernel sockets the
+//! kernel owns the link and no LLDP runs) and 1 on any start-up error.
 //! The TCP/IP settings a scanner sets are kept in the non-volatile store, a file with
 //! [`Options::nv_file`] (`--nv-file`), so that a restart comes up at the address set; a
 //! device profile keeps its saved settings in the same store ([`shared_store`]).

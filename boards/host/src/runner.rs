@@ -1,16 +1,21 @@
 //! [`run`]: a device on the TAP, on the host runtime's executor ([`enip_host_runtime`]), or
 //! on the kernel's sockets ([`crate::kernel`]).
 
-use std::future::Future;
+use std::future::{poll_fn, Future};
+use std::os::fd::AsRawFd;
+use std::os::unix::net::UnixStream;
 use std::path::Path;
 use std::pin::Pin;
 use std::process::exit;
 
 use crate::tap_device::TapDevice;
 use embassy_executor::Spawner;
+use embassy_futures::select::{select, Either};
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
+use embassy_time::{with_timeout, Duration};
 use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
 use enip_firmware::Resources;
+use enip_host_runtime::Readable;
 use enip_stack::nv::SharedStore;
 use enip_stack::objects::TcpIpState;
 use enip_stack::{Adapter, Device};
@@ -22,6 +27,9 @@ use crate::{kernel, program_name, signals, tap, Options};
 /// Sockets of the embassy-net stack: what the adapter needs, and none to spare.
 const SOCKETS: usize = enip_firmware::SOCKETS;
 
+/// How long the LLDP shutdown frame may wait for the TAP on exit.
+const SHUTDOWN_SEND: Duration = Duration::from_millis(200);
+
 /// The adapter's whole run, type-erased so that one (non-generic) task can drive it.
 type AdapterRun = Pin<&'static mut dyn Future<Output = ()>>;
 
@@ -31,7 +39,18 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
     let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
         .try_init();
     let program = program_name();
-    if let Err(e) = signals::exit_on_termination() {
+    // On the TAP the link task is told of the signal: it sends the LLDP shutdown frame.
+    let (tell, told) = match options.link {
+        Link::Tap(_) => UnixStream::pair().map_or_else(
+            |e| {
+                eprintln!("{program}: {e}");
+                exit(1)
+            },
+            |(tell, told)| (Some(tell), Some(told)),
+        ),
+        Link::Kernel(_) => (None, None),
+    };
+    if let Err(e) = signals::exit_on_termination(tell) {
         eprintln!("{program}: cannot install signal handlers: {e}");
         exit(1);
     }
@@ -49,6 +68,7 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
                 link,
                 options.nv_file.as_deref(),
                 program,
+                told,
             )
         }
         Link::Kernel(ip) => {
@@ -66,8 +86,8 @@ fn open_store(options: &Options, program: &str) -> SharedStore {
     })
 }
 
-/// Runs `device` on `tap` on this thread's executor ([`enip_host_runtime::run`]), forever;
-/// exits 1 if the executor's wait fails.
+/// Runs `device` on `tap` on this thread's executor ([`enip_host_runtime::run`]) until
+/// `stop` becomes readable (then exits 0), or forever; exits 1 if the executor's wait fails.
 fn run_tap<D: Device + 'static>(
     device: D,
     tap: TapDevice,
@@ -75,8 +95,9 @@ fn run_tap<D: Device + 'static>(
     link: &TapOptions,
     nv_file: Option<&Path>,
     program: String,
+    stop: Option<UnixStream>,
 ) -> ! {
-    let adapter_run = start(device, tap, store, link, nv_file, program);
+    let adapter_run = start(device, tap, store, link, nv_file, program, stop);
     let Err(e) = enip_host_runtime::run(|spawner: Spawner| {
         let Started {
             runner,
@@ -109,11 +130,13 @@ struct Started {
     adapter: AdapterRun,
 }
 
-/// The link task's share: the TAP, the frames it passes to the stack, the adapter.
+/// The link task's share: the TAP, the frames it passes to the stack, the adapter, and what
+/// becomes readable when the program is to stop.
 struct LinkShare {
     tap: TapDevice,
     frames: &'static LinkFrames,
     io: &'static dyn IoPort,
+    stop: Option<UnixStream>,
 }
 
 /// Builds the network stack and the adapter: the network runner, the link task's share and
@@ -125,6 +148,7 @@ fn start<D: Device + 'static>(
     link: &TapOptions,
     nv_file: Option<&Path>,
     program: String,
+    stop: Option<UnixStream>,
 ) -> Started {
     tap.set_hardware_address(link.mac);
     let config = embassy_net::Config::ipv4_static(interface(&mut store, link, nv_file));
@@ -168,6 +192,7 @@ fn start<D: Device + 'static>(
             tap,
             frames,
             io: adapter,
+            stop,
         },
         adapter: Pin::static_mut(run),
     }
@@ -235,10 +260,36 @@ async fn net_task(mut runner: Runner<'static, NetDriver<'static>>) -> ! {
     runner.run().await
 }
 
-/// Owns the TAP: Class 1 I/O, and every other frame to and from the network stack.
+/// Owns the TAP: Class 1 I/O, LLDP, and every other frame to and from the network stack.
+/// Told to stop, it sends the LLDP shutdown frame (the neighbours forget the adapter at
+/// once) and exits 0.
 #[embassy_executor::task]
 async fn link_task(link: LinkShare) -> ! {
-    enip_firmware::link::run(link.tap, link.frames, link.io).await
+    let LinkShare {
+        mut tap,
+        frames,
+        io,
+        stop,
+    } = link;
+    let running = enip_firmware::link::run(&mut tap, frames, io);
+    if let Either::First(never) = select(running, stop_requested(stop.as_ref())).await {
+        match never {}
+    }
+    let _ = with_timeout(
+        SHUTDOWN_SEND,
+        enip_firmware::link::lldp_shutdown(&mut tap, io),
+    )
+    .await;
+    exit(0)
+}
+
+/// Ready once `stop` is readable; never without one.
+async fn stop_requested(stop: Option<&UnixStream>) {
+    let Some(stop) = stop else {
+        return std::future::pending().await;
+    };
+    let readable = Readable::new(stop.as_raw_fd());
+    poll_fn(|cx| readable.poll_readable(cx)).await
 }
 
 /// Drives the adapter's run (it never ends).

@@ -6,9 +6,11 @@ use core::task::{Context, Poll};
 
 use enip_stack::{Instant, IoDue, NetworkConfig};
 
-/// Class 1 I/O of an adapter shared with the other tasks of the runtime; implemented by
-/// [`crate::SharedAdapter`].
-pub trait IoPort {
+use super::lldp::LldpPort;
+
+/// Class 1 I/O (and, through [`LldpPort`], LLDP) of an adapter shared with the other tasks
+/// of the runtime; implemented by [`crate::SharedAdapter`].
+pub trait IoPort: LldpPort {
     /// The interface configuration now (`Adapter::network`): the addresses T->O datagrams
     /// go out with.
     fn interface(&self) -> NetworkConfig;

@@ -9,6 +9,9 @@
 //! headers the link task writes; the next hop's MAC address is the one the originator's own
 //! frames came from (asked for by ARP if none came yet), or the IPv4 multicast group's.
 //!
+//! LLDP frames (ethertype 0x88CC) are the link task's too: received ones go to the adapter's
+//! LLDP Data Table, and the adapter's own LLDPDUs go out when due (`link/lldp.rs`).
+//!
 //! So a Class 1 cycle wakes one task and touches neither smoltcp nor the socket futures of
 //! the explicit-messaging side, and the TCP/IP stack keeps ARP, ICMP, IGMP, DHCP, TCP and
 //! UDP 44818 as before.
@@ -17,11 +20,13 @@ mod checksum;
 mod frame;
 mod frames;
 mod io_port;
+mod lldp;
 mod neighbors;
 mod net_driver;
 mod pump;
 
 pub use frames::{LinkFrames, FRAME_LEN, RX_FRAMES, TX_FRAMES};
 pub use io_port::IoPort;
+pub use lldp::{shutdown as lldp_shutdown, LldpPort};
 pub use net_driver::{NetDriver, Received, Send};
 pub use pump::run;

@@ -1,8 +1,9 @@
 //! The link task's loop: it owns the board's Ethernet driver. Each wake-up it reads the
-//! received frames, hands O->T datagrams straight to the adapter and every other frame to
-//! the network stack, sends the stack's frames, and writes each T->O datagram that is due
-//! straight into the driver's transmit buffer behind its headers. It sleeps until the
-//! adapter's next production or watchdog expiry, a frame, or another task's wake-up.
+//! received frames, hands O->T datagrams and LLDPDUs straight to the adapter and every other
+//! frame to the network stack, sends the stack's frames, writes each T->O datagram that is
+//! due straight into the driver's transmit buffer behind its headers, and sends the LLDPDU
+//! that is due (`link/lldp.rs`). It sleeps until the adapter's next production, watchdog
+//! expiry or LLDPDU, a frame, or another task's wake-up.
 
 use core::convert::Infallible;
 use core::future::{poll_fn, Future};
@@ -10,7 +11,7 @@ use core::net::SocketAddrV4;
 use core::pin::Pin;
 use core::task::{Context, Poll};
 
-use embassy_net_driver::{Checksum, Driver, HardwareAddress, RxToken, TxToken};
+use embassy_net_driver::{Checksum, Driver, HardwareAddress, LinkState, RxToken, TxToken};
 use embassy_time::Timer;
 use enip_stack::config::MAX_CONNECTIONS;
 use enip_stack::{Instant, IoDue, NetworkConfig};
@@ -19,8 +20,9 @@ use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 use super::frame::{self, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
 use super::frames::{LinkFrames, TX_FRAMES};
 use super::io_port::IoPort;
+use super::lldp;
 use super::neighbors::{next_hop, Neighbors};
-use crate::clock::{now, to_embassy};
+use crate::clock::{earliest, now, to_embassy};
 
 /// Passes of receive, send and produce in one wake-up at most (then the task yields to the
 /// others and runs again).
@@ -81,7 +83,11 @@ impl Pump {
         frames: &LinkFrames,
         io: &dyn IoPort,
     ) {
-        frames.set_link_state(driver.link_state(cx));
+        let link = driver.link_state(cx);
+        if link == LinkState::Up && frames.link_state() != LinkState::Up {
+            io.lldp_link_up();
+        }
+        frames.set_link_state(link);
         let me = io.interface();
         // Each pass handles what is ready; another runs only if the driver had more to read
         // than a burst or a production came due meanwhile (an input the O->T data changed).
@@ -91,7 +97,10 @@ impl Pump {
             let more_frames = self.receive(cx, driver, frames, io, &me, at);
             self.send_stack_frames(cx, driver, frames);
             self.produce(cx, driver, io, &me, at);
-            settled = !more_frames && self.sleep_until(io.deadline(), at, cx);
+            let up = link == LinkState::Up;
+            let (lldp, blocked) = lldp::service(cx, driver, io, self.mac, up, at);
+            self.blocked |= blocked;
+            settled = !more_frames && self.sleep_until(earliest(io.deadline(), lldp), at, cx);
             if settled {
                 break;
             }
@@ -138,6 +147,10 @@ impl Pump {
         me: &NetworkConfig,
         at: Instant,
     ) -> bool {
+        if let Some(lldpdu) = lldp::lldpdu(frame) {
+            io.lldp_receive(lldpdu, at);
+            return false;
+        }
         let seen = frame::inspect(frame, me.ip, &self.sums);
         if let Some((ip, mac)) = seen.sender {
             self.neighbors.learn(ip, mac);

@@ -87,6 +87,7 @@ fn main() {
         ],
     );
     add("identity_item", "list_identity_reply", identity_item_seed());
+    add("lldp", "own_lldpdu", lldp_seed());
     // Request data after service and path (class 6, instance 1: 4 bytes).
     add(
         "forward_open",
@@ -349,6 +350,14 @@ fn identity_item_seed() -> Vec<u8> {
         item = c.items().next().map(|i| i.data.to_vec());
     });
     item.expect("ListIdentity was answered")
+}
+
+/// The test device's own LLDPDU (every TLV the adapter sends), as a neighbour's.
+fn lldp_seed() -> Vec<u8> {
+    let mut adapter = script::adapter(enip_fuzz::TestDevice::new());
+    let mut out = [0u8; enip_stack::adapter::MAX_LLDPDU];
+    let n = adapter.lldp_transmit(enip_stack::Instant::from_micros(0), &mut out);
+    out[..n].to_vec()
 }
 
 /// Every reply to the TCP and UDP seed scripts must carry success, down to the CIP status.

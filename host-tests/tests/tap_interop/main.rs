@@ -44,6 +44,7 @@ mod faults_soak;
 mod hostile_cip;
 mod hostile_framing;
 mod kollmorgen_akd;
+mod lldp;
 mod parker_ipa;
 mod position_servo;
 mod position_servo_connections;

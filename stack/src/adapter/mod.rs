@@ -1,8 +1,11 @@
 //! The [`Adapter`]: the few entry points a runtime calls with bytes and the current time.
 //! The encapsulation commands it answers are in `adapter/encap.rs` beside it, as smoltcp
-//! keeps each protocol's handling beside its `Interface`.
+//! keeps each protocol's handling beside its `Interface`, and LLDP in `adapter/lldp.rs`.
 
 mod encap;
+mod lldp;
+
+pub use lldp::MAX_LLDPDU;
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 
@@ -91,6 +94,10 @@ impl<D: Device> Adapter<D> {
     /// every Set before answering it (0x19 if that fails). Returns whether settings were
     /// loaded; on a read error the factory defaults hold and the store is still used.
     pub fn attach_store(&mut self, store: &'static mut dyn NvStore) -> Result<bool, NvError> {
+        // LLDP settings (LLDP Management attributes 1-3) that cannot be read keep the defaults.
+        if let Ok(Some(config)) = crate::objects::LldpConfig::stored(store) {
+            self.inner.objects.lldp.config = config;
+        }
         let loaded = crate::objects::tcpip::TcpIpState::stored(store);
         self.inner.store = Some(store);
         let stored = loaded?;
@@ -150,8 +157,12 @@ impl<D: Device> Adapter<D> {
     pub fn network(&self) -> &NetworkConfig {
         &self.inner.net
     }
-    /// Reports a new interface configuration (DHCP lease, link change).
+    /// Reports a new interface configuration (DHCP lease, link change); a new address is
+    /// announced by LLDP.
     pub fn set_network(&mut self, net: NetworkConfig) {
+        if (net.ip, net.mac) != (self.inner.net.ip, self.inner.net.mac) {
+            self.inner.objects.lldp.local_changed();
+        }
         self.inner.net = net;
     }
 

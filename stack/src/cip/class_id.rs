@@ -12,3 +12,7 @@ pub const CONNECTION_MANAGER: u16 = 0x06;
 pub const TCP_IP_INTERFACE: u16 = 0xF5;
 /// Ethernet Link object.
 pub const ETHERNET_LINK: u16 = 0xF6;
+/// LLDP Management object.
+pub const LLDP_MANAGEMENT: u16 = 0x109;
+/// LLDP Data Table object.
+pub const LLDP_DATA_TABLE: u16 = 0x10A;

@@ -61,6 +61,8 @@ impl From<FlashError> for NvError {
 pub mod key {
     /// The TCP/IP Interface object's settings (attributes 3, 5, 6, 8, 9 and 13).
     pub const TCP_IP: u16 = 0x0001;
+    /// The LLDP Management object's settings (attributes 1-3).
+    pub const LLDP: u16 = 0x0002;
     /// First key of the device's records.
     pub const PROFILE_BASE: u16 = 0x0100;
 }

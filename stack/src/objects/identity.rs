@@ -99,7 +99,10 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
             return answer;
         }
         Some(store) => {
-            if store.remove(crate::nv::key::TCP_IP).is_err() {
+            let removed = store
+                .remove(crate::nv::key::TCP_IP)
+                .and_then(|_| store.remove(crate::nv::key::LLDP));
+            if removed.is_err() {
                 store.abandon();
                 return Err(General::StoreOperationFailure.into());
             }
@@ -109,6 +112,7 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
     }
     if kind == 1 {
         ctx.state.tcpip = super::tcpip::TcpIpState::new();
+        ctx.state.lldp.config = super::lldp_management::LldpConfig::DEFAULT;
     }
     ctx.state.pending_reset = Some(kind);
     Ok(())

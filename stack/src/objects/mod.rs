@@ -1,5 +1,5 @@
 //! The standard objects the stack serves: Identity, Message Router, Assembly, Connection
-//! Manager, TCP/IP Interface and Ethernet Link, the device's declared vendor classes, and the
+//! Manager, TCP/IP Interface, Ethernet Link, LLDP Management and LLDP Data Table, the device's declared vendor classes, and the
 //! dispatcher (`router`) that sends each request to its object. They sit above the
 //! connections ([`crate::io`]): the Connection Manager opens and closes them, and Identity
 //! and Assembly look at them (status bits, output ownership).
@@ -8,6 +8,8 @@ pub(crate) mod assembly;
 pub(crate) mod connection_manager;
 pub(crate) mod ethernet_link;
 pub(crate) mod identity;
+pub(crate) mod lldp_data_table;
+pub(crate) mod lldp_management;
 pub(crate) mod message_router;
 pub(crate) mod router;
 pub(crate) mod serve;
@@ -17,6 +19,8 @@ pub(crate) mod vendor;
 
 pub use connection_manager::Counters as ConnectionManagerCounters;
 pub use ethernet_link::LinkState;
+pub use lldp_data_table::{Neighbor, NeighborTable};
+pub use lldp_management::{LldpConfig, LldpDue, LldpState};
 pub use tcpip::TcpIpState;
 pub use tcpip_nv::InterfaceConfig;
 
@@ -37,6 +41,8 @@ pub struct ObjectState {
     pub link: ethernet_link::LinkState,
     /// Connection Manager request and reject counters.
     pub connection_manager: connection_manager::Counters,
+    /// LLDP Management and LLDP Data Table objects: the LLDP agent.
+    pub lldp: lldp_management::LldpState,
     /// A Reset service was accepted: its type, for the runtime to act on once replied.
     pub pending_reset: Option<u8>,
 }
@@ -48,6 +54,7 @@ impl ObjectState {
             tcpip: tcpip::TcpIpState::new(),
             link: ethernet_link::LinkState::new(),
             connection_manager: connection_manager::Counters::default(),
+            lldp: lldp_management::LldpState::new(),
             pending_reset: None,
         }
     }

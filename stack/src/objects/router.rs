@@ -2,6 +2,7 @@
 //! sends it to the object its path names, and writes the response with the right general and
 //! additional status.
 
+use super::lldp_management;
 use super::{assembly, connection_manager, ethernet_link, identity};
 use super::{message_router, tcpip, vendor, Ctx};
 use crate::cip::class_id;
@@ -119,6 +120,9 @@ pub(crate) fn dispatch<D: Device>(
         Some(class_id::CONNECTION_MANAGER) => connection_manager::handle(ctx, req, w),
         Some(class_id::TCP_IP_INTERFACE) => tcpip::handle(ctx, req, w),
         Some(class_id::ETHERNET_LINK) => ethernet_link::handle(ctx, req, w),
+        Some(class_id::LLDP_MANAGEMENT | class_id::LLDP_DATA_TABLE) => {
+            lldp_management::handle(ctx, req, w)
+        }
         _ => vendor::handle(ctx, class, req, w),
     }
 }

@@ -258,6 +258,8 @@ impl<D: Device> TcpIp<'_, '_, D> {
                 }
                 st.host_name =
                     heapless::Vec::from_slice(name).map_err(|_| General::InvalidAttributeValue)?;
+                // The LLDP System Name follows.
+                self.0.state.lldp.local_changed();
                 Ok(())
             }
             _ => {

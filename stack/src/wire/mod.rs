@@ -22,6 +22,7 @@ pub mod epath;
 pub mod forward_open;
 pub mod identity_item;
 pub mod io_datagram;
+pub mod lldp;
 pub mod message_router;
 pub mod register_session;
 pub mod rr_data;
