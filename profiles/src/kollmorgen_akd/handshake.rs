@@ -204,9 +204,22 @@ fn load(
             position_controller::write(s, position_controller::attr::TORQUE, &bytes)?;
         }
         ty::POSITION_MOVE => {
-            let v = s.check_profile(i64::from(cmd.velocity()), false)?;
-            let acc = s.check_profile(i64::from(cmd.acceleration()), true)?;
-            let dec = s.check_profile(i64::from(cmd.deceleration()), true)?;
+            let profile = [
+                s.check_profile(i64::from(cmd.velocity()), false),
+                s.check_profile(i64::from(cmd.acceleration()), true),
+                s.check_profile(i64::from(cmd.deceleration()), true),
+            ];
+            let [v, acc, dec] = match profile {
+                [Ok(v), Ok(acc), Ok(dec)] => [v, acc, dec],
+                // A move the drive cannot run (e.g. velocity 0): an invalid motion task
+                // in position mode (DRV.MOTIONSTAT bit 10), data out of range (0x09).
+                _ => {
+                    if mode == Mode::Position && s.drive.ready() {
+                        s.drive.task_rejected();
+                    }
+                    return Err(CipError::new(General::InvalidAttributeValue));
+                }
+            };
             s.pc.target_position = cmd.position();
             s.pc.target_velocity = cmd.velocity();
             if mode == Mode::Position {

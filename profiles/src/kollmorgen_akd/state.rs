@@ -335,7 +335,7 @@ impl State {
             .map_err(|_| StartError::Undefined)?;
         let distance = self.pos_counts(task.position);
         let base = match task.control {
-            cntl::RELATIVE_TARGET => self.drive.target(),
+            cntl::RELATIVE_TARGET => self.drive.last_target(),
             cntl::RELATIVE_COMMAND => self.drive.commanded_position(),
             cntl::RELATIVE_FEEDBACK => self.drive.position(),
             _ => 0,

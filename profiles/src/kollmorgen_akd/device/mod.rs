@@ -47,6 +47,8 @@ pub struct Drive {
     velocity: i64,
     acceleration: i64,
     target: i64,
+    /// The target of the last move (MT.CNTL 3's base), kept when a stop ends it short.
+    last_target: i64,
     motion: Motion,
     /// The motion task the running move executes (Start Block), if it is one.
     task: Option<u8>,
@@ -81,6 +83,7 @@ impl Drive {
             velocity: 0,
             acceleration: 0,
             target: 0,
+            last_target: 0,
             motion: Motion::Idle,
             task: None,
             torque_command: 0,
@@ -232,6 +235,7 @@ impl Drive {
             dec,
         });
         self.target = target;
+        self.last_target = target;
         self.task_completed = false;
         self.target_crossed = false;
         self.moved = true;

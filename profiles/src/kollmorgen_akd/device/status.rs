@@ -79,6 +79,10 @@ impl Drive {
     pub fn target(&self) -> i64 {
         self.target
     }
+    /// The target of the last move, counts, also when a stop ended it short.
+    pub fn last_target(&self) -> i64 {
+        self.last_target
+    }
     /// The torque command, mA.
     pub fn torque_command(&self) -> i32 {
         self.torque_command
