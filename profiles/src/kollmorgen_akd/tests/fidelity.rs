@@ -254,17 +254,26 @@ fn tposwnd_defaults_to_half_a_revolution() {
 fn reported_torque_stays_within_the_drives_peak_current() {
     let mut b = Bench::new();
     b.explicit(0x10, 0x25, 1, Some(3), &[1]).0.unwrap();
-    // 1 rev/s reached in 10 ms: the ramp asks for more than the power stage has.
-    let jog = |c| respond(motion(c, 0x27, 0, 65_536, 6_553_600, 6_553_600), 0x25);
-    load(&mut b, jog(EN | DIR));
+    // 1 rev/s at 100 rev/s²: 200 mA of inertia and up to 100 mA of friction on the ramp,
+    // 100 mA of friction at speed.
+    let jog = |c, v, acc| respond(motion(c, 0x27, 0, v, acc, acc), 0x25);
+    load(&mut b, jog(EN | DIR, 65_536, 6_553_600));
     let mut peak = 0;
     for _ in 0..100 {
         let r = b.run_ms(1);
-        peak = peak.max(dint(&r, 4).abs());
+        peak = peak.max(dint(&r, 4));
         let il_fb = i32::from_le_bytes(get(&mut b, id::IL_FB).try_into().unwrap());
         assert_eq!(il_fb, dint(&r, 4));
     }
-    assert!((1..=20_000).contains(&peak), "torque {peak} mA");
-    // At constant speed only friction is left: 1 rev/s takes 100 mA.
+    assert!((200..=300).contains(&peak), "torque {peak} mA on the ramp");
     assert_eq!(dint(&b.response(), 4), 100);
+    // To 50 rev/s at 10000 rev/s²: the ramp asks 20 A of inertia plus friction, more than
+    // the power stage has: 20 A reported. At speed, 5 A of friction.
+    load(&mut b, jog(EN | DIR, 3_276_800, 655_360_000));
+    let mut peak = 0;
+    for _ in 0..10 {
+        peak = peak.max(dint(&b.run_ms(1), 4));
+    }
+    assert_eq!(peak, 20_000);
+    assert_eq!(dint(&b.run_ms(10), 4), 5000);
 }
