@@ -7,8 +7,8 @@
 //! - [`handshake`]: the control word and the Load/Start handshake; [`response`]: the
 //!   response assembly's encoder.
 //! - [`params`]: the parameter table; [`classes`]: class 0x25 (Position Controller), class
-//!   0x24 (Position Controller Supervisor) and class 0x0F (Parameter), with [`maps`] (EIP.CMDMAP, EIP.RSPMAP) for [`dynamic_map`],
-//!   map type 2.
+//!   0x24 (Position Controller Supervisor) and class 0x0F (Parameter), with [`maps`]
+//!   (EIP.CMDMAP, EIP.RSPMAP) for [`dynamic_map`], map type 2.
 //! - [`device`]: the simulated drive, advanced by [`Device::poll`] every millisecond;
 //!   [`motion_tasks`]: its task table; [`state`]: the drive with the Position Controller
 //!   settings, the parameters' values and the unit conversions; [`storage`]: DRV.NVSAVE's
@@ -214,7 +214,9 @@ impl Device for KollmorgenAkd {
                 let view = params::view(at.instance).ok_or(General::ObjectDoesNotExist)?;
                 parameter::get(&self.state, &view, at.attribute.id, w)
             }
-            supervisor::CLASS => supervisor::read(&self.state, &self.io, at.attribute.id, w),
+            supervisor::CLASS => {
+                supervisor::read(&self.state, self.io.command(), at.attribute.id, w)
+            }
             _ => position_controller::read(&self.state, at.attribute.id, w),
         }
     }

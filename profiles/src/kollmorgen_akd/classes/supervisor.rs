@@ -13,7 +13,6 @@ use enip_stack::cip::{CipResult, General};
 use enip_stack::wire::Writer;
 
 use super::super::assemblies::Command;
-use super::super::handshake::Handshake;
 use super::super::state::State;
 
 /// Class code.
@@ -59,9 +58,9 @@ pub const CLASS_DEF: ClassDef = ClassDef {
     optional_attributes: &[],
 };
 
-/// Writes attribute `id`'s value.
-pub fn read(state: &State, io: &Handshake, id: u16, w: &mut Writer<'_>) -> CipResult {
-    let cmd = Command(io.command());
+/// Writes attribute `id`'s value; `command` is the last command assembly.
+pub fn read(state: &State, command: &[u8], id: u16, w: &mut Writer<'_>) -> CipResult {
+    let cmd = Command(command);
     match id {
         attr::COUNT => w.u8(ATTRIBUTES.len() as u8)?,
         attr::LIST => {

@@ -95,7 +95,7 @@ impl Drive {
         }
         let ma = (self.acceleration / TORQUE_A).saturating_add(self.velocity / TORQUE_V);
         let peak = i64::from(MAX_TORQUE_MA);
-        ma.clamp(-peak, peak) as i32
+        ma.clamp(peak.saturating_neg(), peak) as i32
     }
     /// Status Word 2 bit 3: at or beyond the positive software limit (SWLS.EN bit 1).
     pub fn positive_limit(&self) -> bool {
