@@ -3,7 +3,7 @@
 object (0x0F) read and written, with the statuses the manual gives (p.10): not settable
 0x0E, attribute not supported 0x14, service not supported 0x08, class not supported 0x16,
 value out of range 0x09; the parameter lengths (p.26); the drive's own ranges and defaults
-(SWLS.EN 0-3, MT.NUM 0-128, MT.CNTL 3, MT.SET of an empty task, MT.TPOSWND 0.5 rev); the
+(SWLS.EN 0-3, MT.NUM 0-128, MT.CNTL 3, MT.SET of a task with MT.V 0); the
 Identity's vendor ID.
 
 Reads {"host"} on stdin. Prints one JSON line of named results (status and reply hex).
@@ -59,12 +59,13 @@ def main():
         r["jog_velocity_after"] = pc(GET, 22)
         r["vendor"] = akd.raw(d, GET, 0x01, 1, 1)
         # The drive's own ranges and defaults.
-        r["tposwnd_default"] = par(GET, 1015, 1)
         r["swls_en_3"] = par(SET, 1022, 1, b"\x03")
         r["swls_en_4"] = par(SET, 1022, 1, b"\x04")
         r["swls_en_after"] = par(GET, 1022, 1)
         r["mt_num_128"] = par(SET, 1030, 1, bytes([128]))
         r["mt_num_129"] = par(SET, 1030, 1, bytes([129]))
+        # A task that cannot move (MT.V 0, as at power-up): MT.SET refused.
+        r["mt_v_zero"] = par(SET, 1033, 1, struct.pack("<q", 0))
         r["mt_set_empty"] = par(SET, 1040, 1, b"\x01")
         r["mt_cntl_3"] = par(SET, 1039, 1, struct.pack("<I", 3))
         r["mt_cntl_2"] = par(SET, 1039, 1, struct.pack("<I", 2))

@@ -48,6 +48,8 @@ def main():
         time.sleep(0.1)
         r = owner.read()
         out["first_response"] = r.hex()
+        # MT.TPOSWND at power-up: 0.5 rev (32768 units).
+        out["tposwnd_default"] = akd.raw(d, akd.GET, akd.PARAMETER, 1015, 1)
         # Position mode before homing: a move faults the drive.
         owner.exchange(command(ENABLE, 0x26, 0x20, position=100, velocity=1000,
                                accel=10000, decel=10000))

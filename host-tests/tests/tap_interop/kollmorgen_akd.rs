@@ -76,6 +76,9 @@ fn class1_scenario(rig: &Rig) {
     assert_eq!(first[..8], [0x84, 0, 0, 0x20, 0, 0, 0, 0], "{r}");
     assert_eq!(first[20..24], [0; 4]);
     assert_eq!(first[32..64], [0; 32]);
+    // MT.TPOSWND at power-up: 0.5 rev, the parameter reference's default.
+    let window = json!({"status": 0, "data": hex(&32_768i64.to_le_bytes())});
+    assert_eq!(r["tposwnd_default"], window, "{r}");
     // A move before homing: General Fault and the error response; an enable cycle clears.
     let unhomed = bytes(&r["unhomed_move"]);
     assert_eq!(unhomed[0] & (FAULT | ENABLED), FAULT, "{r}");
@@ -231,9 +234,9 @@ fn explicit_scenario(rig: &Rig) {
     ok("set_jog_velocity", "");
     ok("jog_velocity_after", &hex(&(-2000i32).to_le_bytes()));
     ok("vendor", &hex(&452u16.to_le_bytes()));
-    // The drive's ranges and defaults: MT.TPOSWND 0.5 rev (32768 units), SWLS.EN 0-3,
-    // MT.NUM 0-128, MT.CNTL 3; MT.SET of the power-up (empty) task refused.
-    ok("tposwnd_default", &hex(&32_768i64.to_le_bytes()));
+    // The drive's ranges: SWLS.EN 0-3, MT.NUM 0-128, MT.CNTL 3; MT.SET of a task that
+    // cannot move (MT.V 0, as at power-up) refused.
+    ok("mt_v_zero", "");
     ok("swls_en_3", "");
     ok("swls_en_after", "03");
     ok("mt_num_128", "");
@@ -342,7 +345,7 @@ fn kollmorgen_akd_nvsave_and_factory_reset_across_restarts() {
     assert_eq!(seen(&r), factory, "after Reset type 1 and a restart: {r}");
 }
 
-/// Both scenarios on the QEMU board, one boot (skipped, loudly, without the ELF).
+/// The three scenarios on the QEMU board, one boot (skipped, loudly, without the ELF).
 #[test]
 #[ignore = "needs root and ENIP_QEMU_KOLLMORGEN_AKD_ELF"]
 fn kollmorgen_akd_on_qemu() {
@@ -356,6 +359,7 @@ fn kollmorgen_akd_on_qemu() {
     for (name, scenario) in [
         ("class 1", class1_scenario as fn(&Rig)),
         ("explicit", explicit_scenario),
+        ("stops", stop_scenario),
     ] {
         let t = std::time::Instant::now();
         scenario(&rig);
@@ -541,6 +545,12 @@ fn owner_with_program_mode_and_timeout() -> std::io::Result<(Vec<Seen>, f64, f64
 #[ignore = "needs root: network namespace and TAP"]
 fn kollmorgen_akd_stops_on_program_mode_and_on_owner_timeout() {
     let rig = start("kollmorgen_akd_stops", &[]);
+    stop_scenario(&rig);
+    common::finish(rig);
+}
+
+/// The stop scenario of [`kollmorgen_akd_stops_on_program_mode_and_on_owner_timeout`].
+fn stop_scenario(rig: &Rig) {
     let (seen, idle_at, last_sent, polled) = rig
         .ns()
         .inside(owner_with_program_mode_and_timeout)
@@ -651,5 +661,4 @@ fn kollmorgen_akd_stops_on_program_mode_and_on_owner_timeout() {
         enabled(rest_at + 5.0, f64::INFINITY).all(|e| !e),
         "disabled at rest"
     );
-    common::finish(rig);
 }
