@@ -61,7 +61,9 @@ def main():
         owner.exchange(command(ENABLE, 0x21, 0x20))
         # A jog in position mode needs homing too (p.11): the same fault.
         owner.exchange(command(ENABLE | DIRECTION, **JOG))
-        out["unhomed_jog"] = owner.exchange(command(ENABLE | DIRECTION | LOAD, **JOG)).hex()
+        owner.send(command(ENABLE | DIRECTION | LOAD, **JOG))
+        owner.wait_for(lambda r: r[0] & FAULT, 2.0)
+        out["unhomed_jog"] = owner.read().hex()
         owner.exchange(command(0, 0x21, 0x20))
         out["after_enable_cycle"] = owner.exchange(command(ENABLE, 0x21, 0x20)).hex()
 
