@@ -349,7 +349,9 @@ fn kollmorgen_akd_nvsave_and_factory_reset_across_restarts() {
     assert_eq!(seen(&r), factory, "after Reset type 1 and a restart: {r}");
 }
 
-/// The three scenarios on the QEMU board, one boot (skipped, loudly, without the ELF).
+/// Both scenarios on the QEMU board, one boot (skipped, loudly, without the ELF). Not the
+/// stop scenario: the emulated board's clock catches up after the host stalls it, so its
+/// timing shows the host, not the drive.
 #[test]
 #[ignore = "needs root and ENIP_QEMU_KOLLMORGEN_AKD_ELF"]
 fn kollmorgen_akd_on_qemu() {
@@ -363,7 +365,6 @@ fn kollmorgen_akd_on_qemu() {
     for (name, scenario) in [
         ("class 1", class1_scenario as fn(&Rig)),
         ("explicit", explicit_scenario),
-        ("stops", stops::stop_scenario),
     ] {
         let t = std::time::Instant::now();
         scenario(&rig);
