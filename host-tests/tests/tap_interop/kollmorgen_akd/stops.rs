@@ -311,8 +311,8 @@ fn stop_scenario(rig: &Rig) {
     let lag = begun_at - timeout_at;
     let took = rest_at - begun_at;
     println!(
-        "timeout: T->O ended {:.1} ms after the last O->T; stop seen {lag:.1} ms after the \
-         timeout; at rest {took:.1} ms later; {} samples",
+        "timeout: T->O ended {:.1} ms after the last O->T; the stop began {lag:.1} ms after \
+         the timeout; at rest {took:.1} ms later; {} samples",
         last_t_o - last_sent,
         polled.len()
     );
