@@ -199,32 +199,43 @@ fn swls_en_is_a_bitmask_of_the_two_limits() {
 }
 
 #[test]
-fn motion_tasks_0_to_128_and_their_types() {
+fn mt_num_spans_the_drives_0_to_128() {
     let mut b = Bench::new();
-    // MT.NUM: the drive's 0-128.
-    set(&mut b, id::MT_NUM, &[128]).unwrap();
+    b.enable_and_home();
     assert_eq!(
         set(&mut b, id::MT_NUM, &[129]),
         err(General::InvalidAttributeValue)
     );
-    // MT.SET of the power-up (empty) values: refused, nothing stored.
+    store_task(&mut b, 128, 1000, 4000, 40_000, 0).unwrap();
+    let r = start_block(&mut b, 128);
+    assert_eq!(r[3], 0x20, "no error response");
+    let r = b.run_ms(50);
+    assert_eq!((r[1], r[0] & status1::BLOCK), (128, status1::BLOCK));
+}
+
+#[test]
+fn mt_set_refuses_a_task_that_cannot_move() {
+    let mut b = Bench::new();
+    // The power-up values (MT.V, MT.ACC, MT.DEC 0): refused, nothing stored.
     assert_eq!(
         set(&mut b, id::MT_SET, &[1]),
         err(General::InvalidAttributeValue)
     );
     b.enable_and_home();
-    assert_eq!(start_block(&mut b, 128)[3..5], [0x34, 0x16]);
-    // MT.CNTL 3, relative to the previous target; 2 is no task type.
-    assert_eq!(
-        store_task(&mut b, 128, 1000, 4000, 40_000, 3),
-        Ok(()),
-        "MT.CNTL 3"
-    );
+    assert_eq!(start_block(&mut b, 0)[3..5], [0x34, 0x16]);
+}
+
+#[test]
+fn mt_cntl_3_is_relative_to_the_previous_target() {
+    let mut b = Bench::new();
+    b.enable_and_home();
+    assert_eq!(store_task(&mut b, 5, 1000, 4000, 40_000, 3), Ok(()));
+    // 2 is no task type.
     assert_eq!(
         set(&mut b, id::MT_CNTL, &2u32.to_le_bytes()),
         err(General::InvalidAttributeValue)
     );
-    // A move to 5000 stopped short (Smooth Stop) leaves its target at 5000: task 128 goes
+    // A move to 5000 stopped short (Smooth Stop) leaves its target at 5000: task 5 goes
     // to 6000, not to where the motor stopped + 1000.
     let mv = |c| motion(c, 0x26, 5000, 4000, 40_000, 40_000);
     load(&mut b, mv(EN));
@@ -234,12 +245,12 @@ fn motion_tasks_0_to_128_and_their_types() {
     let stopped = dint(&b.response(), 8);
     assert!(stopped < 4000, "stopped at {stopped}");
     b.send(mv(EN));
-    start_block(&mut b, 128);
+    start_block(&mut b, 5);
     b.until(5000, |r| r[0] & status1::IN_MOTION == 0).unwrap();
     assert_eq!(dint(&b.response(), 8), 6000);
     // The same task as type 1 (relative to the command position): 1000 further.
-    store_task(&mut b, 128, 1000, 4000, 40_000, 1).unwrap();
-    start_block(&mut b, 128);
+    store_task(&mut b, 5, 1000, 4000, 40_000, 1).unwrap();
+    start_block(&mut b, 5);
     b.until(5000, |r| r[0] & status1::IN_MOTION == 0).unwrap();
     assert_eq!(dint(&b.response(), 8), 7000);
 }
