@@ -1,7 +1,10 @@
 """Explicit messages to the AKD profile with pycomm3 (UCMM): the Position Controller object
-(0x25) and the Parameter object (0x0F) read and written, with the statuses the manual gives
-(p.10): not settable 0x0E, attribute not supported 0x14, service not supported 0x08, class
-not supported 0x16, value out of range 0x09; and the parameter lengths (p.26).
+(0x25, with attribute 22), the Position Controller Supervisor (0x24) and the Parameter
+object (0x0F) read and written, with the statuses the manual gives (p.10): not settable
+0x0E, attribute not supported 0x14, service not supported 0x08, class not supported 0x16,
+value out of range 0x09; the parameter lengths (p.26); the drive's own ranges and defaults
+(SWLS.EN 0-3, MT.NUM 0-128, MT.CNTL 3, MT.SET of a task with MT.V 0); the
+Identity's vendor ID.
 
 Reads {"host"} on stdin. Prints one JSON line of named results (status and reply hex).
 """
@@ -44,7 +47,28 @@ def main():
         r["mode_out_of_range"] = pc(SET, 3, b"\x03")
         r["get_all"] = akd.raw(d, 0x01, PC, 1, None)
         r["home_move_get"] = pc(GET, 101)
-        r["absent_class"] = akd.raw(d, GET, 0x24, 1, 1)
+        # The Position Controller Supervisor (0x24), listed by the manual (p.9).
+        r["supervisor_count"] = akd.raw(d, GET, 0x24, 1, 1)
+        r["supervisor_list"] = akd.raw(d, GET, 0x24, 1, 2)
+        r["supervisor_axis"] = akd.raw(d, GET, 0x24, 1, 3)
+        r["supervisor_set"] = akd.raw(d, SET, 0x24, 1, 6, b"\x01")
+        r["absent_class"] = akd.raw(d, GET, 0x66, 1, 1)
+        # Attribute 22, jog velocity (section 7).
+        r["jog_velocity"] = pc(GET, 22)
+        r["set_jog_velocity"] = pc(SET, 22, struct.pack("<i", -2000))
+        r["jog_velocity_after"] = pc(GET, 22)
+        r["vendor"] = akd.raw(d, GET, 0x01, 1, 1)
+        # The drive's own ranges and defaults.
+        r["swls_en_3"] = par(SET, 1022, 1, b"\x03")
+        r["swls_en_4"] = par(SET, 1022, 1, b"\x04")
+        r["swls_en_after"] = par(GET, 1022, 1)
+        r["mt_num_128"] = par(SET, 1030, 1, bytes([128]))
+        r["mt_num_129"] = par(SET, 1030, 1, bytes([129]))
+        # A task that cannot move (MT.V 0, as at power-up): MT.SET refused.
+        r["mt_v_zero"] = par(SET, 1033, 1, struct.pack("<q", 0))
+        r["mt_set_empty"] = par(SET, 1040, 1, b"\x01")
+        r["mt_cntl_3"] = par(SET, 1039, 1, struct.pack("<I", 3))
+        r["mt_cntl_2"] = par(SET, 1039, 1, struct.pack("<I", 2))
         r["absent_class_2"] = akd.raw(d, GET, 0x70, 1, 1)
         # Parameters: type, length, value; a 64-bit parameter and its low word.
         r["p1_type"] = par(GET, 1, 5)

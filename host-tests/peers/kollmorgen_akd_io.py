@@ -1,9 +1,12 @@
 """The AKD's Class 1 behaviour with the PyPI `ethernetip` package as exclusive owner of
 command 101 / response 102 (configuration 100) at the manual's minimum RPI (10 ms), and
 pycomm3 for the explicit side: the handshake example, Load/Start edges, the error
-response, jog and stops in velocity mode, the not-homed fault, homing through HOME.MOVE
-(parameter 205) and an absolute move in position mode, a motion task run by Start Block,
-Attribute to Get, the torque response; then the admission rules (5 ms refused, multicast accepted).
+response, jog and stops in velocity mode, the not-homed fault (a move and a jog), homing
+through HOME.MOVE (parameter 205) and an absolute move in position mode, DRV.MOTIONSTAT bits
+10/11/14/15, a motion task run by Start Block and followed through a refused load,
+Attribute to Get, a zero target velocity, the torque response within the peak current, a
+refused map-type-2 load that changes nothing; then the admission rules (5 ms refused,
+multicast accepted).
 
 Reads {"host", "rpi_ms", "multiplier"} on stdin. Prints one JSON line of named results
 (responses in hex, times in ms).
@@ -45,6 +48,8 @@ def main():
         time.sleep(0.1)
         r = owner.read()
         out["first_response"] = r.hex()
+        # MT.TPOSWND at power-up: 0.5 rev (32768 units).
+        out["tposwnd_default"] = akd.raw(d, akd.GET, akd.PARAMETER, 1015, 1)
         # Position mode before homing: a move faults the drive.
         owner.exchange(command(ENABLE, 0x26, 0x20, position=100, velocity=1000,
                                accel=10000, decel=10000))
@@ -52,6 +57,13 @@ def main():
                                    accel=10000, decel=10000))
         out["unhomed_move"] = r.hex()
         # Enable cycle clears it.
+        owner.exchange(command(0, 0x21, 0x20))
+        owner.exchange(command(ENABLE, 0x21, 0x20))
+        # A jog in position mode needs homing too (p.11): the same fault.
+        owner.exchange(command(ENABLE | DIRECTION, **JOG))
+        owner.send(command(ENABLE | DIRECTION | LOAD, **JOG))
+        owner.wait_for(lambda r: r[0] & FAULT, 2.0)
+        out["unhomed_jog"] = owner.read().hex()
         owner.exchange(command(0, 0x21, 0x20))
         out["after_enable_cycle"] = owner.exchange(command(ENABLE, 0x21, 0x20)).hex()
 
@@ -95,8 +107,24 @@ def main():
         owner.exchange(command(ENABLE, **JOG))
         owner.exchange(command(ENABLE | LOAD, **JOG), 200)
         out["load_after_cycle"] = owner.read().hex()
-        owner.send(command(ENABLE | SMOOTH_STOP, **JOG))
-        owner.wait_for(lambda r: r[0] & IN_MOTION == 0, 5.0)
+        # Target velocity 0 (type 2): the drive ramps down and the trajectory ends.
+        owner.exchange(command(ENABLE, 0x22, 0x20, 0))
+        owner.send(command(ENABLE | LOAD, 0x22, 0x20, 0))
+        out["zero_velocity_ms"] = owner.wait_for(lambda r: r[0] & IN_MOTION == 0, 3.0)
+        # The actual torque (response type 5) through a 10 rev/s² ramp to 1 rev/s: within
+        # the drive's 20 A peak; 100 mA of friction at speed.
+        ramp = dict(ctype=0x27, rtype=0x25, velocity=65536, accel=655360, decel=655360)
+        owner.exchange(command(ENABLE | DIRECTION, **ramp))
+        owner.send(command(ENABLE | DIRECTION | LOAD, **ramp))
+        torques, t0 = [], time.monotonic()
+        while time.monotonic() - t0 < 0.3:
+            torques.append(dint(owner.read(), 4))
+            time.sleep(0.002)
+        out["ramp_torque_max"] = max(abs(t) for t in torques)
+        out["speed_torque"] = dint(owner.read(), 4)
+        owner.exchange(command(ENABLE, 0x22, 0x20, 0))
+        owner.send(command(ENABLE | LOAD, 0x22, 0x20, 0))
+        owner.wait_for(lambda r: r[0] & IN_MOTION == 0, 3.0)
         owner.exchange(command(ENABLE, 0x21, 0x20))
 
         # Attribute to Get: mode (attribute 3) mirrored every cycle, also after an
@@ -114,6 +142,9 @@ def main():
         owner.exchange(command(ENABLE, **move))
         owner.send(command(ENABLE | LOAD, **move))
         out["moving"] = owner.wait_for(lambda r: r[0] & IN_MOTION, 1.0) is not None
+        # DRV.MOTIONSTAT while moving: bit 15 (inside MT.TPOSWND, 0.5 rev) does not wait
+        # for the end of the move; bit 11 does.
+        out["while_moving"] = owner.read().hex()
         out["move_ms"] = owner.wait_for(lambda r: r[0] & IN_MOTION == 0, 10.0)
         time.sleep(0.05)
         out["after_move"] = owner.read().hex()
@@ -137,9 +168,19 @@ def main():
         owner.send(command(ENABLE | START_BLOCK, 0x21, 0x20, block=3))
         owner.wait_for(lambda r: r[0] & BLOCK, 1.0)
         out["block_running"] = owner.read().hex()
+        # A refused load (undefined command type) while the task runs: the task goes on.
+        owner.exchange(command(ENABLE, 0x2A, 0x20, block=3))
+        out["refused_during_task"] = owner.exchange(command(ENABLE | LOAD, 0x2A, 0x20,
+                                                            block=3)).hex()
+        owner.exchange(command(ENABLE, 0x21, 0x20, block=3))
         owner.wait_for(lambda r: r[0] & IN_MOTION == 0, 10.0)
         time.sleep(0.05)
         out["after_task"] = owner.read().hex()
+        # Start Block of a task never stored: the error response 0x16, MOTIONSTAT bit 10.
+        owner.exchange(command(ENABLE, 0x21, 0x20, block=9))
+        out["undefined_task"] = owner.exchange(command(ENABLE | START_BLOCK, 0x21, 0x20,
+                                                       block=9)).hex()
+        owner.exchange(command(ENABLE, 0x21, 0x20))
         # Map type 2: EIP.RSPMAP (1043) lists PL.FB, DRV.MOTIONSTAT, EIP.PROFUNIT; the
         # response's bytes 36-63 carry them. EIP.CMDMAP (1042) lists MT.TPOSWND, written on
         # a Load/Start edge (command type 0x1F reading MT.TPOSWND carries the load).
@@ -158,6 +199,13 @@ def main():
         r = owner.exchange(bytes(load_map))
         out["cmdmap_load_complete"] = r[2] & LOAD_COMPLETE
         out["tposwnd_after_map"] = akd.raw(d, akd.GET, akd.PARAMETER, 1015, 1)
+        # A refused load (undefined command type 0x0A) carrying the map changes nothing.
+        refused = bytearray(command(ENABLE, 0x0A, 0x20, map_type=2))
+        refused[36:40] = struct.pack("<i", 99)
+        owner.exchange(bytes(refused))
+        refused[0] |= LOAD
+        out["refused_map_load"] = owner.exchange(bytes(refused)).hex()
+        out["tposwnd_after_refused"] = akd.raw(d, akd.GET, akd.PARAMETER, 1015, 1)
         # Disable at the end.
         out["disabled"] = owner.exchange(command(0, 0x21, 0x20)).hex()
     finally:

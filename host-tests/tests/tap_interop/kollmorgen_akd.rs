@@ -2,7 +2,9 @@
 //! the PyPI `ethernetip` package as the Class 1 exclusive owner of command 101 / response
 //! 102 at the manual's minimum RPI, pycomm3 for the Position Controller (0x25) and
 //! Parameter (0x0F) objects, and `eds-pie` for the EDS (`eds_check.py`; scripts
-//! `host-tests/peers/kollmorgen_akd_*.py`). Every run is captured and must dissect cleanly.
+//! `host-tests/peers/kollmorgen_akd_*.py`); the project's scanner as Class 1 owner for the
+//! stops on Program mode and on the owner's timeout ([`stops`]). Every run is captured and
+//! must dissect cleanly.
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -12,6 +14,8 @@ use serde_json::{json, Value};
 use crate::common;
 use host_tests::peers;
 use host_tests::rig::{Rig, BOARD_IP};
+
+mod stops;
 
 /// Bound for one peer program run.
 const PEER_TIMEOUT: Duration = Duration::from_secs(90);
@@ -76,10 +80,17 @@ fn class1_scenario(rig: &Rig) {
     assert_eq!(first[..8], [0x84, 0, 0, 0x20, 0, 0, 0, 0], "{r}");
     assert_eq!(first[20..24], [0; 4]);
     assert_eq!(first[32..64], [0; 32]);
+    // MT.TPOSWND at power-up: 0.5 rev, the parameter reference's default.
+    let window = json!({"status": 0, "data": hex(&32_768i64.to_le_bytes())});
+    assert_eq!(r["tposwnd_default"], window, "{r}");
     // A move before homing: General Fault and the error response; an enable cycle clears.
     let unhomed = bytes(&r["unhomed_move"]);
     assert_eq!(unhomed[0] & (FAULT | ENABLED), FAULT, "{r}");
     assert_eq!(unhomed[3..8], [0x34, 0x10, 0xFF, 0x26, 0x20], "{r}");
+    // A jog in position mode before homing: the same fault (p.11).
+    let jog = bytes(&r["unhomed_jog"]);
+    assert_eq!(jog[0] & (FAULT | ENABLED | IN_MOTION), FAULT, "{r}");
+    assert_eq!(jog[3..8], [0x34, 0x10, 0xFF, 0x27, 0x23], "{r}");
     let cleared = bytes(&r["after_enable_cycle"]);
     assert_eq!(cleared[0] & (FAULT | ENABLED), ENABLED, "{r}");
     // Load/Start edge; data changed while it stays high is not loaded.
@@ -117,6 +128,12 @@ fn class1_scenario(rig: &Rig) {
     assert_eq!((without[0] & IN_MOTION, dint(&without, 12)), (0, 0), "{r}");
     let with = bytes(&r["load_after_cycle"]);
     assert_eq!(with[0] & (ENABLED | IN_MOTION), ENABLED | IN_MOTION, "{r}");
+    // Target velocity 0 ends the trajectory (attribute 9's 10 rev/s²: 2 ms at 1000 units/s).
+    assert!(ms(&r["zero_velocity_ms"]) < 200.0, "{r}");
+    // Torque through a ramp to 1 rev/s: within the 20 A peak, 100 mA of friction at speed.
+    let peak = r["ramp_torque_max"].as_i64().unwrap_or(i64::MAX);
+    assert!((1..=20_000).contains(&peak), "{r}");
+    assert_eq!(r["speed_torque"], 100, "{r}");
     // Attribute to Get mirrors attribute 3 every cycle.
     let get = bytes(&r["attribute_to_get_velocity"]);
     assert_eq!((get[3], get[24], get[32]), (0x25, 1, 3), "{r}");
@@ -126,7 +143,14 @@ fn class1_scenario(rig: &Rig) {
     assert_eq!(r["home_move"]["status"], 0, "{r}");
     assert!(ms(&r["homed_ms"]) < 10_000.0, "{r}");
     assert_eq!(r["moving"], true, "{r}");
+    // DRV.MOTIONSTAT: 15 (target reached, inside MT.TPOSWND) while moving, 11 (completed)
+    // only at the end, 14 (target crossed) never in a move that ends normally.
+    let ms_bits = |v: &[u8]| dint(v, 16) as u32 & (1 << 11 | 1 << 14 | 1 << 15);
+    let moving = bytes(&r["while_moving"]);
+    assert_ne!(moving[0] & IN_MOTION, 0, "{r}");
+    assert_eq!(ms_bits(&moving), 1 << 15, "{r}");
     let moved = bytes(&r["after_move"]);
+    assert_eq!(ms_bits(&moved), 1 << 11 | 1 << 15, "{r}");
     assert_eq!((dint(&moved, 8), dint(&moved, 4)), (5000, 5000), "{r}");
     assert_eq!(
         moved[0] & (HOMED | IN_POSITION | IN_MOTION),
@@ -143,12 +167,18 @@ fn class1_scenario(rig: &Rig) {
     assert_eq!(r["task_writes"], json!([0, 0, 0, 0, 0, 0]), "{r}");
     let running = bytes(&r["block_running"]);
     assert_eq!((running[1], running[0] & 0x02), (3, 0x02), "{r}");
+    let refused = bytes(&r["refused_during_task"]);
+    assert_eq!(refused[3..5], [0x34, 0x20], "{r}");
+    assert_eq!((refused[1], refused[0] & 0x03), (3, 0x03), "{r}");
     let done = bytes(&r["after_task"]);
     assert_eq!(
         (done[1], done[0] & 0x02, dint(&done, 8)),
         (0, 0, 1000),
         "{r}"
     );
+    let undefined = bytes(&r["undefined_task"]);
+    assert_eq!(undefined[3..5], [0x34, 0x16], "{r}");
+    assert_ne!(dint(&undefined, 16) & 1 << 10, 0, "{r}");
     // Map type 2: EIP.RSPMAP set with pycomm3, its values in the Class 1 response.
     assert_eq!(r["set_rspmap"], 0, "{r}");
     let rspmap = [1017u16, 1010, 797, 0, 0, 0, 0];
@@ -167,6 +197,8 @@ fn class1_scenario(rig: &Rig) {
     assert_eq!(r["cmdmap_load_complete"], 0x80, "{r}");
     let window = json!({"status": 0, "data": hex(&7i64.to_le_bytes())});
     assert_eq!(r["tposwnd_after_map"], window, "{r}");
+    assert_eq!(bytes(&r["refused_map_load"])[3..5], [0x34, 0x20], "{r}");
+    assert_eq!(r["tposwnd_after_refused"], window, "{r}");
     assert_eq!(bytes(&r["disabled"])[0] & ENABLED, 0, "{r}");
     assert_eq!(r["forward_close"], 0, "{r}");
     // Admission: below the minimum RPI refused (0x0112); multicast T->O accepted.
@@ -196,8 +228,23 @@ fn explicit_scenario(rig: &Rig) {
             "{k}: {r}"
         );
     };
-    ok("count", "10");
-    ok("list", "0102030405060708090a0b11193a6465");
+    ok("count", "11");
+    ok("list", "0102030405060708090a0b1116193a6465");
+    // Class 0x24, attribute 22 and the vendor (issue 25 item 2).
+    ok("supervisor_count", "06");
+    ok("supervisor_list", "010203050607");
+    ok("supervisor_axis", "01");
+    ok("jog_velocity", &hex(&65_536i32.to_le_bytes()));
+    ok("set_jog_velocity", "");
+    ok("jog_velocity_after", &hex(&(-2000i32).to_le_bytes()));
+    ok("vendor", &hex(&452u16.to_le_bytes()));
+    // The drive's ranges: SWLS.EN 0-3, MT.NUM 0-128, MT.CNTL 3; MT.SET of a task that
+    // cannot move (MT.V 0, as at power-up) refused.
+    ok("mt_v_zero", "");
+    ok("swls_en_3", "");
+    ok("swls_en_after", "03");
+    ok("mt_num_128", "");
+    ok("mt_cntl_3", "");
     ok("mode", "00");
     ok("position_units", "00000100");
     ok("profile_units", "00000100");
@@ -233,6 +280,11 @@ fn explicit_scenario(rig: &Rig) {
         ("mode_out_of_range", 0x09),
         ("get_all", 0x08),
         ("home_move_get", 0x2C),
+        ("supervisor_set", 0x0E),
+        ("swls_en_4", 0x09),
+        ("mt_num_129", 0x09),
+        ("mt_set_empty", 0x09),
+        ("mt_cntl_2", 0x09),
         ("absent_class", 0x16),
         ("absent_class_2", 0x16),
         ("p1_short", 0x13),
@@ -297,7 +349,9 @@ fn kollmorgen_akd_nvsave_and_factory_reset_across_restarts() {
     assert_eq!(seen(&r), factory, "after Reset type 1 and a restart: {r}");
 }
 
-/// Both scenarios on the QEMU board, one boot (skipped, loudly, without the ELF).
+/// Both scenarios on the QEMU board, one boot (skipped, loudly, without the ELF). Not the
+/// stop scenario: the emulated board's clock catches up after the host stalls it, so its
+/// timing shows the host, not the drive.
 #[test]
 #[ignore = "needs root and ENIP_QEMU_KOLLMORGEN_AKD_ELF"]
 fn kollmorgen_akd_on_qemu() {

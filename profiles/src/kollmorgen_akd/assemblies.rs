@@ -115,6 +115,22 @@ pub mod command_type {
     pub const SET_ATTRIBUTE: u8 = 0x1B;
     /// Read or write a parameter value (\[R\] item 6 layout).
     pub const PARAMETER: u8 = 0x1F;
+
+    /// True for a command type this edition defines (the ones above).
+    pub const fn is_defined(kind: u8) -> bool {
+        matches!(
+            kind,
+            TARGET_POSITION
+                | TARGET_VELOCITY
+                | ACCELERATION
+                | DECELERATION
+                | TORQUE
+                | POSITION_MOVE
+                | JOG
+                | SET_ATTRIBUTE
+                | PARAMETER
+        )
+    }
 }
 
 /// Response types (byte 3 bits 0-4).

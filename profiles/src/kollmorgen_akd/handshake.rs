@@ -12,8 +12,11 @@
 //!   undefined task answers the error response with 0x16 (object does not exist), a task
 //!   the drive refuses (not homed) 0x10. A successful start clears an error response.
 //! - Map type 2: the command dynamic map (bytes 36-63) is command data like the rest, taken
-//!   on the Load/Start edge before the command type runs ([`dynamic_map`]); a value a
-//!   parameter refuses refuses the load (0x09).
+//!   on the Load/Start edge after the command type and axis are found valid and before the
+//!   command runs ([`dynamic_map`]); a value a parameter refuses refuses the load (0x09).
+//! - A refused load changes nothing: the settings it wrote (map, targets) are put back; only
+//!   the drive's own reaction stays (the not-homed fault of p.11). A load that is refused or
+//!   starts nothing leaves a running motion task running (byte 1, Status Word 1 bit 1).
 //!
 //! The response assembly ([`super::response`]) reports what the handshake left.
 
@@ -109,12 +112,14 @@ pub fn consume(io: &mut Handshake, state: &mut State, nv: &mut NvCopy, data: &[u
     drive.set_smooth_stop(now & control::SMOOTH_STOP != 0);
 
     if rising & control::LOAD_START != 0 {
+        let before = state.snapshot();
         match load(io, state, nv, &cmd) {
             Ok(()) => {
                 state.load_complete = true;
                 io.error = None;
             }
             Err(e) => {
+                state.restore(&before);
                 state.load_complete = false;
                 io.error = Some(LoadError {
                     code: e.general.into(),
@@ -156,7 +161,7 @@ fn load(
     cmd: &Command<'_>,
 ) -> Result<(), CipError> {
     let (axis, kind) = cmd.command_type();
-    if axis > 1 {
+    if axis > 1 || !ty::is_defined(kind) {
         return Err(invalid());
     }
     // Map type 2: the command dynamic map is command data, loaded first (all slots or none).
@@ -167,22 +172,23 @@ fn load(
     let positive = ctrl & control::DIRECTION != 0;
     let relative = ctrl & control::RELATIVE != 0;
     let s: &mut State = state;
-    // A new load replaces a running motion task.
-    s.tasks.running = None;
     let mode = s.drive.config.mode;
     match kind {
         ty::TARGET_POSITION => {
             s.pc.target_position = cmd.data();
             s.pc.incremental = relative;
             if mode == Mode::Position {
-                s.start_profile(positive).map_err(refused)?;
+                s.start_profile(s.pc.target_velocity, positive)
+                    .map_err(refused)?;
             }
         }
         ty::TARGET_VELOCITY => {
+            // 0 is a velocity setpoint like any other: the drive ramps down and the
+            // trajectory ends.
             s.check_profile(i64::from(cmd.data()).abs().max(1), false)?;
             s.pc.target_velocity = cmd.data();
             if mode == Mode::Velocity {
-                s.start_profile(positive).map_err(refused)?;
+                s.start_profile(cmd.data(), positive).map_err(refused)?;
             }
         }
         ty::ACCELERATION => {
@@ -198,9 +204,22 @@ fn load(
             position_controller::write(s, position_controller::attr::TORQUE, &bytes)?;
         }
         ty::POSITION_MOVE => {
-            let v = s.check_profile(i64::from(cmd.velocity()), false)?;
-            let acc = s.check_profile(i64::from(cmd.acceleration()), true)?;
-            let dec = s.check_profile(i64::from(cmd.deceleration()), true)?;
+            let profile = [
+                s.check_profile(i64::from(cmd.velocity()), false),
+                s.check_profile(i64::from(cmd.acceleration()), true),
+                s.check_profile(i64::from(cmd.deceleration()), true),
+            ];
+            let [v, acc, dec] = match profile {
+                [Ok(v), Ok(acc), Ok(dec)] => [v, acc, dec],
+                // A move the drive cannot run (e.g. velocity 0): an invalid motion task
+                // in position mode (DRV.MOTIONSTAT bit 10), data out of range (0x09).
+                _ => {
+                    if mode == Mode::Position && s.drive.ready() {
+                        s.drive.task_rejected();
+                    }
+                    return Err(CipError::new(General::InvalidAttributeValue));
+                }
+            };
             s.pc.target_position = cmd.position();
             s.pc.target_velocity = cmd.velocity();
             if mode == Mode::Position {
@@ -219,7 +238,7 @@ fn load(
             let dec = s.check_profile(i64::from(cmd.deceleration()), true)?;
             if mode != Mode::Torque {
                 let v = if positive { v } else { v.saturating_neg() };
-                s.drive.start_jog(v, acc, dec);
+                s.drive.start_jog(v, acc, dec).map_err(refused)?;
             }
         }
         ty::SET_ATTRIBUTE => {
@@ -267,6 +286,7 @@ fn load(
 fn refused(r: Refusal) -> CipError {
     match r {
         Refusal::NotHomed | Refusal::NotReady => CipError::new(General::DeviceStateConflict),
+        Refusal::Invalid => CipError::new(General::InvalidAttributeValue),
     }
 }
 

@@ -8,9 +8,13 @@ use enip_stack::IdentityInfo;
 
 /// Product name: contains "AKD" (\[R\] Identity); the drive family of the manual.
 pub const PRODUCT_NAME: &str = "AKD EtherNet/IP servo drive";
-/// Vendor ID: not in the manual. 0xFFFF is a placeholder; a real drive reports the ID ODVA
-/// assigned to Kollmorgen.
-pub const VENDOR_ID: u16 = 0xFFFF;
+/// Vendor ID 452: not in the manual; the CIP vendor table Wireshark's dissector carried
+/// from ODVA's list (`packet-cip.h`, `VENDOR_ID_LIST`) names 452 "Danaher Motion/Kollmorgen",
+/// the only public assignment to Kollmorgen found (Kollmorgen was Danaher Motion's brand
+/// until 2008). A later copy of the same table shows 452 as "Reserved", and no AKD EDS was
+/// retrievable to confirm it, so a keyed connection to a real AKD may need "Disable Keying"
+/// (see the profile's README).
+pub const VENDOR_ID: u16 = 452;
 /// Device type 0x2B, "Generic Device (keyable)" (\[R\] Identity): the drive exposes the
 /// Position Controller objects 0x24/0x25 but not the ODVA position controller assemblies,
 /// so it does not claim device type 0x10.

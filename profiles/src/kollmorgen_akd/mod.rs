@@ -6,9 +6,9 @@
 //!   102 (response, 64 bytes) and their layouts.
 //! - [`handshake`]: the control word and the Load/Start handshake; [`response`]: the
 //!   response assembly's encoder.
-//! - [`params`]: the parameter table; [`classes`]: class 0x25 (Position Controller) and
-//!   class 0x0F (Parameter), with [`maps`] (EIP.CMDMAP, EIP.RSPMAP) for [`dynamic_map`],
-//!   map type 2.
+//! - [`params`]: the parameter table; [`classes`]: class 0x25 (Position Controller), class
+//!   0x24 (Position Controller Supervisor) and class 0x0F (Parameter), with [`maps`]
+//!   (EIP.CMDMAP, EIP.RSPMAP) for [`dynamic_map`], map type 2.
 //! - [`device`]: the simulated drive, advanced by [`Device::poll`] every millisecond;
 //!   [`motion_tasks`]: its task table; [`state`]: the drive with the Position Controller
 //!   settings, the parameters' values and the unit conversions; [`storage`]: DRV.NVSAVE's
@@ -16,8 +16,10 @@
 //!
 //! Connections (p.10-11): exclusive owner, cyclic ("transmitted on a timer"), RPI 10 ms or
 //! more, multicast or point-to-point T->O. Other triggers are refused with 0x0103, shorter
-//! RPIs with 0x0112. When the owner goes (timeout or close), the drive disables. Explicit
-//! requests to a class the drive does not have answer 0x16, "Class Not Supported" (p.10).
+//! RPIs with 0x0112. When the owner goes (timeout or close), the drive makes a controlled
+//! stop at DRV.DECSTOP and disables at rest; when the PLC goes to Program mode (O->T
+//! run/idle header Idle), it makes the same stop and stays enabled. Explicit requests to a
+//! class the drive does not have answer 0x16, "Class Not Supported" (p.10).
 
 pub mod assemblies;
 pub mod classes;
@@ -33,7 +35,7 @@ pub mod response;
 pub mod state;
 pub mod storage;
 
-use classes::{parameter, position_controller};
+use classes::{parameter, position_controller, supervisor};
 
 #[cfg(test)]
 mod tests;
@@ -166,7 +168,11 @@ impl Device for KollmorgenAkd {
     }
 
     fn classes(&self) -> &[ClassDef] {
-        &[position_controller::CLASS_DEF, parameter::CLASS_DEF]
+        &[
+            position_controller::CLASS_DEF,
+            parameter::CLASS_DEF,
+            supervisor::CLASS_DEF,
+        ]
     }
 
     fn has_instance(&self, class: &ClassDef, instance: u32) -> bool {
@@ -208,6 +214,9 @@ impl Device for KollmorgenAkd {
                 let view = params::view(at.instance).ok_or(General::ObjectDoesNotExist)?;
                 parameter::get(&self.state, &view, at.attribute.id, w)
             }
+            supervisor::CLASS => {
+                supervisor::read(&self.state, self.io.command(), at.attribute.id, w)
+            }
             _ => position_controller::read(&self.state, at.attribute.id, w),
         }
     }
@@ -227,6 +236,7 @@ impl Device for KollmorgenAkd {
                 let v = parameter::decode(&view, value)?;
                 self.write_parameter(&view, v)
             }
+            supervisor::CLASS => Err(General::AttributeNotSettable.into()),
             _ => position_controller::write(&mut self.state, at.attribute.id, value),
         }
     }
@@ -239,7 +249,11 @@ impl Device for KollmorgenAkd {
         req: &Request<'_>,
         _reply: &mut Writer<'_>,
     ) -> Option<CipResult> {
-        let declared = [position_controller::CLASS, parameter::CLASS];
+        let declared = [
+            position_controller::CLASS,
+            parameter::CLASS,
+            supervisor::CLASS,
+        ];
         match req.path.class {
             Some(c) if !declared.iter().any(|&d| u32::from(d) == c) => {
                 Some(Err(General::ObjectDoesNotExist.into()))
@@ -261,11 +275,17 @@ impl Device for KollmorgenAkd {
 
     fn connection_event(&mut self, event: ConnectionEvent) {
         match event {
-            ConnectionEvent::Opened(c) if c.kind == Kind::ExclusiveOwner => self.io.restart(),
+            ConnectionEvent::Opened(c) if c.kind == Kind::ExclusiveOwner => {
+                self.io.restart();
+                self.state.drive.keep_enabled();
+            }
+            // Timeout or close: a controlled stop, then the drive disables at rest.
             ConnectionEvent::OwnershipLost(_) => {
-                self.state.drive.set_enable(false);
+                self.state.drive.controlled_stop(true);
                 self.io.restart();
             }
+            // The PLC went to Program mode: a controlled stop; the drive stays enabled.
+            ConnectionEvent::RunIdle(false) => self.state.drive.controlled_stop(false),
             _ => {}
         }
     }

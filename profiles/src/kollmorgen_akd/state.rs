@@ -6,7 +6,7 @@ use enip_stack::cip::{CipError, CipResult, General};
 
 use super::device::{Drive, Mode, Refusal, COUNTS_PER_REV};
 use super::maps::Maps;
-use super::motion_tasks::{MotionTasks, StartError, CNTL_RELATIVE, TASKS};
+use super::motion_tasks::{self, cntl, MotionTasks, StartError, Task, TASKS};
 use super::params::{self, id, Param, STORED};
 
 /// EIP.POSUNIT / EIP.PROFUNIT default: 2^16, so 2^16 units per revolution (parameter
@@ -31,6 +31,9 @@ pub struct Settings {
     pub deceleration: i32,
     /// Attribute 10: 0 absolute, 1 incremental.
     pub incremental: bool,
+    /// Attribute 22: jog velocity, velocity units (signed: its sign is the direction); the
+    /// velocity of a velocity-mode start through attribute 11 (section 7).
+    pub jog_velocity: i32,
 }
 
 impl Settings {
@@ -44,6 +47,7 @@ impl Settings {
             acceleration: 655_360,
             deceleration: 655_360,
             incremental: false,
+            jog_velocity: 65_536,
         }
     }
 }
@@ -52,6 +56,17 @@ impl Default for Settings {
     fn default() -> Self {
         Self::new()
     }
+}
+
+/// The settings a command can change before it is refused (the command dynamic map's
+/// parameters and the command's own data): kept to undo a refused load.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Snapshot {
+    pc: Settings,
+    config: super::device::Config,
+    stored: [i64; STORED],
+    number: u8,
+    edit: Task,
 }
 
 /// Everything but the I/O handshake and the non-volatile copy.
@@ -90,6 +105,26 @@ impl State {
             tasks: MotionTasks::default(),
             maps: Maps::new(),
         }
+    }
+
+    /// The settings a refused load must leave as they were.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            pc: self.pc,
+            config: self.drive.config,
+            stored: self.stored,
+            number: self.tasks.number,
+            edit: self.tasks.edit,
+        }
+    }
+
+    /// Puts back the settings of `snapshot` (a refused load changes nothing).
+    pub fn restore(&mut self, snapshot: &Snapshot) {
+        self.pc = snapshot.pc;
+        self.drive.config = snapshot.config;
+        self.stored = snapshot.stored;
+        self.tasks.number = snapshot.number;
+        self.tasks.edit = snapshot.edit;
     }
 
     /// Position units to counts.
@@ -146,12 +181,13 @@ impl State {
 
     /// Attribute 11 (and an I/O load of the target position or target velocity): starts
     /// the profile the attributes describe when the command matches the mode. Position
-    /// mode: to attribute 6 (incremental per attribute 10) at attribute 7; velocity mode:
-    /// at attribute 7 in the given direction. `Ok(false)` when no motion starts.
-    pub fn start_profile(&mut self, positive: bool) -> Result<bool, Refusal> {
+    /// mode: to attribute 6 (incremental per attribute 10) at attribute 7 (a velocity of 0
+    /// is an invalid motion); velocity mode: at `velocity` units/s in the given direction
+    /// (0 ramps down and ends). `Ok(false)` when no motion starts.
+    pub fn start_profile(&mut self, velocity: i32, positive: bool) -> Result<bool, Refusal> {
         let acc = self.prof_counts(i64::from(self.pc.acceleration));
         let dec = self.prof_counts(i64::from(self.pc.deceleration));
-        let v = self.prof_counts(i64::from(self.pc.target_velocity).abs());
+        let v = self.prof_counts(i64::from(velocity).abs());
         match self.drive.config.mode {
             Mode::Position => {
                 let target = self.pos_counts(i64::from(self.pc.target_position));
@@ -164,7 +200,7 @@ impl State {
             }
             Mode::Velocity => {
                 let v = if positive { v } else { v.saturating_neg() };
-                Ok(self.drive.start_jog(v, acc, dec))
+                self.drive.start_jog(v, acc, dec)
             }
             Mode::Torque => Ok(false),
         }
@@ -196,7 +232,7 @@ impl State {
             id::VL_FB => self.prof_units64(d.velocity()),
             // IL.FB is in amperes: x1000 gives milliamps.
             id::IL_FB => i64::from(d.torque()),
-            id::SWLS_EN => i64::from(d.config.swls_enabled),
+            id::SWLS_EN => i64::from(d.config.swls),
             id::SWLS_LIMIT0 => self.pos_units64(d.config.limit0),
             id::SWLS_LIMIT1 => self.pos_units64(d.config.limit1),
             id::MT_NUM => i64::from(self.tasks.number),
@@ -233,7 +269,7 @@ impl State {
             id::HOME_MODE => self.drive.config.home_mode = params::home_mode(value)?,
             id::HOME_P => self.drive.config.home_position = self.pos_counts(value),
             id::MT_TPOSWND if value >= 0 => self.drive.config.window = self.pos_counts(value),
-            id::SWLS_EN if (0..=1).contains(&value) => self.drive.config.swls_enabled = value == 1,
+            id::SWLS_EN if (0..=3).contains(&value) => self.drive.config.swls = value as u8,
             id::SWLS_LIMIT0 => self.drive.config.limit0 = self.pos_counts(value),
             id::SWLS_LIMIT1 => self.drive.config.limit1 = self.pos_counts(value),
             id::MT_NUM => {
@@ -246,7 +282,7 @@ impl State {
             id::MT_V if value >= 0 => self.tasks.edit.velocity = value,
             id::MT_ACC if value >= 0 => self.tasks.edit.acceleration = value,
             id::MT_DEC if value >= 0 => self.tasks.edit.deceleration = value,
-            id::MT_CNTL if (0..=1).contains(&value) => self.tasks.edit.control = value,
+            id::MT_CNTL if motion_tasks::valid_control(value) => self.tasks.edit.control = value,
             other => {
                 let fits = match param.len {
                     1 | 2 | 4 if param.signed => {
@@ -267,7 +303,20 @@ impl State {
     }
 
     /// Starts motion task `n` (a position move); `Ok(false)` if the drive is not ready.
+    /// An undefined task, or one whose profile the drive cannot run, sets DRV.MOTIONSTAT
+    /// bit 10 (invalid motion task).
     pub fn start_task(&mut self, n: u8) -> Result<bool, StartError> {
+        let result = self.try_start_task(n);
+        if matches!(
+            result,
+            Err(StartError::Undefined) | Err(StartError::Drive(Refusal::Invalid))
+        ) {
+            self.drive.task_rejected();
+        }
+        result
+    }
+
+    fn try_start_task(&mut self, n: u8) -> Result<bool, StartError> {
         let task = self
             .tasks
             .table
@@ -285,22 +334,20 @@ impl State {
             .check_profile(task.deceleration, true)
             .map_err(|_| StartError::Undefined)?;
         let distance = self.pos_counts(task.position);
-        let target = if task.control & CNTL_RELATIVE != 0 {
-            self.drive.target().saturating_add(distance)
-        } else {
-            distance
+        let base = match task.control {
+            cntl::RELATIVE_TARGET => self.drive.last_target(),
+            cntl::RELATIVE_COMMAND => self.drive.commanded_position(),
+            cntl::RELATIVE_FEEDBACK => self.drive.position(),
+            _ => 0,
         };
-        let started = self
-            .drive
-            .start_move(target, v, acc, dec)
-            .map_err(StartError::Drive)?;
-        self.tasks.running = started.then_some(n);
-        Ok(started)
+        self.drive
+            .start_task_move(n, base.saturating_add(distance), v, acc, dec)
+            .map_err(StartError::Drive)
     }
 
     /// The task whose move runs now (response byte 1 and Status Word 1 bit 1).
     pub fn executing_task(&self) -> Option<u8> {
-        self.tasks.running.filter(|_| self.drive.moving_to_target())
+        self.drive.executing_task()
     }
 }
 

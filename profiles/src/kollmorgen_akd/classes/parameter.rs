@@ -125,10 +125,7 @@ fn execute(state: &mut State, nv: &mut NvCopy, instance: u16) -> CipResult {
             nv.save(Parameters(image))
                 .map_err(|_| CipError::new(General::ResourceUnavailable))
         }
-        id::MT_SET => {
-            state.tasks.set();
-            Ok(())
-        }
+        id::MT_SET => state.tasks.set(),
         id::MT_LOAD => {
             state.tasks.load();
             Ok(())

@@ -2,6 +2,9 @@
 //! declared class: the stack answers the services and statuses, this module converts
 //! values and applies writes to the drive.
 //!
+//! Attributes: Appendix A's, and 22 (jog velocity) that section 7 names for velocity-mode
+//! starts.
+//!
 //! Services: Get_Attribute_Single (0x0E) and Set_Attribute_Single (0x10) as the manual
 //! lists (p.9), and the attribute list services the stack adds; Get_Attributes_All answers
 //! 0x08 (not in the manual's list). Statuses (p.10): read-only 0x0E, unknown attribute 0x14,
@@ -12,7 +15,7 @@ use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General};
 use enip_stack::wire::Writer;
 
-use super::super::device::{Refusal, MAX_TORQUE_MA, MAX_VELOCITY};
+use super::super::device::{Mode, Refusal, MAX_TORQUE_MA, MAX_VELOCITY};
 use super::super::params;
 use super::super::state::State;
 
@@ -45,6 +48,8 @@ pub mod attr {
     pub const LOAD_DATA: u16 = 11;
     /// Enable (DRV.EN).
     pub const ENABLE: u16 = 17;
+    /// Jog velocity: the velocity of a velocity-mode start through attribute 11.
+    pub const JOG_VELOCITY: u16 = 22;
     /// Torque.
     pub const TORQUE: u16 = 25;
     /// Load data complete.
@@ -56,9 +61,9 @@ pub mod attr {
 }
 
 /// The attributes, in Appendix A's order.
-const ATTRIBUTES: [AttributeDef; 16] = [
+const ATTRIBUTES: [AttributeDef; 17] = [
     AttributeDef::get(attr::COUNT, DataType::Usint, "Number of Attributes"),
-    AttributeDef::get(attr::LIST, DataType::Bytes(16), "Attribute List"),
+    AttributeDef::get(attr::LIST, DataType::Bytes(17), "Attribute List"),
     AttributeDef::get_set(attr::MODE, DataType::Usint, "Mode"),
     AttributeDef::get_set(attr::POSITION_UNITS, DataType::Dint, "Position Units"),
     AttributeDef::get_set(attr::PROFILE_UNITS, DataType::Dint, "Profile Units"),
@@ -77,6 +82,7 @@ const ATTRIBUTES: [AttributeDef; 16] = [
         "Load Data/Profile Handshake",
     ),
     AttributeDef::get_set(attr::ENABLE, DataType::Bool, "Enable"),
+    AttributeDef::get_set(attr::JOG_VELOCITY, DataType::Dint, "Jog Velocity"),
     AttributeDef::get_set(attr::TORQUE, DataType::Dint, "Torque"),
     AttributeDef::get_set(attr::LOAD_COMPLETE, DataType::Bool, "Load Data Complete"),
     AttributeDef::get_set(attr::HOME_MODE, DataType::Int, "Home Mode"),
@@ -119,6 +125,7 @@ pub fn read(state: &State, id: u16, w: &mut Writer<'_>) -> CipResult {
         attr::INCREMENTAL => w.u8(u8::from(pc.incremental))?,
         attr::LOAD_DATA => w.u8(u8::from(d.moving_to_target()))?,
         attr::ENABLE => w.u8(u8::from(d.enabled()))?,
+        attr::JOG_VELOCITY => w.u32(pc.jog_velocity as u32)?,
         attr::TORQUE => w.u32(d.torque() as u32)?,
         attr::LOAD_COMPLETE => w.u8(u8::from(state.load_complete))?,
         attr::HOME_MODE => w.u16(d.config.home_mode as u16)?,
@@ -179,6 +186,12 @@ pub fn write(state: &mut State, id: u16, value: &[u8]) -> CipResult {
             }
             state.pc.target_velocity = dint(v)?;
         }
+        attr::JOG_VELOCITY => {
+            if state.prof_counts(v.abs()) > MAX_VELOCITY {
+                return Err(out_of_range());
+            }
+            state.pc.jog_velocity = dint(v)?;
+        }
         attr::ACCELERATION => {
             state.check_profile(v, true)?;
             state.pc.acceleration = dint(v)?;
@@ -190,9 +203,15 @@ pub fn write(state: &mut State, id: u16, value: &[u8]) -> CipResult {
         attr::INCREMENTAL => state.pc.incremental = boolean(v)?,
         attr::LOAD_DATA => {
             if boolean(v)? {
-                let positive = state.pc.target_velocity >= 0;
-                match state.start_profile(positive) {
+                // Position mode moves at attribute 7, velocity mode at attribute 22 (its
+                // sign the direction), section 7.
+                let velocity = match state.drive.config.mode {
+                    Mode::Velocity => state.pc.jog_velocity,
+                    _ => state.pc.target_velocity,
+                };
+                match state.start_profile(velocity, velocity >= 0) {
                     Err(Refusal::NotHomed) => return Err(General::DeviceStateConflict.into()),
+                    Err(Refusal::Invalid) => return Err(out_of_range()),
                     Err(Refusal::NotReady) | Ok(_) => {}
                 }
             }

@@ -6,7 +6,12 @@
 //! deterministic: the same commands at the same ticks give the same counts. The profile
 //! converts to and from position and profile units. The actual position follows the
 //! profile generator exactly (no following error); torque comes from a one-inertia model
-//! with viscous friction: `torque_mA = (acceleration + velocity / 1 s) / TORQUE_K`.
+//! with viscous friction: `torque_mA = acceleration / TORQUE_A + velocity / TORQUE_V`,
+//! reported within the drive's peak current.
+//!
+//! Stops: Smooth Stop ramps at the motion's own deceleration; Hard Stop, the PLC going to
+//! Program mode (run/idle) and losing the owner are controlled stops at DRV.DECSTOP
+//! ([`Drive::controlled_stop`]); after a Hard Stop or a lost owner the drive disables at rest.
 
 use enip_stack::{Duration, Instant};
 
@@ -16,11 +21,12 @@ pub const TICK: Duration = Duration::from_micros(1_000);
 const MAX_CATCH_UP: u32 = 10_000;
 
 mod config;
+mod status;
 mod trajectory;
 
 pub use config::{
     motionstat, Config, Fault, Mode, Refusal, COUNTS_PER_REV, HOME_TICKS, MAX_TORQUE_MA,
-    MAX_VELOCITY, TICKS_PER_S, TORQUE_K,
+    MAX_VELOCITY, SWLS_NEGATIVE, SWLS_POSITIVE, TICKS_PER_S, TORQUE_A, TORQUE_RATE, TORQUE_V,
 };
 use trajectory::{Motion, CREEP};
 
@@ -32,6 +38,8 @@ pub struct Drive {
     enabled: bool,
     hard_stop_latched: bool,
     smooth_stop: bool,
+    /// Disable once the running stop reaches standstill (a lost owner).
+    disable_at_rest: bool,
     fault: Option<Fault>,
     homed: bool,
     position: i64,
@@ -39,11 +47,16 @@ pub struct Drive {
     velocity: i64,
     acceleration: i64,
     target: i64,
+    /// The target of the last move (MT.CNTL 3's base), kept when a stop ends it short.
+    last_target: i64,
     motion: Motion,
+    /// The motion task the running move executes (Start Block), if it is one.
+    task: Option<u8>,
     torque_command: i32,
     positive: bool,
     task_completed: bool,
     target_crossed: bool,
+    task_invalid: bool,
     moved: bool,
     next_tick: Option<Instant>,
 }
@@ -62,6 +75,7 @@ impl Drive {
             enabled: false,
             hard_stop_latched: false,
             smooth_stop: false,
+            disable_at_rest: false,
             fault: None,
             homed: false,
             position: 0,
@@ -69,11 +83,14 @@ impl Drive {
             velocity: 0,
             acceleration: 0,
             target: 0,
+            last_target: 0,
             motion: Motion::Idle,
+            task: None,
             torque_command: 0,
             positive: false,
             task_completed: false,
             target_crossed: false,
+            task_invalid: false,
             moved: false,
             next_tick: None,
         }
@@ -88,14 +105,17 @@ impl Drive {
             self.hard_stop_latched = false;
         }
         self.enabled = on;
+        self.disable_at_rest = false;
         self.velocity = 0;
         self.acceleration = 0;
         self.idle();
     }
 
-    /// DRV.CLRFAULTS: clears the faults (the drive stays disabled until enabled again).
+    /// DRV.CLRFAULTS: clears the faults and the invalid-task flag (the drive stays
+    /// disabled until enabled again).
     pub fn clear_faults(&mut self) {
         self.fault = None;
+        self.task_invalid = false;
     }
 
     /// Control word Hard Stop: a controlled stop at DRV.DECSTOP, after which the drive
@@ -103,11 +123,40 @@ impl Drive {
     pub fn hard_stop(&mut self) {
         if self.enabled && !self.hard_stop_latched {
             self.hard_stop_latched = true;
-            self.motion = Motion::Stop {
-                dec: self.config.decstop,
-                emergency: true,
-            };
+            self.stop(self.config.decstop, true);
         }
+    }
+
+    /// A controlled stop at DRV.DECSTOP of whatever runs (the PLC went to Program mode or
+    /// the owner was lost); homing is abandoned. With `disable`, the drive disables once
+    /// at rest (at once if it already is). Nothing happens while disabled.
+    pub fn controlled_stop(&mut self, disable: bool) {
+        if !self.enabled {
+            return;
+        }
+        match self.motion {
+            Motion::Idle if self.velocity == 0 => {
+                if disable {
+                    self.set_enable(false);
+                }
+                return;
+            }
+            Motion::Homing { .. } => self.idle(),
+            Motion::Stop { dec, .. } if dec >= self.config.decstop => {}
+            _ => self.stop(self.config.decstop, false),
+        }
+        if matches!(self.motion, Motion::Idle) && self.velocity == 0 {
+            if disable {
+                self.set_enable(false);
+            }
+            return;
+        }
+        self.disable_at_rest |= disable;
+    }
+
+    /// A new owner connected: a stop begun for the lost one no longer disables.
+    pub fn keep_enabled(&mut self) {
+        self.disable_at_rest = false;
     }
 
     /// Control word Smooth Stop (a level): while set, motion ramps down with its own
@@ -120,13 +169,25 @@ impl Drive {
                 _ => None,
             };
             if let Some(dec) = dec {
-                self.motion = Motion::Stop {
-                    dec,
-                    emergency: false,
-                };
+                self.stop(dec, false);
             }
         }
         self.smooth_stop = on;
+    }
+
+    /// Starts a ramp to standstill at `dec`; a move it interrupts keeps its target watched,
+    /// so running past it sets "target crossed".
+    fn stop(&mut self, dec: i64, emergency: bool) {
+        let watch = match self.motion {
+            Motion::Move { target, .. } => Some(target),
+            Motion::Stop { watch, .. } => watch,
+            _ => None,
+        };
+        self.motion = Motion::Stop {
+            dec,
+            emergency,
+            watch,
+        };
     }
 
     /// True if a new motion may start now.
@@ -134,54 +195,101 @@ impl Drive {
         self.enabled && !self.hard_stop_latched && !self.smooth_stop && self.fault.is_none()
     }
 
+    /// A motion starts: the previous one (and the task it ran) is replaced.
+    fn begin(&mut self, motion: Motion) {
+        self.motion = motion;
+        self.task = None;
+        self.task_invalid = false;
+        self.disable_at_rest = false;
+    }
+
+    /// The manual's p.11 rule: motion in position mode before homing faults the drive.
+    fn refuse_unhomed(&mut self) -> Result<(), Refusal> {
+        if self.config.mode != Mode::Position || self.homed {
+            return Ok(());
+        }
+        self.fault = Some(Fault::NotHomed);
+        self.enabled = false;
+        self.velocity = 0;
+        self.idle();
+        Err(Refusal::NotHomed)
+    }
+
     /// Starts a move to `target` counts at `v` counts/s with `acc`/`dec` counts/s².
     /// `Ok(false)` if the drive cannot move now (the data is kept, no motion starts); a
-    /// move before homing faults the drive.
+    /// move before homing faults the drive; a velocity, acceleration or deceleration of 0
+    /// is an invalid motion (DRV.MOTIONSTAT bit 10).
     pub fn start_move(&mut self, target: i64, v: i64, acc: i64, dec: i64) -> Result<bool, Refusal> {
         if !self.ready() {
             return Ok(false);
         }
-        if !self.homed {
-            self.fault = Some(Fault::NotHomed);
-            self.enabled = false;
-            self.velocity = 0;
-            self.idle();
-            return Err(Refusal::NotHomed);
+        if v == 0 || acc <= 0 || dec <= 0 {
+            self.task_invalid = true;
+            return Err(Refusal::Invalid);
         }
+        self.refuse_unhomed()?;
+        self.begin(Motion::Move {
+            target,
+            v: v.abs().clamp(CREEP, MAX_VELOCITY),
+            acc,
+            dec,
+        });
         self.target = target;
+        self.last_target = target;
         self.task_completed = false;
         self.target_crossed = false;
         self.moved = true;
-        self.motion = Motion::Move {
-            target,
-            v: v.abs().clamp(CREEP, MAX_VELOCITY),
-            acc: acc.max(1),
-            dec: dec.max(1),
-        };
         Ok(true)
     }
 
-    /// Starts a jog towards the signed velocity `v` counts/s.
-    pub fn start_jog(&mut self, v: i64, acc: i64, dec: i64) -> bool {
-        if !self.ready() {
-            return false;
+    /// Starts motion task `task`'s move (as [`Drive::start_move`]); Status Word 1 bit 1
+    /// and response byte 1 follow it until the move ends or another motion replaces it.
+    pub fn start_task_move(
+        &mut self,
+        task: u8,
+        target: i64,
+        v: i64,
+        acc: i64,
+        dec: i64,
+    ) -> Result<bool, Refusal> {
+        let started = self.start_move(target, v, acc, dec)?;
+        if started {
+            self.task = Some(task);
         }
-        self.moved = false;
-        self.task_completed = false;
-        self.motion = Motion::Jog {
+        Ok(started)
+    }
+
+    /// A motion task could not be activated (undefined or invalid): DRV.MOTIONSTAT bit 10
+    /// until the next motion starts or DRV.CLRFAULTS.
+    pub fn task_rejected(&mut self) {
+        self.task_invalid = true;
+    }
+
+    /// Starts a jog towards the signed velocity `v` counts/s; a jog to 0 ramps down and
+    /// ends. In position mode the drive must be homed first (p.11), like a move.
+    pub fn start_jog(&mut self, v: i64, acc: i64, dec: i64) -> Result<bool, Refusal> {
+        if !self.ready() {
+            return Ok(false);
+        }
+        self.refuse_unhomed()?;
+        self.begin(Motion::Jog {
             v: v.clamp(-MAX_VELOCITY, MAX_VELOCITY),
             acc: acc.max(1),
             dec: dec.max(1),
-        };
-        true
+        });
+        self.moved = false;
+        self.task_completed = false;
+        Ok(true)
     }
 
     /// Sets the torque command (mA); in torque mode the motor follows it.
     pub fn set_torque(&mut self, milliamps: i32) -> bool {
         self.torque_command = milliamps.clamp(-MAX_TORQUE_MA, MAX_TORQUE_MA);
         if self.config.mode == Mode::Torque && self.ready() {
+            if self.motion != Motion::Torque {
+                self.begin(Motion::Torque);
+            }
             self.moved = false;
-            self.motion = Motion::Torque;
             return true;
         }
         false
@@ -192,9 +300,9 @@ impl Drive {
         if !self.ready() {
             return Err(Refusal::NotReady);
         }
-        self.motion = Motion::Homing {
+        self.begin(Motion::Homing {
             ticks_left: HOME_TICKS,
-        };
+        });
         Ok(())
     }
 
@@ -226,6 +334,7 @@ impl Drive {
             self.motion_step();
             self.advance();
             self.limit_check();
+            self.watch_target();
         }
         self.acceleration = self
             .velocity
@@ -251,13 +360,19 @@ impl Drive {
                 acc,
                 dec,
             } => self.move_step(target, v, acc, dec),
-            Motion::Jog { v, acc, dec } => self.ramp(v, acc, dec),
-            Motion::Stop { dec, emergency } => {
+            Motion::Jog { v, acc, dec } => {
+                self.ramp(v, acc, dec);
+                if v == 0 && self.velocity == 0 {
+                    self.idle();
+                }
+            }
+            Motion::Stop { dec, emergency, .. } => {
                 self.ramp(0, dec, dec);
                 if self.velocity == 0 {
                     self.idle();
-                    if emergency {
+                    if emergency || self.disable_at_rest {
                         self.enabled = false;
+                        self.disable_at_rest = false;
                     }
                 }
             }
@@ -275,12 +390,13 @@ impl Drive {
                 }
             }
             Motion::Torque => {
-                let acc = i64::from(self.torque_command)
-                    .saturating_mul(TORQUE_K)
+                let error = i64::from(self.torque_command)
+                    .saturating_mul(TORQUE_V)
                     .saturating_sub(self.velocity);
+                let step = error.saturating_mul(TORQUE_RATE) / TICKS_PER_S;
                 self.velocity = self
                     .velocity
-                    .saturating_add(acc / TICKS_PER_S)
+                    .saturating_add(step)
                     .clamp(-MAX_VELOCITY, MAX_VELOCITY);
             }
         }
@@ -307,7 +423,6 @@ impl Drive {
             self.position = target;
             self.position_rem = 0;
             self.velocity = 0;
-            self.target_crossed = true;
             self.finish_move();
             // Position already placed: advance() must not move it again.
             self.position_rem = 0;
@@ -317,144 +432,33 @@ impl Drive {
     fn finish_move(&mut self) {
         self.motion = Motion::Idle;
         self.velocity = 0;
+        self.task = None;
         self.task_completed = self.in_window();
+    }
+
+    /// A stop that interrupted a move and runs past its target: "target crossed".
+    fn watch_target(&mut self) {
+        if let Motion::Stop {
+            watch: Some(target),
+            ..
+        } = self.motion
+        {
+            let past = (self.velocity > 0 && self.position > target)
+                || (self.velocity < 0 && self.position < target);
+            self.target_crossed |= past;
+        }
     }
 
     /// Software limits: a motion heading beyond an enabled limit stops at DRV.DECSTOP.
     fn limit_check(&mut self) {
-        if !self.config.swls_enabled {
-            return;
-        }
-        let beyond = (self.position >= self.config.limit1 && self.velocity > 0)
-            || (self.position <= self.config.limit0 && self.velocity < 0);
+        let beyond = (self.positive_limit() && self.velocity > 0)
+            || (self.negative_limit() && self.velocity < 0);
         if beyond && !matches!(self.motion, Motion::Stop { .. }) {
-            self.motion = Motion::Stop {
-                dec: self.config.decstop,
-                emergency: false,
-            };
+            self.stop(self.config.decstop, false);
         }
     }
 
     fn in_window(&self) -> bool {
         self.position.abs_diff(self.target) <= self.config.window.unsigned_abs()
-    }
-
-    /// Status Word 1 bit 7: the power stage is enabled.
-    pub fn enabled(&self) -> bool {
-        self.enabled
-    }
-    /// Status Word 1 bit 5: homed.
-    pub fn homed(&self) -> bool {
-        self.homed
-    }
-    /// Status Word 1 bit 4: the direction of the last motion (1 positive; 0 negative or
-    /// no motion since power-up).
-    pub fn positive(&self) -> bool {
-        self.positive
-    }
-    /// Status Word 1 bit 3: the fault present, if any.
-    pub fn fault(&self) -> Option<Fault> {
-        self.fault
-    }
-    /// Status Word 1 bit 2: no trajectory and the motor inside the window of the last
-    /// target position.
-    pub fn in_position(&self) -> bool {
-        !self.in_motion() && self.in_window()
-    }
-    /// Status Word 1 bit 0: a trajectory is in progress (moving, stopping or homing).
-    pub fn in_motion(&self) -> bool {
-        self.enabled && (self.motion != Motion::Idle || self.velocity != 0)
-    }
-    /// True while a profile move (Position Controller attribute 11) is in progress.
-    pub fn moving_to_target(&self) -> bool {
-        matches!(self.motion, Motion::Move { .. })
-    }
-    /// True while the hard stop latch waits for an enable cycle.
-    pub fn hard_stopped(&self) -> bool {
-        self.hard_stop_latched
-    }
-    /// True while the Smooth Stop level is set.
-    pub fn smooth_stopped(&self) -> bool {
-        self.smooth_stop
-    }
-    /// Actual position, counts.
-    pub fn position(&self) -> i64 {
-        self.position
-    }
-    /// Actual velocity, counts/s.
-    pub fn velocity(&self) -> i64 {
-        self.velocity
-    }
-    /// The commanded (trajectory) position, counts: the profile generator's, which the
-    /// simulated motor follows exactly.
-    pub fn commanded_position(&self) -> i64 {
-        self.position
-    }
-    /// The commanded velocity, counts/s: the velocity the motion aims for.
-    pub fn commanded_velocity(&self) -> i64 {
-        match self.motion {
-            Motion::Move { target, v, .. } => {
-                v.saturating_mul(target.saturating_sub(self.position).signum())
-            }
-            Motion::Jog { v, .. } => v,
-            Motion::Torque => self.velocity,
-            _ => 0,
-        }
-    }
-    /// The last target position, counts.
-    pub fn target(&self) -> i64 {
-        self.target
-    }
-    /// The torque command, mA.
-    pub fn torque_command(&self) -> i32 {
-        self.torque_command
-    }
-    /// Actual torque (current), mA.
-    pub fn torque(&self) -> i32 {
-        if !self.enabled {
-            return 0;
-        }
-        let ma = self.acceleration.saturating_add(self.velocity) / TORQUE_K;
-        ma.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32
-    }
-    /// Status Word 2 bit 3: at or beyond the positive software limit (limits enabled).
-    pub fn positive_limit(&self) -> bool {
-        self.config.swls_enabled && self.position >= self.config.limit1
-    }
-    /// Status Word 2 bit 4: at or beyond the negative software limit (limits enabled).
-    pub fn negative_limit(&self) -> bool {
-        self.config.swls_enabled && self.position <= self.config.limit0
-    }
-    /// DRV.MOTIONSTAT.
-    pub fn motionstat(&self) -> u32 {
-        use motionstat::*;
-        let mut s = 0;
-        let mut set = |on: bool, bit: u32| {
-            if on {
-                s |= bit;
-            }
-        };
-        set(matches!(self.motion, Motion::Move { .. }), TASK_ACTIVE);
-        set(self.homed, HOME_FOUND | HOME_FINISHED);
-        set(matches!(self.motion, Motion::Homing { .. }), HOMING);
-        set(
-            matches!(
-                self.motion,
-                Motion::Stop {
-                    emergency: true,
-                    ..
-                }
-            ),
-            ESTOP,
-        );
-        set(self.moved && self.task_completed, TASK_COMPLETED);
-        set(
-            matches!(self.motion, Motion::Jog { v, .. } if v == self.velocity),
-            VELOCITY_REACHED,
-        );
-        set(self.fault == Some(Fault::NotHomed), TASK_FAULT);
-        set(self.moved && self.target_crossed, TARGET_CROSSED);
-        set(self.moved && self.in_position(), TARGET_REACHED);
-        s
     }
 }

@@ -23,10 +23,12 @@ pub enum Motion {
         acc: i64,
         dec: i64,
     },
-    /// A ramp to standstill; `emergency` for a hard stop.
+    /// A ramp to standstill; `emergency` for a hard stop; `watch` the target of the move
+    /// it interrupted.
     Stop {
         dec: i64,
         emergency: bool,
+        watch: Option<i64>,
     },
     /// Homing (mode 0: the current position becomes HOME.P).
     Homing {

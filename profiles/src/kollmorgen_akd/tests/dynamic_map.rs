@@ -121,6 +121,8 @@ fn map_type_2_response_carries_the_rspmap_values_every_cycle() {
         id::MT_TPOSWND,
     ];
     b.set_list(RSPMAP, &rsp).unwrap();
+    // Velocity mode: a jog in position mode would need homing first (p.11).
+    b.explicit(0x10, 0x25, 1, Some(3), &[1]).0.unwrap();
     b.send(cmd(EN, 0x27, 0x20, 0));
     let r = b.send(mapped(
         motion(EN | LOAD | DIR, 0x27, 0, 1000, 10_000, 10_000),
@@ -131,8 +133,8 @@ fn map_type_2_response_carries_the_rspmap_values_every_cycle() {
     assert_eq!(slot(&r, 1), -3); // AIN.OFFSET, sign-extended
     assert_eq!(slot(&r, 2), 65_536); // EIP.PROFUNIT
     assert_eq!(slot(&r, 3), 0); // empty slot
-    assert_eq!(slot(&r, 6), 1); // MT.TPOSWND
-                                // A jog: position and velocity follow the drive in every response.
+    assert_eq!(slot(&r, 6), 32_768); // MT.TPOSWND, 0.5 rev
+                                     // A jog: position and velocity follow the drive in every response.
     for _ in 0..5 {
         let r = b.run_ms(40);
         assert_eq!(slot(&r, 0), dint(&r, 8));
@@ -154,7 +156,7 @@ fn map_type_2_response_carries_the_rspmap_values_every_cycle() {
         &[],
     ));
     assert_eq!(dint(&r, 52), 65_536); // target velocity
-    assert_eq!(dint(&r, 56), 0); // position mode (a jog runs in it)
+    assert_eq!(dint(&r, 56), 1); // velocity mode
 }
 
 #[test]
@@ -165,7 +167,7 @@ fn map_type_2_command_writes_the_cmdmap_on_the_load_edge() {
     let slots = [10, -5, 77, 3, -2];
     // No edge: nothing written.
     b.send(mapped(cmd(EN, 0x03, 0x20, 100_000), 2, &slots));
-    assert_eq!(b.get_param(id::MT_TPOSWND), 1i64.to_le_bytes());
+    assert_eq!(b.get_param(id::MT_TPOSWND), 32_768i64.to_le_bytes());
     // The edge: every slot written, with the command type's data.
     let r = b.send(mapped(cmd(EN | LOAD, 0x03, 0x20, 100_000), 2, &slots));
     assert_ne!(r[2] & status2::LOAD_COMPLETE, 0);
@@ -177,13 +179,13 @@ fn map_type_2_command_writes_the_cmdmap_on_the_load_edge() {
     // Changed while Load/Start stays 1: not written.
     b.send(mapped(cmd(EN | LOAD, 0x03, 0x20, 100_000), 2, &[20]));
     assert_eq!(b.get_param(id::MT_TPOSWND), 10i64.to_le_bytes());
-    // A value a parameter refuses (MT.NUM 99): error response 0x09, no slot kept, the
+    // A value a parameter refuses (MT.NUM 200): error response 0x09, no slot kept, the
     // command type not run.
     b.send(mapped(cmd(EN, 0x03, 0x20, 200_000), 2, &[]));
     let r = b.send(mapped(
         cmd(EN | LOAD, 0x03, 0x20, 200_000),
         2,
-        &[30, -6, 0, 99],
+        &[30, -6, 0, 200],
     ));
     assert_eq!(r[3], 0x34); // 0x14 with byte 3's axis bits
     assert_eq!(r[4..8], [0x09, 0xFF, 0x03, 0x20]);
@@ -206,6 +208,53 @@ fn map_type_2_command_writes_the_cmdmap_on_the_load_edge() {
         assert_ne!(r[2] & status2::LOAD_COMPLETE, 0);
         assert_eq!(b.get_param(id::MT_TPOSWND), 10i64.to_le_bytes());
     }
+}
+
+#[test]
+fn a_refused_load_changes_no_mapped_parameter() {
+    let mut b = Bench::new();
+    b.set_list(CMDMAP, &[id::MT_TPOSWND, id::EIP_PROFUNIT])
+        .unwrap();
+    // An undefined command type (0x0A): the map is not applied.
+    b.send(mapped(cmd(EN, 0x0A, 0x20, 0), 2, &[10, 1000]));
+    let r = b.send(mapped(cmd(EN | LOAD, 0x0A, 0x20, 0), 2, &[10, 1000]));
+    assert_eq!(r[3..6], [0x34, 0x20, 0xFF]);
+    assert_eq!(b.get_param(id::MT_TPOSWND), 32_768i64.to_le_bytes());
+    assert_eq!(b.get_param(id::EIP_PROFUNIT), 65_536u32.to_le_bytes());
+    // Another axis: the same.
+    b.send(mapped(cmd(EN, 0x43, 0x20, 100_000), 2, &[10, 1000]));
+    let r = b.send(mapped(cmd(EN | LOAD, 0x43, 0x20, 100_000), 2, &[10, 1000]));
+    assert_eq!(r[4], 0x20);
+    assert_eq!(b.get_param(id::MT_TPOSWND), 32_768i64.to_le_bytes());
+    // A valid type whose own data is refused after the map was applied (acceleration 0):
+    // the map's values are put back.
+    b.send(mapped(cmd(EN, 0x03, 0x20, 0), 2, &[10, 1000]));
+    let r = b.send(mapped(cmd(EN | LOAD, 0x03, 0x20, 0), 2, &[10, 1000]));
+    assert_eq!(r[4..6], [0x09, 0xFF]);
+    assert_eq!(b.get_param(id::MT_TPOSWND), 32_768i64.to_le_bytes());
+    assert_eq!(b.get_param(id::EIP_PROFUNIT), 65_536u32.to_le_bytes());
+    // A move before homing is refused and faults the drive (its own reaction stays), but
+    // the mapped parameters are not changed.
+    b.send(mapped(
+        motion(EN, 0x26, 100, 1000, 10_000, 10_000),
+        2,
+        &[10, 1000],
+    ));
+    let r = b.send(mapped(
+        motion(EN | LOAD, 0x26, 100, 1000, 10_000, 10_000),
+        2,
+        &[10, 1000],
+    ));
+    assert_eq!(r[4], 0x10);
+    assert_ne!(r[0] & status1::FAULT, 0);
+    assert_eq!(b.get_param(id::MT_TPOSWND), 32_768i64.to_le_bytes());
+    assert_eq!(b.get_param(id::EIP_PROFUNIT), 65_536u32.to_le_bytes());
+    // The same load accepted: both written.
+    b.send(mapped(cmd(EN, 0x03, 0x20, 100_000), 2, &[10, 1000]));
+    let r = b.send(mapped(cmd(EN | LOAD, 0x03, 0x20, 100_000), 2, &[10, 1000]));
+    assert_ne!(r[2] & status2::LOAD_COMPLETE, 0);
+    assert_eq!(b.get_param(id::MT_TPOSWND), 10i64.to_le_bytes());
+    assert_eq!(b.get_param(id::EIP_PROFUNIT), 1000u32.to_le_bytes());
 }
 
 #[test]

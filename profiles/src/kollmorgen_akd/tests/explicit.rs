@@ -1,5 +1,5 @@
-//! Explicit access to class 0x25 (Position Controller) and class 0x0F (Parameter), with the
-//! manual's statuses.
+//! Explicit access to class 0x25 (Position Controller), class 0x24 (Position Controller
+//! Supervisor) and class 0x0F (Parameter), with the manual's statuses.
 
 use super::*;
 
@@ -7,12 +7,12 @@ use super::*;
 fn position_controller_statuses() {
     let mut b = Bench::new();
     let mut get = |a: u8| b.explicit(0x0E, 0x25, 1, Some(a), &[]);
-    assert_eq!(get(1), (Ok(()), vec![16]));
+    assert_eq!(get(1), (Ok(()), vec![17]));
     let (s, list) = get(2);
     s.unwrap();
     assert_eq!(
         list,
-        [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 17, 25, 58, 100, 101]
+        [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 17, 22, 25, 58, 100, 101]
     );
     assert_eq!(get(3), (Ok(()), vec![0]));
     assert_eq!(get(4), (Ok(()), 65_536u32.to_le_bytes().to_vec()));
@@ -50,11 +50,7 @@ fn position_controller_statuses() {
         b.explicit(0x0E, 0x25, 0, Some(1), &[]),
         (Ok(()), vec![1, 0])
     );
-    // Classes the drive does not have: 0x16, "Class Not Supported".
-    assert_eq!(
-        b.explicit(0x0E, 0x24, 1, Some(1), &[]).0,
-        err(General::ObjectDoesNotExist)
-    );
+    // A class the drive does not have: 0x16, "Class Not Supported".
     assert_eq!(
         b.explicit(0x0E, 0x70, 1, Some(1), &[]).0,
         err(General::ObjectDoesNotExist)
@@ -124,5 +120,64 @@ fn parameter_object() {
     assert_eq!(
         b.explicit(0x0E, 0x0F, id::DRV_MOTIONSTAT, Some(1), &[]).1,
         6u32.to_le_bytes()
+    );
+}
+
+#[test]
+fn position_controller_supervisor_answers() {
+    let mut b = Bench::new();
+    let get = |b: &mut Bench, a: u8| b.explicit(0x0E, 0x24, 1, Some(a), &[]);
+    assert_eq!(get(&mut b, 1), (Ok(()), vec![6]));
+    assert_eq!(get(&mut b, 2), (Ok(()), vec![1, 2, 3, 5, 6, 7]));
+    assert_eq!(get(&mut b, 3), (Ok(()), vec![1]));
+    assert_eq!(get(&mut b, 5), (Ok(()), vec![0]));
+    // The last command assembly's command and response types.
+    b.send(cmd(EN, 0x26, 0x25, 0));
+    assert_eq!(get(&mut b, 6), (Ok(()), vec![0x06]));
+    assert_eq!(get(&mut b, 7), (Ok(()), vec![0x05]));
+    // A move before homing faults: General Fault follows Status Word 1 bit 3.
+    b.send(motion(EN | LOAD, 0x26, 100, 1000, 10_000, 10_000));
+    assert_eq!(get(&mut b, 5), (Ok(()), vec![1]));
+    assert_eq!(get(&mut b, 4).0, err(General::AttributeNotSupported));
+    assert_eq!(
+        b.explicit(0x10, 0x24, 1, Some(6), &[1]).0,
+        err(General::AttributeNotSettable)
+    );
+    assert_eq!(
+        b.explicit(0x0E, 0x24, 2, Some(1), &[]).0,
+        err(General::ObjectDoesNotExist)
+    );
+}
+
+#[test]
+fn jog_velocity_attribute_22_drives_velocity_mode_starts() {
+    let mut b = Bench::new();
+    assert_eq!(
+        b.explicit(0x0E, 0x25, 1, Some(22), &[]),
+        (Ok(()), 65_536i32.to_le_bytes().to_vec())
+    );
+    b.explicit(0x10, 0x25, 1, Some(3), &[1]).0.unwrap();
+    b.explicit(0x10, 0x25, 1, Some(22), &(-2000i32).to_le_bytes())
+        .0
+        .unwrap();
+    // Attribute 7 stays what it was; a start through attribute 11 jogs at attribute 22.
+    b.send(cmd(EN, 0x21, 0x23, 0));
+    b.explicit(0x10, 0x25, 1, Some(11), &[1]).0.unwrap();
+    let r = b.run_ms(100);
+    assert_eq!(dint(&r, 12), -2000);
+    // Beyond the velocity limit: 0x09.
+    assert_eq!(
+        b.explicit(0x10, 0x25, 1, Some(22), &i32::MAX.to_le_bytes())
+            .0,
+        err(General::InvalidAttributeValue)
+    );
+}
+
+#[test]
+fn identity_names_kollmorgen_vendor_452() {
+    let mut b = Bench::new();
+    assert_eq!(
+        b.explicit(0x0E, 0x01, 1, Some(1), &[]),
+        (Ok(()), 452u16.to_le_bytes().to_vec())
     );
 }

@@ -6,6 +6,7 @@
 mod class1;
 mod dynamic_map;
 mod explicit;
+mod fidelity;
 mod motion;
 mod storage;
 
