@@ -17,7 +17,7 @@ mod flash;
 mod records;
 mod shared;
 
-pub use ab::{AbStore, IMAGE_SIZE, PROFILE_RECORD_ROOM, STACK_RECORD_ROOM};
+pub use ab::{AbStore, IMAGE_SIZE, PROFILE_RECORD_ROOM, QOS_RECORD_ROOM, STACK_RECORD_ROOM};
 pub use crc::crc32;
 pub use cut_flash::{CutFlash, CUT_SECTOR};
 pub use flash::{Flash, FlashError, NorFlashSectors, RamFlash, MAX_WRITE_SIZE};
@@ -61,6 +61,8 @@ impl From<FlashError> for NvError {
 pub mod key {
     /// The TCP/IP Interface object's settings (attributes 3, 5, 6, 8, 9 and 13).
     pub const TCP_IP: u16 = 0x0001;
+    /// The QoS object's settings (attributes 1-8).
+    pub const QOS: u16 = 0x0002;
     /// First key of the device's records.
     pub const PROFILE_BASE: u16 = 0x0100;
 }

@@ -99,7 +99,10 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
             return answer;
         }
         Some(store) => {
-            if store.remove(crate::nv::key::TCP_IP).is_err() {
+            let removed = [crate::nv::key::TCP_IP, crate::nv::key::QOS]
+                .into_iter()
+                .try_for_each(|key| store.remove(key));
+            if removed.is_err() {
                 store.abandon();
                 return Err(General::StoreOperationFailure.into());
             }
@@ -109,6 +112,11 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
     }
     if kind == 1 {
         ctx.state.tcpip = super::tcpip::TcpIpState::new();
+        // The defaults are configured; the values in use stay until the restart.
+        ctx.state.qos = super::qos::QosState {
+            active: ctx.state.qos.active,
+            ..super::qos::QosState::new()
+        };
     }
     ctx.state.pending_reset = Some(kind);
     Ok(())

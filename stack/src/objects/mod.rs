@@ -1,5 +1,5 @@
 //! The standard objects the stack serves: Identity, Message Router, Assembly, Connection
-//! Manager, TCP/IP Interface and Ethernet Link, the device's declared vendor classes, and the
+//! Manager, TCP/IP Interface, Ethernet Link and QoS, the device's declared vendor classes, and the
 //! dispatcher (`router`) that sends each request to its object. They sit above the
 //! connections ([`crate::io`]): the Connection Manager opens and closes them, and Identity
 //! and Assembly look at them (status bits, output ownership).
@@ -9,6 +9,7 @@ pub(crate) mod connection_manager;
 pub(crate) mod ethernet_link;
 pub(crate) mod identity;
 pub(crate) mod message_router;
+pub(crate) mod qos;
 pub(crate) mod router;
 pub(crate) mod serve;
 pub(crate) mod tcpip;
@@ -17,6 +18,7 @@ pub(crate) mod vendor;
 
 pub use connection_manager::Counters as ConnectionManagerCounters;
 pub use ethernet_link::LinkState;
+pub use qos::{Dscp, QosState};
 pub use tcpip::TcpIpState;
 pub use tcpip_nv::InterfaceConfig;
 
@@ -37,6 +39,8 @@ pub struct ObjectState {
     pub link: ethernet_link::LinkState,
     /// Connection Manager request and reject counters.
     pub connection_manager: connection_manager::Counters,
+    /// QoS object: the DSCP values set and those in use.
+    pub qos: qos::QosState,
     /// A Reset service was accepted: its type, for the runtime to act on once replied.
     pub pending_reset: Option<u8>,
 }
@@ -48,6 +52,7 @@ impl ObjectState {
             tcpip: tcpip::TcpIpState::new(),
             link: ethernet_link::LinkState::new(),
             connection_manager: connection_manager::Counters::default(),
+            qos: qos::QosState::new(),
             pending_reset: None,
         }
     }

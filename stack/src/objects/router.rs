@@ -2,7 +2,7 @@
 //! the response with the right general and additional status.
 
 use super::{assembly, connection_manager, ethernet_link, identity};
-use super::{message_router, tcpip, vendor, Ctx};
+use super::{message_router, qos, tcpip, vendor, Ctx};
 use crate::cip::class_id;
 use crate::cip::request::Request;
 use crate::cip::status::CipResult;
@@ -110,6 +110,7 @@ pub(crate) fn dispatch<D: Device>(
         Some(class_id::CONNECTION_MANAGER) => connection_manager::handle(ctx, req, w),
         Some(class_id::TCP_IP_INTERFACE) => tcpip::handle(ctx, req, w),
         Some(class_id::ETHERNET_LINK) => ethernet_link::handle(ctx, req, w),
+        Some(class_id::QOS) => qos::handle(ctx, req, w),
         _ => vendor::handle(ctx, class, req, w),
     }
 }
