@@ -97,7 +97,15 @@ impl Dscp {
 
     /// The seven values in attribute order.
     fn all(&self) -> [u8; 7] {
-        core::array::from_fn(|i| self.get(i as u16 + 2))
+        [
+            self.ptp_event,
+            self.ptp_general,
+            self.urgent,
+            self.scheduled,
+            self.high,
+            self.low,
+            self.explicit,
+        ]
     }
 }
 
