@@ -2,12 +2,15 @@
 //! traffic (Class 1 by connection priority, explicit messaging, PTP), and the 802.1Q tag
 //! enable; the values saved in the non-volatile store and the set in use since start.
 //!
-//! When a Set applies: CIP Vol 2 (QoS object, chapter 5) makes every instance attribute
-//! non-volatile and has a changed value take effect the next time the device starts (power
-//! cycle or Identity Reset), not on traffic already flowing. So a Set is saved and read back
-//! at once ([`QosState::configured`]), while the packets keep the values the device started
-//! with ([`QosState::active`]) until its next start. That also keeps a running connection's
-//! marking (its DSCP is taken once, when it opens) consistent with every other packet.
+//! When a Set applies: every instance attribute is non-volatile (CIP Vol 2, QoS object), and
+//! a changed value takes effect the next time the device starts (power cycle or Identity
+//! Reset), not on traffic already flowing: the reading of the open reference stack (OpENer
+//! keeps an active copy taken at start-up) and of certified adapters' manuals ("takes effect
+//! on device re-start"). So a Set is saved and read back at once
+//! ([`QosState::configured`]), while the packets keep the values the device started with
+//! ([`QosState::active`]) until its next start. That also keeps a running connection's
+//! marking (its DSCP is taken once, when it opens) consistent with every other packet, and
+//! a Set can never re-mark the TCP connection that carried it mid-stream.
 
 use super::serve::{serve, Object};
 use super::Ctx;
