@@ -8,32 +8,62 @@
 
 use enip_stack::config::ENCAP_PORT;
 use smoltcp::phy::ChecksumCapabilities;
-use smoltcp::wire::{EthernetFrame, EthernetProtocol, IpProtocol, Ipv4Packet};
+use smoltcp::wire::{ETHERNET_HEADER_LEN, IPV4_HEADER_LEN};
+
+use super::checksum::Sum;
+
+/// The IPv4 ethertype.
+const IPV4: [u8; 2] = [0x08, 0x00];
+/// IP protocol numbers of TCP and UDP.
+const TCP: u8 = 6;
+const UDP: u8 = 17;
+/// Offset of the header checksum in the IPv4 header.
+const CHECKSUM: usize = 10;
 
 /// Marks `frame` with `dscp` if it is an IPv4 packet of TCP or UDP from port 44818 (the first
 /// fragment, the one with the ports); `fill` says which checksums software fills. Anything
-/// else, malformed included, is left as it is.
+/// else, malformed or cut short included, is left as it is. Read on the bytes, not through
+/// smoltcp's packet views: this runs for every frame the network stack sends.
 pub(crate) fn mark_explicit(frame: &mut [u8], dscp: u8, fill: &ChecksumCapabilities) {
-    let Ok(mut eth) = EthernetFrame::new_checked(frame) else {
-        return;
-    };
-    if eth.ethertype() != EthernetProtocol::Ipv4 {
+    if frame.get(12..ETHERNET_HEADER_LEN) != Some(&IPV4[..]) {
         return;
     }
-    let Ok(mut ip) = Ipv4Packet::new_checked(eth.payload_mut()) else {
+    let Some(ip) = frame.get_mut(ETHERNET_HEADER_LEN..) else {
         return;
     };
-    let transport = matches!(ip.next_header(), IpProtocol::Tcp | IpProtocol::Udp);
-    let src_port = match ip.payload_mut() {
-        [a, b, ..] => u16::from_be_bytes([*a, *b]),
-        _ => return,
+    let &[version_ihl, tos, len_hi, len_lo, _, _, frag_hi, frag_lo, _, protocol, ..] = &*ip else {
+        return;
     };
-    if !transport || ip.frag_offset() != 0 || src_port != ENCAP_PORT || ip.dscp() == dscp {
+    let header_len = usize::from(version_ihl & 0x0F).wrapping_mul(4);
+    // The source port; no overflow, the header is 60 bytes at most.
+    let port = header_len..header_len.wrapping_add(2);
+    let total_len = usize::from(u16::from_be_bytes([len_hi, len_lo]));
+    let first_fragment = u16::from_be_bytes([frag_hi, frag_lo]) & 0x1FFF == 0;
+    let marked = ((dscp & 0x3F) << 2) | (tos & 0x03);
+    if version_ihl >> 4 != 4
+        || header_len < IPV4_HEADER_LEN
+        || !(port.end..=ip.len()).contains(&total_len)
+        || !matches!(protocol, TCP | UDP)
+        || !first_fragment
+        || marked == tos
+        || ip.get(port) != Some(&ENCAP_PORT.to_be_bytes()[..])
+    {
         return;
     }
-    ip.set_dscp(dscp & 0x3F);
+    let Some(header) = ip.get_mut(..header_len) else {
+        return;
+    };
+    if let Some(b) = header.get_mut(1) {
+        *b = marked;
+    }
     if fill.ipv4.tx() {
-        ip.fill_checksum();
+        if let Some(sum) = header.get_mut(CHECKSUM..CHECKSUM + 2) {
+            sum.fill(0);
+        }
+        let sum = Sum::default().add(header).checksum();
+        if let Some(to) = header.get_mut(CHECKSUM..CHECKSUM + 2) {
+            to.copy_from_slice(&sum);
+        }
     }
 }
 
@@ -43,11 +73,13 @@ mod tests {
     use super::*;
     use smoltcp::phy::Checksum;
     use smoltcp::wire::{
-        EthernetAddress, EthernetRepr, IpAddress, Ipv4Address, Ipv4Repr, TcpPacket, TcpRepr,
-        TcpSeqNumber, UdpPacket, UdpRepr, ETHERNET_HEADER_LEN,
+        EthernetAddress, EthernetFrame, EthernetProtocol, EthernetRepr, IpAddress, IpProtocol,
+        Ipv4Address, Ipv4Packet, Ipv4Repr, TcpPacket, TcpRepr, TcpSeqNumber, UdpPacket, UdpRepr,
     };
     use std::vec::Vec;
 
+    /// The highest DSCP.
+    const MAX: u8 = 63;
     const ME: Ipv4Address = Ipv4Address::new(198, 18, 0, 2);
     const PEER: Ipv4Address = Ipv4Address::new(198, 18, 0, 1);
 
@@ -141,6 +173,22 @@ mod tests {
             } else {
                 let u = UdpPacket::new_checked(p.payload()).unwrap();
                 assert!(u.verify_checksum(&src, &dst));
+            }
+        }
+    }
+
+    #[test]
+    fn every_dscp_from_every_dscp_keeps_the_header_checksum_right() {
+        let sums = ChecksumCapabilities::default();
+        for from in 0..=MAX {
+            let mut f = frame(false, ENCAP_PORT, b"x");
+            mark_explicit(&mut f, from, &sums);
+            for to in 0..=MAX {
+                let mut g = f.clone();
+                mark_explicit(&mut g, to, &sums);
+                let p = ip(&g);
+                assert_eq!((p.dscp(), p.ecn()), (to, 1), "{from} -> {to}");
+                assert!(p.verify_checksum(), "{from} -> {to}");
             }
         }
     }

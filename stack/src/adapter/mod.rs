@@ -151,7 +151,7 @@ impl<D: Device> Adapter<D> {
     /// The DSCP explicit messaging goes out with (QoS attribute 8 as the device started):
     /// for the runtime to mark TCP and UDP 44818 packets with.
     pub fn explicit_dscp(&self) -> u8 {
-        self.inner.objects.qos.active.explicit
+        self.inner.objects.qos.active.explicit()
     }
     /// The connection table.
     pub fn connections(&self) -> &ConnectionTable {

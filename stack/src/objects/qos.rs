@@ -19,7 +19,7 @@ use crate::cip::status::{CipResult, General};
 use crate::cip::{class_id, Request};
 use crate::device::Device;
 use crate::nv::{key, NvError, NvStore};
-use crate::wire::{Reader, Writer};
+use crate::wire::Writer;
 
 /// Layout version of the stored record.
 const RECORD_VERSION: u8 = 1;
@@ -29,87 +29,45 @@ const _: () = assert!(RECORD_LEN <= crate::nv::QOS_RECORD_ROOM);
 /// The highest DSCP value (six bits).
 pub const MAX_DSCP: u8 = 63;
 
-/// The DSCP values of attributes 2-8, by kind of traffic.
+/// The DSCP values of attributes 2-8, in attribute order: PTP (IEEE 1588) event messages,
+/// PTP general messages, Class 0/1 connections of urgent, scheduled, high and low priority,
+/// and explicit messaging (TCP and UDP 44818, Class 3). One array, so that a Set, a save and
+/// a load copy it whole.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Dscp {
-    /// Attribute 2: PTP (IEEE 1588) event messages.
-    pub ptp_event: u8,
-    /// Attribute 3: PTP general messages.
-    pub ptp_general: u8,
-    /// Attribute 4: Class 0/1 connections of urgent priority.
-    pub urgent: u8,
-    /// Attribute 5: Class 0/1 connections of scheduled priority.
-    pub scheduled: u8,
-    /// Attribute 6: Class 0/1 connections of high priority.
-    pub high: u8,
-    /// Attribute 7: Class 0/1 connections of low priority.
-    pub low: u8,
-    /// Attribute 8: explicit messaging (TCP and UDP 44818, Class 3).
-    pub explicit: u8,
-}
+pub struct Dscp(pub [u8; 7]);
 
 impl Dscp {
     /// The defaults of CIP Vol 2 (the values of the DiffServ classes EtherNet/IP uses).
-    pub const DEFAULT: Dscp = Dscp {
-        ptp_event: 59,
-        ptp_general: 47,
-        urgent: 55,
-        scheduled: 47,
-        high: 43,
-        low: 31,
-        explicit: 27,
-    };
+    pub const DEFAULT: Dscp = Dscp([59, 47, 55, 47, 43, 31, 27]);
 
     /// The DSCP of a Class 1 connection whose network parameters carry `priority` (two bits:
     /// 0 low, 1 high, 2 scheduled, 3 urgent).
     pub fn for_priority(&self, priority: u8) -> u8 {
+        let [_, _, urgent, scheduled, high, low, _] = self.0;
         match priority & 3 {
-            0 => self.low,
-            1 => self.high,
-            2 => self.scheduled,
-            _ => self.urgent,
+            0 => low,
+            1 => high,
+            2 => scheduled,
+            _ => urgent,
         }
     }
 
-    /// The value of attribute `id` (2-8).
-    fn get(&self, id: u16) -> u8 {
-        match id {
-            2 => self.ptp_event,
-            3 => self.ptp_general,
-            4 => self.urgent,
-            5 => self.scheduled,
-            6 => self.high,
-            7 => self.low,
-            _ => self.explicit,
-        }
+    /// Attribute 8: the DSCP of explicit messaging.
+    pub fn explicit(&self) -> u8 {
+        let [.., explicit] = self.0;
+        explicit
     }
 
-    /// The value of attribute `id` (2-8), mutably.
-    fn get_mut(&mut self, id: u16) -> &mut u8 {
-        match id {
-            2 => &mut self.ptp_event,
-            3 => &mut self.ptp_general,
-            4 => &mut self.urgent,
-            5 => &mut self.scheduled,
-            6 => &mut self.high,
-            7 => &mut self.low,
-            _ => &mut self.explicit,
-        }
+    /// Attribute `id` (2-8); `None` for any other.
+    pub fn attribute(&self, id: u16) -> Option<u8> {
+        self.0.get(index(id)).copied()
     }
+}
 
-    /// The seven values in attribute order.
-    fn all(&self) -> [u8; 7] {
-        [
-            self.ptp_event,
-            self.ptp_general,
-            self.urgent,
-            self.scheduled,
-            self.high,
-            self.low,
-            self.explicit,
-        ]
-    }
+/// The index of attribute `id` (2-8) in [`Dscp`]'s array; out of range for any other.
+fn index(id: u16) -> usize {
+    usize::from(id).wrapping_sub(2)
 }
 
 impl Default for Dscp {
@@ -156,14 +114,11 @@ impl QosState {
 
     /// Stores attribute 1 and the configured DSCP values in `store`.
     pub fn save(&self, store: &mut dyn NvStore) -> Result<(), NvError> {
-        let mut buf = [0u8; RECORD_LEN];
-        let mut w = Writer::new(&mut buf);
-        let written = w
-            .u8(RECORD_VERSION)
-            .and_then(|()| w.u8(self.tag_enable))
-            .and_then(|()| w.bytes(&self.configured.all()));
-        written.map_err(|_| NvError::NoSpace)?;
-        store.write(key::QOS, &buf)
+        let [a, b, c, d, e, f, g] = self.configured.0;
+        store.write(
+            key::QOS,
+            &[RECORD_VERSION, self.tag_enable, a, b, c, d, e, f, g],
+        )
     }
 }
 
@@ -175,17 +130,16 @@ impl Default for QosState {
 
 /// A stored record as the state a start begins with; `None` if malformed or out of range.
 fn decode(bytes: &[u8]) -> Option<QosState> {
-    let mut r = Reader::new(bytes);
-    if r.u8().ok()? != RECORD_VERSION {
+    let [RECORD_VERSION, 0, values @ ..] = bytes else {
+        return None;
+    };
+    let values = <[u8; 7]>::try_from(values).ok()?;
+    if values.iter().any(|v| *v > MAX_DSCP) {
         return None;
     }
-    let tag_enable = r.u8().ok()?;
-    let mut dscp = Dscp::DEFAULT;
-    for id in 2..=8 {
-        *dscp.get_mut(id) = r.u8().ok().filter(|v| *v <= MAX_DSCP)?;
-    }
-    (tag_enable == 0 && r.remaining() == 0).then_some(QosState {
-        tag_enable,
+    let dscp = Dscp(values);
+    Some(QosState {
+        tag_enable: 0,
         configured: dscp,
         active: dscp,
     })
@@ -223,7 +177,7 @@ impl<D: Device> Object for Qos<'_, '_, D> {
         let qos = &self.0.state.qos;
         let value = match attr.id {
             1 => qos.tag_enable,
-            id => qos.configured.get(id),
+            id => qos.configured.attribute(id).unwrap_or(0),
         };
         w.u8(value)?;
         Ok(())
@@ -236,9 +190,9 @@ impl<D: Device> Object for Qos<'_, '_, D> {
         let v = value.first().copied().unwrap_or(u8::MAX);
         let ctx = &mut *self.0;
         let mut qos = ctx.state.qos;
-        match attr.id {
-            1 if v == 0 => qos.tag_enable = v,
-            2..=8 if v <= MAX_DSCP => *qos.configured.get_mut(attr.id) = v,
+        match (attr.id, qos.configured.0.get_mut(index(attr.id))) {
+            (1, _) if v == 0 => qos.tag_enable = v,
+            (_, Some(value)) if v <= MAX_DSCP => *value = v,
             _ => return Err(General::InvalidAttributeValue.into()),
         }
         if let Some(store) = ctx.store.as_deref_mut() {
@@ -271,7 +225,7 @@ mod tests {
         let d = QosState::new();
         assert_eq!(d.tag_enable, 0);
         assert_eq!(d.configured, d.active);
-        assert_eq!(d.active.all(), [59, 47, 55, 47, 43, 31, 27]);
+        assert_eq!(d.active.0, [59, 47, 55, 47, 43, 31, 27]);
         // Priority field of the network parameters: low, high, scheduled, urgent.
         let by_priority: [u8; 4] = core::array::from_fn(|p| d.active.for_priority(p as u8));
         assert_eq!(by_priority, [31, 43, 47, 55]);
@@ -282,9 +236,7 @@ mod tests {
         let mut store = AbStore::mount(RamFlash::<{ MAX_WRITE_SIZE + IMAGE_SIZE }>::new());
         assert_eq!(QosState::stored(&mut store), Ok(None));
         let mut st = QosState::new();
-        st.configured.scheduled = 40;
-        st.configured.explicit = 0;
-        st.configured.ptp_event = 63;
+        st.configured.0 = [63, 47, 55, 40, 43, 31, 0];
         st.save(&mut store).unwrap();
         let mut store = AbStore::mount(store.into_flash());
         let back = QosState::stored(&mut store).unwrap().unwrap();
