@@ -138,6 +138,10 @@ impl<D: Device> IoPort for SharedAdapter<D> {
         with_adapter_quiet(self, |a| a.multicast_ttl())
     }
 
+    fn explicit_dscp(&self) -> u8 {
+        with_adapter_quiet(self, |a| a.explicit_dscp())
+    }
+
     fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()> {
         if self.io_moved.replace(false) {
             return Poll::Ready(());

@@ -386,7 +386,8 @@ fn the_message_router_lists_the_class() {
     ];
     let (g, _, d) = status(&h.request(0x0E, &path, &[]));
     assert_eq!(g, 0);
-    assert_eq!(d[0], 9);
+    // The nine standard classes, then the vendor class.
+    assert_eq!(d[0], 10);
     assert_eq!(&d[d.len() - 2..], &[AXIS as u8, 0]);
 }
 

@@ -154,9 +154,9 @@ fn tap_interop() -> Result<Outcome> {
         "-p",
         "io-block-host",
     ]))?;
-    // The profiles' scenarios also run on the emulated board: a copy of its ELF per profile
-    // (ENIP_QEMU_<PROFILE>_ELF), the default one's too (the LLDP test), since the smoke run
-    // rebuilds the build path with the default profile.
+    // The profiles' scenarios (and the default profile's LLDP and QoS checks) also run on the
+    // emulated board: a copy of its ELF per profile (ENIP_QEMU_<PROFILE>_ELF), since every
+    // build writes the same path.
     let mut elves = Vec::new();
     let profiles = boards::profiles(&Metadata::read()?)?;
     for profile in &profiles {
@@ -176,7 +176,7 @@ fn tap_interop() -> Result<Outcome> {
 /// The same peers against `enip-host --bind` on kernel sockets over a veth pair (the lab's
 /// `ENIP_HOST_LINK=bind`): explicit messaging (pycomm3, cpppo), Class 1 (ethernetip,
 /// st-ethernet-ip, EIPScanner input-only, listen-only multicast), Class 3, the fourth client
-/// refused, UDP, and the hostile battery.
+/// refused, UDP, the hostile battery, and DSCP marking through `IP_TOS`.
 fn bind_interop() -> Result<Outcome> {
     let filters = [
         "explicit::",
@@ -185,6 +185,7 @@ fn bind_interop() -> Result<Outcome> {
         "concurrency::",
         "udp::",
         "hostile_",
+        "qos::dscp_marking_follows",
     ];
     run(interop(&filters).env(rig::LINK_ENV, "bind"))?;
     Ok(Outcome::Passed)

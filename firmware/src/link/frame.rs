@@ -136,6 +136,8 @@ pub(crate) struct Route {
     pub to: ([u8; 6], SocketAddrV4),
     /// IPv4 time to live.
     pub ttl: u8,
+    /// DSCP of the IPv4 header (the connection's, from the QoS object).
+    pub dscp: u8,
 }
 
 /// Writes the headers of a T->O datagram of `payload_len` bytes into the front of `frame`,
@@ -172,6 +174,7 @@ pub(crate) fn write_t_o_headers(
         hop_limit: route.ttl,
     }
     .emit(&mut ip, &none);
+    ip.set_dscp(route.dscp & 0x3F);
     if fill.ipv4.tx() {
         let sum = Sum::default().add(ip.as_ref().get(..IPV4_HEADER_LEN).unwrap_or(&[]));
         ip.set_checksum(u16::from_be_bytes(sum.checksum()));
@@ -254,6 +257,7 @@ mod tests {
             from: (PEER_MAC, PEER),
             to: (MY_MAC, SocketAddrV4::new(to, IO_PORT)),
             ttl: 64,
+            dscp: 0,
         };
         assert!(write_t_o_headers(
             &mut frame,
@@ -377,6 +381,7 @@ mod tests {
             from: (MY_MAC, ME),
             to: (multicast_mac(group), SocketAddrV4::new(group, 2222)),
             ttl: 7,
+            dscp: 47,
         };
         assert!(write_t_o_headers(
             &mut frame,
@@ -390,8 +395,8 @@ mod tests {
         let ip = Ipv4Packet::new_checked(eth.payload()).unwrap();
         assert!(ip.verify_checksum());
         assert_eq!(
-            (ip.src_addr(), ip.dst_addr(), ip.hop_limit()),
-            (ME, group, 7)
+            (ip.src_addr(), ip.dst_addr(), ip.hop_limit(), ip.dscp()),
+            (ME, group, 7, 47)
         );
         let udp = UdpPacket::new_checked(ip.payload()).unwrap();
         assert!(udp.verify_checksum(&IpAddress::Ipv4(ME), &IpAddress::Ipv4(group)));

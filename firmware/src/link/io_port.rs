@@ -25,6 +25,8 @@ pub trait IoPort: LldpPort {
     fn deadline(&self) -> Option<Instant>;
     /// Time to live of multicast T->O datagrams (TCP/IP attribute 8).
     fn multicast_ttl(&self) -> u8;
+    /// The DSCP of explicit messaging, TCP and UDP 44818 (`Adapter::explicit_dscp`).
+    fn explicit_dscp(&self) -> u8;
     /// Ready (once) when another task brought the deadline forward since the last call;
     /// otherwise wakes `cx` when one does.
     fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()>;

@@ -11,12 +11,15 @@
 //!
 //! LLDP frames (ethertype 0x88CC) are the link task's too: received ones go to the adapter's
 //! LLDP Data Table, and the adapter's own LLDPDUs go out when due (`link/lldp.rs`).
+//! Every IPv4 packet carries the QoS object's DSCP: a T->O datagram its connection's, the
+//! stack's TCP and UDP 44818 packets the explicit one, written on their way out (`dscp`).
 //!
 //! So a Class 1 cycle wakes one task and touches neither smoltcp nor the socket futures of
 //! the explicit-messaging side, and the TCP/IP stack keeps ARP, ICMP, IGMP, DHCP, TCP and
 //! UDP 44818 as before.
 
 mod checksum;
+mod dscp;
 mod frame;
 mod frames;
 mod io_port;

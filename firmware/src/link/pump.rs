@@ -17,6 +17,7 @@ use enip_stack::config::MAX_CONNECTIONS;
 use enip_stack::{Instant, IoDue, NetworkConfig};
 use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 
+use super::dscp;
 use super::frame::{self, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
 use super::frames::{LinkFrames, TX_FRAMES};
 use super::io_port::IoPort;
@@ -95,7 +96,7 @@ impl Pump {
         for _ in 0..PASSES {
             let at = now();
             let more_frames = self.receive(cx, driver, frames, io, &me, at);
-            self.send_stack_frames(cx, driver, frames);
+            self.send_stack_frames(cx, driver, frames, io);
             self.produce(cx, driver, io, &me, at);
             let up = link == LinkState::Up;
             let (lldp, blocked) = lldp::service(cx, driver, io, self.mac, up, at);
@@ -171,13 +172,19 @@ impl Pump {
         }
     }
 
-    /// Sends the frames the stack queued.
+    /// Sends the frames the stack queued, explicit messaging marked with its DSCP.
     fn send_stack_frames<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
         driver: &mut D,
         frames: &LinkFrames,
+        io: &dyn IoPort,
     ) {
+        if frames.tx.is_empty() {
+            return;
+        }
+        let dscp = io.explicit_dscp();
+        let sums = &self.sums;
         let mut sent = false;
         for _ in 0..TX_FRAMES {
             if frames.tx.is_empty() {
@@ -186,9 +193,10 @@ impl Pump {
             let Some(tx) = driver.transmit(cx) else {
                 break;
             };
-            let _ = frames
-                .tx
-                .pop(|frame| tx.consume(frame.len(), |out| copy(out, frame)));
+            let _ = frames.tx.pop(|frame| {
+                dscp::mark_explicit(frame, dscp, sums);
+                tx.consume(frame.len(), |out| copy(out, frame))
+            });
             sent = true;
         }
         if sent {
@@ -241,6 +249,7 @@ impl Pump {
                 } else {
                     UNICAST_TTL
                 },
+                dscp: due.dscp,
             };
             let len = HEADERS_LEN.saturating_add(due.max_len);
             tx.consume(len, |buf| self.write_t_o(buf, io, due, &route, at));

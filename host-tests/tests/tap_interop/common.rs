@@ -72,16 +72,21 @@ pub fn start(name: &str) -> Rig {
 /// Stops the rig of a test with well-behaved peers and checks its capture: at least one
 /// encapsulation frame, and every frame free of malformed packets and expert warnings.
 pub fn finish(rig: Rig) {
-    check_capture(rig, "", &[]);
+    let _ = check_capture(rig, "", &[]);
 }
 
 /// Stops the rig of a hostile test and checks the adapter's own UDP and encapsulation
 /// frames the same way, tolerating only [`REQUEST_ECHOES`].
 pub fn finish_hostile(rig: Rig) {
-    check_capture(rig, ADAPTER_FRAMES, REQUEST_ECHOES);
+    let _ = check_capture(rig, ADAPTER_FRAMES, REQUEST_ECHOES);
 }
 
-fn check_capture(rig: Rig, scope: &str, tolerated: &[&str]) {
+/// Like [`finish`], and returns the capture for further counting.
+pub fn finish_keeping_capture(rig: Rig) -> PathBuf {
+    check_capture(rig, "", &[])
+}
+
+fn check_capture(rig: Rig, scope: &str, tolerated: &[&str]) -> PathBuf {
     let pcap = rig
         .finish()
         .unwrap_or_else(|e| panic!("{e}"))
@@ -95,6 +100,7 @@ fn check_capture(rig: Rig, scope: &str, tolerated: &[&str]) {
         pcap.display(),
         bad.join("\n")
     );
+    pcap
 }
 
 /// Asserts that a fresh client can register a session and read the Identity product name

@@ -49,5 +49,6 @@ mod parker_ipa;
 mod position_servo;
 mod position_servo_connections;
 mod position_servo_qemu;
+mod qos;
 mod tcpip_nv;
 mod udp;

@@ -93,10 +93,16 @@ impl<D: Device> Adapter<D> {
     /// those it holds (see [`crate::objects::tcpip::TcpIpState`] for when they apply) and saves
     /// every Set before answering it (0x19 if that fails). Returns whether settings were
     /// loaded; on a read error the factory defaults hold and the store is still used.
+    ///
+    /// The QoS object's settings are loaded from it too, and put in use (they apply from a
+    /// start): attach the store before the first connection opens.
     pub fn attach_store(&mut self, store: &'static mut dyn NvStore) -> Result<bool, NvError> {
         // LLDP settings (LLDP Management attributes 1-3) that cannot be read keep the defaults.
         if let Ok(Some(config)) = crate::objects::LldpConfig::stored(store) {
             self.inner.objects.lldp.config = config;
+        }
+        if let Ok(Some(qos)) = crate::objects::QosState::stored(store) {
+            self.inner.objects.qos = qos;
         }
         let loaded = crate::objects::tcpip::TcpIpState::stored(store);
         self.inner.store = Some(store);
@@ -148,6 +154,11 @@ impl<D: Device> Adapter<D> {
     /// The stack's object state (TCP/IP settings, counters).
     pub fn objects(&self) -> &ObjectState {
         &self.inner.objects
+    }
+    /// The DSCP explicit messaging goes out with (QoS attribute 8 as the device started):
+    /// for the runtime to mark TCP and UDP 44818 packets with.
+    pub fn explicit_dscp(&self) -> u8 {
+        self.inner.objects.qos.active.explicit()
     }
     /// The connection table.
     pub fn connections(&self) -> &ConnectionTable {

@@ -8,6 +8,8 @@ pub const MESSAGE_ROUTER: u16 = 0x02;
 pub const ASSEMBLY: u16 = 0x04;
 /// Connection Manager object.
 pub const CONNECTION_MANAGER: u16 = 0x06;
+/// QoS object.
+pub const QOS: u16 = 0x48;
 /// TCP/IP Interface object.
 pub const TCP_IP_INTERFACE: u16 = 0xF5;
 /// Ethernet Link object.

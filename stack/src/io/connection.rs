@@ -43,6 +43,8 @@ pub struct Producer {
     pub encap_sequence: u32,
     /// 16-bit CIP sequence count of the last new data.
     pub sequence: u16,
+    /// DSCP of its packets, chosen at the open from the T->O priority (QoS object).
+    pub dscp: u8,
 }
 
 /// Direction-specific state.

@@ -45,6 +45,8 @@ pub struct NetFacts {
     pub multicast: Ipv4Addr,
     /// Multicast TTL (TCP/IP attribute 8).
     pub ttl: u8,
+    /// The DSCP of the T->O packets: the QoS object's for the T->O priority.
+    pub t_o_dscp: u8,
 }
 
 /// The decoded connection path.
@@ -442,6 +444,7 @@ fn class1<D: Device>(
         trigger,
         encap_sequence: 0,
         sequence: 0,
+        dscp: net.t_o_dscp,
     };
     Ok(Connection {
         kind,

@@ -19,6 +19,8 @@ pub struct IoDue {
     pub to: SocketAddrV4,
     /// Largest length of the datagram (the connection's size); the device may fill less.
     pub max_len: usize,
+    /// The DSCP its IPv4 header carries (the connection's, chosen when it opened).
+    pub dscp: u8,
     slot: usize,
     t_o_id: u32,
 }
@@ -37,6 +39,7 @@ pub fn next_due(table: &ConnectionTable, now: Instant) -> Option<IoDue> {
     Some(IoDue {
         to: p.destination,
         max_len: datagram_len(p.size),
+        dscp: p.dscp,
         slot,
         t_o_id: conn.t_o_id,
     })

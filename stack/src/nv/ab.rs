@@ -20,10 +20,19 @@ pub const IMAGE_SIZE: usize = 2048;
 /// holds once its header and CRC, the TCP/IP record and both record headers are counted.
 pub const PROFILE_RECORD_ROOM: usize =
     IMAGE_SIZE - HEADER - CRC - 2 * super::records::RECORD_HEADER - STACK_RECORD_ROOM;
-/// The room the stack's own records may take in a copy, the headers of all but the first
-/// included: the TCP/IP object's settings (150 bytes) and the LLDP Management object's (4 + 5);
-/// their layouts are checked against it at compile time.
-pub const STACK_RECORD_ROOM: usize = 160;
+/// The room the stack's own records take in a copy: the TCP/IP object's settings
+/// ([`TCP_IP_RECORD_ROOM`], the first record's header counted in [`PROFILE_RECORD_ROOM`])
+/// and, each with its record header, the LLDP Management object's ([`LLDP_RECORD_ROOM`]) and
+/// the QoS object's ([`QOS_RECORD_ROOM`]); each layout is checked against its room at compile
+/// time.
+pub const STACK_RECORD_ROOM: usize =
+    TCP_IP_RECORD_ROOM + 2 * super::records::RECORD_HEADER + LLDP_RECORD_ROOM + QOS_RECORD_ROOM;
+/// The room of the TCP/IP object's record (its settable attributes).
+pub const TCP_IP_RECORD_ROOM: usize = 150;
+/// The room of the LLDP Management object's record (attributes 1-3).
+pub const LLDP_RECORD_ROOM: usize = 5;
+/// The room of the QoS object's record (attribute 1 and the seven DSCP values).
+pub const QOS_RECORD_ROOM: usize = 9;
 /// The commit word: the copy in this sector is complete.
 const MAGIC: u32 = 0x4E56_4331; // "NVC1"
 /// Version of the body layout.

@@ -17,7 +17,10 @@ mod flash;
 mod records;
 mod shared;
 
-pub use ab::{AbStore, IMAGE_SIZE, PROFILE_RECORD_ROOM, STACK_RECORD_ROOM};
+pub use ab::{
+    AbStore, IMAGE_SIZE, LLDP_RECORD_ROOM, PROFILE_RECORD_ROOM, QOS_RECORD_ROOM, STACK_RECORD_ROOM,
+    TCP_IP_RECORD_ROOM,
+};
 pub use crc::crc32;
 pub use cut_flash::{CutFlash, CUT_SECTOR};
 pub use flash::{Flash, FlashError, NorFlashSectors, RamFlash, MAX_WRITE_SIZE};
@@ -63,6 +66,8 @@ pub mod key {
     pub const TCP_IP: u16 = 0x0001;
     /// The LLDP Management object's settings (attributes 1-3).
     pub const LLDP: u16 = 0x0002;
+    /// The QoS object's settings (attributes 1-8).
+    pub const QOS: u16 = 0x0003;
     /// First key of the device's records.
     pub const PROFILE_BASE: u16 = 0x0100;
 }

@@ -148,6 +148,7 @@ fn forward_open<D: Device>(
         netmask: ctx.net.netmask,
         multicast,
         ttl,
+        t_o_dscp: ctx.state.qos.active.for_priority(fo.t_o_params.priority),
     };
     let opened = open::forward_open(ctx.connections, ctx.device, &fo, &origin, &net, ctx.now());
     let slot = match opened {

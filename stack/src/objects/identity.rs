@@ -99,9 +99,13 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
             return answer;
         }
         Some(store) => {
-            let removed = store
-                .remove(crate::nv::key::TCP_IP)
-                .and_then(|_| store.remove(crate::nv::key::LLDP));
+            let removed = [
+                crate::nv::key::TCP_IP,
+                crate::nv::key::LLDP,
+                crate::nv::key::QOS,
+            ]
+            .into_iter()
+            .try_for_each(|key| store.remove(key));
             if removed.is_err() {
                 store.abandon();
                 return Err(General::StoreOperationFailure.into());
@@ -113,6 +117,11 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
     if kind == 1 {
         ctx.state.tcpip = super::tcpip::TcpIpState::new();
         ctx.state.lldp.config = super::lldp_management::LldpConfig::DEFAULT;
+        // The defaults are configured; the values in use stay until the restart.
+        ctx.state.qos = super::qos::QosState {
+            active: ctx.state.qos.active,
+            ..super::qos::QosState::new()
+        };
     }
     ctx.state.pending_reset = Some(kind);
     Ok(())

@@ -42,6 +42,7 @@ const CHANGE_SPACING: Duration = Duration::from_secs(1);
 const RECORD_VERSION: u8 = 1;
 /// Bytes of the stored record: version, enable, interval, hold.
 pub(crate) const RECORD_MAX: usize = 5;
+const _: () = assert!(RECORD_MAX <= crate::nv::LLDP_RECORD_ROOM);
 
 /// The settable attributes 1-3.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

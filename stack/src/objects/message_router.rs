@@ -11,13 +11,14 @@ use crate::device::Device;
 use crate::wire::{Reader, Writer};
 
 /// Classes the stack itself implements.
-const STANDARD_CLASSES: [u16; 8] = [
+const STANDARD_CLASSES: [u16; 9] = [
     class_id::IDENTITY,
     class_id::MESSAGE_ROUTER,
     class_id::ASSEMBLY,
     class_id::CONNECTION_MANAGER,
     class_id::TCP_IP_INTERFACE,
     class_id::ETHERNET_LINK,
+    class_id::QOS,
     class_id::LLDP_MANAGEMENT,
     class_id::LLDP_DATA_TABLE,
 ];

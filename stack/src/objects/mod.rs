@@ -1,5 +1,5 @@
 //! The standard objects the stack serves: Identity, Message Router, Assembly, Connection
-//! Manager, TCP/IP Interface, Ethernet Link, LLDP Management and LLDP Data Table, the device's declared vendor classes, and the
+//! Manager, TCP/IP Interface, Ethernet Link, QoS, LLDP Management and LLDP Data Table, the device's declared vendor classes, and the
 //! dispatcher (`router`) that sends each request to its object. They sit above the
 //! connections ([`crate::io`]): the Connection Manager opens and closes them, and Identity
 //! and Assembly look at them (status bits, output ownership).
@@ -11,6 +11,7 @@ pub(crate) mod identity;
 pub(crate) mod lldp_data_table;
 pub(crate) mod lldp_management;
 pub(crate) mod message_router;
+pub(crate) mod qos;
 pub(crate) mod router;
 pub(crate) mod serve;
 pub(crate) mod tcpip;
@@ -21,6 +22,7 @@ pub use connection_manager::Counters as ConnectionManagerCounters;
 pub use ethernet_link::LinkState;
 pub use lldp_data_table::{Neighbor, NeighborTable};
 pub use lldp_management::{LldpConfig, LldpDue, LldpState};
+pub use qos::{Dscp, QosState};
 pub use tcpip::TcpIpState;
 pub use tcpip_nv::InterfaceConfig;
 
@@ -43,6 +45,8 @@ pub struct ObjectState {
     pub connection_manager: connection_manager::Counters,
     /// LLDP Management and LLDP Data Table objects: the LLDP agent.
     pub lldp: lldp_management::LldpState,
+    /// QoS object: the DSCP values set and those in use.
+    pub qos: qos::QosState,
     /// A Reset service was accepted: its type, for the runtime to act on once replied.
     pub pending_reset: Option<u8>,
 }
@@ -55,6 +59,7 @@ impl ObjectState {
             link: ethernet_link::LinkState::new(),
             connection_manager: connection_manager::Counters::default(),
             lldp: lldp_management::LldpState::new(),
+            qos: qos::QosState::new(),
             pending_reset: None,
         }
     }

@@ -4,7 +4,7 @@
 
 use super::lldp_management;
 use super::{assembly, connection_manager, ethernet_link, identity};
-use super::{message_router, tcpip, vendor, Ctx};
+use super::{message_router, qos, tcpip, vendor, Ctx};
 use crate::cip::class_id;
 use crate::cip::request::Request;
 use crate::cip::status::CipResult;
@@ -123,6 +123,7 @@ pub(crate) fn dispatch<D: Device>(
         Some(class_id::LLDP_MANAGEMENT | class_id::LLDP_DATA_TABLE) => {
             lldp_management::handle(ctx, req, w)
         }
+        Some(class_id::QOS) => qos::handle(ctx, req, w),
         _ => vendor::handle(ctx, class, req, w),
     }
 }

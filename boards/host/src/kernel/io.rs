@@ -4,8 +4,10 @@
 //!
 //! One socket, bound to the adapter's address, does all of it: the kernel applies the
 //! multicast TTL to multicast destinations only, and `IP_MULTICAST_IF` sends the group's
-//! datagrams out of the bound interface.
+//! datagrams out of the bound interface. Each datagram carries its connection's DSCP: the
+//! socket's `IP_TOS` is changed only when a datagram's DSCP differs from the last one's.
 
+use std::cell::Cell;
 use std::io;
 use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4, UdpSocket};
 
@@ -13,7 +15,7 @@ use enip_stack::config::{IO_PORT, MAX_CONNECTIONS};
 use enip_stack::{Adapter, Device, Instant};
 use socket2::SockRef;
 
-use super::socket::udp_socket;
+use super::socket::{set_dscp, udp_socket};
 
 /// The Class 1 socket and the multicast state it is in.
 pub struct Io {
@@ -25,6 +27,8 @@ pub struct Io {
     joined: Option<Ipv4Addr>,
     /// The multicast TTL set on the socket.
     ttl: u8,
+    /// The DSCP set on the socket (the last T->O datagram's).
+    dscp: Cell<u8>,
 }
 
 impl Io {
@@ -41,6 +45,7 @@ impl Io {
             ip,
             joined: None,
             ttl: 1,
+            dscp: Cell::new(0),
         })
     }
 
@@ -61,9 +66,20 @@ impl Io {
     pub fn produce<D: Device>(&self, adapter: &mut Adapter<D>, now: Instant, tx: &mut [u8]) {
         // Bounded: each call either produces or returns None, and each producer is due once.
         for _ in 0..MAX_CONNECTIONS * 2 {
-            let Some((to, len)) = adapter.poll_io(now, tx) else {
+            let Some(due) = adapter.io_due(now) else {
                 return;
             };
+            let (to, len) = (due.to, adapter.write_io(due, now, Some(&mut *tx)));
+            if len == 0 {
+                // `tx` too short for it: nothing changed, and nothing more can be sent.
+                return;
+            }
+            if due.dscp != self.dscp.get() {
+                match set_dscp(&self.socket, due.dscp) {
+                    Ok(()) => self.dscp.set(due.dscp),
+                    Err(e) => log::warn!("io dscp {}: {e}", due.dscp),
+                }
+            }
             if let Err(e) = self.socket.send_to(tx.get(..len).unwrap_or(&[]), to) {
                 log::warn!("io to {to}: {e}");
             }

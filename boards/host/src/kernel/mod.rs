@@ -50,11 +50,18 @@ pub fn run<D: Device>(device: D, ip: Ipv4Addr, mut store: SharedStore, program: 
     let opened =
         (|| Ok::<_, std::io::Error>((Tcp::open(ip)?, Udp::open(ip, iface.index)?, Io::open(ip)?)))(
         );
-    let (tcp, udp, io) = opened.unwrap_or_else(|e| fail(format!("cannot listen on {ip}: {e}")));
+    let (mut tcp, udp, io) = opened.unwrap_or_else(|e| fail(format!("cannot listen on {ip}: {e}")));
     let name = device.identity().product_name;
     let mut adapter = Adapter::new(device, iface.config, seed());
     if let Err(e) = adapter.attach_store(Box::leak(Box::new(store))) {
         log::error!("non-volatile store unreadable ({e}): factory TCP/IP settings");
+    }
+    // Explicit messaging's DSCP, as the device starts (QoS: it applies from a start); Class 1
+    // datagrams get their connection's as they go ([`Io::produce`]).
+    let dscp = adapter.explicit_dscp();
+    tcp.set_dscp(dscp);
+    if let Err(e) = udp.set_dscp(dscp) {
+        log::warn!("udp {ip}: dscp {dscp}: {e}");
     }
     eprintln!(
         "{program}: listening on {ip} (kernel sockets on {}, link up {}, device {name:?})",

@@ -1,11 +1,12 @@
 //! Creating the runtime's kernel sockets: non-blocking, close-on-exec, and bound with
 //! `SO_REUSEADDR` (the wildcard and the unicast UDP 44818 sockets share a port, and the TCP
-//! listener is bound again while earlier connections linger).
+//! listener is bound again while earlier connections linger); and the DSCP (QoS object) the
+//! kernel marks a socket's packets with.
 
 use std::io;
 use std::net::{SocketAddrV4, TcpListener, UdpSocket};
 
-use socket2::{Domain, Protocol, Socket, Type};
+use socket2::{Domain, Protocol, SockRef, Socket, Type};
 
 /// Connections the kernel may hold before the runtime accepts them.
 pub const BACKLOG: usize = 8;
@@ -27,4 +28,11 @@ pub fn tcp_listener(addr: SocketAddrV4) -> io::Result<TcpListener> {
     s.bind(&addr.into())?;
     s.listen(BACKLOG as i32)?;
     Ok(s.into())
+}
+
+/// Has the kernel mark the IPv4 packets of `socket` with `dscp` (`IP_TOS`: the DSCP in the
+/// upper six bits of the DS field, ECN left to the kernel). A TCP listener's accepted
+/// connections inherit it.
+pub fn set_dscp<'s>(socket: impl Into<SockRef<'s>>, dscp: u8) -> io::Result<()> {
+    socket.into().set_tos_v4(u32::from(dscp & 0x3F) << 2)
 }

@@ -16,7 +16,7 @@ use enip_stack::config::{ENCAP_PORT, MAX_SESSIONS};
 use enip_stack::{Adapter, Device, Instant, SocketId};
 
 use super::session::{micros, reset, Interest, Slot};
-use super::socket::{tcp_listener, BACKLOG};
+use super::socket::{set_dscp, tcp_listener, BACKLOG};
 
 /// Longest wait of a connection accepted while every slot was taken.
 const WAIT: Duration = Duration::from_secs(1);
@@ -31,6 +31,8 @@ pub struct Tcp {
     waiting: [Option<Waiting>; MAX_SESSIONS],
     /// The earliest deadline of a connection, as of the last change.
     deadline: Option<Instant>,
+    /// The DSCP of explicit messaging (QoS attribute 8), set on every listener.
+    dscp: u8,
 }
 
 /// A connection waiting for a free slot.
@@ -57,7 +59,19 @@ impl Tcp {
             slots,
             waiting: [const { None }; MAX_SESSIONS],
             deadline: None,
+            dscp: 0,
         })
+    }
+
+    /// Marks the sessions' packets with `dscp` from now on (the listener's and the next
+    /// listeners' connections).
+    pub fn set_dscp(&mut self, dscp: u8) {
+        self.dscp = dscp;
+        if let Some(l) = &self.listener {
+            if let Err(e) = set_dscp(l, dscp) {
+                log::warn!("tcp {}: dscp {dscp}: {e}", self.addr);
+            }
+        }
     }
 
     /// The listener, while one listens.
@@ -193,7 +207,12 @@ impl Tcp {
             return;
         }
         match tcp_listener(self.addr) {
-            Ok(l) => self.listener = Some(l),
+            Ok(l) => {
+                if let Err(e) = set_dscp(&l, self.dscp) {
+                    log::warn!("tcp {}: dscp {}: {e}", self.addr, self.dscp);
+                }
+                self.listener = Some(l);
+            }
             Err(e) => log::warn!("tcp {}: listen failed: {e}", self.addr),
         }
     }

@@ -15,7 +15,7 @@ use std::os::fd::AsRawFd;
 use enip_stack::config::ENCAP_PORT;
 use enip_stack::{Adapter, Device, Instant};
 
-use super::socket::udp_socket;
+use super::socket::{set_dscp, udp_socket};
 
 /// The sockets of UDP port 44818.
 pub struct Udp {
@@ -54,6 +54,11 @@ impl Udp {
             ip,
             if_index,
         })
+    }
+
+    /// Marks the replies (all sent from the unicast socket) with `dscp`.
+    pub fn set_dscp(&self, dscp: u8) -> io::Result<()> {
+        set_dscp(&self.unicast, dscp)
     }
 
     /// Answers one datagram waiting on the unicast socket, if any.

@@ -131,6 +131,7 @@ fn connection(rng: &mut Rng, table: &ConnectionTable, n: u16) -> Connection {
         trigger,
         encap_sequence: 0,
         sequence: 0,
+        dscp: 47,
     };
     let consumer = Consumer {
         instance: 150,
