@@ -2,6 +2,7 @@
 //! The encapsulation commands it answers are in `adapter/encap.rs` beside it, as smoltcp
 //! keeps each protocol's handling beside its `Interface`.
 
+mod acd;
 mod encap;
 
 use core::net::{Ipv4Addr, SocketAddrV4};
@@ -104,6 +105,7 @@ impl<D: Device> Adapter<D> {
             tcpip.ttl = st.ttl;
             tcpip.mcast = st.mcast;
         }
+        self.load_acd();
         Ok(found)
     }
 

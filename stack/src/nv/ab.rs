@@ -20,9 +20,10 @@ pub const IMAGE_SIZE: usize = 2048;
 /// holds once its header and CRC, the TCP/IP record and both record headers are counted.
 pub const PROFILE_RECORD_ROOM: usize =
     IMAGE_SIZE - HEADER - CRC - 2 * super::records::RECORD_HEADER - STACK_RECORD_ROOM;
-/// The room the stack's own record (the TCP/IP object's settings) may take in a copy; that
-/// record's layout is checked against it at compile time.
-pub const STACK_RECORD_ROOM: usize = 150;
+/// The room the stack's own records may take in a copy: the TCP/IP object's settings (150
+/// bytes) and the Address Conflict Detection record (37 bytes and its 4-byte header); their
+/// layouts are checked against it at compile time.
+pub const STACK_RECORD_ROOM: usize = 191;
 /// The commit word: the copy in this sector is complete.
 const MAGIC: u32 = 0x4E56_4331; // "NVC1"
 /// Version of the body layout.

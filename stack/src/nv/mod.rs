@@ -21,6 +21,7 @@ pub use ab::{AbStore, IMAGE_SIZE, PROFILE_RECORD_ROOM, STACK_RECORD_ROOM};
 pub use crc::crc32;
 pub use cut_flash::{CutFlash, CUT_SECTOR};
 pub use flash::{Flash, FlashError, NorFlashSectors, RamFlash, MAX_WRITE_SIZE};
+pub(crate) use records::RECORD_HEADER as RECORD_HEADER_LEN;
 pub use shared::SharedStore;
 
 /// Why a store operation failed.
@@ -61,6 +62,8 @@ impl From<FlashError> for NvError {
 pub mod key {
     /// The TCP/IP Interface object's settings (attributes 3, 5, 6, 8, 9 and 13).
     pub const TCP_IP: u16 = 0x0001;
+    /// Address Conflict Detection: TCP/IP attributes 10 and 11.
+    pub const ACD: u16 = 0x0002;
     /// First key of the device's records.
     pub const PROFILE_BASE: u16 = 0x0100;
 }

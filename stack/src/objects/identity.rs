@@ -99,7 +99,9 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
             return answer;
         }
         Some(store) => {
-            if store.remove(crate::nv::key::TCP_IP).is_err() {
+            let removed = store.remove(crate::nv::key::TCP_IP).is_ok()
+                && store.remove(crate::nv::key::ACD).is_ok();
+            if !removed {
                 store.abandon();
                 return Err(General::StoreOperationFailure.into());
             }
@@ -109,6 +111,8 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
     }
     if kind == 1 {
         ctx.state.tcpip = super::tcpip::TcpIpState::new();
+        ctx.state.acd.settings = crate::acd::AcdSettings::DEFAULT;
+        ctx.state.acd.saved = crate::acd::LastConflict::NONE;
     }
     ctx.state.pending_reset = Some(kind);
     Ok(())

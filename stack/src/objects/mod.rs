@@ -33,6 +33,8 @@ use crate::wire::cpf::SockAddrRepr;
 pub struct ObjectState {
     /// TCP/IP Interface object settings.
     pub tcpip: tcpip::TcpIpState,
+    /// Address Conflict Detection as the TCP/IP object reports it.
+    pub acd: crate::acd::AcdState,
     /// Ethernet Link object counters and settings.
     pub link: ethernet_link::LinkState,
     /// Connection Manager request and reject counters.
@@ -46,6 +48,7 @@ impl ObjectState {
     pub fn new() -> Self {
         ObjectState {
             tcpip: tcpip::TcpIpState::new(),
+            acd: crate::acd::AcdState::new(),
             link: ethernet_link::LinkState::new(),
             connection_manager: connection_manager::Counters::default(),
             pending_reset: None,

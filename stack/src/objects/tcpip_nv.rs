@@ -20,7 +20,7 @@ const RECORD_VERSION: u8 = 2;
 /// Largest stored record.
 pub(crate) const RECORD_MAX: usize =
     1 + 4 + 20 + 1 + MAX_DOMAIN_NAME + 1 + MAX_HOST_NAME + 2 + 1 + 8;
-const _: () = assert!(RECORD_MAX <= crate::nv::STACK_RECORD_ROOM);
+const _: () = assert!(RECORD_MAX + crate::acd::RECORD_ROOM <= crate::nv::STACK_RECORD_ROOM);
 
 /// Attribute 5: the interface configuration (all zero: none configured).
 #[derive(Debug, Clone, PartialEq, Eq)]
