@@ -39,8 +39,10 @@ const QEMU_READY: &str = "listening on";
 const QEMU_BOOT: Duration = Duration::from_secs(30);
 /// What the emulated board prints when it panics.
 const QEMU_PANIC: &str = "PANIC";
-/// Reachability probes sent after start-up.
-const PROBES: u32 = 40;
+/// Reachability probes sent after start-up (15 s: a board that probes its address for
+/// conflicts, as the emulated board always does, sends its first IP packet 7 to 9 s after
+/// it starts).
+const PROBES: u32 = 60;
 /// How long each probe waits for its answer.
 const PROBE_WAIT: Duration = Duration::from_millis(250);
 /// How long a stopped board may take to end after SIGTERM.
@@ -176,10 +178,12 @@ impl Board<'_> {
     }
 }
 
-/// `bin --tap TAP --ip 198.18.0.2/24` inside `lab`.
+/// `bin --tap TAP --ip 198.18.0.2/24 --acd off` inside `lab`: tests that are not about
+/// Address Conflict Detection start without its seconds of probing (those that are pass
+/// `--acd on` among their extra arguments, which come later and win).
 fn host_command(lab: &Lab, bin: impl AsRef<OsStr>) -> Command {
     let mut cmd = lab.command(bin);
-    cmd.args(["--tap", &lab.tap, "--ip", BOARD_CIDR]);
+    cmd.args(["--tap", &lab.tap, "--ip", BOARD_CIDR, "--acd", "off"]);
     cmd
 }
 

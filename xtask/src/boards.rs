@@ -43,7 +43,14 @@ pub fn elf(board: &str) -> PathBuf {
 /// Builds `board` in release for the Cortex-M target, running `profile` (its
 /// `profile-NAME` feature; the default profile needs none); returns the ELF.
 pub fn build(board: &str, profile: &str) -> Result<PathBuf> {
+    build_acd(board, profile, true)
+}
+
+/// [`build`] with Address Conflict Detection on or off at start (`ENIP_ACD`, which the
+/// emulated board reads; the others ignore it).
+pub fn build_acd(board: &str, profile: &str, acd: bool) -> Result<PathBuf> {
     let mut cargo = util::cargo();
+    cargo.env("ENIP_ACD", if acd { "on" } else { "off" });
     cargo.args(["build", "-p", board, "--release", "--target", THUMB_TARGET]);
     if profile != DEFAULT_PROFILE {
         cargo.args(["--features", &format!("profile-{profile}")]);

@@ -9,7 +9,7 @@
 //!         enip_qemu_mps2::AdapterCell::new();
 //!     let device = |_store| my_device::MyDevice::new();
 //!     let address = ([198, 18, 0, 2], 24, None);
-//!     enip_qemu_mps2::run(spawner, &ADAPTER, "my device", device, address).await
+//!     enip_qemu_mps2::run(spawner, &ADAPTER, "my device", device, address, true).await
 //! }
 //! ```
 //!
@@ -56,14 +56,16 @@ const NV_SECTOR: usize = MAX_WRITE_SIZE + IMAGE_SIZE;
 
 /// Runs the device `device` builds from the board's non-volatile store (in RAM; a device
 /// with nothing to save ignores it), shared in `home`, named `name` in the log, at the
-/// static address `(address, prefix_len, gateway)`; never returns. Call it once, from the
-/// firmware's `main` task.
+/// static address `(address, prefix_len, gateway)`, probed for conflicts before use if `acd`
+/// (and TCP/IP attribute 10 says so); never returns. Call it once, from the firmware's
+/// `main` task.
 pub async fn run<D: Device>(
     spawner: Spawner,
     home: &'static AdapterCell<D>,
     name: &str,
     device: impl FnOnce(SharedStore) -> D,
     (address, prefix_len, gateway): ([u8; 4], u8, Option<[u8; 4]>),
+    acd: bool,
 ) -> ! {
     time::init();
     uart::init(log::LevelFilter::Info);
@@ -84,7 +86,7 @@ pub async fn run<D: Device>(
     let net_driver = NetDriver::new(frames, &driver);
     let (net, runner) = embassy_net::new(net_driver, config, NET_RESOURCES.take(), seed);
     let store = SharedStore::new(NV_STORE.init(RefCell::new(AbStore::mount(RamFlash::new()))));
-    let adapter = with_store(
+    let mut adapter = with_store(
         Adapter::new(
             device(store),
             enip_firmware::network_config(net),
@@ -92,6 +94,10 @@ pub async fn run<D: Device>(
         ),
         NV_HANDLE.init(store),
     );
+    if !acd {
+        log::info!("address conflict detection off in this image (ENIP_ACD=off)");
+        adapter.skip_acd();
+    }
     let Some(adapter) = home.share(adapter) else {
         panic!("enip_qemu_mps2::run called twice");
     };

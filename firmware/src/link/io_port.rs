@@ -6,9 +6,11 @@ use core::task::{Context, Poll};
 
 use enip_stack::{Instant, IoDue, NetworkConfig};
 
-/// Class 1 I/O of an adapter shared with the other tasks of the runtime; implemented by
-/// [`crate::SharedAdapter`].
-pub trait IoPort {
+use super::AcdPort;
+
+/// Class 1 I/O of an adapter shared with the other tasks of the runtime (and what Address
+/// Conflict Detection reports to it); implemented by [`crate::SharedAdapter`].
+pub trait IoPort: AcdPort {
     /// The interface configuration now (`Adapter::network`): the addresses T->O datagrams
     /// go out with.
     fn interface(&self) -> NetworkConfig;

@@ -9,10 +9,15 @@
 //! headers the link task writes; the next hop's MAC address is the one the originator's own
 //! frames came from (asked for by ARP if none came yet), or the IPv4 multicast group's.
 //!
+//! The link task also runs Address Conflict Detection ([`acd`]: RFC 5227 probes,
+//! announcements and defence of the interface address) and holds back the network stack's
+//! frames until the address has been probed.
+//!
 //! So a Class 1 cycle wakes one task and touches neither smoltcp nor the socket futures of
 //! the explicit-messaging side, and the TCP/IP stack keeps ARP, ICMP, IGMP, DHCP, TCP and
 //! UDP 44818 as before.
 
+mod acd;
 mod checksum;
 mod frame;
 mod frames;
@@ -21,6 +26,7 @@ mod neighbors;
 mod net_driver;
 mod pump;
 
+pub use acd::AcdPort;
 pub use frames::{LinkFrames, FRAME_LEN, RX_FRAMES, TX_FRAMES};
 pub use io_port::IoPort;
 pub use net_driver::{NetDriver, Received, Send};

@@ -1,8 +1,10 @@
 //! The link task's loop: it owns the board's Ethernet driver. Each wake-up it reads the
 //! received frames, hands O->T datagrams straight to the adapter and every other frame to
 //! the network stack, sends the stack's frames, and writes each T->O datagram that is due
-//! straight into the driver's transmit buffer behind its headers. It sleeps until the
-//! adapter's next production or watchdog expiry, a frame, or another task's wake-up.
+//! straight into the driver's transmit buffer behind its headers; Address Conflict
+//! Detection ([`super::acd`]) sees every ARP message, sends its own, and holds the rest
+//! back until the address may be used. It sleeps until the adapter's next production or
+//! watchdog expiry, the next probe or announcement, a frame, or another task's wake-up.
 
 use core::convert::Infallible;
 use core::future::{poll_fn, Future};
@@ -12,10 +14,12 @@ use core::task::{Context, Poll};
 
 use embassy_net_driver::{Checksum, Driver, HardwareAddress, RxToken, TxToken};
 use embassy_time::Timer;
+use enip_stack::acd::ARP_FRAME_LEN;
 use enip_stack::config::MAX_CONNECTIONS;
 use enip_stack::{Instant, IoDue, NetworkConfig};
 use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 
+use super::acd::{passes_unaddressed, Guard};
 use super::frame::{self, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
 use super::frames::{LinkFrames, TX_FRAMES};
 use super::io_port::IoPort;
@@ -46,6 +50,8 @@ struct Pump {
     /// Checksums software verifies on receive and fills on send (what the driver leaves).
     sums: ChecksumCapabilities,
     neighbors: Neighbors,
+    /// Address Conflict Detection of the interface address.
+    guard: Guard,
     /// The timer of the adapter's next deadline, and that deadline.
     timer: Option<(Instant, Timer)>,
     /// A T->O datagram is due but the driver had no room: its wake-up comes from the driver.
@@ -63,10 +69,15 @@ impl Pump {
             HardwareAddress::Ethernet(mac) => mac,
             _ => [0; 6],
         };
+        // Two devices powered up together must not probe in step: their MACs differ.
+        let seed = mac
+            .iter()
+            .fold(now().as_micros(), |s, b| s.rotate_left(8) ^ u64::from(*b));
         Pump {
             mac,
             sums,
             neighbors: Neighbors::default(),
+            guard: Guard::new(mac, seed),
             timer: None,
             blocked: false,
         }
@@ -83,15 +94,18 @@ impl Pump {
     ) {
         frames.set_link_state(driver.link_state(cx));
         let me = io.interface();
+        self.guard.follow(me.ip, io, now());
         // Each pass handles what is ready; another runs only if the driver had more to read
         // than a burst or a production came due meanwhile (an input the O->T data changed).
         let mut settled = false;
         for _ in 0..PASSES {
             let at = now();
             let more_frames = self.receive(cx, driver, frames, io, &me, at);
+            self.send_acd_frame(cx, driver, at);
             self.send_stack_frames(cx, driver, frames);
             self.produce(cx, driver, io, &me, at);
-            settled = !more_frames && self.sleep_until(io.deadline(), at, cx);
+            let deadline = earliest(io.deadline(), self.guard.deadline(at));
+            settled = !more_frames && self.sleep_until(deadline, at, cx);
             if settled {
                 break;
             }
@@ -138,6 +152,7 @@ impl Pump {
         me: &NetworkConfig,
         at: Instant,
     ) -> bool {
+        self.guard.receive(frame, io, at);
         let seen = frame::inspect(frame, me.ip, &self.sums);
         if let Some((ip, mac)) = seen.sender {
             self.neighbors.learn(ip, mac);
@@ -158,7 +173,22 @@ impl Pump {
         }
     }
 
-    /// Sends the frames the stack queued.
+    /// Sends the probe or announcement due at `at`, if the driver has room.
+    fn send_acd_frame<D: Driver>(&mut self, cx: &mut Context<'_>, driver: &mut D, at: Instant) {
+        let Some(arp) = self.guard.due(at) else {
+            return;
+        };
+        match driver.transmit(cx) {
+            Some(tx) => {
+                let (mac, ip) = (self.mac, self.guard.ip());
+                tx.consume(ARP_FRAME_LEN, |buf| arp.write(mac, ip, buf));
+            }
+            None => self.guard.put_back(arp),
+        }
+    }
+
+    /// Sends the frames the stack queued; drops them while the address may not be used
+    /// (but those of a DHCP client).
     fn send_stack_frames<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -166,6 +196,7 @@ impl Pump {
         frames: &LinkFrames,
     ) {
         let mut sent = false;
+        let usable = self.guard.usable();
         for _ in 0..TX_FRAMES {
             if frames.tx.is_empty() {
                 break;
@@ -173,9 +204,11 @@ impl Pump {
             let Some(tx) = driver.transmit(cx) else {
                 break;
             };
-            let _ = frames
-                .tx
-                .pop(|frame| tx.consume(frame.len(), |out| copy(out, frame)));
+            let _ = frames.tx.pop(|frame| {
+                if usable || passes_unaddressed(frame) {
+                    tx.consume(frame.len(), |out| copy(out, frame));
+                }
+            });
             sent = true;
         }
         if sent {
@@ -193,11 +226,17 @@ impl Pump {
         at: Instant,
     ) {
         self.blocked = false;
+        let usable = self.guard.usable();
         // Bounded: each round sends or drops one datagram, and each producer is due once.
         for _ in 0..MAX_CONNECTIONS.saturating_mul(2) {
             let Some(due) = io.due(at) else {
                 break;
             };
+            if !usable {
+                // Not from an address that may be in conflict: dropped.
+                io.write(due, at, None);
+                continue;
+            }
             let Some(tx) = driver.transmit(cx) else {
                 self.blocked = true;
                 break;
@@ -289,6 +328,14 @@ impl Pump {
 #[inline(never)]
 fn consume(io: &dyn IoPort, from: SocketAddrV4, data: &[u8], at: Instant) {
     io.receive(from, data, at);
+}
+
+/// The earlier of two deadlines (`None` is never).
+fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
 }
 
 /// Copies `from` into `to` as far as both go.
