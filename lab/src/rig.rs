@@ -270,6 +270,16 @@ impl Rig {
     /// The namespace and TAP, the capture, then `board`, which must print that it serves
     /// within its start-up bound and then answer a ListIdentity.
     pub fn launch(board: Board<'_>, options: &Options<'_>) -> io::Result<Self> {
+        let answers_at = board.answers_at();
+        let rig = Self::launch_unverified(board, options)?;
+        rig.wait_reachable(answers_at)?;
+        Ok(rig)
+    }
+
+    /// Like [`Rig::launch`], returning once the board printed that it serves, without
+    /// waiting for it to answer: for a board expected not to (its address taken by another
+    /// host).
+    pub fn launch_unverified(board: Board<'_>, options: &Options<'_>) -> io::Result<Self> {
         let tap = options.tap.unwrap_or(TAP);
         let lab = match (&board, options.namespace) {
             (Board::HostBind { .. }, _) => Lab::create_veth(tap)?,
@@ -283,13 +293,11 @@ impl Rig {
         let (name, ready, bound) = board.start_up();
         let mut child = LoggedChild::spawn_logged(name, board.command(&lab), options.log_file)?;
         child.wait_for_line(ready, bound)?;
-        let rig = Rig {
+        Ok(Rig {
             board: child,
             capture,
             lab,
-        };
-        rig.wait_reachable(board.answers_at())?;
-        Ok(rig)
+        })
     }
 
     /// Waits (bounded) until the board answers a unicast ListIdentity, so that address
