@@ -40,8 +40,8 @@ const QEMU_BOOT: Duration = Duration::from_secs(30);
 /// What the emulated board prints when it panics.
 const QEMU_PANIC: &str = "PANIC";
 /// Reachability probes sent after start-up (15 s: a board that probes its address for
-/// conflicts, as the emulated board always does, sends its first IP packet 7 to 9 s after
-/// it starts).
+/// conflicts, as the emulated board's default image does, sends its first IP packet 6 to
+/// 9 s after it starts).
 const PROBES: u32 = 60;
 /// How long each probe waits for its answer.
 const PROBE_WAIT: Duration = Duration::from_millis(250);
