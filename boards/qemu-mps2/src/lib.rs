@@ -86,18 +86,15 @@ pub async fn run<D: Device>(
     let net_driver = NetDriver::new(frames, &driver);
     let (net, runner) = embassy_net::new(net_driver, config, NET_RESOURCES.take(), seed);
     let store = SharedStore::new(NV_STORE.init(RefCell::new(AbStore::mount(RamFlash::new()))));
-    let mut adapter = with_store(
+    let adapter = with_store(
         Adapter::new(
             device(store),
             enip_firmware::network_config(net),
             seed.rotate_left(32),
         ),
         NV_HANDLE.init(store),
+        acd,
     );
-    if !acd {
-        log::info!("address conflict detection off in this image (ENIP_ACD=off)");
-        adapter.skip_acd();
-    }
     let Some(adapter) = home.share(adapter) else {
         panic!("enip_qemu_mps2::run called twice");
     };
@@ -123,10 +120,20 @@ pub async fn run<D: Device>(
     .await
 }
 
-/// `adapter` with the RAM store attached (settings kept until power-off).
-fn with_store<D: Device>(mut adapter: Adapter<D>, store: &'static mut SharedStore) -> Adapter<D> {
+/// `adapter` with the RAM store attached (settings kept until power-off), told to skip
+/// conflict detection unless `acd`. (Not in `run`: a local borrowed there would live in its
+/// future, the whole adapter with it.)
+fn with_store<D: Device>(
+    mut adapter: Adapter<D>,
+    store: &'static mut SharedStore,
+    acd: bool,
+) -> Adapter<D> {
     if let Err(e) = adapter.attach_store(store) {
         log::warn!("non-volatile store: {e}");
+    }
+    if !acd {
+        log::info!("address conflict detection off in this image (ENIP_ACD=off)");
+        adapter.skip_acd();
     }
     adapter
 }
