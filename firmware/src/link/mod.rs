@@ -9,7 +9,7 @@
 //! headers the link task writes; the next hop's MAC address is the one the originator's own
 //! frames came from (asked for by ARP if none came yet), or the IPv4 multicast group's.
 //!
-//! The link task also runs Address Conflict Detection ([`acd`]: RFC 5227 probes,
+//! The link task also runs Address Conflict Detection (`acd.rs`: RFC 5227 probes,
 //! announcements and defence of the interface address) and holds back the network stack's
 //! frames until the address has been probed.
 //!

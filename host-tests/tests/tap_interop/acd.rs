@@ -75,7 +75,8 @@ fn adapter_mac(frames: &[Frame]) -> String {
 }
 
 /// Three probes RFC 5227's interval apart, then two announcements, all before the
-/// adapter's first IP packet; returns the adapter's MAC.
+/// adapter's first IP packet (times with room for a loaded host's scheduling, the emulated
+/// board's above all); returns the adapter's MAC.
 fn assert_probed_before_use(frames: &[Frame]) -> String {
     let mac = adapter_mac(frames);
     let own: Vec<&Frame> = frames.iter().filter(|f| f.src == mac).collect();
@@ -106,13 +107,13 @@ fn assert_probed_before_use(frames: &[Frame]) -> String {
     );
     for gap in [probes[1] - probes[0], probes[2] - probes[1]] {
         assert!(
-            (0.9..=2.2).contains(&gap),
+            (0.9..=2.5).contains(&gap),
             "PROBE_MIN..PROBE_MAX apart: {probes:?}"
         );
     }
     let wait = announcements[0] - probes[2];
     assert!(
-        (1.8..=2.4).contains(&wait),
+        (1.8..=2.8).contains(&wait),
         "ANNOUNCE_WAIT after the last probe: {wait}"
     );
     mac
