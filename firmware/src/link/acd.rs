@@ -1,6 +1,6 @@
 //! Address Conflict Detection in the link task: the stack's [`Acd`] state machine run on
 //! the frames the link task sees. It follows the interface address (a new static or DHCP
-//! address is probed before use), reads every received ARP message, sends the probes,
+//! address is probed before use, and again when the link comes up), reads every received ARP message, sends the probes,
 //! announcements and defences, and until the address has been probed and announced (or
 //! after it was lost) holds back what the interface would send from it: the network stack's
 //! frames are dropped, except IPv4 from 0.0.0.0 (a DHCP client's), and T->O data is not
@@ -50,6 +50,8 @@ pub(crate) struct Guard {
     active: Option<bool>,
     /// A defence to send as soon as the driver has room.
     defence: bool,
+    /// The link was up at the last [`Guard::link`].
+    link_up: bool,
 }
 
 impl Guard {
@@ -59,6 +61,21 @@ impl Guard {
             acd: Acd::new(mac, seed),
             active: None,
             defence: false,
+            link_up: false,
+        }
+    }
+
+    /// Follows the link state at `now`: when the link comes up the address in use or under
+    /// test is probed again (RFC 5227 section 2.1: another host may have taken it meanwhile).
+    pub fn link(&mut self, up: bool, now: Instant) {
+        let came_up = up && !self.link_up;
+        self.link_up = up;
+        let probing_or_used = !matches!(self.acd.phase(), Phase::Idle | Phase::Fault);
+        if came_up && self.active == Some(true) && probing_or_used {
+            if self.acd.usable() {
+                info!("ACD: link up: probing {} again", self.acd.ip());
+            }
+            self.acd.start(self.acd.ip(), now);
         }
     }
 
@@ -207,6 +224,29 @@ mod tests {
         g.receive(&frame, &port, Instant::from_micros(22_000_000));
         assert!(!g.usable());
         assert_eq!(port.status.get(), (true, true));
+    }
+
+    #[test]
+    fn the_address_is_probed_again_when_the_link_comes_up() {
+        let port = Port::default();
+        let mut g = Guard::new([2, 0, 0, 0, 0, 1], 5);
+        g.follow(IP, &port, Instant::from_micros(0));
+        g.link(true, Instant::from_micros(0));
+        let mut sent = 0;
+        for ms in 0..20_000u64 {
+            sent += usize::from(g.due(Instant::from_micros(ms * 1000)).is_some());
+        }
+        assert_eq!(sent, 5);
+        assert!(g.usable());
+        // Still up: nothing new. Down, then up: held back and probed afresh.
+        g.link(true, Instant::from_micros(20_000_000));
+        assert!(g.usable());
+        g.link(false, Instant::from_micros(21_000_000));
+        assert!(g.usable());
+        g.link(true, Instant::from_micros(22_000_000));
+        assert!(!g.usable());
+        let first = g.deadline(Instant::from_micros(22_000_000)).unwrap();
+        assert!(first.as_micros() <= 23_000_000);
     }
 
     #[test]

@@ -12,7 +12,7 @@ use core::net::SocketAddrV4;
 use core::pin::Pin;
 use core::task::{Context, Poll};
 
-use embassy_net_driver::{Checksum, Driver, HardwareAddress, RxToken, TxToken};
+use embassy_net_driver::{Checksum, Driver, HardwareAddress, LinkState, RxToken, TxToken};
 use embassy_time::Timer;
 use enip_stack::acd::ARP_FRAME_LEN;
 use enip_stack::config::MAX_CONNECTIONS;
@@ -92,9 +92,11 @@ impl Pump {
         frames: &LinkFrames,
         io: &dyn IoPort,
     ) {
-        frames.set_link_state(driver.link_state(cx));
+        let link = driver.link_state(cx);
+        frames.set_link_state(link);
         let me = io.interface();
         self.guard.follow(me.ip, io, now());
+        self.guard.link(link == LinkState::Up, now());
         // Each pass handles what is ready; another runs only if the driver had more to read
         // than a burst or a production came due meanwhile (an input the O->T data changed).
         let mut settled = false;
