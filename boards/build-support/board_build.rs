@@ -11,6 +11,9 @@ use std::path::PathBuf;
 const IP_VAR: &str = "ENIP_IP";
 /// Environment variable with the board's default gateway, `A.B.C.D` (optional).
 const GATEWAY_VAR: &str = "ENIP_GATEWAY";
+/// Environment variable turning Address Conflict Detection off at build time (`off`; default
+/// `on`): test images that are not about it start without its seconds of probing.
+const ACD_VAR: &str = "ENIP_ACD";
 /// Cargo features that choose the device profile start with this.
 const PROFILE_FEATURE: &str = "CARGO_FEATURE_PROFILE_";
 /// The profile used when no other `profile-*` feature is enabled.
@@ -115,6 +118,23 @@ fn network_settings(default_cidr: &str) {
         ip.octets()
     );
     fs::write(out_dir().join("network.rs"), code).expect("OUT_DIR is writable");
+}
+
+/// Writes `OUT_DIR/acd.rs` with `ACD: bool` from `ENIP_ACD` (`on`, the default, or `off`):
+/// whether the board detects address conflicts at start whatever TCP/IP attribute 10 says.
+#[allow(dead_code)] // the emulated board's only
+fn acd_setting() {
+    println!("cargo:rerun-if-env-changed={ACD_VAR}");
+    let on = match env::var(ACD_VAR).as_deref() {
+        Err(_) | Ok("on") => true,
+        Ok("off") => false,
+        Ok(v) => panic!("{ACD_VAR}={v:?}: expected on or off"),
+    };
+    let code = format!(
+        "/// Address Conflict Detection at start (`{ACD_VAR}` at build time; attribute 10 \
+         still turns it off).\npub const ACD: bool = {on};\n"
+    );
+    fs::write(out_dir().join("acd.rs"), code).expect("OUT_DIR is writable");
 }
 
 /// Writes `OUT_DIR/profile.rs` for the profile chosen by a `profile-NAME` feature

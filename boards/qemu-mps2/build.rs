@@ -1,4 +1,5 @@
-//! Links with the mps2-an386 memory map and bakes in the network settings and profile.
+//! Links with the mps2-an386 memory map and bakes in the network settings, profile and
+//! Address Conflict Detection choice.
 
 include!("../build-support/board_build.rs");
 
@@ -6,4 +7,5 @@ fn main() {
     link_with_own_memory_map("memory.x");
     network_settings("198.18.0.2/24");
     profile_from_features();
+    acd_setting();
 }

@@ -12,6 +12,7 @@
 //! | MS | recoverable fault (identity status bits 8-10) | flashing red |
 //! | MS | unrecoverable major fault (bit 11) | steady red |
 //! | NS | no IP address | off |
+//! | NS | duplicate IP address (Address Conflict Detection gave it up) | steady red |
 //! | NS | address, no connection | flashing green |
 //! | NS | at least one CIP connection | steady green |
 //! | NS | an exclusive owner timed out, none re-established | flashing red |
@@ -125,7 +126,9 @@ impl NetworkStatus {
     /// The Network Status indicator for `adapter` now.
     pub fn update<D: Device>(&mut self, adapter: &Adapter<D>) -> Indicator {
         let timeouts = adapter.connections().owner_timeouts();
-        if adapter.network().ip.is_unspecified() {
+        if adapter.acd().fault {
+            Indicator::Red
+        } else if adapter.network().ip.is_unspecified() {
             Indicator::Off
         } else if !adapter.connections().is_empty() {
             self.cleared_timeouts = timeouts;
@@ -173,7 +176,7 @@ mod tests {
     }
 
     #[test]
-    fn network_status_off_without_address_else_flashing_green() {
+    fn network_status_off_without_address_red_on_a_duplicate_else_flashing_green() {
         use core::net::Ipv4Addr;
         let config =
             |ip| enip_stack::NetworkConfig::new_static(ip, Ipv4Addr::new(255, 255, 255, 0), [2; 6]);
@@ -186,6 +189,9 @@ mod tests {
         assert_eq!(ns.update(&adapter), Indicator::Off);
         adapter.set_network(config(Ipv4Addr::new(198, 18, 0, 2)));
         assert_eq!(ns.update(&adapter), Indicator::FlashingGreen);
+        // The address found in use by another host: steady red (duplicate IP).
+        adapter.set_acd_status(true, true);
+        assert_eq!(ns.update(&adapter), Indicator::Red);
     }
 
     #[test]

@@ -195,11 +195,14 @@ fn with_adapter(scenario: impl AsyncFnOnce(Stack<'_>)) {
         &mut client_sockets,
         0x89AB_CDEF,
     );
-    let adapter = enip_firmware::share(Adapter::new(
+    let mut adapter = Adapter::new(
         Profile::from_name("generic").expect("generic profile"),
         enip_firmware::network_config(adapter_net),
         42,
-    ));
+    );
+    // Not about Address Conflict Detection: no seconds of probing (the TAP tests cover it).
+    adapter.skip_acd();
+    let adapter = enip_firmware::share(adapter);
     let mut resources = Box::new(Resources::new());
     let background = join4(
         adapter_runner.run(),

@@ -39,8 +39,10 @@ const QEMU_READY: &str = "listening on";
 const QEMU_BOOT: Duration = Duration::from_secs(30);
 /// What the emulated board prints when it panics.
 const QEMU_PANIC: &str = "PANIC";
-/// Reachability probes sent after start-up.
-const PROBES: u32 = 40;
+/// Reachability probes sent after start-up (15 s: a board that probes its address for
+/// conflicts, as the emulated board's default image does, sends its first IP packet 6 to
+/// 9 s after it starts).
+const PROBES: u32 = 60;
 /// How long each probe waits for its answer.
 const PROBE_WAIT: Duration = Duration::from_millis(250);
 /// How long a stopped board may take to end after SIGTERM.
@@ -176,10 +178,12 @@ impl Board<'_> {
     }
 }
 
-/// `bin --tap TAP --ip 198.18.0.2/24` inside `lab`.
+/// `bin --tap TAP --ip 198.18.0.2/24 --acd off` inside `lab`: tests that are not about
+/// Address Conflict Detection start without its seconds of probing (those that are pass
+/// `--acd on` among their extra arguments, which come later and win).
 fn host_command(lab: &Lab, bin: impl AsRef<OsStr>) -> Command {
     let mut cmd = lab.command(bin);
-    cmd.args(["--tap", &lab.tap, "--ip", BOARD_CIDR]);
+    cmd.args(["--tap", &lab.tap, "--ip", BOARD_CIDR, "--acd", "off"]);
     cmd
 }
 
@@ -266,6 +270,16 @@ impl Rig {
     /// The namespace and TAP, the capture, then `board`, which must print that it serves
     /// within its start-up bound and then answer a ListIdentity.
     pub fn launch(board: Board<'_>, options: &Options<'_>) -> io::Result<Self> {
+        let answers_at = board.answers_at();
+        let rig = Self::launch_unverified(board, options)?;
+        rig.wait_reachable(answers_at)?;
+        Ok(rig)
+    }
+
+    /// Like [`Rig::launch`], returning once the board printed that it serves, without
+    /// waiting for it to answer: for a board expected not to (its address taken by another
+    /// host).
+    pub fn launch_unverified(board: Board<'_>, options: &Options<'_>) -> io::Result<Self> {
         let tap = options.tap.unwrap_or(TAP);
         let lab = match (&board, options.namespace) {
             (Board::HostBind { .. }, _) => Lab::create_veth(tap)?,
@@ -279,13 +293,11 @@ impl Rig {
         let (name, ready, bound) = board.start_up();
         let mut child = LoggedChild::spawn_logged(name, board.command(&lab), options.log_file)?;
         child.wait_for_line(ready, bound)?;
-        let rig = Rig {
+        Ok(Rig {
             board: child,
             capture,
             lab,
-        };
-        rig.wait_reachable(board.answers_at())?;
-        Ok(rig)
+        })
     }
 
     /// Waits (bounded) until the board answers a unicast ListIdentity, so that address

@@ -9,6 +9,8 @@
 //!
 //! - [`time`], [`rng`], [`net`], [`config`] (every capacity), [`nv`] (non-volatile storage:
 //!   A/B copies with sequence numbers and CRC over any flash): small leaves.
+//! - [`acd`]: Address Conflict Detection (RFC 5227): ARP probes and announcements, the
+//!   state machine of one address, what the TCP/IP object reports of it.
 //! - [`wire`]: zero-copy, length-checked codecs for every EtherNet/IP and CIP structure.
 //! - [`cip`]: the vocabulary: status codes, class IDs, services, object definitions,
 //!   requests and their context.
@@ -43,6 +45,7 @@
 #[macro_use]
 mod fmt;
 
+pub mod acd;
 pub mod adapter;
 pub mod cip;
 pub mod config;

@@ -1,5 +1,6 @@
-//! The TCP/IP object's settable, stored attributes (3, 5, 6, 8, 9, 13): the CIP rules of a Set,
-//! status and capability bits, and the settings surviving a restart through an `NvStore`.
+//! The TCP/IP object's settable, stored attributes (3, 5, 6, 8, 9, 10, 11, 13): the CIP rules
+//! of a Set, status and capability bits, and the settings surviving a restart through an
+//! `NvStore`.
 
 mod common;
 
@@ -331,4 +332,52 @@ fn without_a_store_settings_last_until_power_off() {
     let value = interface([198, 18, 0, 9], MASK, [0; 4], b"");
     assert_eq!(set(&mut h, 5, &value), 0);
     assert_eq!(get(&mut h, 5), value);
+}
+
+#[test]
+fn acd_attributes_report_the_runtime_and_survive_a_restart() {
+    use enip_stack::acd::{Activity, Arp, ArpFrame, LastConflict, ARP_FRAME_LEN};
+    let store = shared();
+    let mut h = harness(&store);
+    // Not capable until the runtime that runs detection says so (a kernel's sockets never).
+    assert_eq!(get(&mut h, 2), 0x54u32.to_le_bytes());
+    h.adapter.set_acd_capable();
+    assert_eq!(get(&mut h, 2), 0xD4u32.to_le_bytes());
+    // SelectAcd defaults on; only 0 and 1 are taken; attribute 11 starts all zero.
+    assert_eq!(get(&mut h, 10), [1]);
+    assert_eq!(set(&mut h, 10, &[2]), General::InvalidAttributeValue as u8);
+    assert_eq!(set(&mut h, 10, &[0]), 0);
+    assert!(!h.adapter.acd_selected());
+    assert_eq!(get(&mut h, 11), [0; 35]);
+    // A conflict: status bits 6 and 7, attribute 11 with the remote MAC and the PDU.
+    let other = [2, 0x11, 0x22, 0x33, 0x44, 0x55];
+    let mut frame = [0u8; ARP_FRAME_LEN];
+    ArpFrame::Announcement.write(other, ADAPTER_IP, &mut frame);
+    let arp = Arp::from_frame(&frame).unwrap();
+    h.adapter
+        .record_acd_conflict(LastConflict::of(Activity::Probe, &arp));
+    h.adapter.set_acd_status(true, true);
+    assert_eq!(get(&mut h, 1), 0xC1u32.to_le_bytes());
+    let last = get(&mut h, 11);
+    assert_eq!((last[0], &last[1..7]), (1, &other[..]));
+    assert_eq!(last[7..], frame[14..]);
+    // After a restart both attributes read as stored; the status bits start clear.
+    drop(h);
+    let mut h = harness(&store);
+    assert_eq!(get(&mut h, 10), [0]);
+    assert_eq!(get(&mut h, 11), last);
+    assert_eq!(get(&mut h, 1), 1u32.to_le_bytes());
+    // Attribute 11 is cleared with zeros only (it records what the device saw).
+    assert_eq!(set(&mut h, 11, &last), General::InvalidAttributeValue as u8);
+    assert_eq!(set(&mut h, 11, &[0; 34]), General::NotEnoughData as u8);
+    assert_eq!(set(&mut h, 11, &[0; 35]), 0);
+    drop(h);
+    let mut h = harness(&store);
+    assert_eq!(get(&mut h, 11), [0; 35]);
+    // Skipping detection in one run (a test rig's `--acd off`) stores nothing.
+    assert_eq!(set(&mut h, 10, &[1]), 0);
+    h.adapter.skip_acd();
+    assert!(!h.adapter.acd_selected());
+    drop(h);
+    assert!(harness(&store).adapter.acd_selected());
 }

@@ -84,6 +84,9 @@ impl Board {
                 lab.tap.clone(),
                 "--ip".into(),
                 format!("{BOARD_IP}/24"),
+                // The start-up's conflict probing is not what this measures.
+                "--acd".into(),
+                "off".into(),
             ],
             Board::Bind(bin) => vec![s(bin), "--bind".into(), BOARD_IP.into()],
             Board::Opener(bin) => vec![s(bin), BOARD_VETH.into()],

@@ -46,8 +46,9 @@ pub fn build(board: &str, profile: &str) -> Result<PathBuf> {
     build_with(board, profile, &[])
 }
 
-/// [`build`] with build-time settings in the environment (e.g. the Ametek profile's
-/// `ENIP_PLS_RPM`, read with `option_env!`, so cargo rebuilds when it changes).
+/// [`build`] with build-time settings in the environment, read with `option_env!` so cargo
+/// rebuilds when they change: the emulated board's `ENIP_ACD` (Address Conflict Detection on
+/// or off at start; the others ignore it), the Ametek profile's `ENIP_PLS_RPM`.
 pub fn build_with(board: &str, profile: &str, env: &[(&str, &str)]) -> Result<PathBuf> {
     let mut cargo = util::cargo();
     cargo.args(["build", "-p", board, "--release", "--target", THUMB_TARGET]);

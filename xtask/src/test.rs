@@ -154,19 +154,30 @@ fn tap_interop() -> Result<Outcome> {
         "-p",
         "io-block-host",
     ]))?;
-    // The profiles' scenarios (and the default profile's LLDP and QoS checks) also run on the
-    // emulated board: a copy of its ELF per profile (ENIP_QEMU_<PROFILE>_ELF), since every
-    // build writes the same path.
+    // The profiles' scenarios (and the default profile's LLDP, QoS and ACD checks) also run on
+    // the emulated board: a copy of its ELF per profile (ENIP_QEMU_<PROFILE>_ELF), since every
+    // build writes the same path. The profiles' scenarios are built without Address Conflict
+    // Detection (its seconds of probing are not what they test); the default profile's, which
+    // the ACD tests boot, with.
     let mut elves = Vec::new();
     let profiles = boards::profiles(&Metadata::read()?)?;
     for profile in &profiles {
+        let acd = if profile == boards::DEFAULT_PROFILE {
+            "on"
+        } else {
+            "off"
+        };
         let elf = util::target_dir().join(format!("qemu-{profile}.elf"));
-        std::fs::copy(boards::build(boards::QEMU, profile)?, &elf)?;
+        std::fs::copy(
+            boards::build_with(boards::QEMU, profile, &[("ENIP_ACD", acd)])?,
+            &elf,
+        )?;
         elves.push((rig::qemu_elf_var(profile), elf));
     }
     // The Ametek PLS whose resolver turns from power-up (60 RPM, a build-time setting).
     let moving = util::target_dir().join("qemu-ametek-pls-moving.elf");
-    let built = boards::build_with(boards::QEMU, "ametek-pls", &[("ENIP_PLS_RPM", "60")])?;
+    let settings = [("ENIP_PLS_RPM", "60"), ("ENIP_ACD", "off")];
+    let built = boards::build_with(boards::QEMU, "ametek-pls", &settings)?;
     std::fs::copy(built, &moving)?;
     elves.push(("ENIP_QEMU_AMETEK_PLS_MOVING_ELF".to_string(), moving));
     run(interop(&[]).envs(elves))?;

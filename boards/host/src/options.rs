@@ -16,10 +16,16 @@ pub const OPTIONS_USAGE: &str =
                      absent); a static interface configuration
                      stored there replaces --ip and --gateway at start (default: in RAM,
                      lost at exit)
+  --acd on|off       Address Conflict Detection of the address at start (RFC 5227: about 7
+                     to 9 s of ARP probes and announcements before the first IP packet);
+                     `off` skips it in this run whatever TCP/IP attribute 10 says, storing
+                     nothing (default: on, as attribute 10 says)
   --create-tap       create IFNAME if there is none (needs root or CAP_NET_ADMIN); it is
                      down, has no host address and disappears when the program exits
   --bind A.B.C.D     instead of a TAP: serve on the kernel's TCP/IP stack at this local
-                     address (TCP and UDP 44818, UDP 2222), on the interface that holds it
+                     address (TCP and UDP 44818, UDP 2222), on the interface that holds it;
+                     the kernel owns ARP there, so the adapter does no conflict detection
+                     (TCP/IP attribute 2 bit 7 clear)
 
 Logs go to stderr; set RUST_LOG to change the level (default: info).";
 
@@ -71,6 +77,8 @@ pub struct TapOptions {
     pub mac: [u8; 6],
     /// Create the TAP interface if there is none.
     pub create: bool,
+    /// Address Conflict Detection at start, unless attribute 10 turns it off (`--acd`).
+    pub acd: bool,
 }
 
 impl Options {
@@ -84,6 +92,7 @@ impl Options {
                 gateway: None,
                 mac: DEFAULT_MAC,
                 create: false,
+                acd: true,
             }),
             nv_file: None,
         }
@@ -110,6 +119,7 @@ impl Options {
         let mut create = false;
         let mut bind = None;
         let mut nv_file = None;
+        let mut acd = None;
         while let Some(flag) = args.next() {
             match flag.as_str() {
                 "-h" | "--help" => return Ok(Parsed::Help),
@@ -127,6 +137,13 @@ impl Options {
                 "--mac" => mac = Some(parse_mac(&value)?),
                 "--bind" => bind = Some(parse_ip(&value)?),
                 "--nv-file" => nv_file = Some(PathBuf::from(value)),
+                "--acd" => {
+                    acd = Some(match value.as_str() {
+                        "on" => true,
+                        "off" => false,
+                        _ => return Err(format!("--acd takes on or off, not {value:?}")),
+                    })
+                }
                 _ if extra(&flag, value)? => {}
                 _ => return Err(format!("unknown option {flag:?}")),
             }
@@ -139,8 +156,12 @@ impl Options {
                         .into(),
                 )
             }
-            Some(_) if mac.is_some() || create => {
-                return Err("--mac and --create-tap are for a TAP, not --bind".into())
+            Some(_) if mac.is_some() || create || acd.is_some() => {
+                return Err(
+                    "--mac, --acd and --create-tap are for a TAP, not --bind (the \
+                            kernel owns ARP)"
+                        .into(),
+                )
             }
             Some(addr) => Link::Kernel(addr),
             None => {
@@ -152,6 +173,7 @@ impl Options {
                     gateway,
                     mac: mac.unwrap_or(DEFAULT_MAC),
                     create,
+                    acd: acd.unwrap_or(true),
                 })
             }
         };
@@ -275,8 +297,22 @@ mod tests {
         assert_eq!(a.gateway, Some(Ipv4Addr::new(198, 18, 0, 1)));
         assert_eq!(a.mac, [2, 0, 0, 0, 0, 0x2a]);
         assert!(!a.create);
+        assert!(a.acd);
         let a = tap(&["--create-tap", "--tap", "tap0", "--ip", "198.18.0.2/24"]).unwrap();
         assert!(a.create);
+        let off = [
+            "--tap",
+            "t",
+            "--ip",
+            "198.18.0.2/24",
+            "--acd",
+            "off",
+            "--acd",
+        ];
+        assert!(tap(&[&off[..], &["on"]].concat()).unwrap().acd);
+        assert!(!tap(&off[..6]).unwrap().acd);
+        assert!(tap(&[&off[..], &["maybe"]].concat()).is_err());
+        assert!(run(&["--bind", "198.18.0.2", "--acd", "off"]).is_err());
         let a = run(&["--tap", "t", "--ip", "198.18.0.2/24", "--nv-file", "/x/nv"]).unwrap();
         assert_eq!(a.nv_file, Some(PathBuf::from("/x/nv")));
     }

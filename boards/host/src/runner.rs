@@ -166,6 +166,10 @@ fn start<D: Device + 'static>(
     if let Err(e) = adapter.attach_store(Box::leak(Box::new(store))) {
         log::error!("non-volatile store unreadable ({e}): factory TCP/IP settings");
     }
+    if !link.acd {
+        log::info!("address conflict detection off in this run (--acd off)");
+        adapter.skip_acd();
+    }
     let adapter: &'static _ = Box::leak(Box::new(enip_firmware::share(adapter)));
     let buffers: &'static mut Resources = Box::leak(Box::new(Resources::new()));
     let tap_name = link.name.clone();

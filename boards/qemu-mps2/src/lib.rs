@@ -9,7 +9,7 @@
 //!         enip_qemu_mps2::AdapterCell::new();
 //!     let device = |_store| my_device::MyDevice::new();
 //!     let address = ([198, 18, 0, 2], 24, None);
-//!     enip_qemu_mps2::run(spawner, &ADAPTER, "my device", device, address).await
+//!     enip_qemu_mps2::run(spawner, &ADAPTER, "my device", device, address, true).await
 //! }
 //! ```
 //!
@@ -56,14 +56,16 @@ const NV_SECTOR: usize = MAX_WRITE_SIZE + IMAGE_SIZE;
 
 /// Runs the device `device` builds from the board's non-volatile store (in RAM; a device
 /// with nothing to save ignores it), shared in `home`, named `name` in the log, at the
-/// static address `(address, prefix_len, gateway)`; never returns. Call it once, from the
-/// firmware's `main` task.
+/// static address `(address, prefix_len, gateway)`, probed for conflicts before use if `acd`
+/// (and TCP/IP attribute 10 says so); never returns. Call it once, from the firmware's
+/// `main` task.
 pub async fn run<D: Device>(
     spawner: Spawner,
     home: &'static AdapterCell<D>,
     name: &str,
     device: impl FnOnce(SharedStore) -> D,
     (address, prefix_len, gateway): ([u8; 4], u8, Option<[u8; 4]>),
+    acd: bool,
 ) -> ! {
     time::init();
     uart::init(log::LevelFilter::Info);
@@ -91,6 +93,7 @@ pub async fn run<D: Device>(
             seed.rotate_left(32),
         ),
         NV_HANDLE.init(store),
+        acd,
     );
     let Some(adapter) = home.share(adapter) else {
         panic!("enip_qemu_mps2::run called twice");
@@ -117,10 +120,20 @@ pub async fn run<D: Device>(
     .await
 }
 
-/// `adapter` with the RAM store attached (settings kept until power-off).
-fn with_store<D: Device>(mut adapter: Adapter<D>, store: &'static mut SharedStore) -> Adapter<D> {
+/// `adapter` with the RAM store attached (settings kept until power-off), told to skip
+/// conflict detection unless `acd`. (Not in `run`: a local borrowed there would live in its
+/// future, the whole adapter with it.)
+fn with_store<D: Device>(
+    mut adapter: Adapter<D>,
+    store: &'static mut SharedStore,
+    acd: bool,
+) -> Adapter<D> {
     if let Err(e) = adapter.attach_store(store) {
         log::warn!("non-volatile store: {e}");
+    }
+    if !acd {
+        log::info!("address conflict detection off in this image (ENIP_ACD=off)");
+        adapter.skip_acd();
     }
     adapter
 }

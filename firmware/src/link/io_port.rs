@@ -7,10 +7,12 @@ use core::task::{Context, Poll};
 use enip_stack::{Instant, IoDue, NetworkConfig};
 
 use super::lldp::LldpPort;
+use super::AcdPort;
 
 /// Class 1 I/O (and, through [`LldpPort`], LLDP) of an adapter shared with the other tasks
-/// of the runtime; implemented by [`crate::SharedAdapter`].
-pub trait IoPort: LldpPort {
+/// of the runtime, and what Address Conflict Detection reports to it ([`AcdPort`]);
+/// implemented by [`crate::SharedAdapter`].
+pub trait IoPort: LldpPort + AcdPort {
     /// The interface configuration now (`Adapter::network`): the addresses T->O datagrams
     /// go out with.
     fn interface(&self) -> NetworkConfig;

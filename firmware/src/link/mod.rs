@@ -13,11 +13,15 @@
 //! LLDP Data Table, and the adapter's own LLDPDUs go out when due (`link/lldp.rs`).
 //! Every IPv4 packet carries the QoS object's DSCP: a T->O datagram its connection's, the
 //! stack's TCP and UDP 44818 packets the explicit one, written on their way out (`dscp`).
+//! The link task also runs Address Conflict Detection (`acd.rs`: RFC 5227 probes,
+//! announcements and defence of the interface address) and holds back the network stack's
+//! frames until the address has been probed.
 //!
 //! So a Class 1 cycle wakes one task and touches neither smoltcp nor the socket futures of
 //! the explicit-messaging side, and the TCP/IP stack keeps ARP, ICMP, IGMP, DHCP, TCP and
 //! UDP 44818 as before.
 
+mod acd;
 mod checksum;
 mod dscp;
 mod frame;
@@ -28,6 +32,7 @@ mod neighbors;
 mod net_driver;
 mod pump;
 
+pub use acd::AcdPort;
 pub use frames::{LinkFrames, FRAME_LEN, RX_FRAMES, TX_FRAMES};
 pub use io_port::IoPort;
 pub use lldp::{shutdown as lldp_shutdown, LldpPort};

@@ -2,8 +2,10 @@
 //! received frames, hands O->T datagrams and LLDPDUs straight to the adapter and every other
 //! frame to the network stack, sends the stack's frames, writes each T->O datagram that is
 //! due straight into the driver's transmit buffer behind its headers, and sends the LLDPDU
-//! that is due (`link/lldp.rs`). It sleeps until the adapter's next production, watchdog
-//! expiry or LLDPDU, a frame, or another task's wake-up.
+//! that is due (`link/lldp.rs`); Address Conflict Detection ([`super::acd`]) sees every ARP
+//! message, sends its own, and holds the rest back until the address may be used. It sleeps
+//! until the adapter's next production, watchdog expiry or LLDPDU, the next probe or
+//! announcement, a frame, or another task's wake-up.
 
 use core::convert::Infallible;
 use core::future::{poll_fn, Future};
@@ -13,10 +15,12 @@ use core::task::{Context, Poll};
 
 use embassy_net_driver::{Checksum, Driver, HardwareAddress, LinkState, RxToken, TxToken};
 use embassy_time::Timer;
+use enip_stack::acd::ARP_FRAME_LEN;
 use enip_stack::config::MAX_CONNECTIONS;
 use enip_stack::{Instant, IoDue, NetworkConfig};
 use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 
+use super::acd::{passes_unaddressed, Guard};
 use super::dscp;
 use super::frame::{self, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
 use super::frames::{LinkFrames, TX_FRAMES};
@@ -49,6 +53,8 @@ struct Pump {
     /// Checksums software verifies on receive and fills on send (what the driver leaves).
     sums: ChecksumCapabilities,
     neighbors: Neighbors,
+    /// Address Conflict Detection of the interface address.
+    guard: Guard,
     /// The timer of the adapter's next deadline, and that deadline.
     timer: Option<(Instant, Timer)>,
     /// A T->O datagram is due but the driver had no room: its wake-up comes from the driver.
@@ -66,10 +72,15 @@ impl Pump {
             HardwareAddress::Ethernet(mac) => mac,
             _ => [0; 6],
         };
+        // Two devices powered up together must not probe in step: their MACs differ.
+        let seed = mac
+            .iter()
+            .fold(now().as_micros(), |s, b| s.rotate_left(8) ^ u64::from(*b));
         Pump {
             mac,
             sums,
             neighbors: Neighbors::default(),
+            guard: Guard::new(mac, seed),
             timer: None,
             blocked: false,
         }
@@ -90,18 +101,22 @@ impl Pump {
         }
         frames.set_link_state(link);
         let me = io.interface();
+        self.guard.follow(me.ip, io, now());
+        self.guard.link(link == LinkState::Up, now());
         // Each pass handles what is ready; another runs only if the driver had more to read
         // than a burst or a production came due meanwhile (an input the O->T data changed).
         let mut settled = false;
         for _ in 0..PASSES {
             let at = now();
             let more_frames = self.receive(cx, driver, frames, io, &me, at);
+            self.send_acd_frame(cx, driver, at);
             self.send_stack_frames(cx, driver, frames, io);
             self.produce(cx, driver, io, &me, at);
             let up = link == LinkState::Up;
             let (lldp, blocked) = lldp::service(cx, driver, io, self.mac, up, at);
             self.blocked |= blocked;
-            settled = !more_frames && self.sleep_until(earliest(io.deadline(), lldp), at, cx);
+            let deadline = earliest(earliest(io.deadline(), lldp), self.guard.deadline(at));
+            settled = !more_frames && self.sleep_until(deadline, at, cx);
             if settled {
                 break;
             }
@@ -152,6 +167,7 @@ impl Pump {
             io.lldp_receive(lldpdu, at);
             return false;
         }
+        self.guard.receive(frame, io, at);
         let seen = frame::inspect(frame, me.ip, &self.sums);
         if let Some((ip, mac)) = seen.sender {
             self.neighbors.learn(ip, mac);
@@ -172,7 +188,22 @@ impl Pump {
         }
     }
 
-    /// Sends the frames the stack queued, explicit messaging marked with its DSCP.
+    /// Sends the probe or announcement due at `at`, if the driver has room.
+    fn send_acd_frame<D: Driver>(&mut self, cx: &mut Context<'_>, driver: &mut D, at: Instant) {
+        let Some(arp) = self.guard.due(at) else {
+            return;
+        };
+        match driver.transmit(cx) {
+            Some(tx) => {
+                let (mac, ip) = (self.mac, self.guard.ip());
+                tx.consume(ARP_FRAME_LEN, |buf| arp.write(mac, ip, buf));
+            }
+            None => self.guard.put_back(arp),
+        }
+    }
+
+    /// Sends the frames the stack queued, explicit messaging marked with its DSCP; drops them
+    /// while the address may not be used (but those of a DHCP client).
     fn send_stack_frames<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -186,6 +217,7 @@ impl Pump {
         let dscp = io.explicit_dscp();
         let sums = &self.sums;
         let mut sent = false;
+        let usable = self.guard.usable();
         for _ in 0..TX_FRAMES {
             if frames.tx.is_empty() {
                 break;
@@ -194,8 +226,10 @@ impl Pump {
                 break;
             };
             let _ = frames.tx.pop(|frame| {
-                dscp::mark_explicit(frame, dscp, sums);
-                tx.consume(frame.len(), |out| copy(out, frame))
+                if usable || passes_unaddressed(frame) {
+                    dscp::mark_explicit(frame, dscp, sums);
+                    tx.consume(frame.len(), |out| copy(out, frame));
+                }
             });
             sent = true;
         }
@@ -214,11 +248,17 @@ impl Pump {
         at: Instant,
     ) {
         self.blocked = false;
+        let usable = self.guard.usable();
         // Bounded: each round sends or drops one datagram, and each producer is due once.
         for _ in 0..MAX_CONNECTIONS.saturating_mul(2) {
             let Some(due) = io.due(at) else {
                 break;
             };
+            if !usable {
+                // Not from an address that may be in conflict: dropped.
+                io.write(due, at, None);
+                continue;
+            }
             let Some(tx) = driver.transmit(cx) else {
                 self.blocked = true;
                 break;

@@ -27,6 +27,7 @@
 //!   with its request's path, so a reply to a request with a reserved logical segment format
 //!   is flagged "Unsupported Logical Segment Format" although the reply bytes are fine.
 
+mod acd;
 mod ametek_pls;
 mod ametek_pls_inputs;
 mod class1;

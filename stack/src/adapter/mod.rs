@@ -2,6 +2,7 @@
 //! The encapsulation commands it answers are in `adapter/encap.rs` beside it, as smoltcp
 //! keeps each protocol's handling beside its `Interface`, and LLDP in `adapter/lldp.rs`.
 
+mod acd;
 mod encap;
 mod lldp;
 
@@ -117,6 +118,7 @@ impl<D: Device> Adapter<D> {
             tcpip.ttl = st.ttl;
             tcpip.mcast = st.mcast;
         }
+        self.load_acd();
         Ok(found)
     }
 

@@ -12,27 +12,33 @@ use super::flash::{Flash, MAX_WRITE_SIZE};
 use super::{crc32, records, NvError, NvStore};
 
 /// Bytes of one copy in RAM and in flash (body with header and CRC), a multiple of
-/// [`MAX_WRITE_SIZE`]; a sector must hold [`MAX_WRITE_SIZE`] more. Room for the TCP/IP
-/// record and the largest shipped profile's (the Ametek program, 1 818 bytes): see
-/// [`PROFILE_RECORD_ROOM`].
-pub const IMAGE_SIZE: usize = 2048;
+/// [`MAX_WRITE_SIZE`]; a sector must hold [`MAX_WRITE_SIZE`] more. Room for the stack's
+/// records and the largest shipped profile's (the Ametek program, 1 818 bytes): see
+/// [`PROFILE_RECORD_ROOM`]. (2 048 until the LLDP, QoS and ACD records came; a copy's layout
+/// does not depend on it, a file store's sector offsets do.)
+pub const IMAGE_SIZE: usize = 2080;
 /// The largest record a device profile can keep beside the TCP/IP settings: what a copy
 /// holds once its header and CRC, the TCP/IP record and both record headers are counted.
 pub const PROFILE_RECORD_ROOM: usize =
     IMAGE_SIZE - HEADER - CRC - 2 * super::records::RECORD_HEADER - STACK_RECORD_ROOM;
 /// The room the stack's own records take in a copy: the TCP/IP object's settings
 /// ([`TCP_IP_RECORD_ROOM`], the first record's header counted in [`PROFILE_RECORD_ROOM`])
-/// and, each with its record header, the LLDP Management object's ([`LLDP_RECORD_ROOM`]) and
-/// the QoS object's ([`QOS_RECORD_ROOM`]); each layout is checked against its room at compile
-/// time.
-pub const STACK_RECORD_ROOM: usize =
-    TCP_IP_RECORD_ROOM + 2 * super::records::RECORD_HEADER + LLDP_RECORD_ROOM + QOS_RECORD_ROOM;
+/// and, each with its record header, the LLDP Management object's ([`LLDP_RECORD_ROOM`]), the
+/// QoS object's ([`QOS_RECORD_ROOM`]) and Address Conflict Detection's ([`ACD_RECORD_ROOM`]);
+/// each layout is checked against its room at compile time.
+pub const STACK_RECORD_ROOM: usize = TCP_IP_RECORD_ROOM
+    + 3 * super::records::RECORD_HEADER
+    + LLDP_RECORD_ROOM
+    + QOS_RECORD_ROOM
+    + ACD_RECORD_ROOM;
 /// The room of the TCP/IP object's record (its settable attributes).
 pub const TCP_IP_RECORD_ROOM: usize = 150;
 /// The room of the LLDP Management object's record (attributes 1-3).
 pub const LLDP_RECORD_ROOM: usize = 5;
 /// The room of the QoS object's record (attribute 1 and the seven DSCP values).
 pub const QOS_RECORD_ROOM: usize = 9;
+/// The room of Address Conflict Detection's record (TCP/IP attributes 10 and 11).
+pub const ACD_RECORD_ROOM: usize = 37;
 /// The commit word: the copy in this sector is complete.
 const MAGIC: u32 = 0x4E56_4331; // "NVC1"
 /// Version of the body layout.

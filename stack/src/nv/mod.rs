@@ -18,8 +18,8 @@ mod records;
 mod shared;
 
 pub use ab::{
-    AbStore, IMAGE_SIZE, LLDP_RECORD_ROOM, PROFILE_RECORD_ROOM, QOS_RECORD_ROOM, STACK_RECORD_ROOM,
-    TCP_IP_RECORD_ROOM,
+    AbStore, ACD_RECORD_ROOM, IMAGE_SIZE, LLDP_RECORD_ROOM, PROFILE_RECORD_ROOM, QOS_RECORD_ROOM,
+    STACK_RECORD_ROOM, TCP_IP_RECORD_ROOM,
 };
 pub use crc::crc32;
 pub use cut_flash::{CutFlash, CUT_SECTOR};
@@ -68,6 +68,8 @@ pub mod key {
     pub const LLDP: u16 = 0x0002;
     /// The QoS object's settings (attributes 1-8).
     pub const QOS: u16 = 0x0003;
+    /// Address Conflict Detection: TCP/IP attributes 10 and 11.
+    pub const ACD: u16 = 0x0004;
     /// First key of the device's records.
     pub const PROFILE_BASE: u16 = 0x0100;
 }

@@ -103,6 +103,7 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
                 crate::nv::key::TCP_IP,
                 crate::nv::key::LLDP,
                 crate::nv::key::QOS,
+                crate::nv::key::ACD,
             ]
             .into_iter()
             .try_for_each(|key| store.remove(key));
@@ -122,6 +123,8 @@ fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
             active: ctx.state.qos.active,
             ..super::qos::QosState::new()
         };
+        ctx.state.acd.settings = crate::acd::AcdSettings::DEFAULT;
+        ctx.state.acd.saved = crate::acd::LastConflict::NONE;
     }
     ctx.state.pending_reset = Some(kind);
     Ok(())

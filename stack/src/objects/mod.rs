@@ -39,6 +39,8 @@ use crate::wire::cpf::SockAddrRepr;
 pub struct ObjectState {
     /// TCP/IP Interface object settings.
     pub tcpip: tcpip::TcpIpState,
+    /// Address Conflict Detection as the TCP/IP object reports it.
+    pub acd: crate::acd::AcdState,
     /// Ethernet Link object counters and settings.
     pub link: ethernet_link::LinkState,
     /// Connection Manager request and reject counters.
@@ -56,6 +58,7 @@ impl ObjectState {
     pub fn new() -> Self {
         ObjectState {
             tcpip: tcpip::TcpIpState::new(),
+            acd: crate::acd::AcdState::new(),
             link: ethernet_link::LinkState::new(),
             connection_manager: connection_manager::Counters::default(),
             lldp: lldp_management::LldpState::new(),

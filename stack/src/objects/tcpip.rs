@@ -1,11 +1,13 @@
 //! TCP/IP Interface object (class 0xF5): addresses, host name, multicast configuration,
-//! TTL and the encapsulation inactivity timeout.
+//! TTL, Address Conflict Detection (attributes 10 and 11, status bits 6 and 7, capability
+//! bit 7: [`crate::acd`]) and the encapsulation inactivity timeout.
 
 use core::net::Ipv4Addr;
 
 use super::serve::{serve, Object};
 use super::tcpip_nv::{valid_name, InterfaceConfig, INTERFACE_FIXED};
 use super::Ctx;
+use crate::acd::{LastConflict, LAST_CONFLICT_LEN};
 use crate::cip::encoding::{ip, padded_string};
 use crate::cip::object::{AttributeDef, ClassDef, DataType};
 use crate::cip::status::{CipResult, General};
@@ -22,10 +24,16 @@ const CAPABILITY_DHCP: u32 = 1 << 2;
 const CAPABILITY_SETTABLE: u32 = 1 << 4;
 /// Configuration capability: interface configuration changes need a reset (bit 6).
 const CAPABILITY_CHANGE_NEEDS_RESET: u32 = 1 << 6;
+/// Configuration capability: Address Conflict Detection (bit 7).
+const CAPABILITY_ACD: u32 = 1 << 7;
 /// Status: the interface configuration is valid (bits 0-3 = 1: from DHCP or storage).
 const STATUS_CONFIGURED: u32 = 1;
 /// Status: a set interface configuration waits for the next reset (bit 5).
 const STATUS_CONFIG_PENDING: u32 = 1 << 5;
+/// Status: an address conflict was detected (bit 6, AcdStatus).
+const STATUS_ACD_CONFLICT: u32 = 1 << 6;
+/// Status: the address is not used because of a conflict (bit 7, AcdFault).
+const STATUS_ACD_FAULT: u32 = 1 << 7;
 /// Longest encapsulation inactivity timeout in seconds (attribute 13).
 pub const MAX_INACTIVITY_TIMEOUT_S: u16 = 3600;
 /// Configuration control value: static address.
@@ -115,7 +123,8 @@ impl Default for TcpIpState {
     }
 }
 
-/// The TCP/IP Interface class: one instance, attributes 1-13; 3, 5, 6, 8, 9 and 13 settable.
+/// The TCP/IP Interface class: one instance, attributes 1-13; 3, 5, 6, 8, 9, 10, 11 and 13
+/// settable.
 pub const CLASS: ClassDef = ClassDef {
     id: class_id::TCP_IP_INTERFACE,
     name: "TCP/IP Interface",
@@ -144,13 +153,17 @@ pub const CLASS: ClassDef = ClassDef {
         AttributeDef::get(7, DataType::Bytes(6), "Safety Network Number"),
         AttributeDef::get_set(8, DataType::Usint, "TTL Value"),
         AttributeDef::get_set(9, DataType::Bytes(8), "Mcast Config"),
-        AttributeDef::get(10, DataType::Bool, "Select ACD"),
-        AttributeDef::get(11, DataType::Bytes(35), "Last Conflict Detected"),
+        AttributeDef::get_set(10, DataType::Bool, "Select ACD"),
+        AttributeDef::get_set(
+            11,
+            DataType::Bytes(LAST_CONFLICT_LEN as u16),
+            "Last Conflict Detected",
+        ),
         AttributeDef::get(12, DataType::Bool, "EtherNet/IP Quick Connect"),
         AttributeDef::get_set(13, DataType::Uint, "Encapsulation Inactivity Timeout"),
     ],
     get_all: &[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13],
-    optional_attributes: &[8, 9, 13],
+    optional_attributes: &[8, 9, 10, 11, 13],
 };
 
 struct TcpIp<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
@@ -162,13 +175,21 @@ impl<D: Device> Object for TcpIp<'_, '_, D> {
     fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         let net = self.0.net;
         let st = &self.0.state.tcpip;
+        let acd = &self.0.state.acd;
+        let bit = |on: bool, bit: u32| if on { bit } else { 0 };
         match attr.id {
-            1 => w.u32(if st.interface_pending {
-                STATUS_CONFIGURED | STATUS_CONFIG_PENDING
-            } else {
+            1 => w.u32(
                 STATUS_CONFIGURED
-            })?,
-            2 => w.u32(CAPABILITY_DHCP | CAPABILITY_SETTABLE | CAPABILITY_CHANGE_NEEDS_RESET)?,
+                    | bit(st.interface_pending, STATUS_CONFIG_PENDING)
+                    | bit(acd.conflict, STATUS_ACD_CONFLICT)
+                    | bit(acd.fault, STATUS_ACD_FAULT),
+            )?,
+            2 => w.u32(
+                CAPABILITY_DHCP
+                    | CAPABILITY_SETTABLE
+                    | CAPABILITY_CHANGE_NEEDS_RESET
+                    | bit(acd.capable, CAPABILITY_ACD),
+            )?,
             3 => w.u32(st.config_control)?,
             4 => w.bytes(&[2, 0, 0x20, 0xF6, 0x24, 0x01])?,
             // The values set and waiting for a reset, else those in use.
@@ -198,8 +219,9 @@ impl<D: Device> Object for TcpIp<'_, '_, D> {
                 w.u16(m.num_mcast)?;
                 ip(w, m.start)?;
             }
-            10 | 12 => w.u8(0)?,
-            11 => w.zeros(35)?,
+            10 => w.u8(u8::from(acd.settings.select))?,
+            11 => w.bytes(&acd.settings.last.to_bytes())?,
+            12 => w.u8(0)?,
             _ => w.u16(st.inactivity_timeout_s)?,
         }
         Ok(())
@@ -208,6 +230,9 @@ impl<D: Device> Object for TcpIp<'_, '_, D> {
     /// Every settable attribute is non-volatile (Vol 2 table 5-4.3): the Set is saved before
     /// it is answered, or undone and refused with 0x19.
     fn set(&mut self, _instance: u32, attr: &AttributeDef, value: &[u8]) -> CipResult {
+        if matches!(attr.id, 10 | 11) {
+            return self.set_acd(attr, value);
+        }
         let before = self.0.state.tcpip.clone();
         if matches!(attr.id, 8 | 9) {
             self.set_multicast(attr, value)?;
@@ -271,6 +296,27 @@ impl<D: Device> TcpIp<'_, '_, D> {
                 Ok(())
             }
         }
+    }
+
+    /// Sets attribute 10 (applies at the next start) or clears attribute 11 (only an all-zero
+    /// value is taken: the attribute records what the device saw), and saves both.
+    fn set_acd(&mut self, attr: &AttributeDef, value: &[u8]) -> CipResult {
+        let ctx = &mut *self.0;
+        let mut settings = ctx.state.acd.settings;
+        match (attr.id, value) {
+            (10, [v @ (0 | 1)]) => settings.select = *v == 1,
+            (11, v) if v.iter().all(|b| *b == 0) => settings.last = LastConflict::NONE,
+            _ => return Err(General::InvalidAttributeValue.into()),
+        }
+        if let Some(store) = ctx.store.as_deref_mut() {
+            if settings.save(store).is_err() {
+                warn!("TCP/IP attribute {}: storing failed", attr.id);
+                return Err(General::StoreOperationFailure.into());
+            }
+            ctx.state.acd.saved = settings.last;
+        }
+        ctx.state.acd.settings = settings;
+        Ok(())
     }
 
     /// Sets attribute 8 or 9 (in RAM, or by the device when it keeps them).
