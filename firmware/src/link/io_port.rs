@@ -4,6 +4,7 @@
 use core::net::SocketAddrV4;
 use core::task::{Context, Poll};
 
+use enip_stack::objects::LinkCounters;
 use enip_stack::{Instant, IoDue, NetworkConfig};
 
 /// Class 1 I/O of an adapter shared with the other tasks of the runtime; implemented by
@@ -23,6 +24,9 @@ pub trait IoPort {
     fn deadline(&self) -> Option<Instant>;
     /// Time to live of multicast T->O datagrams (TCP/IP attribute 8).
     fn multicast_ttl(&self) -> u8;
+    /// Adds the frames the link task counted to the Ethernet Link object's counters
+    /// (`Adapter::add_link_counters`).
+    fn add_link_counters(&self, counted: &LinkCounters);
     /// Ready (once) when another task brought the deadline forward since the last call;
     /// otherwise wakes `cx` when one does.
     fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()>;

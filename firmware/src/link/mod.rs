@@ -9,11 +9,15 @@
 //! headers the link task writes; the next hop's MAC address is the one the originator's own
 //! frames came from (asked for by ARP if none came yet), or the IPv4 multicast group's.
 //!
+//! Every frame the driver receives or sends is counted for the Ethernet Link object
+//! (`counted`).
+//!
 //! So a Class 1 cycle wakes one task and touches neither smoltcp nor the socket futures of
 //! the explicit-messaging side, and the TCP/IP stack keeps ARP, ICMP, IGMP, DHCP, TCP and
 //! UDP 44818 as before.
 
 mod checksum;
+mod counted;
 mod frame;
 mod frames;
 mod io_port;

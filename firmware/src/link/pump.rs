@@ -16,6 +16,7 @@ use enip_stack::config::MAX_CONNECTIONS;
 use enip_stack::{Instant, IoDue, NetworkConfig};
 use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 
+use super::counted::Counted;
 use super::frame::{self, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
 use super::frames::{LinkFrames, TX_FRAMES};
 use super::io_port::IoPort;
@@ -30,10 +31,14 @@ const RX_BURST: usize = 8;
 
 /// Runs the link task forever: `driver` is the board's, `frames` the queues shared with the
 /// [`super::NetDriver`] given to embassy-net, `io` the adapter.
-pub async fn run<D: Driver>(mut driver: D, frames: &LinkFrames, io: &dyn IoPort) -> ! {
+pub async fn run<D: Driver>(driver: D, frames: &LinkFrames, io: &dyn IoPort) -> ! {
     let mut pump = Pump::new(&driver);
+    let mut driver = Counted::new(driver, pump.mac);
     let never: Infallible = poll_fn(|cx| {
         pump.poll(cx, &mut driver, frames, io);
+        if let Some(counted) = driver.take() {
+            io.add_link_counters(&counted);
+        }
         Poll::Pending
     })
     .await;

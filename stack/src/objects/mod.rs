@@ -8,6 +8,7 @@ pub(crate) mod assembly;
 pub(crate) mod connection_manager;
 pub(crate) mod ethernet_link;
 pub(crate) mod identity;
+pub mod link_counters;
 pub(crate) mod message_router;
 pub(crate) mod router;
 pub(crate) mod serve;
@@ -17,6 +18,7 @@ pub(crate) mod vendor;
 
 pub use connection_manager::Counters as ConnectionManagerCounters;
 pub use ethernet_link::LinkState;
+pub use link_counters::{InterfaceCounters, LinkCounters, MediaCounters};
 pub use tcpip::TcpIpState;
 pub use tcpip_nv::InterfaceConfig;
 

@@ -1,0 +1,103 @@
+//! [`Counted`]: the board's driver as the link task uses it, counting every frame it receives
+//! and sends for the Ethernet Link object (attributes 4 and 5). Counting at the driver catches
+//! every frame whoever in the link task reads or writes it (Class 1, the network stack's, ARP,
+//! the layer-2 services); the link task hands the counts to the adapter once per wake-up
+//! ([`Counted::take`]), so each frame costs a few additions and no lock.
+
+use core::cell::RefCell;
+use core::task::Context;
+
+use embassy_net_driver::{Capabilities, Driver, HardwareAddress, LinkState, RxToken, TxToken};
+use enip_stack::objects::LinkCounters;
+
+/// A driver whose frames are counted.
+pub(crate) struct Counted<D> {
+    inner: D,
+    mac: [u8; 6],
+    counts: RefCell<LinkCounters>,
+}
+
+impl<D: Driver> Counted<D> {
+    /// Counts the frames of `inner`, the station `mac`.
+    pub fn new(inner: D, mac: [u8; 6]) -> Self {
+        Counted {
+            inner,
+            mac,
+            counts: RefCell::new(LinkCounters::new()),
+        }
+    }
+
+    /// What was counted since the last call (`None`: nothing).
+    pub fn take(&self) -> Option<LinkCounters> {
+        let counted = core::mem::take(&mut *self.counts.borrow_mut());
+        (counted != LinkCounters::new()).then_some(counted)
+    }
+}
+
+impl<D: Driver> Driver for Counted<D> {
+    type RxToken<'a>
+        = Rx<'a, D::RxToken<'a>>
+    where
+        Self: 'a;
+    type TxToken<'a>
+        = Tx<'a, D::TxToken<'a>>
+    where
+        Self: 'a;
+
+    fn receive(&mut self, cx: &mut Context<'_>) -> Option<(Self::RxToken<'_>, Self::TxToken<'_>)> {
+        let Counted { inner, mac, counts } = self;
+        let (rx, tx) = inner.receive(cx)?;
+        Some((Rx { rx, mac, counts }, Tx { tx, counts }))
+    }
+
+    fn transmit(&mut self, cx: &mut Context<'_>) -> Option<Self::TxToken<'_>> {
+        let Counted { inner, counts, .. } = self;
+        inner.transmit(cx).map(|tx| Tx { tx, counts })
+    }
+
+    fn link_state(&mut self, cx: &mut Context<'_>) -> LinkState {
+        self.inner.link_state(cx)
+    }
+
+    fn capabilities(&self) -> Capabilities {
+        self.inner.capabilities()
+    }
+
+    fn hardware_address(&self) -> HardwareAddress {
+        self.inner.hardware_address()
+    }
+}
+
+/// A received frame, counted when read.
+pub(crate) struct Rx<'a, T> {
+    rx: T,
+    mac: &'a [u8; 6],
+    counts: &'a RefCell<LinkCounters>,
+}
+
+impl<T: RxToken> RxToken for Rx<'_, T> {
+    fn consume<R, F: FnOnce(&mut [u8]) -> R>(self, f: F) -> R {
+        let Rx { rx, mac, counts } = self;
+        rx.consume(|frame| {
+            counts.borrow_mut().received(frame, mac);
+            f(frame)
+        })
+    }
+}
+
+/// Room for a frame to send, counted once written.
+pub(crate) struct Tx<'a, T> {
+    tx: T,
+    counts: &'a RefCell<LinkCounters>,
+}
+
+impl<T: TxToken> TxToken for Tx<'_, T> {
+    fn consume<R, F: FnOnce(&mut [u8]) -> R>(self, len: usize, f: F) -> R {
+        let Tx { tx, counts } = self;
+        tx.consume(len, |frame| {
+            let r = f(frame);
+            counts.borrow_mut().sent(frame);
+            r
+        })
+    }
+}
