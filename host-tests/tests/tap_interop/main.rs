@@ -32,6 +32,7 @@ mod class1;
 mod class3;
 mod common;
 mod concurrency;
+mod ethernet_link;
 mod example_io_block;
 mod explicit;
 mod fault_io;
