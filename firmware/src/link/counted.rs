@@ -10,16 +10,18 @@ use core::task::Context;
 use embassy_net_driver::{Capabilities, Driver, HardwareAddress, LinkState, RxToken, TxToken};
 use enip_stack::objects::LinkCounters;
 
-/// A driver whose frames are counted.
-pub(crate) struct Counted<D> {
-    inner: D,
+/// A driver whose frames are counted. It borrows the board's driver rather than owning it:
+/// moved into the link task's future beside the task's own argument, a driver holding its
+/// buffers (the LAN9118's) would take their room twice.
+pub(crate) struct Counted<'d, D> {
+    inner: &'d mut D,
     mac: [u8; 6],
     counts: RefCell<LinkCounters>,
 }
 
-impl<D: Driver> Counted<D> {
+impl<'d, D: Driver> Counted<'d, D> {
     /// Counts the frames of `inner`, the station `mac`.
-    pub fn new(inner: D, mac: [u8; 6]) -> Self {
+    pub fn new(inner: &'d mut D, mac: [u8; 6]) -> Self {
         Counted {
             inner,
             mac,
@@ -34,7 +36,7 @@ impl<D: Driver> Counted<D> {
     }
 }
 
-impl<D: Driver> Driver for Counted<D> {
+impl<D: Driver> Driver for Counted<'_, D> {
     type RxToken<'a>
         = Rx<'a, D::RxToken<'a>>
     where

@@ -31,9 +31,9 @@ const RX_BURST: usize = 8;
 
 /// Runs the link task forever: `driver` is the board's, `frames` the queues shared with the
 /// [`super::NetDriver`] given to embassy-net, `io` the adapter.
-pub async fn run<D: Driver>(driver: D, frames: &LinkFrames, io: &dyn IoPort) -> ! {
+pub async fn run<D: Driver>(mut driver: D, frames: &LinkFrames, io: &dyn IoPort) -> ! {
     let mut pump = Pump::new(&driver);
-    let mut driver = Counted::new(driver, pump.mac);
+    let mut driver = Counted::new(&mut driver, pump.mac);
     let never: Infallible = poll_fn(|cx| {
         pump.poll(cx, &mut driver, frames, io);
         if let Some(counted) = driver.take() {
