@@ -6,7 +6,8 @@
 //! [`LinkCounters::sent`], and hands what it counted to the adapter
 //! ([`crate::Adapter::add_link_counters`]), which the object reads and Get_And_Clear clears.
 //!
-//! What counts where (RFC 2863 / RFC 3635, as Vol 2 5-5 asks):
+//! What counts where (RFC 2863 / RFC 3635, which the Ethernet Link object of CIP Vol 2 refers
+//! to):
 //! - octets: each frame as it is on the wire from destination address through FCS, padded
 //!   to the 64-byte minimum (the FCS the MAC strips or adds is counted; the preamble not);
 //! - in unicast / non-unicast: frames for this station delivered to a protocol it handles
