@@ -74,10 +74,18 @@ fn get_and_clear_statuses() {
 fn interface_control_sets() {
     let mut h = Harness::new();
     for (value, general, what) in [
-        ([1u8, 0, 0, 0], 0x00, "auto-negotiate, nothing forced: the interface's setting"),
+        (
+            [1u8, 0, 0, 0],
+            0x00,
+            "auto-negotiate, nothing forced: the interface's setting",
+        ),
         ([1, 0, 100, 0], 0x0C, "auto-negotiate with a forced speed"),
         ([3, 0, 0, 0], 0x0C, "auto-negotiate with forced full duplex"),
-        ([2, 0, 100, 0], 0x09, "forced 100 full duplex: no driver can force"),
+        (
+            [2, 0, 100, 0],
+            0x09,
+            "forced 100 full duplex: no driver can force",
+        ),
         ([0, 0, 10, 0], 0x09, "forced 10 half duplex"),
         ([5, 0, 0, 0], 0x09, "a reserved control bit"),
     ] {

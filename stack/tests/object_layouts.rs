@@ -35,7 +35,11 @@ fn class_attributes(h: &mut Harness, class: u32) -> (u16, u16, u16, Vec<u16>, u1
     let n = usize::from(optional_len);
     let optional = words[4..4 + n].to_vec();
     let rest = &words[4 + n..];
-    assert_eq!(rest.len(), 3, "class {class:#x}: services, class and instance IDs");
+    assert_eq!(
+        rest.len(),
+        3,
+        "class {class:#x}: services, class and instance IDs"
+    );
     assert_eq!(rest[0], 0, "class {class:#x}: optional service list count");
     assert_eq!(rest[1], 7, "class {class:#x}: highest class attribute ID");
     // Each single Get gives the same value as Get_Attributes_All.
@@ -46,7 +50,11 @@ fn class_attributes(h: &mut Harness, class: u32) -> (u16, u16, u16, Vec<u16>, u1
             SegmentRepr::Logical(LogicalType::Attribute, id),
         ];
         let (g, _, single) = status(&h.request(0x0E, &path, &[]));
-        assert_eq!((g, u16s(&single)), (0, vec![value]), "class {class:#x} attribute {id}");
+        assert_eq!(
+            (g, u16s(&single)),
+            (0, vec![value]),
+            "class {class:#x} attribute {id}"
+        );
     }
     (revision, max, count, optional, rest[2])
 }
@@ -62,7 +70,10 @@ fn class_attributes_of_every_standard_object() {
         class_attributes(&mut h, 0x06),
         (1, 1, 1, (1..=8).collect(), 8)
     );
-    assert_eq!(class_attributes(&mut h, 0xF5), (4, 1, 1, vec![8, 9, 13], 13));
+    assert_eq!(
+        class_attributes(&mut h, 0xF5),
+        (4, 1, 1, vec![8, 9, 13], 13)
+    );
     assert_eq!(
         class_attributes(&mut h, 0xF6),
         (4, 1, 1, (4..=11).collect(), 11)
@@ -92,10 +103,7 @@ fn message_router_get_attributes_all() {
     let (g, data) = get_all(&mut h, 0x02, 1);
     assert_eq!(g, 0);
     // Object list (count, class IDs), then Number Available (the connection capacity).
-    assert_eq!(
-        u16s(&data),
-        vec![6, 0x01, 0x02, 0x04, 0x06, 0xF5, 0xF6, 10]
-    );
+    assert_eq!(u16s(&data), vec![6, 0x01, 0x02, 0x04, 0x06, 0xF5, 0xF6, 10]);
 }
 
 #[test]
@@ -123,7 +131,7 @@ fn tcp_ip_get_attributes_all() {
     want.extend_from_slice(&0x54u32.to_le_bytes()); // 2 DHCP, settable, change needs reset
     want.extend_from_slice(&0u32.to_le_bytes()); // 3 static
     want.extend_from_slice(&[2, 0, 0x20, 0xF6, 0x24, 0x01]); // 4 path to Ethernet Link 1
-    // 5: address, mask, gateway, name servers (UDINTs), domain name
+                                                             // 5: address, mask, gateway, name servers (UDINTs), domain name
     want.extend_from_slice(&u32::from_be_bytes([198, 18, 0, 2]).to_le_bytes());
     want.extend_from_slice(&0xFFFF_FF00u32.to_le_bytes());
     want.extend_from_slice(&[0; 12]);

@@ -88,7 +88,7 @@ impl<D: Device> Inner<D> {
             Ok(h) if h.options == 0 => h,
             _ => return 0,
         };
-        let len = match header.command {
+        match header.command {
             command::NOP => 0,
             command::LIST_IDENTITY if broadcast => {
                 let queued = self.delayed.schedule(
@@ -110,8 +110,7 @@ impl<D: Device> Inner<D> {
             command::LIST_SERVICES => list_services_reply(&header, reply),
             command::LIST_INTERFACES => list_interfaces_reply(&header, reply),
             _ => error_reply(&header, status::INVALID_COMMAND, reply),
-        };
-        len
+        }
     }
 
     /// Writes a ListIdentity reply; returns its length (0 if `out` is too small).
