@@ -1,8 +1,11 @@
 //! [`Counted`]: the board's driver as the link task uses it, counting every frame it receives
 //! and sends for the Ethernet Link object (attributes 4 and 5). Counting at the driver catches
 //! every frame whoever in the link task reads or writes it (Class 1, the network stack's, ARP,
-//! the layer-2 services); the link task hands the counts to the adapter once per wake-up
-//! ([`Counted::take`]), so each frame costs a few additions and no lock.
+//! the layer-2 services). Each frame costs a few additions and no lock: the link task hands
+//! the counts to the adapter ([`Counted::take`]) only at the end of a wake-up that leaves a
+//! frame for the network stack. Any request that reads them comes in such a frame, so it
+//! finds every frame up to its own counted, and a Class 1 cycle (its frames never go to the
+//! network stack) pays nothing more.
 
 use core::cell::RefCell;
 use core::task::Context;
@@ -29,10 +32,9 @@ impl<'d, D: Driver> Counted<'d, D> {
         }
     }
 
-    /// What was counted since the last call (`None`: nothing).
-    pub fn take(&self) -> Option<LinkCounters> {
-        let counted = core::mem::take(&mut *self.counts.borrow_mut());
-        (counted != LinkCounters::new()).then_some(counted)
+    /// What was counted since the last call.
+    pub fn take(&self) -> LinkCounters {
+        core::mem::take(&mut *self.counts.borrow_mut())
     }
 }
 

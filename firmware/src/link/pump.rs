@@ -36,8 +36,8 @@ pub async fn run<D: Driver>(mut driver: D, frames: &LinkFrames, io: &dyn IoPort)
     let mut driver = Counted::new(&mut driver, pump.mac);
     let never: Infallible = poll_fn(|cx| {
         pump.poll(cx, &mut driver, frames, io);
-        if let Some(counted) = driver.take() {
-            io.add_link_counters(&counted);
+        if !frames.rx.is_empty() {
+            io.add_link_counters(&driver.take());
         }
         Poll::Pending
     })

@@ -213,48 +213,17 @@ impl LinkCounters {
 
     /// Adds `other`'s counts (each counter wraps, as the attribute's UDINTs do).
     pub fn add(&mut self, other: &LinkCounters) {
-        let i = sum(self.interface.values(), other.interface.values());
-        let m = sum(self.media.values(), other.media.values());
-        let [in_octets, in_ucast, in_nucast, in_discards, in_errors, in_unknown_protos, out_octets, out_ucast, out_nucast, out_discards, out_errors] =
-            i;
-        self.interface = InterfaceCounters {
-            in_octets,
-            in_ucast,
-            in_nucast,
-            in_discards,
-            in_errors,
-            in_unknown_protos,
-            out_octets,
-            out_ucast,
-            out_nucast,
-            out_discards,
-            out_errors,
-        };
-        let [alignment_errors, fcs_errors, single_collisions, multiple_collisions, sqe_test_errors, deferred_transmissions, late_collisions, excessive_collisions, mac_transmit_errors, carrier_sense_errors, frame_too_long, mac_receive_errors] =
-            m;
-        self.media = MediaCounters {
-            alignment_errors,
-            fcs_errors,
-            single_collisions,
-            multiple_collisions,
-            sqe_test_errors,
-            deferred_transmissions,
-            late_collisions,
-            excessive_collisions,
-            mac_transmit_errors,
-            carrier_sense_errors,
-            frame_too_long,
-            mac_receive_errors,
-        };
+        macro_rules! add {
+            ($set:ident: $($field:ident),*) => {
+                $(self.$set.$field = self.$set.$field.wrapping_add(other.$set.$field);)*
+            };
+        }
+        add!(interface: in_octets, in_ucast, in_nucast, in_discards, in_errors,
+            in_unknown_protos, out_octets, out_ucast, out_nucast, out_discards, out_errors);
+        add!(media: alignment_errors, fcs_errors, single_collisions, multiple_collisions,
+            sqe_test_errors, deferred_transmissions, late_collisions, excessive_collisions,
+            mac_transmit_errors, carrier_sense_errors, frame_too_long, mac_receive_errors);
     }
-}
-
-/// Element-wise wrapping sum.
-fn sum<const N: usize>(mut a: [u32; N], b: [u32; N]) -> [u32; N] {
-    for (x, y) in a.iter_mut().zip(b) {
-        *x = x.wrapping_add(y);
-    }
-    a
 }
 
 /// The octets a frame of `len` bytes (no FCS) takes on the wire, FCS included.
