@@ -10,6 +10,7 @@ use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::signal::Signal;
 use embassy_sync::waitqueue::WakerRegistration;
+use enip_stack::objects::LinkCounters;
 use enip_stack::{Adapter, Device, Instant, IoDue, NetworkConfig};
 use static_cell::StaticCell;
 
@@ -140,6 +141,10 @@ impl<D: Device> IoPort for SharedAdapter<D> {
 
     fn explicit_dscp(&self) -> u8 {
         with_adapter_quiet(self, |a| a.explicit_dscp())
+    }
+
+    fn add_link_counters(&self, counted: &LinkCounters) {
+        with_adapter_quiet(self, |a| a.add_link_counters(counted))
     }
 
     fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()> {

@@ -1,6 +1,6 @@
 """TCP/IP Interface object (class 0xF5) settings that survive a restart, with pycomm3: phase
-"set" sets attribute 5 (static interface configuration), 6 (host name) and 13 (inactivity
-timeout) and reads the status and configuration back; phase "check" (after a restart of the
+"set" sets attribute 5 (static interface configuration), 6 (host name), 8 (multicast TTL),
+9 (multicast configuration: 4 addresses from 239.192.3.0) and 13 (inactivity timeout) and reads the status and configuration back; phase "check" (after a restart of the
 board with the same --nv-file, at the new address) reads them again.
 
 Reads {"host", "phase", "ip", "mask", "gateway", "domain"} on stdin. Prints one JSON line.
@@ -37,7 +37,7 @@ def interface(ip, mask, gateway, domain):
 
 def read(driver):
     out = {}
-    for a in (1, 2, 5, 6, 13):
+    for a in (1, 2, 5, 6, 8, 9, 13):
         status, value = request(driver, GET, a)
         out[str(a)] = {"status": status, "value": value.hex()}
     return out
@@ -54,6 +54,9 @@ def main():
             out["set_bad_5"] = request(driver, SET, 5, bad)[0]
             out["set_5"] = request(driver, SET, 5, wanted)[0]
             out["set_6"] = request(driver, SET, 6, string("press-4"))[0]
+            out["set_8"] = request(driver, SET, 8, bytes([5]))[0]
+            mcast = bytes([1, 0]) + struct.pack("<H", 4) + udint("239.192.3.0")
+            out["set_9"] = request(driver, SET, 9, mcast)[0]
             out["set_13"] = request(driver, SET, 13, struct.pack("<H", 30))[0]
         out["read"] = read(driver)
     print(json.dumps(out))

@@ -251,7 +251,7 @@ fn ethernet_link_get_and_clear() {
         (
             "Get_and_Clear of a non-counter attribute",
             req_attr(0x4C, 0xF6, 1, 1, &[]),
-            0x14,
+            0x2E,
             None,
         ),
         (

@@ -4,6 +4,7 @@
 use core::net::SocketAddrV4;
 use core::task::{Context, Poll};
 
+use enip_stack::objects::LinkCounters;
 use enip_stack::{Instant, IoDue, NetworkConfig};
 
 use super::lldp::LldpPort;
@@ -29,6 +30,9 @@ pub trait IoPort: LldpPort + AcdPort {
     fn multicast_ttl(&self) -> u8;
     /// The DSCP of explicit messaging, TCP and UDP 44818 (`Adapter::explicit_dscp`).
     fn explicit_dscp(&self) -> u8;
+    /// Adds the frames the link task counted to the Ethernet Link object's counters
+    /// (`Adapter::add_link_counters`).
+    fn add_link_counters(&self, counted: &LinkCounters);
     /// Ready (once) when another task brought the deadline forward since the last call;
     /// otherwise wakes `cx` when one does.
     fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()>;

@@ -16,6 +16,8 @@
 //! The link task also runs Address Conflict Detection (`acd.rs`: RFC 5227 probes,
 //! announcements and defence of the interface address) and holds back the network stack's
 //! frames until the address has been probed.
+//! Every frame the driver receives or sends is counted for the Ethernet Link object
+//! (`counted`).
 //!
 //! So a Class 1 cycle wakes one task and touches neither smoltcp nor the socket futures of
 //! the explicit-messaging side, and the TCP/IP stack keeps ARP, ICMP, IGMP, DHCP, TCP and
@@ -23,6 +25,7 @@
 
 mod acd;
 mod checksum;
+mod counted;
 mod dscp;
 mod frame;
 mod frames;

@@ -21,6 +21,7 @@ use enip_stack::{Instant, IoDue, NetworkConfig};
 use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 
 use super::acd::{passes_unaddressed, Guard};
+use super::counted::Counted;
 use super::dscp;
 use super::frame::{self, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
 use super::frames::{LinkFrames, TX_FRAMES};
@@ -39,8 +40,12 @@ const RX_BURST: usize = 8;
 /// [`super::NetDriver`] given to embassy-net, `io` the adapter.
 pub async fn run<D: Driver>(mut driver: D, frames: &LinkFrames, io: &dyn IoPort) -> ! {
     let mut pump = Pump::new(&driver);
+    let mut driver = Counted::new(&mut driver, pump.mac);
     let never: Infallible = poll_fn(|cx| {
         pump.poll(cx, &mut driver, frames, io);
+        if !frames.rx.is_empty() {
+            io.add_link_counters(&driver.take());
+        }
         Poll::Pending
     })
     .await;

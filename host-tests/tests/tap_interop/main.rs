@@ -35,6 +35,7 @@ mod class3;
 mod common;
 mod concurrency;
 mod electronic_key;
+mod ethernet_link;
 mod example_io_block;
 mod explicit;
 mod fault_io;

@@ -1,5 +1,6 @@
 //! TCP/IP settings that survive a restart (`enip-host --nv-file`): pycomm3 sets a static
-//! interface configuration (attribute 5), host name (6) and inactivity timeout (13); the board
+//! interface configuration (attribute 5), host name (6), multicast TTL (8) and configuration
+//! (9) and inactivity timeout (13); the board
 //! restarted with the same file comes up at the address set and reads them back (script
 //! `host-tests/peers/tcpip_nv.py`).
 //!
@@ -48,10 +49,9 @@ fn tcpip_interface_configuration_survives_a_restart() {
     let rig = start("tcpip_nv_set", &["--nv-file", nv], BOARD_IP);
     let r = peer(&rig, BOARD_IP, "set");
     assert_eq!(r["set_bad_5"], 0x09, "{r}");
-    assert_eq!(
-        (&r["set_5"], &r["set_6"], &r["set_13"]),
-        (&json!(0), &json!(0), &json!(0))
-    );
+    for a in ["set_5", "set_6", "set_8", "set_9", "set_13"] {
+        assert_eq!(r[a], json!(0), "{a}: {r}");
+    }
     // Capability: DHCP, settable, change requires reset, ACD capable (the TAP board runs it,
     // skipped in this run by the rig's `--acd off`); status: configured, change pending.
     assert_eq!(r["read"]["2"]["value"], "d4000000", "{r}");
@@ -70,6 +70,8 @@ fn tcpip_interface_configuration_survives_a_restart() {
     assert_eq!(r["read"]["1"]["value"], "01000000", "{r}");
     assert_eq!(r["read"]["5"]["value"], r["expected_5"], "{r}");
     assert_eq!(r["read"]["6"]["value"], "070070726573732d3400", "{r}");
+    assert_eq!(r["read"]["8"]["value"], "05", "{r}");
+    assert_eq!(r["read"]["9"]["value"], "010004000003c0ef", "{r}");
     assert_eq!(r["read"]["13"]["value"], "1e00", "{r}");
     common::finish(rig);
 }

@@ -31,10 +31,8 @@ impl<D: Device> Inner<D> {
         now: Instant,
         reply: &mut [u8],
     ) -> TcpOutcome {
-        self.objects.link.count_in(frame.len(), true);
         if header.options != 0 {
             // Vol 2, 2-3.6: a frame with non-zero options is discarded.
-            self.objects.link.count_discard();
             return TcpOutcome::default();
         }
         let data = frame.get(HEADER_LEN..).unwrap_or(&[]);
@@ -69,9 +67,6 @@ impl<D: Device> Inner<D> {
             }
             _ => error_reply(header, status::INVALID_COMMAND, reply),
         };
-        if reply_len > 0 {
-            self.objects.link.count_out(reply_len);
-        }
         TcpOutcome {
             consumed: 0,
             reply_len,
@@ -89,15 +84,11 @@ impl<D: Device> Inner<D> {
         now: Instant,
         reply: &mut [u8],
     ) -> usize {
-        self.objects.link.count_in(datagram.len(), !broadcast);
         let header = match Packet::new_checked(datagram).and_then(|p| EncapRepr::parse(&p)) {
             Ok(h) if h.options == 0 => h,
-            _ => {
-                self.objects.link.count_discard();
-                return 0;
-            }
+            _ => return 0,
         };
-        let len = match header.command {
+        match header.command {
             command::NOP => 0,
             command::LIST_IDENTITY if broadcast => {
                 let queued = self.delayed.schedule(
@@ -119,11 +110,7 @@ impl<D: Device> Inner<D> {
             command::LIST_SERVICES => list_services_reply(&header, reply),
             command::LIST_INTERFACES => list_interfaces_reply(&header, reply),
             _ => error_reply(&header, status::INVALID_COMMAND, reply),
-        };
-        if len > 0 {
-            self.objects.link.count_out(len);
         }
-        len
     }
 
     /// Writes a ListIdentity reply; returns its length (0 if `out` is too small).
@@ -224,7 +211,6 @@ impl<D: Device> Inner<D> {
         out: &mut [u8],
     ) -> usize {
         let Some((o_t_id, sequence, request)) = connected_request(data) else {
-            self.objects.link.count_discard();
             return 0;
         };
         let Some(step) = explicit::lookup(
@@ -234,7 +220,6 @@ impl<D: Device> Inner<D> {
             sequence,
             now,
         ) else {
-            self.objects.link.count_discard();
             return 0;
         };
         let origin = Self::origin(session, None);

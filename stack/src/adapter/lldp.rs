@@ -36,7 +36,8 @@ impl<D: Device> Adapter<D> {
             Ok(pdu) => lldp.neighbors.receive(&pdu, lldpdu, now),
             Err(_) => {
                 lldp.discarded = lldp.discarded.wrapping_add(1);
-                self.inner.objects.link.count_discard();
+                let counted = &mut self.inner.objects.link.counters.interface.in_discards;
+                *counted = counted.wrapping_add(1);
             }
         }
     }

@@ -20,7 +20,7 @@ use crate::io::produce::{self, IoDue};
 use crate::io::ConnectionTable;
 use crate::net::NetworkConfig;
 use crate::nv::{NvError, NvStore};
-use crate::objects::{Ctx, ObjectState};
+use crate::objects::{Ctx, LinkCounters, ObjectState};
 use crate::rng::Rng;
 use crate::time::{Duration, Instant};
 use crate::wire::encap::{status, HEADER_LEN};
@@ -178,6 +178,11 @@ impl<D: Device> Adapter<D> {
         }
         self.inner.net = net;
     }
+    /// Adds the frames the runtime counted on the interface since its last call to the
+    /// Ethernet Link object's counters (attributes 4 and 5).
+    pub fn add_link_counters(&mut self, counted: &LinkCounters) {
+        self.inner.objects.link.counters.add(counted);
+    }
 
     /// A TCP connection from `peer` was accepted on `socket`.
     pub fn tcp_accept(&mut self, socket: SocketId, peer: SocketAddrV4, now: Instant) {
@@ -249,7 +254,6 @@ impl<D: Device> Adapter<D> {
                     "encapsulation length over capacity; closing socket {}",
                     socket.0
                 );
-                inner.objects.link.count_discard();
                 let mut w = crate::wire::Writer::new(reply);
                 let sent = header.reply(status::INVALID_LENGTH, 0).emit(&mut w);
                 TcpOutcome {
@@ -303,9 +307,8 @@ impl<D: Device> Adapter<D> {
     ) -> Result<Accepted, Discard> {
         let inner = &mut self.inner;
         let r = consume::consume(&mut inner.connections, &mut inner.device, from, data, now);
-        match r {
-            Ok(_) => inner.apply_input_changes(),
-            Err(_) => inner.objects.link.count_discard(),
+        if r.is_ok() {
+            inner.apply_input_changes();
         }
         r
     }

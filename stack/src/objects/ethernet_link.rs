@@ -1,5 +1,8 @@
-//! Ethernet Link object (class 0xF6): speed, flags, MAC address, counters, admin state.
+//! Ethernet Link object (class 0xF6): speed, flags, MAC address, the counters the runtime
+//! counts ([`super::link_counters`]), interface control, type, state, admin state, label and
+//! capability.
 
+use super::link_counters::{InterfaceCounters, LinkCounters, MediaCounters};
 use super::serve::{attribute_services, serve, Object};
 use super::Ctx;
 use crate::cip::encoding::short_string;
@@ -9,66 +12,19 @@ use crate::cip::{class_id, service, Request};
 use crate::device::Device;
 use crate::wire::Writer;
 
-/// Interface counters (attribute 4), as seen by the stack: encapsulation and I/O traffic.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct InterfaceCounters {
-    /// Octets received.
-    pub in_octets: u32,
-    /// Unicast packets received.
-    pub in_ucast: u32,
-    /// Broadcast and multicast packets received.
-    pub in_nucast: u32,
-    /// Inbound packets discarded (malformed or unwanted).
-    pub in_discards: u32,
-    /// Octets sent.
-    pub out_octets: u32,
-    /// Unicast packets sent.
-    pub out_ucast: u32,
-}
-
 /// Ethernet Link state kept by the stack.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct LinkState {
-    /// Counters since the last Get_and_Clear.
-    pub counters: InterfaceCounters,
-    /// Attribute 9: 1 enabled, 2 disabled.
-    pub admin_state: u8,
+    /// Attributes 4 and 5 since start or the last Get_And_Clear, as the runtime counted them.
+    pub counters: LinkCounters,
 }
 
 impl LinkState {
     /// Power-up state.
     pub const fn new() -> Self {
         LinkState {
-            counters: InterfaceCounters {
-                in_octets: 0,
-                in_ucast: 0,
-                in_nucast: 0,
-                in_discards: 0,
-                out_octets: 0,
-                out_ucast: 0,
-            },
-            admin_state: 1,
+            counters: LinkCounters::new(),
         }
-    }
-    /// Counts a received packet of `len` bytes.
-    pub fn count_in(&mut self, len: usize, unicast: bool) {
-        let c = &mut self.counters;
-        c.in_octets = c.in_octets.wrapping_add(len as u32);
-        if unicast {
-            c.in_ucast = c.in_ucast.wrapping_add(1);
-        } else {
-            c.in_nucast = c.in_nucast.wrapping_add(1);
-        }
-    }
-    /// Counts a discarded packet.
-    pub fn count_discard(&mut self) {
-        self.counters.in_discards = self.counters.in_discards.wrapping_add(1);
-    }
-    /// Counts a sent packet of `len` bytes.
-    pub fn count_out(&mut self, len: usize) {
-        let c = &mut self.counters;
-        c.out_octets = c.out_octets.wrapping_add(len as u32);
-        c.out_ucast = c.out_ucast.wrapping_add(1);
     }
 }
 
@@ -87,8 +43,27 @@ fn flags(link_up: bool) -> u32 {
     }
 }
 
-/// The Ethernet Link class: one instance, attributes 1-11; 9 (admin state) is settable, and
-/// Get_and_Clear reads and clears the counters (4) or reads the media counters (5).
+/// Interface Control bit 0: auto-negotiation enabled.
+const CONTROL_AUTONEGOTIATE: u16 = 1 << 0;
+/// Interface Control bit 1: forced full duplex.
+const CONTROL_FORCED_FULL_DUPLEX: u16 = 1 << 1;
+/// Interface Capability bit 1: auto-negotiation. Bits 0 (manual setting requires reset),
+/// 2 (auto-MDIX) and 3 (manual speed/duplex) are clear: no board's driver can force a speed.
+const CAPABILITY_AUTONEGOTIATE: u32 = 1 << 1;
+/// Interface Capability: the speed/duplex pairs auto-negotiation chooses from.
+const SPEED_DUPLEX: [(u16, u8); 4] = [(10, 0), (10, 1), (100, 0), (100, 1)];
+/// Interface Type: twisted pair.
+const TYPE_TWISTED_PAIR: u8 = 2;
+/// Admin State: enabled.
+const ADMIN_ENABLED: u8 = 1;
+/// Admin State: disabled.
+const ADMIN_DISABLED: u8 = 2;
+/// Interface Label of the one port.
+const LABEL: &[u8] = b"Port 1";
+
+/// The Ethernet Link class (revision 4): one instance, attributes 1-11; 6 (interface control)
+/// and 9 (admin state) settable within what the interface can do, and Get_And_Clear reads
+/// and clears the counters (4, 5).
 pub const CLASS: ClassDef = ClassDef {
     id: class_id::ETHERNET_LINK,
     name: "Ethernet Link",
@@ -100,12 +75,12 @@ pub const CLASS: ClassDef = ClassDef {
         AttributeDef::get(3, DataType::Bytes(6), "Physical Address"),
         AttributeDef::get(4, DataType::Bytes(44), "Interface Counters"),
         AttributeDef::get(5, DataType::Bytes(48), "Media Counters"),
-        AttributeDef::get(6, DataType::Bytes(4), "Interface Control"),
+        AttributeDef::get_set(6, DataType::Bytes(4), "Interface Control"),
         AttributeDef::get(7, DataType::Usint, "Interface Type"),
         AttributeDef::get(8, DataType::Usint, "Interface State"),
         AttributeDef::get_set(9, DataType::Usint, "Admin State"),
         AttributeDef::get(10, DataType::ShortString { max: 64 }, "Interface Label"),
-        AttributeDef::get(11, DataType::Bytes(11), "Interface Capability"),
+        AttributeDef::get(11, DataType::Bytes(17), "Interface Capability"),
     ],
     get_all: &[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11],
     optional_attributes: &[4, 5, 6, 7, 8, 9, 10, 11],
@@ -119,49 +94,66 @@ impl<D: Device> Object for Link<'_, '_, D> {
     }
     fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         let net = self.0.net;
-        let link = &self.0.state.link;
+        let counters = &self.0.state.link.counters;
         match attr.id {
             1 => w.u32(net.link_speed_mbps)?,
             2 => w.u32(flags(net.link_up))?,
             3 => w.bytes(&net.mac)?,
-            4 => {
-                let c = link.counters;
-                for v in [c.in_octets, c.in_ucast, c.in_nucast, c.in_discards, 0, 0] {
-                    w.u32(v)?;
-                }
-                for v in [c.out_octets, c.out_ucast, 0, 0, 0] {
-                    w.u32(v)?;
-                }
-            }
-            5 => w.zeros(12 * 4)?,
+            4 => counters
+                .interface
+                .values()
+                .iter()
+                .try_for_each(|v| w.u32(*v))?,
+            5 => counters.media.values().iter().try_for_each(|v| w.u32(*v))?,
             6 => {
-                w.u16(0x0001)?; // auto-negotiate
-                w.u16(0)?;
+                w.u16(CONTROL_AUTONEGOTIATE)?;
+                w.u16(0)?; // no forced speed
             }
-            7 => w.u8(2)?, // twisted pair
+            7 => w.u8(TYPE_TWISTED_PAIR)?,
             8 => w.u8(if net.link_up { 1 } else { 2 })?,
-            9 => w.u8(link.admin_state)?,
-            10 => short_string(w, b"Port 1")?,
+            9 => w.u8(ADMIN_ENABLED)?,
+            10 => short_string(w, LABEL)?,
             _ => {
-                w.u32(0x0000_0004)?; // auto-negotiate capable
-                w.u8(2)?;
-                w.u16(10)?;
-                w.u8(1)?;
-                w.u16(100)?;
-                w.u8(1)?;
+                w.u32(CAPABILITY_AUTONEGOTIATE)?;
+                w.u8(SPEED_DUPLEX.len() as u8)?;
+                for (speed, duplex) in SPEED_DUPLEX {
+                    w.u16(speed)?;
+                    w.u8(duplex)?;
+                }
             }
         }
         Ok(())
     }
 
-    fn set(&mut self, _instance: u32, _attr: &AttributeDef, value: &[u8]) -> CipResult {
-        // Attribute 9, the only settable one.
-        match value {
-            [v @ (1 | 2)] => {
-                self.0.state.link.admin_state = *v;
-                Ok(())
+    /// Attribute 6: auto-negotiation (with no forced duplex or speed) is the interface's one
+    /// setting; forcing with it on is 0x0C, reserved bits or a forced speed or duplex 0x09
+    /// (capability bit 3 is clear). Attribute 9: enabled; disabling the device's only port,
+    /// which would cut it off its network until a power cycle, is 0x09.
+    fn set(&mut self, _instance: u32, attr: &AttributeDef, value: &[u8]) -> CipResult {
+        let ok = match (attr.id, value) {
+            (6, [lo, hi, speed_lo, speed_hi]) => {
+                let bits = u16::from_le_bytes([*lo, *hi]);
+                let speed = u16::from_le_bytes([*speed_lo, *speed_hi]);
+                let forced = bits & CONTROL_FORCED_FULL_DUPLEX != 0 || speed != 0;
+                if bits & CONTROL_AUTONEGOTIATE != 0 && forced {
+                    return Err(General::ObjectStateConflict.into());
+                }
+                bits == CONTROL_AUTONEGOTIATE
             }
-            _ => Err(General::InvalidAttributeValue.into()),
+            (9, [v]) => match *v {
+                ADMIN_ENABLED => true,
+                ADMIN_DISABLED => {
+                    warn!("Ethernet Link: the only port cannot be disabled");
+                    false
+                }
+                _ => false,
+            },
+            _ => false,
+        };
+        if ok {
+            Ok(())
+        } else {
+            Err(General::InvalidAttributeValue.into())
         }
     }
 
@@ -176,7 +168,9 @@ impl<D: Device> Object for Link<'_, '_, D> {
     }
 }
 
-/// Get_and_Clear: Get_Attribute_Single of attribute 4 or 5, then attribute 4 cleared.
+/// Get_And_Clear: the value of attribute 4 or 5, as Get_Attribute_Single gives it, then that
+/// attribute cleared. Another attribute of the class is 0x2E (service not supported for the
+/// path), an unknown one 0x14, none 0x05.
 fn get_and_clear<D: Device>(
     link: &mut Link<'_, '_, D>,
     req: &Request<'_>,
@@ -184,19 +178,26 @@ fn get_and_clear<D: Device>(
 ) -> CipResult {
     let attr = req.path.attribute;
     if !matches!(attr, Some(4 | 5)) {
-        return Err(if attr.is_some() {
-            General::AttributeNotSupported.into()
-        } else {
-            General::PathDestinationUnknown.into()
-        });
+        let known = attr
+            .and_then(|a| u16::try_from(a).ok())
+            .and_then(|a| CLASS.attribute(a));
+        return Err(match (attr, known) {
+            (None, _) => General::PathDestinationUnknown,
+            (Some(_), Some(_)) => General::ServiceNotSupportedForPath,
+            (Some(_), None) => General::AttributeNotSupported,
+        }
+        .into());
     }
     let get = Request {
         service: service::GET_ATTRIBUTE_SINGLE,
         ..*req
     };
     attribute_services(link, 1, &get, w)?;
+    let counters = &mut link.0.state.link.counters;
     if attr == Some(4) {
-        link.0.state.link.counters = InterfaceCounters::default();
+        counters.interface = InterfaceCounters::default();
+    } else {
+        counters.media = MediaCounters::default();
     }
     Ok(())
 }

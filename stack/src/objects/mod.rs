@@ -8,6 +8,7 @@ pub(crate) mod assembly;
 pub(crate) mod connection_manager;
 pub(crate) mod ethernet_link;
 pub(crate) mod identity;
+pub mod link_counters;
 pub(crate) mod lldp_data_table;
 pub(crate) mod lldp_management;
 pub(crate) mod message_router;
@@ -20,6 +21,7 @@ pub(crate) mod vendor;
 
 pub use connection_manager::Counters as ConnectionManagerCounters;
 pub use ethernet_link::LinkState;
+pub use link_counters::{InterfaceCounters, LinkCounters, MediaCounters};
 pub use lldp_data_table::{Neighbor, NeighborTable};
 pub use lldp_management::{LldpConfig, LldpDue, LldpState};
 pub use qos::{Dscp, QosState};
