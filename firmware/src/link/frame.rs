@@ -7,6 +7,7 @@
 use core::net::{Ipv4Addr, SocketAddrV4};
 use core::ops::Range;
 
+use embassy_net_driver::TxToken;
 use enip_stack::config::IO_PORT;
 use smoltcp::phy::ChecksumCapabilities;
 
@@ -232,6 +233,21 @@ pub(crate) fn write_arp_request(
     }
     .emit(&mut arp);
     true
+}
+
+/// Sends a copy of `frame` through `tx`. Never inlined: the cold senders (the network
+/// stack's frames, LLDP, ACD, ARP requests) share one copy of the driver's transmit.
+#[inline(never)]
+pub(crate) fn send_copy<T: TxToken>(tx: T, frame: &[u8]) {
+    tx.consume(frame.len(), |out| copy(out, frame));
+}
+
+/// Copies `from` into `to` as far as both go.
+pub(crate) fn copy(to: &mut [u8], from: &[u8]) {
+    let n = to.len().min(from.len());
+    if let (Some(to), Some(from)) = (to.get_mut(..n), from.get(..n)) {
+        to.copy_from_slice(from);
+    }
 }
 
 #[cfg(test)]

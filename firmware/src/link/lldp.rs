@@ -10,6 +10,8 @@ use core::future::poll_fn;
 use core::task::{Context, Poll};
 
 use embassy_net_driver::{Driver, HardwareAddress, TxToken};
+
+use super::frame::{copy, send_copy};
 use enip_stack::adapter::MAX_LLDPDU;
 use enip_stack::wire::lldp::{ETHERTYPE, MULTICAST_MAC};
 use enip_stack::Instant;
@@ -72,7 +74,7 @@ pub(crate) fn service<D: Driver>(
     let len = write_frame(&mut frame, mac, |out| port.lldp_transmit(at, out));
     // Nothing after all (LLDP turned off meanwhile): the token goes unused.
     if let Some(bytes) = frame.get(..len).filter(|b| !b.is_empty()) {
-        tx.consume(bytes.len(), |out| copy(out, bytes));
+        send_copy(tx, bytes);
     }
     (port.lldp_deadline(), false)
 }
@@ -125,14 +127,6 @@ fn write_frame(
         &[d0, d1, d2, d3, d4, d5, s0, s1, s2, s3, s4, s5, t0, t1],
     );
     HEADER_LEN.saturating_add(len).max(MIN_FRAME)
-}
-
-/// Copies `from` into `to` as far as both go.
-fn copy(to: &mut [u8], from: &[u8]) {
-    let n = to.len().min(from.len());
-    if let (Some(to), Some(from)) = (to.get_mut(..n), from.get(..n)) {
-        to.copy_from_slice(from);
-    }
 }
 
 #[cfg(test)]

@@ -23,7 +23,7 @@ use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 use super::acd::{passes_unaddressed, Guard};
 use super::counted::Counted;
 use super::dscp;
-use super::frame::{self, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
+use super::frame::{self, copy, send_copy, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
 use super::frames::{LinkFrames, TX_FRAMES};
 use super::io_port::IoPort;
 use super::lldp;
@@ -200,8 +200,9 @@ impl Pump {
         };
         match driver.transmit(cx) {
             Some(tx) => {
-                let (mac, ip) = (self.mac, self.guard.ip());
-                tx.consume(ARP_FRAME_LEN, |buf| arp.write(mac, ip, buf));
+                let mut frame = [0u8; ARP_FRAME_LEN];
+                arp.write(self.mac, self.guard.ip(), &mut frame);
+                send_copy(tx, &frame);
             }
             None => self.guard.put_back(arp),
         }
@@ -233,7 +234,7 @@ impl Pump {
             let _ = frames.tx.pop(|frame| {
                 if usable || passes_unaddressed(frame) {
                     dscp::mark_explicit(frame, dscp, sums);
-                    tx.consume(frame.len(), |out| copy(out, frame));
+                    send_copy(tx, frame);
                 }
             });
             sent = true;
@@ -279,10 +280,9 @@ impl Pump {
                 // Nobody to send it to yet: dropped, and the next hop asked for by ARP.
                 io.write(due, at, None);
                 if self.neighbors.may_ask(at) {
-                    let from = (self.mac, me.ip);
-                    tx.consume(ARP_REQUEST_LEN, |buf| {
-                        frame::write_arp_request(buf, from, hop)
-                    });
+                    let mut request = [0u8; ARP_REQUEST_LEN];
+                    frame::write_arp_request(&mut request, (self.mac, me.ip), hop);
+                    send_copy(tx, &request);
                 }
                 continue;
             };
@@ -356,14 +356,6 @@ impl Pump {
 #[inline(never)]
 fn consume(io: &dyn IoPort, from: SocketAddrV4, data: &[u8], at: Instant) {
     io.receive(from, data, at);
-}
-
-/// Copies `from` into `to` as far as both go.
-fn copy(to: &mut [u8], from: &[u8]) {
-    let n = to.len().min(from.len());
-    if let (Some(to), Some(from)) = (to.get_mut(..n), from.get(..n)) {
-        to.copy_from_slice(from);
-    }
 }
 
 /// What software does about a checksum the driver does `hardware` about.
