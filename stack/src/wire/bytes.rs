@@ -128,7 +128,9 @@ impl<'a> Writer<'a> {
             None => Err(Error::Exhausted),
         }
     }
-    /// Appends bytes.
+    /// Appends bytes. Never inlined: the encoders' many small writes share one copy
+    /// (the Class 1 path writes its header through [`Self::reserve`], which stays inlined).
+    #[inline(never)]
     pub fn bytes(&mut self, b: &[u8]) -> Result<()> {
         self.reserve(b.len())?.copy_from_slice(b);
         Ok(())
