@@ -71,24 +71,37 @@ pub fn with_adapter<D: Device, R>(
     shared: &SharedAdapter<D>,
     f: impl FnOnce(&mut Adapter<D>) -> R,
 ) -> R {
-    let (r, moved, regrouped) = shared.adapter.lock(|cell| {
-        let mut a = cell.borrow_mut();
-        let (deadline, group) = (link_deadline(&a), a.multicast_group());
-        let r = f(&mut a);
-        (
-            r,
-            earlier(link_deadline(&a), deadline),
-            a.multicast_group() != group,
-        )
-    });
-    if moved {
-        shared.io_moved.set(true);
-        shared.io_waker.borrow_mut().wake();
-    }
-    if regrouped {
-        shared.membership.signal(());
-    }
+    let before = shared.watch();
+    let r = with_adapter_quiet(shared, f);
+    shared.notice(before);
     r
+}
+
+/// What [`with_adapter`] compares before and after its call: the link task's deadline and
+/// the multicast group.
+type Watched = (Option<Instant>, Option<core::net::Ipv4Addr>);
+
+impl<D: Device> SharedAdapter<D> {
+    /// What [`with_adapter`] watches, now. Never inlined, nor [`Self::notice`]: one copy for
+    /// every caller of `with_adapter` (a closure each), none on the Class 1 path.
+    #[inline(never)]
+    fn watch(&self) -> Watched {
+        with_adapter_quiet(self, |a| (link_deadline(a), a.multicast_group()))
+    }
+
+    /// Wakes the link task if the deadline came forward since `before`, and signals a
+    /// changed multicast group.
+    #[inline(never)]
+    fn notice(&self, before: Watched) {
+        let (deadline, group) = self.watch();
+        if earlier(deadline, before.0) {
+            self.io_moved.set(true);
+            self.io_waker.borrow_mut().wake();
+        }
+        if group != before.1 {
+            self.membership.signal(());
+        }
+    }
 }
 
 /// Like [`with_adapter`] without the wake-ups: for the link task and the indicators.
