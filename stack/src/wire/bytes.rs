@@ -136,14 +136,17 @@ impl<'a> Writer<'a> {
         Ok(())
     }
     /// Appends one byte.
+    #[inline(never)]
     pub fn u8(&mut self, v: u8) -> Result<()> {
         self.bytes(&[v])
     }
     /// Appends a little-endian `u16`.
+    #[inline(never)]
     pub fn u16(&mut self, v: u16) -> Result<()> {
         self.bytes(&v.to_le_bytes())
     }
     /// Appends a little-endian `u32`.
+    #[inline(never)]
     pub fn u32(&mut self, v: u32) -> Result<()> {
         self.bytes(&v.to_le_bytes())
     }
