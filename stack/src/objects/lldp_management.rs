@@ -166,7 +166,9 @@ impl LldpState {
     }
 
     /// The local information changed: an LLDPDU goes out soon (a second after the last one
-    /// at the earliest).
+    /// at the earliest). Never inlined: called from several objects, never on the Class 1
+    /// path.
+    #[inline(never)]
     pub fn local_changed(&mut self) {
         let soon = self.last_tx.map_or(Instant(0), |t| t.add(CHANGE_SPACING));
         self.next_tx = self.next_tx.min(soon);
