@@ -140,7 +140,12 @@ fn measure(elf: &str) -> Result<Image> {
 /// the HAL and runtime crates, `core` with the compiler builtins, or the rest (the board's
 /// own code and anonymous constants).
 fn owner(symbol: &str) -> String {
-    if symbol.contains("TaskStorage<F>::poll") || symbol.contains("embassy_futures::") {
+    // A board's `run` future holds the firmware's when LLVM does not outline it into the
+    // executor's poll.
+    if symbol.contains("TaskStorage<F>::poll")
+        || symbol.contains("embassy_futures::")
+        || symbol.ends_with("::run::{{closure}}")
+    {
         return "tasks (inlined futures)".to_string();
     }
     let path = symbol.trim_start_matches(['<', '&', '_']);
@@ -227,6 +232,10 @@ mod tests {
         assert_eq!(owner("core::fmt::write"), "core+builtins");
         assert_eq!(
             owner("embassy_executor::raw::TaskStorage<F>::poll"),
+            "tasks (inlined futures)"
+        );
+        assert_eq!(
+            owner("enip_nucleo_f767zi::run::{{closure}}"),
             "tasks (inlined futures)"
         );
         assert_eq!(
