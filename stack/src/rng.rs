@@ -22,7 +22,9 @@ impl Rng {
         self.0 = x;
         x.wrapping_mul(0x2545_F491_4F6C_DD1D)
     }
-    /// A value in `0..=max`.
+    /// A value in `0..=max`. Never inlined: its 64-bit remainder is wanted only by the
+    /// cold callers (ACD's random delays, List_Identity's reply delay).
+    #[inline(never)]
     pub fn below_or_equal(&mut self, max: u64) -> u64 {
         match max.checked_add(1) {
             Some(m) => self.next_u64().checked_rem(m).unwrap_or(0),
