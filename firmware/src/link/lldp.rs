@@ -48,10 +48,13 @@ pub(crate) fn lldpdu(frame: &[u8]) -> Option<&[u8]> {
     (*to == MULTICAST_MAC && kind == ETHERTYPE.to_be_bytes()).then_some(payload)
 }
 
-/// Sends the LLDPDU due at `at` from `mac` if the link is up. Returns when LLDP next needs
-/// the link task (`None`: never, the link being down or LLDP off; the link coming up or a
-/// change of settings wakes it), and whether an LLDPDU waits for the driver's room (whose
-/// wake-up then brings the link task back).
+/// Sends the LLDPDU due at `at` from `mac` if the link is up; true if one waits for the
+/// driver's room (whose wake-up then brings the link task back). `next` is the link task's
+/// copy of the adapter's LLDP deadline (`None`: LLDP off), asked for again only when `stale`
+/// (the link came up, or the stack sent frames, which may answer a request that changed the
+/// LLDP settings or the host name), when it came due, and after a send: the adapter's lock
+/// stays off the wake-ups of Class 1.
+#[allow(clippy::too_many_arguments)] // the link task's state, borrowed apart
 pub(crate) fn service<D: Driver>(
     cx: &mut Context<'_>,
     driver: &mut D,
@@ -59,24 +62,28 @@ pub(crate) fn service<D: Driver>(
     mac: [u8; 6],
     link_up: bool,
     at: Instant,
-) -> (Option<Instant>, bool) {
+    next: &mut Option<Instant>,
+    stale: bool,
+) -> bool {
     if !link_up {
-        return (None, false);
+        return false;
     }
-    let deadline = port.lldp_deadline();
-    if deadline.is_none_or(|d| d > at) {
-        return (deadline, false);
+    if stale || next.is_some_and(|d| d <= at) {
+        *next = port.lldp_deadline();
+    }
+    if next.is_none_or(|d| d > at) {
+        return false;
     }
     let Some(tx) = driver.transmit(cx) else {
-        return (deadline, true);
+        return true;
     };
     let mut frame = [0u8; FRAME_MAX];
     let len = write_frame(&mut frame, mac, |out| port.lldp_transmit(at, out));
-    // Nothing after all (LLDP turned off meanwhile): the token goes unused.
     if let Some(bytes) = frame.get(..len).filter(|b| !b.is_empty()) {
         send_copy(tx, bytes);
     }
-    (port.lldp_deadline(), false)
+    *next = port.lldp_deadline();
+    false
 }
 
 /// Sends the shutdown LLDPDU (TTL 0) through `driver` if LLDP transmits, waiting for the

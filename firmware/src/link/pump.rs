@@ -64,6 +64,10 @@ struct Pump {
     timer: Option<(Instant, Timer)>,
     /// A T->O datagram is due but the driver had no room: its wake-up comes from the driver.
     blocked: bool,
+    /// The adapter's LLDP deadline as last asked (`lldp::service`).
+    lldp_next: Option<Instant>,
+    /// The LLDP deadline may have moved: asked again at the next pass.
+    lldp_stale: bool,
 }
 
 impl Pump {
@@ -88,6 +92,8 @@ impl Pump {
             guard: Guard::new(mac, seed),
             timer: None,
             blocked: false,
+            lldp_next: None,
+            lldp_stale: true,
         }
     }
 
@@ -101,25 +107,32 @@ impl Pump {
         io: &dyn IoPort,
     ) {
         let link = driver.link_state(cx);
-        if link == LinkState::Up && frames.link_state() != LinkState::Up {
+        let up = link == LinkState::Up;
+        if up && frames.link_state() != LinkState::Up {
             io.lldp_link_up();
+            self.lldp_stale = true;
         }
         frames.set_link_state(link);
         let me = io.interface();
-        self.guard.follow(me.ip, io, now());
-        self.guard.link(link == LinkState::Up, now());
+        let mut at = now();
+        self.guard.follow(me.ip, io, at);
+        self.guard.link(up, at);
         // Each pass handles what is ready; another runs only if the driver had more to read
         // than a burst or a production came due meanwhile (an input the O->T data changed).
         let mut settled = false;
-        for _ in 0..PASSES {
-            let at = now();
+        for pass in 0..PASSES {
+            if pass > 0 {
+                at = now();
+            }
             let more_frames = self.receive(cx, driver, frames, io, &me, at);
             self.send_acd_frame(cx, driver, at);
-            self.send_stack_frames(cx, driver, frames, io);
+            // The stack's frames may answer a request that moved the LLDP deadline.
+            self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
             self.produce(cx, driver, io, &me, at);
-            let up = link == LinkState::Up;
-            let (lldp, blocked) = lldp::service(cx, driver, io, self.mac, up, at);
-            self.blocked |= blocked;
+            let stale = core::mem::take(&mut self.lldp_stale);
+            let next = &mut self.lldp_next;
+            self.blocked |= lldp::service(cx, driver, io, self.mac, up, at, next, stale);
+            let lldp = self.lldp_next.filter(|_| up);
             let deadline = earliest(earliest(io.deadline(), lldp), self.guard.deadline(at));
             settled = !more_frames && self.sleep_until(deadline, at, cx);
             if settled {
@@ -209,16 +222,16 @@ impl Pump {
     }
 
     /// Sends the frames the stack queued, explicit messaging marked with its DSCP; drops them
-    /// while the address may not be used (but those of a DHCP client).
+    /// while the address may not be used (but those of a DHCP client). True if it sent any.
     fn send_stack_frames<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
         driver: &mut D,
         frames: &LinkFrames,
         io: &dyn IoPort,
-    ) {
+    ) -> bool {
         if frames.tx.is_empty() {
-            return;
+            return false;
         }
         let dscp = io.explicit_dscp();
         let sums = &self.sums;
@@ -242,6 +255,7 @@ impl Pump {
         if sent {
             frames.wake_stack();
         }
+        sent
     }
 
     /// Sends (or drops) every T->O datagram due at `at`.
