@@ -110,15 +110,7 @@ impl AcdSettings {
 
     /// The settings in `store`; `None` if there are none or they are unreadable.
     pub fn stored(store: &mut dyn NvStore) -> Result<Option<AcdSettings>, NvError> {
-        let mut buf = [0u8; RECORD_LEN];
-        let Some(len) = store.read(key::ACD, &mut buf)? else {
-            return Ok(None);
-        };
-        let decoded = buf.get(..len).and_then(Self::decode);
-        if decoded.is_none() {
-            warn!("stored ACD settings unreadable; factory defaults hold");
-        }
-        Ok(decoded)
+        crate::nv::read_decoded::<RECORD_LEN, _>(store, key::ACD, "ACD", Self::decode)
     }
 
     /// Stores them in `store`.

@@ -94,5 +94,24 @@ pub trait NvStore {
     fn abandon(&mut self);
 }
 
+/// Record `key` of `store` read into a buffer of `N` bytes and decoded: `None` if there is
+/// none, or if it does not decode (logged as `what`'s settings, whose defaults then hold).
+pub(crate) fn read_decoded<const N: usize, T>(
+    store: &mut dyn NvStore,
+    key: u16,
+    what: &str,
+    decode: impl FnOnce(&[u8]) -> Option<T>,
+) -> Result<Option<T>, NvError> {
+    let mut buf = [0u8; N];
+    let Some(len) = store.read(key, &mut buf)? else {
+        return Ok(None);
+    };
+    let decoded = buf.get(..len).and_then(decode);
+    if decoded.is_none() {
+        warn!("stored {} settings unreadable; factory defaults hold", what);
+    }
+    Ok(decoded)
+}
+
 #[cfg(test)]
 mod power_cut;

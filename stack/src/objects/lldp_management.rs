@@ -82,15 +82,7 @@ impl LldpConfig {
 
     /// The settings stored in `store`; `None` if there are none or they are unreadable.
     pub fn stored(store: &mut dyn NvStore) -> Result<Option<LldpConfig>, NvError> {
-        let mut buf = [0u8; RECORD_MAX];
-        let Some(len) = store.read(key::LLDP, &mut buf)? else {
-            return Ok(None);
-        };
-        let decoded = buf.get(..len).and_then(decode);
-        if decoded.is_none() {
-            warn!("stored LLDP settings unreadable; factory defaults hold");
-        }
-        Ok(decoded)
+        crate::nv::read_decoded::<RECORD_MAX, _>(store, key::LLDP, "LLDP", decode)
     }
 
     /// Stores the settings in `store`.

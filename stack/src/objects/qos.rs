@@ -101,15 +101,7 @@ impl QosState {
     /// The settings stored in `store`, configured and in use (as at a start); `None` if there
     /// are none or they are unreadable (logged; the defaults hold).
     pub fn stored(store: &mut dyn NvStore) -> Result<Option<QosState>, NvError> {
-        let mut buf = [0u8; RECORD_LEN];
-        let Some(len) = store.read(key::QOS, &mut buf)? else {
-            return Ok(None);
-        };
-        let state = buf.get(..len).and_then(decode);
-        if state.is_none() {
-            warn!("stored QoS settings unreadable; factory defaults hold");
-        }
-        Ok(state)
+        crate::nv::read_decoded::<RECORD_LEN, _>(store, key::QOS, "QoS", decode)
     }
 
     /// Stores attribute 1 and the configured DSCP values in `store`.
