@@ -77,7 +77,15 @@ impl<D: Device> Object for Assembly<'_, '_, D> {
         if self.0.connections.owned_outputs().contains(&info.instance) {
             return Err(General::DeviceStateConflict.into());
         }
-        self.0.device.write_assembly(info.instance, value)
+        // A device refuses bad configuration data one way for both paths: a connection
+        // failure, which a Forward_Open replies as given and a Set as an invalid value.
+        self.0
+            .device
+            .write_assembly(info.instance, value)
+            .map_err(|e| match e.general {
+                General::ConnectionFailure => General::InvalidAttributeValue.into(),
+                _ => e,
+            })
     }
 }
 
