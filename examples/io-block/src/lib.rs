@@ -384,7 +384,11 @@ mod tests {
             let n = adapter.execute(&req, Instant(0), &mut reply);
             (reply[2], n)
         };
-        assert_eq!(set(&mut adapter, [200, 1, 0, 0]), (0x09, 4), "invalid value, no additional words");
+        assert_eq!(
+            set(&mut adapter, [200, 1, 0, 0]),
+            (0x09, 4),
+            "invalid value, no additional words"
+        );
         assert_eq!(adapter.device().config(), Config::default());
         assert_eq!(set(&mut adapter, [10, 1, 0, 0]), (0x00, 4));
         assert_eq!(adapter.device().config().filter_ms, 10);
