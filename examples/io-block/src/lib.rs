@@ -20,6 +20,10 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+mod eds;
+
+pub use eds::EDS;
+
 use enip_stack::cip::context::RequestContext;
 use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General, Request};
