@@ -118,7 +118,7 @@ pub fn run_all() -> bool {
             },
         ) && steps.run(
             "an own device from a project of its own (README snippet, --eds)",
-            || crate::own_device::run_check(),
+            crate::own_device::run_check,
         );
     for board in &cross_crates {
         ok = ok

@@ -44,7 +44,9 @@ impl Command {
                 None => false,
             };
             if !taken {
-                return Err(format!("--eds takes no {flag} (only the device's own options)"));
+                return Err(format!(
+                    "--eds takes no {flag} (only the device's own options)"
+                ));
             }
         }
         Ok(Command::Eds)
@@ -132,7 +134,10 @@ mod tests {
             parse(&["--tap", "t", "--ip", "198.18.0.2/24"]),
             Ok(Command::Run(_))
         ));
-        assert!(matches!(parse(&["--bind", "198.18.0.2"]), Ok(Command::Run(_))));
+        assert!(matches!(
+            parse(&["--bind", "198.18.0.2"]),
+            Ok(Command::Run(_))
+        ));
         assert_eq!(parse(&["-h"]), Ok(Command::Help));
     }
 }

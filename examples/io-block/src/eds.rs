@@ -30,8 +30,7 @@ pub const EDS: EdsInfo<'static> = EdsInfo {
         Param::new("Input filter", DataType::Usint, 0, 100, 0).units("ms"),
         Param::new("Safe-state mode", DataType::Usint, 0, 1, 0)
             .help("0: apply the safe-state outputs, 1: hold the last outputs"),
-        Param::new("Safe-state outputs", DataType::Word, 0, 0xFFFF, 0)
-            .help("bit n: channel n"),
+        Param::new("Safe-state outputs", DataType::Word, 0, 0xFFFF, 0).help("bit n: channel n"),
         Param::new("Channel 1 debounce", DataType::Usint, 0, 100, 0)
             .units("ms")
             .attribute(CHANNEL_CLASS, 1, 1),
