@@ -134,7 +134,9 @@ fn example_io_block_on_the_tap() {
     assert!(accepted);
     let log = rig.board_log();
     assert!(
-        log.contains("refused: general status 0x01, extended 0x0110, 0x0000"),
+        log.contains(
+            "refused: the device refused the configuration (general status 0x01, extended 0x0110, 0x0000)"
+        ),
         "the refusal is logged with every additional status word: {log}"
     );
     common::finish(rig);
