@@ -79,13 +79,13 @@ impl<D: Device> Object for Assembly<'_, '_, D> {
         }
         // A device refuses bad configuration data one way for both paths: a connection
         // failure, which a Forward_Open replies as given and a Set as an invalid value.
-        self.0
-            .device
-            .write_assembly(info.instance, value)
-            .map_err(|e| match e.general {
-                General::ConnectionFailure => General::InvalidAttributeValue.into(),
-                _ => e,
-            })
+        let mut written = self.0.device.write_assembly(info.instance, value);
+        if let Err(e) = &mut written {
+            if e.general == General::ConnectionFailure {
+                *e = General::InvalidAttributeValue.into();
+            }
+        }
+        written
     }
 }
 
