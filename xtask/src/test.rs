@@ -10,6 +10,20 @@ use crate::{boards, footprint, fuzz, setup, smoke};
 const FUZZ_SECONDS: u64 = 5;
 /// The published crate whose `rust-version` the run builds with.
 const PUBLISHED: &str = "enip-stack";
+/// Every crate a device author needs: the `no_std` ones and the Linux host board's.
+const PUBLISHED_CRATES: [&str; 5] = [
+    "enip-stack",
+    "enip-firmware",
+    "enip-profiles",
+    "enip-host-runtime",
+    "enip-host",
+];
+
+/// `-p NAME` for each of `names`.
+fn packages<'a>(names: &[&'a str]) -> Vec<&'a str> {
+    names.iter().flat_map(|n| ["-p", n]).collect()
+}
+
 /// The TAP interop test file (written by the host-tests owners).
 const TAP_INTEROP: &str = "host-tests/tests/tap_interop/main.rs";
 
@@ -91,30 +105,12 @@ pub fn run_all() -> bool {
                     rustup
                 };
                 build.args(["build", "--target", setup::THUMB_TARGET]);
-                run(build.args([
-                    "-p",
-                    "enip-stack",
-                    "-p",
-                    "enip-firmware",
-                    "-p",
-                    "enip-profiles",
-                ]))?;
+                run(build.args(packages(&no_std)))?;
                 forget_packaged_crates();
-                cargo(&[
-                    "publish",
-                    "--dry-run",
-                    "--allow-dirty",
-                    "-p",
-                    "enip-stack",
-                    "-p",
-                    "enip-firmware",
-                    "-p",
-                    "enip-profiles",
-                    "-p",
-                    "enip-host-runtime",
-                    "-p",
-                    "enip-host",
-                ])
+                // Each packaged and verified in dependency order, against the others'
+                // packages (cargo's local registry of the dry run), none from crates.io.
+                let publish = ["publish", "--dry-run", "--allow-dirty"];
+                cargo(&[&publish[..], &packages(&PUBLISHED_CRATES)].concat())
             },
         ) && steps.run(
             "an own device from a project of its own (README snippet, --eds)",
