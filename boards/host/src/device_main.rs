@@ -28,6 +28,13 @@ impl Command {
         mut extra: impl FnMut(&str, String) -> Result<bool, String>,
     ) -> Result<Command, String> {
         let args: Vec<String> = args.collect();
+        if args.is_empty() {
+            return Err(
+                "say where to run (--tap IFNAME --ip A.B.C.D/LEN, or --bind \
+                        A.B.C.D) or ask for the EDS (--eds)"
+                    .into(),
+            );
+        }
         if !args.iter().any(|a| a == "--eds") {
             return Ok(match Options::parse(args.into_iter(), extra)? {
                 Parsed::Run(options) => Command::Run(options),
