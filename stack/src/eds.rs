@@ -399,6 +399,69 @@ impl fmt::Display for Point {
 mod tests {
     use super::*;
 
+    /// One configuration assembly of `size` bytes.
+    struct Config(AssemblyInfo);
+
+    impl Device for Config {
+        fn identity(&self) -> &crate::IdentityInfo {
+            &crate::IdentityInfo {
+                vendor_id: 1,
+                device_type: 0,
+                product_code: 1,
+                revision: (1, 1),
+                serial_number: 1,
+                product_name: "c",
+            }
+        }
+        fn assemblies(&self) -> &[AssemblyInfo] {
+            core::slice::from_ref(&self.0)
+        }
+        fn read_assembly(&mut self, _: u16, out: &mut [u8]) -> crate::cip::CipResult<usize> {
+            Ok(out.len())
+        }
+        fn write_assembly(&mut self, _: u16, _: &[u8]) -> crate::cip::CipResult {
+            Ok(())
+        }
+    }
+
+    /// The `Assem` line of a configuration assembly of `size` bytes, laid out as one
+    /// USINT parameter and 8 bits.
+    fn assem(size: u16) -> heapless::String<128> {
+        const PARAMS: [Param<'static>; 1] = [Param::new(
+            "a",
+            crate::cip::object::DataType::Usint,
+            0,
+            1,
+            0,
+        )];
+        let info = EdsInfo {
+            member_bits: 8,
+            layouts: &[Layout {
+                instance: 151,
+                members: &[Member::Param(0), Member::Bits(8)],
+            }],
+            params: &PARAMS,
+            ..EdsInfo::DEFAULT
+        };
+        let device = Config(AssemblyInfo {
+            instance: 151,
+            role: AssemblyRole::Config,
+            size,
+            run_idle_header: false,
+        });
+        let mut s = heapless::String::<2048>::new();
+        write_eds(&mut s, &device, &info).unwrap();
+        let line = s.lines().find(|l| l.contains("Assem151 =")).unwrap_or("");
+        heapless::String::try_from(line).unwrap()
+    }
+
+    #[test]
+    fn a_layout_is_used_only_when_it_fits_the_current_size() {
+        assert!(assem(2).ends_with("2, 0x0000, , , 8, Param2, 8, ;"));
+        // Three bytes now: the layout describes two, so the default applies.
+        assert!(assem(3).ends_with("3, 0x0000, , , 8, , 8, , 8, ;"));
+    }
+
     #[test]
     fn points_are_8_or_16_bit() {
         let mut s = heapless::String::<32>::new();

@@ -126,3 +126,32 @@ pub struct Layout<'a> {
 pub(super) const fn number(index: usize) -> usize {
     index.saturating_add(2)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(p: &Param<'_>) -> Result<heapless::String<256>, fmt::Error> {
+        let mut s = heapless::String::new();
+        p.write(&mut s, 7).map(|()| s)
+    }
+
+    #[test]
+    fn a_vendor_attribute_links_by_its_path() {
+        let p = Param::new("Gain", DataType::Int, -5, 5, 1)
+            .attribute(0x0300, 2, 9)
+            .read_only();
+        assert_eq!(
+            line(&p).unwrap(),
+            "        Param7 = 0, 8, \"21 00 00 03 24 02 30 09\", 0x0010, 0xC3, 2, \"Gain\", \"\", \
+             \"\", -5, 5, 1, , , , , , , , , ;\n"
+        );
+    }
+
+    #[test]
+    fn a_type_without_a_fixed_size_is_refused() {
+        let p = Param::new("Name", DataType::ShortString { max: 8 }, 0, 0, 0);
+        assert_eq!(line(&p), Err(fmt::Error));
+        assert_eq!(p.bits(), None);
+    }
+}
