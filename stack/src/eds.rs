@@ -6,10 +6,65 @@
 //! `String`, a device could serve it from a buffer. The file declares every connection a
 //! scanner can open: each output assembly with each input assembly (exclusive owner), and
 //! each input-only and listen-only heartbeat point with each input assembly.
+//!
+//! A device's parameters ([`Param`]: the fields of its configuration assembly, the
+//! attributes of its vendor classes) go to `[Params]` after the RPI (`Param1`), numbered
+//! from `Param2` in the order of [`EdsInfo::params`]; an assembly's [`Layout`] refers to them
+//! as its members, so a tool can show and edit configuration data field by field.
+//!
+//! ```
+//! use enip_stack::cip::object::DataType;
+//! use enip_stack::eds::{write_eds, EdsInfo, Layout, Member, Param};
+//! # use enip_stack::cip::CipResult;
+//! # use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
+//! # struct Analog;
+//! # const ID: IdentityInfo = IdentityInfo { vendor_id: 0xFFFF, device_type: 0x0A,
+//! #     product_code: 4, revision: (1, 0), serial_number: 1, product_name: "analog 4/2" };
+//! # impl Device for Analog {
+//! #     fn identity(&self) -> &IdentityInfo { &ID }
+//! #     fn assemblies(&self) -> &[AssemblyInfo] { &[
+//! #         AssemblyInfo { instance: 100, role: AssemblyRole::Input, size: 8, run_idle_header: false },
+//! #         AssemblyInfo { instance: 150, role: AssemblyRole::Output, size: 4, run_idle_header: true },
+//! #         AssemblyInfo { instance: 151, role: AssemblyRole::Config, size: 4, run_idle_header: false },
+//! #     ] }
+//! #     fn read_assembly(&mut self, _: u16, out: &mut [u8]) -> CipResult<usize> { Ok(out.len()) }
+//! #     fn write_assembly(&mut self, _: u16, _: &[u8]) -> CipResult { Ok(()) }
+//! # }
+//!
+//! /// Configuration 151: filter (USINT, ms), range (USINT), offset (INT); class 0x70
+//! /// attribute 1 of each channel is its scale (INT).
+//! pub const EDS: EdsInfo<'static> = EdsInfo {
+//!     description: "4 analog inputs, 2 analog outputs",
+//!     vendor_name: "Example Automation",
+//!     catalog: "AN-42",
+//!     assembly_names: &[(100, "Inputs"), (150, "Outputs"), (151, "Configuration")],
+//!     member_bits: 16, // the inputs and outputs: 16-bit channels
+//!     layouts: &[Layout {
+//!         instance: 151,
+//!         members: &[Member::Param(0), Member::Param(1), Member::Param(2)],
+//!     }],
+//!     params: &[
+//!         Param::new("Input filter", DataType::Usint, 0, 100, 10).units("ms"),
+//!         Param::new("Input range", DataType::Usint, 0, 2, 0).help("0: 0-10 V, 1: +-10 V, 2: 4-20 mA"),
+//!         Param::new("Offset", DataType::Int, -1000, 1000, 0),
+//!         Param::new("Channel 1 scale", DataType::Int, -32768, 32767, 1000).attribute(0x70, 1, 1),
+//!     ],
+//!     ..EdsInfo::DEFAULT
+//! };
+//!
+//! let mut eds = String::new();
+//! write_eds(&mut eds, &Analog, &EDS).unwrap();
+//! assert!(eds.contains("Assem151 = \"Configuration\", \"20 04 24 97 30 03\", 4, 0x0000, , , 8, Param2, 8, Param3, 16, Param4;"));
+//! assert!(eds.contains("Param5 = 0, 6, \"20 70 24 01 30 01\", 0x0000, 0xC3, 2, \"Channel 1 scale\""));
+//! ```
 
 use core::fmt::{self, Write};
 
 use crate::device::{AssemblyInfo, AssemblyRole, Device};
+
+mod params;
+
+pub use params::{Layout, Member, Param};
 
 /// The vendor's choices an EDS needs beyond the device itself.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -30,9 +85,44 @@ pub struct EdsInfo<'a> {
     pub triggers: Triggers,
     /// Names of assembly instances (others are named by their role).
     pub assembly_names: &'a [(u16, &'a str)],
-    /// Bits of each member an assembly lists (e.g. 32 for a drive's 32-bit words); 0 lists
-    /// the whole assembly as one member.
+    /// Bits of each member an assembly without a [`Layout`] lists (e.g. 32 for a drive's
+    /// 32-bit words); 0 lists the whole assembly as one member.
     pub member_bits: u16,
+    /// Assemblies laid out member by member (e.g. a configuration assembly's fields as
+    /// parameters). A layout whose sizes do not add up to the assembly's current size is
+    /// not used (the assembly is then listed by [`Self::member_bits`]).
+    pub layouts: &'a [Layout<'a>],
+    /// The device's parameters, `Param2` onwards.
+    pub params: &'a [Param<'a>],
+}
+
+impl EdsInfo<'static> {
+    /// Neutral choices, to complete with `..EdsInfo::DEFAULT`: no names, date 01-01-2026,
+    /// "Generic Device", RPI 1 ms to 10 s (default 10 ms), every trigger, each assembly
+    /// one member, no parameters.
+    pub const DEFAULT: EdsInfo<'static> = EdsInfo {
+        description: "",
+        date: "01-01-2026",
+        vendor_name: "",
+        product_type_name: "Generic Device",
+        catalog: "",
+        rpi_us: RpiRange {
+            min: 1_000,
+            max: 10_000_000,
+            default: 10_000,
+        },
+        triggers: Triggers::ALL,
+        assembly_names: &[],
+        member_bits: 0,
+        layouts: &[],
+        params: &[],
+    };
+}
+
+impl Default for EdsInfo<'static> {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
 }
 
 /// The RPI a scanner may choose, microseconds.
@@ -130,9 +220,13 @@ pub fn write_eds<W: Write>(w: &mut W, device: &impl Device, info: &EdsInfo<'_>) 
     writeln!(
         w,
         "        Param1 = 0, , , 0x0000, 0xC8, 4, \"RPI\", \"microsecond\", \
-         \"Requested packet interval\", {}, {}, {}, , , , , , , , , ;\n",
+         \"Requested packet interval\", {}, {}, {}, , , , , , , , , ;",
         rpi.min, rpi.max, rpi.default
     )?;
+    for (i, param) in info.params.iter().enumerate() {
+        param.write(w, params::number(i))?;
+    }
+    writeln!(w)?;
     writeln!(w, "[Assembly]\n        Object_Name = \"Assembly Object\";")?;
     writeln!(w, "        Object_Class_Code = 0x04;")?;
     for a in assemblies {
@@ -144,14 +238,7 @@ pub fn write_eds<W: Write>(w: &mut W, device: &impl Device, info: &EdsInfo<'_>) 
             Point(0x24, n),
             a.size
         )?;
-        let bits = u32::from(a.size) * 8;
-        let member = match u32::from(info.member_bits) {
-            m if bits.checked_rem(m).is_none_or(|r| r != 0) => bits,
-            m => m,
-        };
-        for _ in 0..bits.checked_div(member).unwrap_or(0) {
-            write!(w, ", {member}, ")?;
-        }
+        write_members(w, info, a)?;
         writeln!(w, ";")?;
     }
     writeln!(w, "\n[Connection Manager]")?;
@@ -192,14 +279,22 @@ pub fn write_eds<W: Write>(w: &mut W, device: &impl Device, info: &EdsInfo<'_>) 
                 write!(
                     w,
                     "        Connection{k} = 0x{:08X}, 0x{params:08X}, Param1, {}, Assem{}, \
-                     Param1, {}, Assem{}, , , , , \"{label} {}/{}\", \"\", \"20 04 ",
+                     Param1, {}, Assem{}, ",
                     kind | info.triggers.bits() | CLASS1,
                     o.size,
                     o.instance,
                     t.size,
                     t.instance,
-                    o.instance,
-                    t.instance
+                )?;
+                // Config #1: the configuration assembly's data, when it has any.
+                match config.filter(|c| c.size > 0) {
+                    Some(c) => write!(w, "{}, Assem{}, ", c.size, c.instance)?,
+                    None => write!(w, ", , ")?,
+                }
+                write!(
+                    w,
+                    ", , \"{label} {}/{}\", \"\", \"20 04 ",
+                    o.instance, t.instance
                 )?;
                 if let Some(c) = config {
                     write!(w, "{} ", Point(0x24, c.instance))?;
@@ -212,6 +307,41 @@ pub fn write_eds<W: Write>(w: &mut W, device: &impl Device, info: &EdsInfo<'_>) 
                 )?;
             }
         }
+    }
+    Ok(())
+}
+
+/// Writes the members of assembly `a`: its [`Layout`] if one adds up to its size, else
+/// [`EdsInfo::member_bits`] each.
+fn write_members<W: Write>(w: &mut W, info: &EdsInfo<'_>, a: &AssemblyInfo) -> fmt::Result {
+    let bits = u32::from(a.size) * 8;
+    let member_bits = |m: &Member| match *m {
+        Member::Bits(n) => Some(u32::from(n)),
+        Member::Param(i) => info.params.get(i).and_then(Param::bits),
+    };
+    let layout = info.layouts.iter().find(|l| l.instance == a.instance);
+    if let Some(layout) = layout.filter(|l| {
+        let sum = l
+            .members
+            .iter()
+            .map(member_bits)
+            .try_fold(0u32, |sum, m| sum.checked_add(m?));
+        sum == Some(bits)
+    }) {
+        for m in layout.members {
+            match (*m, member_bits(m)) {
+                (Member::Param(i), Some(n)) => write!(w, ", {n}, Param{}", params::number(i))?,
+                (_, n) => write!(w, ", {}, ", n.unwrap_or(0))?,
+            }
+        }
+        return Ok(());
+    }
+    let member = match u32::from(info.member_bits) {
+        m if bits.checked_rem(m).is_none_or(|r| r != 0) => bits,
+        m => m,
+    };
+    for _ in 0..bits.checked_div(member).unwrap_or(0) {
+        write!(w, ", {member}, ")?;
     }
     Ok(())
 }
@@ -237,9 +367,20 @@ impl fmt::Display for Name<'_> {
     }
 }
 
-/// A logical segment as EDS path bytes: `format` 0x24 (instance) or 0x2C (connection
-/// point), 8- or 16-bit.
+/// A logical segment as EDS path bytes: `format` 0x20 (class), 0x24 (instance), 0x2C
+/// (connection point) or 0x30 (attribute), 8- or 16-bit.
 struct Point(u8, u16);
+
+impl Point {
+    /// Its length in bytes.
+    fn len(&self) -> usize {
+        if self.1 > 0xFF {
+            4
+        } else {
+            2
+        }
+    }
+}
 
 impl fmt::Display for Point {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -257,6 +398,69 @@ impl fmt::Display for Point {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One configuration assembly of `size` bytes.
+    struct Config(AssemblyInfo);
+
+    impl Device for Config {
+        fn identity(&self) -> &crate::IdentityInfo {
+            &crate::IdentityInfo {
+                vendor_id: 1,
+                device_type: 0,
+                product_code: 1,
+                revision: (1, 1),
+                serial_number: 1,
+                product_name: "c",
+            }
+        }
+        fn assemblies(&self) -> &[AssemblyInfo] {
+            core::slice::from_ref(&self.0)
+        }
+        fn read_assembly(&mut self, _: u16, out: &mut [u8]) -> crate::cip::CipResult<usize> {
+            Ok(out.len())
+        }
+        fn write_assembly(&mut self, _: u16, _: &[u8]) -> crate::cip::CipResult {
+            Ok(())
+        }
+    }
+
+    /// The `Assem` line of a configuration assembly of `size` bytes, laid out as one
+    /// USINT parameter and 8 bits.
+    fn assem(size: u16) -> heapless::String<128> {
+        const PARAMS: [Param<'static>; 1] = [Param::new(
+            "a",
+            crate::cip::object::DataType::Usint,
+            0,
+            1,
+            0,
+        )];
+        let info = EdsInfo {
+            member_bits: 8,
+            layouts: &[Layout {
+                instance: 151,
+                members: &[Member::Param(0), Member::Bits(8)],
+            }],
+            params: &PARAMS,
+            ..EdsInfo::DEFAULT
+        };
+        let device = Config(AssemblyInfo {
+            instance: 151,
+            role: AssemblyRole::Config,
+            size,
+            run_idle_header: false,
+        });
+        let mut s = heapless::String::<2048>::new();
+        write_eds(&mut s, &device, &info).unwrap();
+        let line = s.lines().find(|l| l.contains("Assem151 =")).unwrap_or("");
+        heapless::String::try_from(line).unwrap()
+    }
+
+    #[test]
+    fn a_layout_is_used_only_when_it_fits_the_current_size() {
+        assert!(assem(2).ends_with("2, 0x0000, , , 8, Param2, 8, ;"));
+        // Three bytes now: the layout describes two, so the default applies.
+        assert!(assem(3).ends_with("3, 0x0000, , , 8, , 8, , 8, ;"));
+    }
 
     #[test]
     fn points_are_8_or_16_bit() {

@@ -9,7 +9,7 @@
 //! # 1. Identity and assemblies
 //!
 //! ```
-//! use enip_stack::cip::{CipResult, General};
+//! use enip_stack::cip::{CipError, CipResult, General};
 //! use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
 //!
 //! const IDENTITY: IdentityInfo = IdentityInfo {
@@ -46,7 +46,8 @@
 //!     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
 //!         match instance {
 //!             OUTPUTS => self.outputs.copy_from_slice(data),
-//!             CONFIG if data[0] > 100 => return Err(General::InvalidAttributeValue.into()),
+//!             // Byte 0 out of range: target not configured, the offending byte (0) added.
+//!             CONFIG if data[0] > 100 => return Err(CipError::connection(0x0110).with_additional(0x0110, 0)),
 //!             CONFIG => self.filter_ms = data[0],
 //!             _ => return Err(General::AttributeNotSettable.into()),
 //!         }
@@ -54,11 +55,26 @@
 //!     }
 //! }
 //! # let mut b = Block::default();
-//! # assert_eq!(b.write_assembly(CONFIG, &[101]).unwrap_err().general, General::InvalidAttributeValue);
+//! # assert_eq!(b.write_assembly(CONFIG, &[101]).unwrap_err().additional(), &[0x0110, 0]);
 //! ```
 //!
-//! The stack calls `write_assembly` with exactly the assembly's current size, and sends
-//! exactly the length `read_assembly` returns (never more than the size).
+//! The stack calls `read_assembly` with `out` exactly the assembly's current size (as
+//! [`crate::Device::assemblies`] says at that moment; at most
+//! [`crate::config::MAX_ASSEMBLY_SIZE`]), and sends exactly the length it returns (never
+//! more than the size). It calls `write_assembly` with exactly the assembly's current size:
+//! O->T data in Run (never Idle data, never a duplicate), an explicit Set of an output,
+//! configuration or explicit assembly, and a Forward_Open's configuration data. Heartbeat
+//! assemblies ([`crate::AssemblyRole::InputOnlyHeartbeat`], [`crate::AssemblyRole::ListenOnlyHeartbeat`],
+//! size 0) never reach it: their connections carry no O->T data, and they are not settable
+//! (a Set is 0x0E), so a device needs no arm for them.
+//!
+//! **Checking configuration data: one place.** Check it in `write_assembly` and refuse it
+//! with a connection failure, the extended status and any additional word (here the
+//! offending byte): a Forward_Open carrying it is refused with exactly that error (before
+//! the connection exists; [`crate::Device::admit`] need not look at it), and an explicit
+//! Set of the configuration assembly answers 0x09 (invalid attribute value), changing
+//! nothing. Any other error from the configuration assembly refuses a Forward_Open with
+//! 0x01/0x0110 (target not configured).
 //!
 //! # 2. A vendor class
 //!
@@ -142,7 +158,7 @@
 //! use enip_stack::cip::connection_status::{OUT_OF_CONNECTIONS, OWNERSHIP_CONFLICT};
 //! use enip_stack::device::Kind;
 //!
-//! /// One Class 1 connection at a time, RPI 2-100 ms, configuration byte 0 at most 100.
+//! /// One Class 1 connection at a time, RPI 2-100 ms.
 //! #[derive(Default)]
 //! struct Policy { class1_open: usize }
 //!
@@ -151,9 +167,6 @@
 //!         if request.is_class1() && self.class1_open > 0 {
 //!             let ext = if request.kind == Kind::ExclusiveOwner { OWNERSHIP_CONFLICT } else { OUT_OF_CONNECTIONS };
 //!             return Err(CipError::connection(ext));
-//!         }
-//!         if request.config_data.is_some_and(|c| c[0] > 100) {
-//!             return Err(CipError::connection(0x0110)); // target not configured
 //!         }
 //!         request.refuse_rpi(2_000, 100_000)
 //!     }
@@ -169,8 +182,9 @@
 //!
 //! (In a device, these two are the bodies of `Device::admit` and
 //! `Device::connection_event`.) Configuration data of an admitted Forward_Open is then
-//! written with `write_assembly`; an error there answers 0x01/0x0110 unless it is already a
-//! connection failure.
+//! written with `write_assembly` (when the connection is an exclusive owner, or no owner
+//! exists), which checks it (section 1); an error there answers 0x01/0x0110 unless it is
+//! already a connection failure, which goes out as given.
 //!
 //! # 4. Events
 //!

@@ -26,6 +26,7 @@ mod footprint;
 mod fuzz;
 mod json;
 mod module_graph;
+mod own_device;
 mod qemu;
 mod setup;
 mod smoke;
@@ -67,6 +68,8 @@ commands:
                       scanner, 10-minute soak); figures in target/faults/report.json
   eds                 regenerate eds/<profile>.eds from every profile's own description
                       (`cargo run -p enip-host -- --eds --profile NAME` prints one)
+  own-device          build examples/own-device in a project of its own outside the
+                      workspace from the README's snippets, and check its EDS (part of test)
 ";
 
 /// Which benchmarks `bench` runs.
@@ -97,6 +100,7 @@ enum Command {
     Smoke,
     Faults,
     Eds,
+    OwnDevice,
     Help,
 }
 
@@ -143,6 +147,7 @@ fn main() -> ExitCode {
                 .args(["test", "every_eds_file_is_current"])
                 .env("UPDATE_EDS", "1"),
         ),
+        Command::OwnDevice => own_device::run_check().map(|_| ()),
         Command::Help => {
             print!("{USAGE}");
             Ok(())
@@ -187,6 +192,7 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
         "smoke" => Command::Smoke,
         "faults" => Command::Faults,
         "eds" => Command::Eds,
+        "own-device" => Command::OwnDevice,
         "help" => Command::Help,
         _ => return Err(format!("unknown command {name:?}").into()),
     };

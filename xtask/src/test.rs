@@ -10,6 +10,20 @@ use crate::{boards, footprint, fuzz, setup, smoke};
 const FUZZ_SECONDS: u64 = 5;
 /// The published crate whose `rust-version` the run builds with.
 const PUBLISHED: &str = "enip-stack";
+/// Every crate a device author needs: the `no_std` ones and the Linux host board's.
+const PUBLISHED_CRATES: [&str; 5] = [
+    "enip-stack",
+    "enip-firmware",
+    "enip-profiles",
+    "enip-host-runtime",
+    "enip-host",
+];
+
+/// `-p NAME` for each of `names`.
+fn packages<'a>(names: &[&'a str]) -> Vec<&'a str> {
+    names.iter().flat_map(|n| ["-p", n]).collect()
+}
+
 /// The TAP interop test file (written by the host-tests owners).
 const TAP_INTEROP: &str = "host-tests/tests/tap_interop/main.rs";
 
@@ -74,42 +88,34 @@ pub fn run_all() -> bool {
             });
     }
     // The published crates: the rust-version they claim builds them, and they package.
-    ok = ok
-        && steps.run("rust-version and cargo publish --dry-run", || {
-            // The claimed toolchain: the active one when it is that version (a fresh machine
-            // may have no toolchain of that name), else that toolchain through rustup.
-            let toolchain = Metadata::read()?.rust_version_toolchain(PUBLISHED)?;
-            let active = util::output(std::process::Command::new("rustc").arg("--version"))
-                .unwrap_or_default();
-            let mut build = if active.split_whitespace().nth(1) == Some(toolchain.as_str()) {
-                util::cargo()
-            } else {
-                let mut rustup = std::process::Command::new("rustup");
-                rustup.args(["run", &toolchain, "cargo"]);
-                rustup
-            };
-            build.args(["build", "--target", setup::THUMB_TARGET]);
-            run(build.args([
-                "-p",
-                "enip-stack",
-                "-p",
-                "enip-firmware",
-                "-p",
-                "enip-profiles",
-            ]))?;
-            forget_packaged_crates();
-            cargo(&[
-                "publish",
-                "--dry-run",
-                "--allow-dirty",
-                "-p",
-                "enip-stack",
-                "-p",
-                "enip-firmware",
-                "-p",
-                "enip-profiles",
-            ])
-        });
+    ok =
+        ok && steps.run(
+            "rust-version and cargo publish --dry-run (every crate a device author needs)",
+            || {
+                // The claimed toolchain: the active one when it is that version (a fresh machine
+                // may have no toolchain of that name), else that toolchain through rustup.
+                let toolchain = Metadata::read()?.rust_version_toolchain(PUBLISHED)?;
+                let active = util::output(std::process::Command::new("rustc").arg("--version"))
+                    .unwrap_or_default();
+                let mut build = if active.split_whitespace().nth(1) == Some(toolchain.as_str()) {
+                    util::cargo()
+                } else {
+                    let mut rustup = std::process::Command::new("rustup");
+                    rustup.args(["run", &toolchain, "cargo"]);
+                    rustup
+                };
+                build.args(["build", "--target", setup::THUMB_TARGET]);
+                run(build.args(packages(&no_std)))?;
+                forget_packaged_crates();
+                // Each packaged and verified in dependency order, against the others'
+                // packages (cargo's local registry of the dry run), none from crates.io.
+                let publish = ["publish", "--dry-run", "--allow-dirty"];
+                cargo(&[&publish[..], &packages(&PUBLISHED_CRATES)].concat())
+            },
+        ) && steps.run(
+            "an own device from a project of its own (README snippet, --eds)",
+            crate::own_device::run_check,
+        );
     for board in &cross_crates {
         ok = ok
             && steps.run(&format!("board: {board} (release build, clippy)"), || {
@@ -237,7 +243,12 @@ fn forget_packaged_crates() {
         {
             let name = entry.file_name();
             let name = name.to_string_lossy();
-            let ours = ["enip-stack-", "enip-firmware-", "enip-profiles-"];
+            let ours = [
+                "enip-stack-",
+                "enip-firmware-",
+                "enip-profiles-",
+                "enip-host-",
+            ];
             if ours.iter().any(|p| name.starts_with(p)) {
                 let path = entry.path();
                 let _ = if path.is_dir() {

@@ -2,12 +2,22 @@
 //! on a TAP device with its own TCP/IP stack (`--tap`), or on the kernel's sockets at one of
 //! the host's addresses (`--bind`, [`Link::Kernel`]).
 //!
+//! A device program's whole `main` is [`run_device`], which also prints the device's EDS
+//! (`--eds`, from an [`enip_stack::eds::EdsInfo`]):
+//!
 //! ```no_run
-//! # use enip_stack::Device;
 //! # fn my_device() -> enip_profiles::Generic { enip_profiles::Generic::new() }
-//! let options = enip_host::Options::from_env_args("usage: my-device --tap IFNAME --ip A.B.C.D/LEN", |_, _| Ok(false));
-//! enip_host::run(my_device(), options)
+//! fn main() {
+//!     let eds = enip_stack::eds::EdsInfo { vendor_name: "Acme", ..Default::default() };
+//!     enip_host::run_device(my_device(), &eds)
+//! }
 //! ```
+//!
+//! A program with options of its own parses them with [`Command::from_env_args`] (or
+//! [`Options::from_env_args`], without `--eds`) and calls [`run`]. The command line needs
+//! either `--tap IFNAME --ip A.B.C.D/LEN` or `--bind A.B.C.D` (without them it says so, with
+//! the usage, and exits 2); `--eds` and `--help` need neither. [`Options::new`] and
+//! [`Options::bind`] build the options in code instead.
 //!
 //! On a TAP, [`run`] opens it (refusing one that does not exist, unless
 //! [`TapOptions::create`]), builds the embassy-net stack with [`enip_firmware::SOCKETS`]
@@ -22,6 +32,7 @@
 //! [`Options::nv_file`] (`--nv-file`), so that a restart comes up at the address set; a
 //! device profile keeps its saved settings in the same store ([`shared_store`]).
 
+mod device_main;
 mod kernel;
 mod netlink;
 mod nv_file;
@@ -31,6 +42,7 @@ mod signals;
 mod tap;
 mod tap_device;
 
+pub use device_main::{device_usage, run_device, Command};
 pub use nv_file::shared as shared_store;
 pub use options::{Link, Options, Parsed, TapOptions, DEFAULT_MAC, OPTIONS_USAGE};
 pub use runner::run;

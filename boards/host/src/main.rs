@@ -16,7 +16,8 @@ fn usage() -> String {
          [--mac xx:xx:xx:xx:xx:xx] [--nv-file PATH] [--create-tap]\n       \
          enip-host --eds [--profile NAME]\n\n\
          \x20 --profile NAME     device profile: {} (default: generic)\n\
-         \x20 --eds              print the profile's EDS file and exit\n\
+         \x20 --eds              print the profile's EDS file and exit (with --profile and\n\
+         \x20                    the profile's options only)\n\
          \x20 --pls-rpm RPM      ametek-pls: speed of the simulated resolver (default 0)\n\
          \x20 --pls-resolver-fault on|off\n\
          \x20                    ametek-pls: the resolver reports a fault (default off)\n{}",
@@ -35,39 +36,30 @@ fn profile(name: &str) -> Result<Profile, String> {
     })
 }
 
-/// `--eds [--profile NAME]`: prints the EDS file.
-fn print_eds(args: &[String]) -> Result<(), String> {
-    let name = match args {
-        [_] => "generic",
-        [a, b, name] | [b, name, a] if a == "--eds" && b == "--profile" => name,
-        _ => return Err("--eds takes only --profile NAME".into()),
-    };
-    let mut eds = String::new();
-    profile(name)?
-        .write_eds(&mut eds)
-        .map_err(|e| e.to_string())?;
-    print!("{eds}");
-    Ok(())
-}
-
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    if args.iter().any(|a| a == "--eds") {
-        if let Err(e) = print_eds(&args) {
-            eprintln!("enip-host: {e}\n\n{}", usage());
-            exit(2);
-        }
-        return;
-    }
     let mut chosen = Profile::default();
     let mut profile_options = ProfileOptions::default();
-    let options = enip_host::Options::from_env_args(&usage(), |flag, value| {
+    let command = enip_host::Command::from_env_args(&usage(), |flag, value| {
         if flag != "--profile" {
             return profile_options.take(flag, &value);
         }
         chosen = profile(&value)?;
         Ok(true)
     });
+    let options = match command {
+        enip_host::Command::Run(options) => options,
+        // `from_env_args` printed the usage and exited.
+        enip_host::Command::Help => return,
+        enip_host::Command::Eds => {
+            let mut eds = String::new();
+            if let Err(e) = chosen.write_eds(&mut eds) {
+                eprintln!("enip-host: {e}");
+                exit(1);
+            }
+            print!("{eds}");
+            return;
+        }
+    };
     if let Err(e) =
         profile_options::set_up(&mut chosen, &profile_options, options.nv_file.as_deref())
     {

@@ -20,10 +20,14 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+mod eds;
+
+pub use eds::EDS;
+
 use enip_stack::cip::context::RequestContext;
 use enip_stack::cip::object::{AttributeDef, ClassDef, DataType};
 use enip_stack::cip::{CipError, CipResult, General, Request};
-use enip_stack::device::{AttributeRef, ConnectionEvent, InputChanges, OpenRequest};
+use enip_stack::device::{AttributeRef, ConnectionEvent, InputChanges};
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole, Device, Duration, IdentityInfo, Instant};
 
@@ -238,10 +242,14 @@ impl Device for IoBlock {
                 let bytes = <[u8; 2]>::try_from(data).map_err(|_| General::NotEnoughData)?;
                 self.set_outputs(u16::from_le_bytes(bytes));
             }
+            // The one configuration check, for a Forward_Open's configuration data and an
+            // explicit Set alike: the stack replies to a Set with 0x09 instead.
             CONFIG => {
-                self.config = Config::parse(data).map_err(|_| General::InvalidAttributeValue)?;
+                self.config = Config::parse(data).map_err(|byte| {
+                    CipError::connection(BAD_CONFIGURATION).with_additional(BAD_CONFIGURATION, byte)
+                })?;
             }
-            INPUT_ONLY | LISTEN_ONLY => {}
+            // Heartbeat assemblies (size 0) never come here: no O->T data, not settable.
             _ => return Err(General::AttributeNotSettable.into()),
         }
         Ok(())
@@ -320,17 +328,6 @@ impl Device for IoBlock {
         })
     }
 
-    /// The configuration check: out-of-range configuration data refuses the connection.
-    fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
-        match request.config_data.map(Config::parse) {
-            Some(Err(byte)) => {
-                Err(CipError::connection(BAD_CONFIGURATION)
-                    .with_additional(BAD_CONFIGURATION, byte))
-            }
-            _ => Ok(()),
-        }
-    }
-
     fn connection_event(&mut self, event: ConnectionEvent) {
         match event {
             ConnectionEvent::OwnershipLost(_) | ConnectionEvent::RunIdle(false) => {
@@ -373,6 +370,32 @@ mod tests {
         );
         assert_eq!(Config::parse(&[101, 0, 0, 0]), Err(0));
         assert_eq!(Config::parse(&[0, 2, 0, 0]), Err(1));
+    }
+
+    #[test]
+    fn a_bad_configuration_set_is_invalid_and_changes_nothing() {
+        let net = enip_stack::NetworkConfig::new_static(
+            core::net::Ipv4Addr::new(198, 18, 0, 2),
+            core::net::Ipv4Addr::new(255, 255, 255, 0),
+            [2, 0, 0, 0, 0, 2],
+        );
+        let mut adapter = enip_stack::Adapter::new(IoBlock::new(), net, 1);
+        // Set_Attribute_Single, Assembly 151 attribute 3.
+        let set = |adapter: &mut enip_stack::Adapter<IoBlock>, data: [u8; 4]| {
+            let mut req = [0x10, 3, 0x20, 0x04, 0x24, 151, 0x30, 0x03, 0, 0, 0, 0];
+            req[8..].copy_from_slice(&data);
+            let mut reply = [0u8; 16];
+            let n = adapter.execute(&req, Instant(0), &mut reply);
+            (reply[2], n)
+        };
+        assert_eq!(
+            set(&mut adapter, [200, 1, 0, 0]),
+            (0x09, 4),
+            "invalid value, no additional words"
+        );
+        assert_eq!(adapter.device().config(), Config::default());
+        assert_eq!(set(&mut adapter, [10, 1, 0, 0]), (0x00, 4));
+        assert_eq!(adapter.device().config().filter_ms, 10);
     }
 
     #[test]

@@ -123,6 +123,12 @@ pub fn assert_serving(ns: &Namespace, after: &str) {
 /// (protocol, assemblies and sizes, connections).
 pub fn eds_check(profile: &str) -> serde_json::Value {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../eds/{profile}.eds"));
+    eds_check_file(&path, profile)
+}
+
+/// eds-pie's view of the EDS file at `path` (`name` in messages), asserting it found no
+/// problem.
+pub fn eds_check_file(path: &std::path::Path, name: &str) -> serde_json::Value {
     let mut cmd = std::process::Command::new(host_tests::peers::python());
     cmd.arg(host_tests::peers::script("eds_check.py"));
     let input = serde_json::json!({"path": path}).to_string();
@@ -138,7 +144,7 @@ pub fn eds_check(profile: &str) -> serde_json::Value {
     assert_eq!(
         r["problems"],
         serde_json::json!([]),
-        "{profile}: eds-pie warnings: {r}"
+        "{name}: eds-pie warnings: {r}"
     );
     r
 }

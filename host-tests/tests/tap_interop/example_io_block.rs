@@ -133,8 +133,34 @@ fn example_io_block_on_the_tap() {
     );
     assert!(accepted);
     let log = rig.board_log();
-    assert!(log.contains("refused"), "the refusal is logged: {log}");
+    assert!(
+        log.contains(
+            "refused: the device refused the configuration (general status 0x01, extended 0x0110, 0x0000)"
+        ),
+        "the refusal is logged with every additional status word: {log}"
+    );
     common::finish(rig);
+}
+
+/// `io-block-host --eds` (`enip_host::run_device`): an EDS that eds-pie parses without a
+/// warning, with the configuration assembly's fields and channel 1's attributes as
+/// parameters.
+#[test]
+#[ignore = "needs the Python peers (eds-pie) and the example's binary"]
+fn example_eds_is_clean() {
+    let mut cmd = std::process::Command::new(example_bin());
+    cmd.arg("--eds");
+    let out = host_tests::process::run_bounded(cmd, None, Duration::from_secs(30))
+        .expect("io-block-host --eds runs");
+    assert!(out.status.success(), "{out:?}");
+    let path = std::env::temp_dir().join(format!("io-block-{}.eds", std::process::id()));
+    std::fs::write(&path, &out.stdout).expect("a temporary file");
+    let r = common::eds_check_file(&path, "io-block-host --eds");
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(r["assemblies"]["Assem151"], 4, "{r}");
+    let eds = String::from_utf8_lossy(&out.stdout);
+    assert!(eds.contains("8, Param2, 8, Param3, 16, Param4;"), "{eds}");
+    assert!(eds.contains("\"20 70 24 01 30 01\""), "{eds}");
 }
 
 fn hex(b: &[u8]) -> String {

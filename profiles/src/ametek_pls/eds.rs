@@ -35,6 +35,8 @@ pub const EDS: EdsInfo<'static> = EdsInfo {
         (LISTEN_ONLY_HEARTBEAT, "Listen only heartbeat"),
     ],
     member_bits: 16,
+    layouts: &[],
+    params: &[],
 };
 
 #[cfg(test)]

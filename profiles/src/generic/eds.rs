@@ -24,4 +24,6 @@ pub const EDS: EdsInfo<'static> = EdsInfo {
         (EXPLICIT, "Explicit messaging scratch"),
     ],
     member_bits: 0,
+    layouts: &[],
+    params: &[],
 };

@@ -31,6 +31,8 @@ pub const EDS: EdsInfo<'static> = EdsInfo {
         (RESPONSE, "AKD response assembly"),
     ],
     member_bits: 8,
+    layouts: &[],
+    params: &[],
 };
 
 #[cfg(test)]

@@ -39,6 +39,8 @@ pub const EDS: EdsInfo<'static> = EdsInfo {
         (CONFIG, "Configuration (no data)"),
     ],
     member_bits: 32,
+    layouts: &[],
+    params: &[],
 };
 
 #[cfg(test)]

@@ -35,6 +35,8 @@ pub const EDS: EdsInfo<'static> = EdsInfo {
     ],
     // Every assembly is a list of 32-bit variables (5.5).
     member_bits: 32,
+    layouts: &[],
+    params: &[],
 };
 
 #[cfg(test)]

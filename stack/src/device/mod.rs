@@ -147,7 +147,9 @@ pub trait Device {
     /// returns the length written; Get and production send exactly that many bytes.
     fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize>;
     /// Accepts new data for assembly `instance` (exactly its current size): O->T data in
-    /// Run, an explicit Set, or a Forward_Open's configuration data. An error refuses it.
+    /// Run, an explicit Set, or a Forward_Open's configuration data. An error refuses it; a
+    /// connection failure refuses a Forward_Open as given and a Set as 0x09 (see
+    /// [`crate::guide`]). Heartbeat assemblies never come here.
     fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult;
 
     /// True if a Class 1 connection may carry `data` bytes of `assembly` (the size its

@@ -77,7 +77,15 @@ impl<D: Device> Object for Assembly<'_, '_, D> {
         if self.0.connections.owned_outputs().contains(&info.instance) {
             return Err(General::DeviceStateConflict.into());
         }
-        self.0.device.write_assembly(info.instance, value)
+        // A device refuses bad configuration data one way for both paths: a connection
+        // failure, which a Forward_Open replies as given and a Set as an invalid value.
+        let mut written = self.0.device.write_assembly(info.instance, value);
+        if let Err(e) = &mut written {
+            if e.general == General::ConnectionFailure {
+                *e = General::InvalidAttributeValue.into();
+            }
+        }
+        written
     }
 }
 

@@ -154,11 +154,12 @@ fn forward_open<D: Device>(
     let slot = match opened {
         Ok(slot) => slot,
         Err(e) => {
+            // Every status word, the additional ones (e.g. a device's offending byte) too.
             info!(
-                "Forward_Open from {} refused: {} {}",
+                "Forward_Open from {} refused: {} ({})",
                 origin.ip,
-                e,
-                ext::describe(e.extended().unwrap_or(0))
+                ext::describe(e.extended().unwrap_or(0)),
+                e
             );
             let c = &mut ctx.state.connection_manager;
             bump(match e.extended() {

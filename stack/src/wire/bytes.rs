@@ -154,6 +154,18 @@ impl<'a> Writer<'a> {
     pub fn u32(&mut self, v: u32) -> Result<()> {
         self.bytes(&v.to_le_bytes())
     }
+    /// Appends one signed byte (CIP SINT).
+    pub fn i8(&mut self, v: i8) -> Result<()> {
+        self.bytes(&v.to_le_bytes())
+    }
+    /// Appends a little-endian `i16` (CIP INT).
+    pub fn i16(&mut self, v: i16) -> Result<()> {
+        self.bytes(&v.to_le_bytes())
+    }
+    /// Appends a little-endian `i32` (CIP DINT).
+    pub fn i32(&mut self, v: i32) -> Result<()> {
+        self.bytes(&v.to_le_bytes())
+    }
     /// Appends `n` zero bytes.
     pub fn zeros(&mut self, n: usize) -> Result<()> {
         self.reserve(n)?.fill(0);
@@ -234,5 +246,14 @@ mod tests {
         assert_eq!(w.len(), 2);
         assert!(w.u8(7).is_ok());
         assert_eq!(buf, [0xEF, 0xBE, 7]);
+    }
+
+    #[test]
+    fn signed_writers_are_little_endian_twos_complement() {
+        let mut buf = [0u8; 7];
+        let mut w = Writer::new(&mut buf);
+        assert!(w.i8(-2).is_ok() && w.i16(-300).is_ok() && w.i32(-70_000).is_ok());
+        assert_eq!(w.i8(0), Err(Error::Exhausted));
+        assert_eq!(buf, [0xFE, 0xD4, 0xFE, 0x90, 0xEE, 0xFE, 0xFF]);
     }
 }
