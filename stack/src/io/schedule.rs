@@ -5,37 +5,38 @@
 //! behind the others (equal RPIs taking turns) is placed from the back of the list, after
 //! one comparison, where a scan of every deadline used to find the new first.
 
-use crate::config::MAX_CONNECTIONS;
 use crate::time::Instant;
 
-/// The end of the list, in both directions: `next[END]` is the first producer, `prev[END]`
-/// the last; `END` itself as a slot is never due.
-const END: usize = MAX_CONNECTIONS;
-const _: () = assert!(END <= u8::MAX as usize, "slots fit the list's links");
-
-/// The producers' deadlines by table slot, and their order.
+/// The producers' deadlines by table slot (`C` slots), and their order.
 #[derive(Debug, Clone)]
-pub(crate) struct Schedule {
+pub(crate) struct Schedule<const C: usize> {
     /// Per slot: when its producer is next due (`Instant::NEVER` for none).
-    due: [Instant; MAX_CONNECTIONS],
+    due: [Instant; C],
     /// The scheduled slots (those with a deadline), by deadline and the lower slot first on
-    /// a tie, linked through [`END`] both ways: `next[s]` follows `s`, `prev[s]` precedes it.
-    /// The links of a slot without a deadline mean nothing.
-    next: [u8; MAX_CONNECTIONS + 1],
-    prev: [u8; MAX_CONNECTIONS + 1],
+    /// a tie, linked through [`Self::END`] both ways: `next[s]` follows `s`, `prev[s]`
+    /// precedes it. The links of a slot without a deadline mean nothing.
+    next: [u8; C],
+    prev: [u8; C],
+    /// `next[END]` and `prev[END]`: the first and the last producer.
+    end: (u8, u8),
     /// The head of the list and its deadline, as every poll asks for them: a summary that
     /// every [`Schedule::set`] keeps.
     first: (usize, Instant),
 }
 
-impl Schedule {
+impl<const C: usize> Schedule<C> {
+    /// The end of the list, in both directions: `next[END]` is the first producer,
+    /// `prev[END]` the last; `END` itself as a slot is never due.
+    pub(crate) const END: usize = C;
     /// Nothing scheduled.
     pub(crate) const fn new() -> Self {
+        const { assert!(C < u8::MAX as usize, "slots fit the list's links") };
         Schedule {
-            due: [Instant::NEVER; MAX_CONNECTIONS],
-            next: [END as u8; MAX_CONNECTIONS + 1],
-            prev: [END as u8; MAX_CONNECTIONS + 1],
-            first: (END, Instant::NEVER),
+            due: [Instant::NEVER; C],
+            next: [C as u8; C],
+            prev: [C as u8; C],
+            end: (C as u8, C as u8),
+            first: (C, Instant::NEVER),
         }
     }
 
@@ -63,8 +64,9 @@ impl Schedule {
         if listed && at != Instant::NEVER {
             let (p, n) = (self.prev(slot), self.next(slot));
             // Still after the one before it and before the one after it: the order stands.
-            if (p == END || self.before(p, slot)) && (n == END || self.before(slot, n)) {
-                if p == END {
+            if (p == Self::END || self.before(p, slot)) && (n == Self::END || self.before(slot, n))
+            {
+                if p == Self::END {
                     self.first.1 = at;
                 }
                 return;
@@ -84,16 +86,16 @@ impl Schedule {
         if self.at(slot) != Instant::NEVER {
             self.insert(slot);
         }
-        let head = self.next(END);
+        let head = self.next(Self::END);
         self.first = (head, self.at(head));
     }
 
     /// Puts `slot` (not in the list) in its place, looking from the back.
     fn insert(&mut self, slot: usize) {
-        let mut p = self.prev(END);
+        let mut p = self.prev(Self::END);
         // Bounded: the list holds at most every slot once.
-        for _ in 0..MAX_CONNECTIONS {
-            if p == END || self.before(p, slot) {
+        for _ in 0..C {
+            if p == Self::END || self.before(p, slot) {
                 break;
             }
             p = self.prev(p);
@@ -112,27 +114,34 @@ impl Schedule {
     /// The slot after `s` in the list (`END` after the last).
     #[inline]
     fn next(&self, s: usize) -> usize {
-        self.next.get(s).map_or(END, |&n| usize::from(n))
+        usize::from(self.next.get(s).copied().unwrap_or(self.end.0))
     }
 
     /// The slot before `s` in the list (`END` before the first).
     #[inline]
     fn prev(&self, s: usize) -> usize {
-        self.prev.get(s).map_or(END, |&p| usize::from(p))
+        usize::from(self.prev.get(s).copied().unwrap_or(self.end.1))
     }
 
     /// Links `a` to `b`: `b` follows `a`.
     #[inline]
     fn join(&mut self, a: usize, b: usize) {
-        if let (Some(n), Some(p)) = (self.next.get_mut(a), self.prev.get_mut(b)) {
-            (*n, *p) = (b as u8, a as u8);
-        }
+        let n = self.next.get_mut(a).unwrap_or(&mut self.end.0);
+        *n = b as u8;
+        let p = self.prev.get_mut(b).unwrap_or(&mut self.end.1);
+        *p = a as u8;
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::Instant;
+    use crate::config::MAX_CONNECTIONS;
+
+    /// The schedule of the default table.
+    type Schedule = super::Schedule<MAX_CONNECTIONS>;
+    /// Its end of the list.
+    const END: usize = MAX_CONNECTIONS;
 
     /// Checks `s` against the deadlines themselves: the first is the earliest (lowest slot on
     /// a tie), and the list holds every scheduled slot once, in order, linked both ways.
