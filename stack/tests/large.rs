@@ -5,6 +5,8 @@
 
 #[path = "admission.rs"]
 mod admission;
+#[path = "capacity.rs"]
+mod capacity;
 #[path = "device_hooks.rs"]
 mod device_hooks;
 #[path = "electronic_key.rs"]
