@@ -94,7 +94,7 @@ impl<const SESSIONS: usize, const FRAME: usize> Resources<SESSIONS, FRAME> {
     pub const fn stack_resources<const N: usize>() -> StackResources<N> {
         const {
             assert!(
-                N >= SESSIONS + 1,
+                N >= Self::SOCKETS,
                 "embassy-net StackResources too small: the runtime needs a socket per session and one for UDP, plus one for DHCP"
             )
         };
