@@ -140,39 +140,37 @@ mod tests {
 
     /// The schedule of the default table.
     type Schedule = super::Schedule<MAX_CONNECTIONS>;
-    /// Its end of the list.
-    const END: usize = MAX_CONNECTIONS;
 
     /// Checks `s` against the deadlines themselves: the first is the earliest (lowest slot on
     /// a tie), and the list holds every scheduled slot once, in order, linked both ways.
-    fn check(s: &Schedule) -> (usize, Instant) {
+    fn check<const C: usize>(s: &super::Schedule<C>) -> (usize, Instant) {
+        let end = C;
         let first_at = s.due.iter().copied().min().unwrap();
         let (slot, at) = s.first();
         assert_eq!(
             (slot, at),
-            (s.next(END), s.at(s.next(END))),
+            (s.next(end), s.at(s.next(end))),
             "the summary is the head"
         );
         assert_eq!(at, first_at);
         if at != Instant::NEVER {
             assert_eq!(slot, s.due.iter().position(|&d| d == first_at).unwrap());
         } else {
-            assert_eq!(slot, END, "nothing scheduled");
+            assert_eq!(slot, end, "nothing scheduled");
         }
-        let mut listed = heapless::Vec::<usize, MAX_CONNECTIONS>::new();
-        let mut p = END;
+        let mut listed = heapless::Vec::<usize, C>::new();
+        let mut p = end;
         loop {
             let n = s.next(p);
             assert_eq!(s.prev(n), p, "links both ways");
-            if n == END {
+            if n == end {
                 break;
             }
             listed.push(n).expect("no loop");
             p = n;
         }
-        let mut expected: heapless::Vec<usize, MAX_CONNECTIONS> = (0..MAX_CONNECTIONS)
-            .filter(|&i| s.due[i] != Instant::NEVER)
-            .collect();
+        let mut expected: heapless::Vec<usize, C> =
+            (0..C).filter(|&i| s.due[i] != Instant::NEVER).collect();
         expected.sort_unstable_by_key(|&i| (s.due[i], i));
         assert_eq!(listed, expected);
         (slot, at)
@@ -197,13 +195,19 @@ mod tests {
 
     #[test]
     fn equal_rpi_producers_take_turns_in_slot_order() {
-        let mut s = Schedule::new();
-        for slot in 0..MAX_CONNECTIONS {
+        take_turns::<MAX_CONNECTIONS>();
+        take_turns::<64>();
+    }
+
+    /// Every one of `C` slots due at once, then each one RPI later: they go in slot order.
+    fn take_turns<const C: usize>() {
+        let mut s = super::Schedule::<C>::new();
+        for slot in 0..C {
             s.set(slot, Instant(0));
         }
-        for n in 0..5 * MAX_CONNECTIONS {
+        for n in 0..5 * C {
             let (slot, at) = check(&s);
-            assert_eq!(slot, n % MAX_CONNECTIONS);
+            assert_eq!(slot, n % C);
             s.set(slot, Instant(at.0 + 1_000));
         }
     }
@@ -225,13 +229,19 @@ mod tests {
 
     #[test]
     fn any_sequence_of_moves_keeps_the_first_exact() {
-        let mut s = Schedule::new();
+        any_sequence_of_moves::<MAX_CONNECTIONS>();
+        any_sequence_of_moves::<64>();
+    }
+
+    /// Random deadlines for random slots of `C`, checked after each move.
+    fn any_sequence_of_moves<const C: usize>() {
+        let mut s = super::Schedule::<C>::new();
         let mut x = 0x2545_F491_4F6C_DD1Du64;
         for _ in 0..20_000 {
             x ^= x << 13;
             x ^= x >> 7;
             x ^= x << 17;
-            let slot = (x % MAX_CONNECTIONS as u64) as usize;
+            let slot = (x % C as u64) as usize;
             let at = match (x >> 8) % 8 {
                 0 => Instant::NEVER,
                 1 => s.first().1, // a tie with the first
