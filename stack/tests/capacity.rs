@@ -2,11 +2,13 @@
 //! (through `tests/large.rs`) at 16 sessions / 64 connections: every session slot serves and a
 //! socket beyond them is closed; every delayed ListIdentity slot holds a reply, and the
 //! request after them is answered at once, not queued; a 1 448-byte assembly goes by Large_Forward_Open at either size, and by
-//! an explicit read when the reply frame holds it (0x11 when it does not). Filling the
-//! connection table is `forward_open.rs`'s `error_out_of_connections`.
+//! an explicit read when the reply frame holds it (0x11 when it does not); every connection
+//! slot produces on its own grid. The connection after the last slot is `forward_open.rs`'s
+//! `error_out_of_connections`.
 
 mod common;
 
+use std::collections::BTreeMap;
 use std::net::{Ipv4Addr, SocketAddrV4};
 
 use common::*;
@@ -129,5 +131,33 @@ fn a_1448_byte_assembly_goes_by_large_forward_open_and_by_read_if_the_frame_hold
         assert_eq!((g, data), (0, pattern));
     } else {
         assert_eq!(g, 0x11, "reply data too large for a {FRAME}-byte frame");
+    }
+}
+
+#[test]
+fn every_connection_slot_produces_on_its_grid() {
+    const RPI: u64 = 10_000;
+    const END: u64 = 1_000_000;
+    let mut h = Harness::new();
+    let ids = open_every_slot(&mut h, RPI as u32);
+    let mut seen: BTreeMap<u32, Vec<u64>> = BTreeMap::new();
+    let mut out = [0u8; 128];
+    while let Some(now) = h.adapter.next_deadline().map(Instant::as_micros) {
+        if now >= END {
+            break;
+        }
+        while let Some((_, len)) = h.adapter.poll_io(Instant(now), &mut out) {
+            let p = Packet::new_checked(&out[..len]).unwrap();
+            seen.entry(p.connection_id()).or_default().push(now);
+        }
+    }
+    assert_eq!(seen.len(), CONNECTIONS, "every slot produced");
+    for (_, t_o) in ids {
+        let at = &seen[&t_o];
+        assert_eq!(at.len(), (END / RPI) as usize, "connection {t_o:#x}");
+        assert!(
+            at.windows(2).all(|w| w[1] - w[0] == RPI),
+            "{t_o:#x} on its grid"
+        );
     }
 }

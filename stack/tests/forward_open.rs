@@ -241,17 +241,7 @@ fn error_rpi_reports_acceptable_values() {
 #[test]
 fn error_out_of_connections() {
     let mut h = Harness::new();
-    // Every slot: an exclusive owner of each output, then input-only connections.
-    for i in 0..CONNECTIONS as u16 {
-        let t_o = 100 + u32::from(i % 10);
-        let o_t = if i < 10 { 110 + u32::from(i) } else { 152 };
-        let path = io_path(None, o_t, t_o, None);
-        let mut f = fo(i + 1, &path, 10_000);
-        if i >= 10 {
-            f.o_t_params = NetworkParams::from_u16(0x4800 | 2);
-        }
-        assert_eq!(open(&mut h, &f).0, 0, "connection {i}");
-    }
+    open_every_slot(&mut h, 10_000);
     assert_eq!(h.adapter.connections().len(), CONNECTIONS);
     let path = io_path(None, 152, 100, None);
     let mut f = fo(1000, &path, 10_000);

@@ -13,7 +13,7 @@ use enip_stack::device::{
 use enip_stack::nv::{key, NvStore};
 use enip_stack::originator::{self, Reply};
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
-use enip_stack::wire::forward_open::{ForwardOpenRepr, NetworkParams, Triad};
+use enip_stack::wire::forward_open::{ForwardOpenReplyRepr, ForwardOpenRepr, NetworkParams, Triad};
 use enip_stack::wire::Writer;
 use enip_stack::{Adapter, Instant, NetworkConfig, SocketId};
 
@@ -321,6 +321,27 @@ pub fn io_path(config: Option<u32>, o_t: u32, t_o: u32, config_data: Option<&[u8
         s.emit(&mut w).unwrap();
     }
     w.written().to_vec()
+}
+
+/// Opens a connection in every slot of the table at `rpi` µs, serials 1 to [`CONNECTIONS`]:
+/// an exclusive owner of each output (110.., inputs 100..), then input-only connections
+/// (heartbeat 152) to the inputs in turn. Returns their (O->T, T->O) connection IDs.
+pub fn open_every_slot<D: Device>(h: &mut Harness<D>, rpi: u32) -> Vec<(u32, u32)> {
+    (0..CONNECTIONS as u16)
+        .map(|i| {
+            let t_o = 100 + u32::from(i % 10);
+            let o_t = if i < 10 { 110 + u32::from(i) } else { 152 };
+            let path = io_path(None, o_t, t_o, None);
+            let mut f = fo(i + 1, &path, rpi);
+            if i >= 10 {
+                f.o_t_params = NetworkParams::from_u16(0x4800 | 2);
+            }
+            let (g, words, data) = status(&h.forward_open(&f));
+            assert_eq!((g, words), (0, vec![]), "connection {i}");
+            let r = ForwardOpenReplyRepr::parse(&data).unwrap();
+            (r.o_t_connection_id, r.t_o_connection_id)
+        })
+        .collect()
 }
 
 /// A point-to-point exclusive-owner Forward_Open of 32-byte output `o_t` and input `t_o`.
