@@ -641,6 +641,11 @@ fn class1_io_through_the_link_task<
     const F: usize,
     const L: usize,
 >() {
+    // Timed against the wall clock: the two sizes take turns rather than share the CPU.
+    static TIMED: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _turn = TIMED
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     with_adapter::<S, C, F, L>(async |net| {
         let (mut rx, mut tx) = ([0u8; 2048], [0u8; 2048]);
         let (mut client, session) = Client::registered(net, &mut rx, &mut tx).await;
