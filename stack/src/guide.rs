@@ -253,6 +253,21 @@
 //!   `Resources::<SESSIONS, FRAME>::stack_resources::<N>()` refuses fewer embassy-net
 //!   sockets than sessions plus its UDP socket, and `Resources::new` a frame larger than a
 //!   TCP socket's transmit buffer.
+//!
+//!   ```compile_fail
+//!   # use enip_stack::{Adapter, AssemblyInfo, Device, IdentityInfo, NetworkConfig};
+//!   # use enip_stack::cip::CipResult;
+//!   # struct Gateway;
+//!   # impl Device for Gateway {
+//!   #   fn identity(&self) -> &IdentityInfo { unimplemented!() }
+//!   #   fn assemblies(&self) -> &[AssemblyInfo] { &[] }
+//!   #   fn read_assembly(&mut self, _: u16, _: &mut [u8]) -> CipResult<usize> { Ok(0) }
+//!   #   fn write_assembly(&mut self, _: u16, _: &[u8]) -> CipResult { Ok(()) }
+//!   # }
+//!   # let net = NetworkConfig::new_static([198, 18, 0, 2].into(), [255, 255, 255, 0].into(), [2, 0, 0, 0, 0, 2]);
+//!   // error: "FRAME: at least MIN_FRAME, for a 504-byte Class 3 message"
+//!   let small = Adapter::<Gateway, 3, 10, 256>::with_capacities(Gateway, net, 1);
+//!   ```
 //! - Const generics rather than a `Config` trait: stable Rust cannot size an array by a
 //!   trait's associated constant in generic code, and a const parameter costs nothing at
 //!   run time: the default build is the same code as before the sizes were parameters.
