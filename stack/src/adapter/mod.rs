@@ -57,8 +57,9 @@ pub struct TcpOutcome {
 /// - `LIST_IDENTITY`: broadcast ListIdentity replies that can wait their random delay at
 ///   once (at least 1).
 ///
-/// They are checked against each other when the adapter is built ([`Adapter::with_capacities`]): a
-/// choice out of range is a compile error. See the device guide ([`crate::guide`]).
+/// They are checked against each other when the adapter is built
+/// ([`Adapter::with_capacities`]): a choice out of range is a compile error. See the device
+/// guide ([`crate::guide`]).
 pub struct Adapter<
     D: Device,
     const SESSIONS: usize = { crate::config::MAX_SESSIONS },
