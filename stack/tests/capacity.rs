@@ -1,10 +1,10 @@
 //! Each capacity the adapter's type chooses, filled and then exceeded, at the default size and
 //! (through `tests/large.rs`) at 16 sessions / 64 connections: every session slot serves and a
 //! socket beyond them is closed; every delayed ListIdentity slot holds a reply, and the
-//! request after them is answered at once, not queued; a 1 448-byte assembly goes by Large_Forward_Open at either size, and by
-//! an explicit read when the reply frame holds it (0x11 when it does not); every connection
-//! slot produces on its own grid. The connection after the last slot is `forward_open.rs`'s
-//! `error_out_of_connections`.
+//! request after them is answered at once, not queued; a 1 448-byte assembly goes by
+//! Large_Forward_Open at either size, and by an explicit read when the reply frame holds it
+//! (0x11 when it does not); every connection slot produces on its own grid. The connection
+//! after the last slot is `forward_open.rs`'s `error_out_of_connections`.
 
 mod common;
 
