@@ -124,7 +124,10 @@ pub struct NetworkStatus {
 
 impl NetworkStatus {
     /// The Network Status indicator for `adapter` now.
-    pub fn update<D: Device>(&mut self, adapter: &Adapter<D>) -> Indicator {
+    pub fn update<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+        &mut self,
+        adapter: &Adapter<D, S, C, F, L>,
+    ) -> Indicator {
         let timeouts = adapter.connections().owner_timeouts();
         if adapter.acd().fault {
             Indicator::Red
@@ -142,7 +145,10 @@ impl NetworkStatus {
 }
 
 /// Runs the power-up test, then shows the adapter's state on `leds` forever.
-pub async fn indicate<D: Device>(adapter: &SharedAdapter<D>, mut leds: impl Leds) -> ! {
+pub async fn indicate<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    adapter: &SharedAdapter<D, S, C, F, L>,
+    mut leds: impl Leds,
+) -> ! {
     use Color::{Green, Off, Red};
     for (ms, ns) in [(Green, Off), (Red, Off), (Green, Green), (Green, Red)] {
         leds.show(ms, ns);

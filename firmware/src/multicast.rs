@@ -9,7 +9,16 @@ use enip_stack::Device;
 use crate::shared::{membership_changed, with_adapter_quiet, SharedAdapter};
 
 /// Keeps `net`'s group membership on the adapter's multicast group, forever.
-pub(crate) async fn track<D: Device>(net: Stack<'_>, adapter: &SharedAdapter<D>) -> ! {
+pub(crate) async fn track<
+    D: Device,
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+>(
+    net: Stack<'_>,
+    adapter: &SharedAdapter<D, S, C, F, L>,
+) -> ! {
     let mut joined: Option<Ipv4Addr> = None;
     loop {
         let want = with_adapter_quiet(adapter, |a| a.multicast_group());

@@ -36,7 +36,16 @@ fn mac(net: Stack<'_>) -> [u8; 6] {
 
 /// Copies every change of address or link state of `net` into the adapter; the board's
 /// `dhcp` flag and link speed are kept.
-pub(crate) async fn track<D: Device>(net: Stack<'_>, adapter: &SharedAdapter<D>) -> ! {
+pub(crate) async fn track<
+    D: Device,
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+>(
+    net: Stack<'_>,
+    adapter: &SharedAdapter<D, S, C, F, L>,
+) -> ! {
     loop {
         let now = network_config(net);
         with_adapter(adapter, |a| {

@@ -31,46 +31,74 @@ pub const UDP_PACKETS: usize = 4;
 /// Payload bytes the UDP 44818 socket can hold in each direction.
 pub const UDP_BUFFER_LEN: usize = 1536;
 
-/// Buffers of one encapsulation TCP socket.
-pub(crate) struct TcpBuffers {
+/// Buffers of one encapsulation TCP socket, replies of up to `F` bytes.
+pub(crate) struct TcpBuffers<const F: usize> {
     pub rx: [u8; TCP_RX_LEN],
     pub tx: [u8; TCP_TX_LEN],
-    pub reply: [u8; MAX_ENCAP_FRAME],
+    pub reply: [u8; F],
 }
 
-/// Buffers of the UDP 44818 socket.
-pub(crate) struct UdpBuffers {
+/// Buffers of the UDP 44818 socket, replies of up to `F` bytes.
+pub(crate) struct UdpBuffers<const F: usize> {
     pub rx_meta: [PacketMetadata; UDP_PACKETS],
     pub rx: [u8; UDP_BUFFER_LEN],
     pub tx_meta: [PacketMetadata; UDP_PACKETS],
     pub tx: [u8; UDP_BUFFER_LEN],
-    pub reply: [u8; MAX_ENCAP_FRAME],
+    pub reply: [u8; F],
 }
 
-/// Every buffer [`crate::run`] uses; create one with [`Resources::new`] in a `static` cell.
-pub struct Resources {
-    pub(crate) tcp: [TcpBuffers; MAX_SESSIONS],
-    pub(crate) udp: UdpBuffers,
+/// Every buffer [`crate::run`] uses, for an adapter of `SESSIONS` sessions and `FRAME`-byte
+/// frames (the same capacities as its [`enip_stack::Adapter`]; the defaults are the stack's);
+/// create one with [`Resources::new`] in a `static` cell.
+pub struct Resources<
+    const SESSIONS: usize = { MAX_SESSIONS },
+    const FRAME: usize = { MAX_ENCAP_FRAME },
+> {
+    pub(crate) tcp: [TcpBuffers<FRAME>; SESSIONS],
+    pub(crate) udp: UdpBuffers<FRAME>,
 }
 
-impl Resources {
+impl<const SESSIONS: usize, const FRAME: usize> Resources<SESSIONS, FRAME> {
+    /// Sockets [`crate::run`] opens for these resources: one TCP socket per session and the
+    /// UDP socket ([`SOCKETS`] for the default).
+    pub const SOCKETS: usize = SESSIONS + 1;
+
     /// Zeroed buffers (a `const fn`, so a board can place them in `.bss`).
     pub const fn new() -> Self {
-        const TCP: TcpBuffers = TcpBuffers {
-            rx: [0; TCP_RX_LEN],
-            tx: [0; TCP_TX_LEN],
-            reply: [0; MAX_ENCAP_FRAME],
+        const {
+            assert!(
+                FRAME <= TCP_TX_LEN,
+                "FRAME: a whole reply must fit a TCP socket's transmit buffer (TCP_TX_LEN)"
+            );
         };
         Resources {
-            tcp: [TCP; MAX_SESSIONS],
+            tcp: [const {
+                TcpBuffers {
+                    rx: [0; TCP_RX_LEN],
+                    tx: [0; TCP_TX_LEN],
+                    reply: [0; FRAME],
+                }
+            }; SESSIONS],
             udp: UdpBuffers {
                 rx_meta: [PacketMetadata::EMPTY; UDP_PACKETS],
                 rx: [0; UDP_BUFFER_LEN],
                 tx_meta: [PacketMetadata::EMPTY; UDP_PACKETS],
                 tx: [0; UDP_BUFFER_LEN],
-                reply: [0; MAX_ENCAP_FRAME],
+                reply: [0; FRAME],
             },
         }
+    }
+
+    /// The embassy-net `StackResources` for `N` sockets, refusing (at compile time) fewer
+    /// than [`Self::SOCKETS`]; [`stack_resources`] for the default capacities.
+    pub const fn stack_resources<const N: usize>() -> StackResources<N> {
+        const {
+            assert!(
+                N >= Self::SOCKETS,
+                "embassy-net StackResources too small: the runtime needs a socket per session and one for UDP, plus one for DHCP"
+            )
+        };
+        StackResources::new()
     }
 }
 

@@ -20,10 +20,10 @@ use crate::{device_tick, multicast, netif, tcp, udp};
 ///
 /// Run it on a single-threaded executor, next to the `embassy_net::Runner` of `net` and the
 /// link task.
-pub async fn run<D: Device>(
+pub async fn run<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
     net: Stack<'_>,
-    adapter: &SharedAdapter<D>,
-    resources: &mut Resources,
+    adapter: &SharedAdapter<D, S, C, F, L>,
+    resources: &mut Resources<S, F>,
     on_reset: impl Fn(u8),
 ) -> ! {
     let on_reset: &dyn Fn(u8) = &on_reset;

@@ -10,6 +10,9 @@ use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::signal::Signal;
 use embassy_sync::waitqueue::WakerRegistration;
+use enip_stack::config::{
+    MAX_CONNECTIONS, MAX_ENCAP_FRAME, MAX_PENDING_LIST_IDENTITY, MAX_SESSIONS,
+};
 use enip_stack::objects::LinkCounters;
 use enip_stack::{Adapter, Device, Instant, IoDue, NetworkConfig};
 use static_cell::StaticCell;
@@ -19,8 +22,14 @@ use crate::link::{IoPort, LldpPort};
 
 /// An [`Adapter`] shared by the runtime's futures and the link task; never borrowed across
 /// an `.await`.
-pub struct SharedAdapter<D: Device> {
-    adapter: Mutex<NoopRawMutex, RefCell<Adapter<D>>>,
+pub struct SharedAdapter<
+    D: Device,
+    const S: usize = { MAX_SESSIONS },
+    const C: usize = { MAX_CONNECTIONS },
+    const F: usize = { MAX_ENCAP_FRAME },
+    const L: usize = { MAX_PENDING_LIST_IDENTITY },
+> {
+    adapter: Mutex<NoopRawMutex, RefCell<Adapter<D, S, C, F, L>>>,
     /// Set when a call brought the I/O deadline forward; the link task's waker.
     io_moved: Cell<bool>,
     io_waker: RefCell<WakerRegistration>,
@@ -29,7 +38,9 @@ pub struct SharedAdapter<D: Device> {
 }
 
 /// Wraps `adapter` for [`crate::run`] and the link task.
-pub const fn share<D: Device>(adapter: Adapter<D>) -> SharedAdapter<D> {
+pub const fn share<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    adapter: Adapter<D, S, C, F, L>,
+) -> SharedAdapter<D, S, C, F, L> {
     SharedAdapter {
         adapter: Mutex::new(RefCell::new(adapter)),
         io_moved: Cell::new(false),
@@ -41,21 +52,34 @@ pub const fn share<D: Device>(adapter: Adapter<D>) -> SharedAdapter<D> {
 /// A `static` home for the shared adapter: the link task is a task of its own and needs it
 /// for the whole run. A firmware declares one for its device type, e.g.
 /// `static ADAPTER: AdapterCell<MyDevice> = AdapterCell::new();`, and hands it to its board.
-pub struct AdapterCell<D: Device>(StaticCell<SharedAdapter<D>>);
+pub struct AdapterCell<
+    D: Device,
+    const S: usize = { MAX_SESSIONS },
+    const C: usize = { MAX_CONNECTIONS },
+    const F: usize = { MAX_ENCAP_FRAME },
+    const L: usize = { MAX_PENDING_LIST_IDENTITY },
+>(StaticCell<SharedAdapter<D, S, C, F, L>>);
 
-impl<D: Device> AdapterCell<D> {
+impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>
+    AdapterCell<D, S, C, F, L>
+{
     /// An empty cell.
     pub const fn new() -> Self {
         AdapterCell(StaticCell::new())
     }
 
     /// Shares `adapter` for the rest of the program; `None` if the cell was used before.
-    pub fn share(&'static self, adapter: Adapter<D>) -> Option<&'static SharedAdapter<D>> {
+    pub fn share(
+        &'static self,
+        adapter: Adapter<D, S, C, F, L>,
+    ) -> Option<&'static SharedAdapter<D, S, C, F, L>> {
         self.0.try_init(share(adapter)).map(|a| &*a)
     }
 }
 
-impl<D: Device> Default for AdapterCell<D> {
+impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> Default
+    for AdapterCell<D, S, C, F, L>
+{
     fn default() -> Self {
         Self::new()
     }
@@ -67,9 +91,16 @@ impl<D: Device> Default for AdapterCell<D> {
 ///
 /// The borrow cannot be taken twice: every caller returns before its next `.await`, and the
 /// executor runs one task at a time.
-pub fn with_adapter<D: Device, R>(
-    shared: &SharedAdapter<D>,
-    f: impl FnOnce(&mut Adapter<D>) -> R,
+pub fn with_adapter<
+    D: Device,
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+    R,
+>(
+    shared: &SharedAdapter<D, S, C, F, L>,
+    f: impl FnOnce(&mut Adapter<D, S, C, F, L>) -> R,
 ) -> R {
     let before = shared.watch();
     let r = with_adapter_quiet(shared, f);
@@ -81,7 +112,9 @@ pub fn with_adapter<D: Device, R>(
 /// the multicast group.
 type Watched = (Option<Instant>, Option<core::net::Ipv4Addr>);
 
-impl<D: Device> SharedAdapter<D> {
+impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>
+    SharedAdapter<D, S, C, F, L>
+{
     /// What [`with_adapter`] watches, now. Never inlined, nor [`Self::notice`]: one copy for
     /// every caller of `with_adapter` (a closure each), none on the Class 1 path.
     #[inline(never)]
@@ -105,19 +138,36 @@ impl<D: Device> SharedAdapter<D> {
 }
 
 /// Like [`with_adapter`] without the wake-ups: for the link task and the indicators.
-pub(crate) fn with_adapter_quiet<D: Device, R>(
-    shared: &SharedAdapter<D>,
-    f: impl FnOnce(&mut Adapter<D>) -> R,
+pub(crate) fn with_adapter_quiet<
+    D: Device,
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+    R,
+>(
+    shared: &SharedAdapter<D, S, C, F, L>,
+    f: impl FnOnce(&mut Adapter<D, S, C, F, L>) -> R,
 ) -> R {
     shared.adapter.lock(|cell| f(&mut cell.borrow_mut()))
 }
 
 /// Waits until the multicast group may have changed.
-pub(crate) async fn membership_changed<D: Device>(shared: &SharedAdapter<D>) {
+pub(crate) async fn membership_changed<
+    D: Device,
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+>(
+    shared: &SharedAdapter<D, S, C, F, L>,
+) {
     shared.membership.wait().await
 }
 
-impl<D: Device> IoPort for SharedAdapter<D> {
+impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> IoPort
+    for SharedAdapter<D, S, C, F, L>
+{
     fn interface(&self) -> NetworkConfig {
         with_adapter_quiet(self, |a| *a.network())
     }
@@ -169,7 +219,9 @@ impl<D: Device> IoPort for SharedAdapter<D> {
     }
 }
 
-impl<D: Device> LldpPort for SharedAdapter<D> {
+impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> LldpPort
+    for SharedAdapter<D, S, C, F, L>
+{
     fn lldp_receive(&self, lldpdu: &[u8], now: Instant) {
         with_adapter_quiet(self, |a| a.lldp_receive(lldpdu, now));
     }
@@ -192,7 +244,9 @@ impl<D: Device> LldpPort for SharedAdapter<D> {
 }
 
 /// The link task's next deadline: a production, a watchdog expiry or an LLDPDU.
-fn link_deadline<D: Device>(a: &Adapter<D>) -> Option<Instant> {
+fn link_deadline<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    a: &Adapter<D, S, C, F, L>,
+) -> Option<Instant> {
     earliest(a.io_deadline(), a.lldp_deadline())
 }
 

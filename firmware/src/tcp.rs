@@ -28,11 +28,17 @@ const ABORT_FLUSH: Duration = Duration::from_millis(100);
 const RETRY: Duration = Duration::from_millis(100);
 
 /// Serves TCP socket `id` forever, one connection after the other.
-pub(crate) async fn serve<D: Device>(
+pub(crate) async fn serve<
+    D: Device,
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+>(
     net: Stack<'_>,
-    adapter: &SharedAdapter<D>,
+    adapter: &SharedAdapter<D, S, C, F, L>,
     id: SocketId,
-    bufs: &mut TcpBuffers,
+    bufs: &mut TcpBuffers<F>,
     on_reset: &dyn Fn(u8),
 ) -> ! {
     let TcpBuffers { rx, tx, reply } = bufs;
@@ -59,9 +65,9 @@ pub(crate) async fn serve<D: Device>(
 }
 
 /// Exchanges frames on an accepted connection until either side ends it or it idles out.
-async fn converse<D: Device>(
+async fn converse<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
     socket: &mut TcpSocket<'_>,
-    adapter: &SharedAdapter<D>,
+    adapter: &SharedAdapter<D, S, C, F, L>,
     id: SocketId,
     reply: &mut [u8],
     on_reset: &dyn Fn(u8),
@@ -106,8 +112,8 @@ async fn converse<D: Device>(
 }
 
 /// Hands received bytes to the adapter; returns the bytes consumed and what follows.
-fn feed<D: Device>(
-    adapter: &SharedAdapter<D>,
+fn feed<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    adapter: &SharedAdapter<D, S, C, F, L>,
     id: SocketId,
     data: &mut [u8],
     reply: &mut [u8],
@@ -117,7 +123,10 @@ fn feed<D: Device>(
 }
 
 /// True if the connection on `id` has been idle past the inactivity timeout.
-fn idle<D: Device>(adapter: &SharedAdapter<D>, id: SocketId) -> bool {
+fn idle<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    adapter: &SharedAdapter<D, S, C, F, L>,
+    id: SocketId,
+) -> bool {
     with_adapter(adapter, |a| a.tcp_deadline(id)).is_some_and(|at| at <= now())
 }
 

@@ -18,10 +18,16 @@ use crate::shared::{with_adapter, SharedAdapter};
 const SEND_TIMEOUT: Duration = Duration::from_millis(500);
 
 /// Serves UDP 44818 forever: answers datagrams and sends delayed replies when they come due.
-pub(crate) async fn serve<D: Device>(
+pub(crate) async fn serve<
+    D: Device,
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+>(
     net: Stack<'_>,
-    adapter: &SharedAdapter<D>,
-    bufs: &mut UdpBuffers,
+    adapter: &SharedAdapter<D, S, C, F, L>,
+    bufs: &mut UdpBuffers<F>,
 ) -> ! {
     let UdpBuffers {
         rx_meta,
@@ -63,8 +69,8 @@ pub(crate) async fn serve<D: Device>(
 }
 
 /// Feeds one datagram to the adapter; returns where to send the reply written to `reply`.
-fn answer<D: Device>(
-    adapter: &SharedAdapter<D>,
+fn answer<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    adapter: &SharedAdapter<D, S, C, F, L>,
     data: &[u8],
     meta: UdpMetadata,
     reply: &mut [u8],
@@ -79,7 +85,11 @@ fn answer<D: Device>(
 }
 
 /// Sends every delayed reply that is due.
-async fn send_due<D: Device>(socket: &UdpSocket<'_>, adapter: &SharedAdapter<D>, out: &mut [u8]) {
+async fn send_due<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    socket: &UdpSocket<'_>,
+    adapter: &SharedAdapter<D, S, C, F, L>,
+    out: &mut [u8],
+) {
     while let Some((to, len)) = with_adapter(adapter, |a| a.poll_udp(now(), out)) {
         send(socket, out.get(..len).unwrap_or(&[]), to).await;
     }

@@ -5,11 +5,15 @@
 //!
 //! Covered: RegisterSession, SendRRData Get_Attribute_Single (Identity product name),
 //! Set_Attribute_Single on output assembly 150 read back from input assembly 100, unicast and
-//! broadcast ListIdentity over UDP, a 4th TCP client refused while three sessions stay
-//! served, a stalled client that does not hold up the others, a socket freed by
+//! broadcast ListIdentity over UDP, the client after the last session refused while every
+//! session stays served, a stalled client that does not hold up the others, a socket freed by
 //! UnregisterSession taking the next client, the encapsulation inactivity timeout, and a
 //! Class 1 exclusive owner through the link task (O->T data reaching the adapter, T->O data
 //! with headers and checksums the client's stack accepts, the watchdog ending it).
+//!
+//! Every scenario runs twice ([`at_both_sizes`]): with the adapter and its `Resources` at the
+//! default capacities (3 sessions, 10 connections), and at 16 sessions, 64 connections,
+//! 1 524-byte frames and 16 delayed ListIdentity replies.
 
 use std::cell::RefCell;
 use std::collections::VecDeque;
@@ -28,6 +32,9 @@ use enip_firmware::link::{self, LinkFrames, NetDriver};
 use enip_firmware::Resources;
 use enip_profiles::generic;
 use enip_profiles::Profile;
+use enip_stack::config::{
+    MAX_CONNECTIONS, MAX_ENCAP_FRAME, MAX_PENDING_LIST_IDENTITY, MAX_SESSIONS,
+};
 use enip_stack::originator;
 use enip_stack::wire::cpf::{self, item_type};
 use enip_stack::wire::encap::{command, Packet, HEADER_LEN};
@@ -47,6 +54,47 @@ const IO_PORT: u16 = 2222;
 const TEST_LIMIT: Duration = Duration::from_secs(10);
 /// Bound of one request/reply exchange.
 const STEP: Duration = Duration::from_secs(2);
+/// embassy-net sockets of either side: enough for the large size's 16 sessions, the client
+/// refused after them, and the UDP sockets.
+const NET_SOCKETS: usize = 24;
+
+/// Instantiates each scenario (a function generic over the adapter's sessions, connections,
+/// frame size and ListIdentity queue) as a test at the default capacities and one at 16
+/// sessions / 64 connections / 1 524-byte frames / 16 delayed replies.
+macro_rules! at_both_sizes {
+    ($($scenario:ident),* $(,)?) => {
+        mod default_size {
+            use super::*;
+            $(
+                #[test]
+                fn $scenario() {
+                    super::$scenario::<
+                        MAX_SESSIONS,
+                        MAX_CONNECTIONS,
+                        MAX_ENCAP_FRAME,
+                        MAX_PENDING_LIST_IDENTITY,
+                    >();
+                }
+            )*
+        }
+        mod large_size {
+            $(
+                #[test]
+                fn $scenario() {
+                    super::$scenario::<16, 64, { 24 + 1500 }, 16>();
+                }
+            )*
+        }
+    };
+}
+
+at_both_sizes!(
+    explicit_messaging_over_tcp,
+    list_identity_over_udp,
+    every_session_is_served_the_next_client_refused_and_a_stalled_one_blocks_nobody,
+    idle_connection_is_closed_after_the_inactivity_timeout,
+    class1_io_through_the_link_task,
+);
 
 /// An in-memory Ethernet segment with two ports: frames queued per receiving port.
 mod wire {
@@ -175,11 +223,15 @@ fn static_config(ip: Ipv4Addr) -> embassy_net::Config {
     })
 }
 
-/// Runs `scenario` against an adapter with the generic profile; everything on this thread.
-fn with_adapter(scenario: impl AsyncFnOnce(Stack<'_>)) {
+/// Runs `scenario` against an adapter with the generic profile, at `S` sessions, `C`
+/// connections, `F`-byte frames and `L` delayed ListIdentity replies; everything on this
+/// thread.
+fn with_adapter<const S: usize, const C: usize, const F: usize, const L: usize>(
+    scenario: impl AsyncFnOnce(Stack<'_>),
+) {
     let (adapter_port, client_port) = wire::pair([2, 0, 0, 0, 0, 2], [2, 0, 0, 0, 0, 1]);
-    let mut adapter_sockets = StackResources::<8>::new();
-    let mut client_sockets = StackResources::<8>::new();
+    let mut adapter_sockets = Resources::<S, F>::stack_resources::<NET_SOCKETS>();
+    let mut client_sockets = StackResources::<NET_SOCKETS>::new();
     // As on the boards, the adapter's port belongs to the link task: Class 1 datagrams go
     // between it and the adapter, every other frame through `frames` to embassy-net.
     let frames = LinkFrames::new();
@@ -195,7 +247,7 @@ fn with_adapter(scenario: impl AsyncFnOnce(Stack<'_>)) {
         &mut client_sockets,
         0x89AB_CDEF,
     );
-    let mut adapter = Adapter::new(
+    let mut adapter = Adapter::<_, S, C, F, L>::with_capacities(
         Profile::from_name("generic").expect("generic profile"),
         enip_firmware::network_config(adapter_net),
         42,
@@ -203,7 +255,7 @@ fn with_adapter(scenario: impl AsyncFnOnce(Stack<'_>)) {
     // Not about Address Conflict Detection: no seconds of probing (the TAP tests cover it).
     adapter.skip_acd();
     let adapter = enip_firmware::share(adapter);
-    let mut resources = Box::new(Resources::new());
+    let mut resources = Box::new(Resources::<S, F>::new());
     let background = join4(
         adapter_runner.run(),
         client_runner.run(),
@@ -397,9 +449,8 @@ async fn check_product_name(client: &mut Client<'_>, session: u32) {
     assert_eq!(&data[1..], name);
 }
 
-#[test]
-fn explicit_messaging_over_tcp() {
-    with_adapter(async |net| {
+fn explicit_messaging_over_tcp<const S: usize, const C: usize, const F: usize, const L: usize>() {
+    with_adapter::<S, C, F, L>(async |net| {
         let (mut rx, mut tx) = ([0u8; 2048], [0u8; 2048]);
         let (mut client, session) = Client::registered(net, &mut rx, &mut tx).await;
         check_product_name(&mut client, session).await;
@@ -439,9 +490,8 @@ fn explicit_messaging_over_tcp() {
     });
 }
 
-#[test]
-fn list_identity_over_udp() {
-    with_adapter(async |net| {
+fn list_identity_over_udp<const S: usize, const C: usize, const F: usize, const L: usize>() {
+    with_adapter::<S, C, F, L>(async |net| {
         let (mut rx_meta, mut tx_meta) = ([PacketMetadata::EMPTY; 4], [PacketMetadata::EMPTY; 4]);
         let (mut rx, mut tx) = ([0u8; 1024], [0u8; 1024]);
         let mut socket = UdpSocket::new(net, &mut rx_meta, &mut rx, &mut tx_meta, &mut tx);
@@ -478,33 +528,52 @@ fn list_identity_over_udp() {
     });
 }
 
-#[test]
-fn fourth_client_is_refused_and_a_stalled_one_blocks_nobody() {
-    with_adapter(async |net| {
-        let mut bufs = [[0u8; 1024]; 8];
-        let [r0, t0, r1, t1, r2, t2, r3, t3] = &mut bufs;
+fn every_session_is_served_the_next_client_refused_and_a_stalled_one_blocks_nobody<
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+>() {
+    with_adapter::<S, C, F, L>(async |net| {
+        // A receive and a transmit buffer per session, and one pair for the client after.
+        let mut bufs = vec![[0u8; 1024]; 2 * (S + 1)];
+        let (mine, extra) = bufs.split_at_mut(2 * S);
+        let [r_next, t_next] = extra else {
+            unreachable!("two buffers")
+        };
+        let mut pairs = mine.chunks_exact_mut(2).map(|pair| match pair {
+            [r, t] => (r, t),
+            _ => unreachable!("pairs"),
+        });
+        let (r0, t0) = pairs.next().expect("a session");
         let mut stalled = Client::connect(net, r0, t0).await.expect("connect 1");
-        let mut a = Client::connect(net, r1, t1).await.expect("connect 2");
-        let mut b = Client::connect(net, r2, t2).await.expect("connect 3");
-        let sa = a.register().await;
-        let sb = b.register().await;
+        let mut served = Vec::new();
+        for (i, (r, t)) in pairs.enumerate() {
+            let mut client = Client::connect(net, r, t)
+                .await
+                .unwrap_or_else(|e| panic!("connect {}: {e:?}", i + 2));
+            let session = client.register().await;
+            served.push((client, session));
+        }
         // The first client sends half a header and goes silent.
         stalled.write(&register_session()[..12]).await;
-        match Client::connect(net, r3, t3).await {
+        match Client::connect(net, r_next, t_next).await {
             Err(ConnectError::ConnectionReset) => {}
-            Err(e) => panic!("4th connection: {e:?}"),
-            Ok(_) => panic!("4th connection was accepted"),
+            Err(e) => panic!("connection {}: {e:?}", S + 1),
+            Ok(_) => panic!("connection {} was accepted", S + 1),
         }
-        check_product_name(&mut a, sa).await;
-        check_product_name(&mut b, sb).await;
+        for (client, session) in &mut served {
+            check_product_name(client, *session).await;
+        }
         // The stalled client is still served once it finishes its frame.
         let reply = stalled.exchange(&register_session()[12..]).await;
         assert_eq!(Packet::new_checked(&reply[..]).unwrap().status(), 0);
         // Once a session ends, its socket listens again and takes the next client.
-        a.write(&header(command::UNREGISTER_SESSION, 0, sa, [0; 8]))
+        let (a, sa) = served.first_mut().expect("a second session");
+        a.write(&header(command::UNREGISTER_SESSION, 0, *sa, [0; 8]))
             .await;
         a.expect_close().await;
-        let mut next = Client::connect_within(net, r3, t3, 20)
+        let mut next = Client::connect_within(net, r_next, t_next, 20)
             .await
             .expect("a freed socket accepts again");
         let session = next.register().await;
@@ -512,9 +581,13 @@ fn fourth_client_is_refused_and_a_stalled_one_blocks_nobody() {
     });
 }
 
-#[test]
-fn idle_connection_is_closed_after_the_inactivity_timeout() {
-    with_adapter(async |net| {
+fn idle_connection_is_closed_after_the_inactivity_timeout<
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+>() {
+    with_adapter::<S, C, F, L>(async |net| {
         let (mut rx, mut tx) = ([0u8; 1024], [0u8; 1024]);
         let (mut client, session) = Client::registered(net, &mut rx, &mut tx).await;
         // TCP/IP Interface (0xF5) instance 1 attribute 13: encapsulation inactivity timeout.
@@ -562,9 +635,18 @@ fn t_o_data(datagram: &[u8]) -> Vec<u8> {
     p.connected_data().to_vec()
 }
 
-#[test]
-fn class1_io_through_the_link_task() {
-    with_adapter(async |net| {
+fn class1_io_through_the_link_task<
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+>() {
+    // Timed against the wall clock: the two sizes take turns rather than share the CPU.
+    static TIMED: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _turn = TIMED
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    with_adapter::<S, C, F, L>(async |net| {
         let (mut rx, mut tx) = ([0u8; 2048], [0u8; 2048]);
         let (mut client, session) = Client::registered(net, &mut rx, &mut tx).await;
 

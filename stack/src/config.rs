@@ -1,16 +1,16 @@
-//! Every compile-time capacity of the stack, in one place.
+//! Every compile-time capacity of the stack, in one place: the protocol's fixed limits, and
+//! the defaults of the capacities a device maker chooses in the [`crate::Adapter`]'s type
+//! (sessions, connections, frame size, delayed ListIdentity replies).
 
-/// Simultaneous encapsulation sessions: one per TCP socket on port 44818.
+/// Default simultaneous encapsulation sessions: one per TCP socket on port 44818.
 pub const MAX_SESSIONS: usize = 3;
-/// Slots in the CIP connection table (Class 1 and Class 3 share it).
+/// Default slots in the CIP connection table (Class 1 and Class 3 share it).
 pub const MAX_CONNECTIONS: usize = 10;
-/// Largest encapsulation data part accepted or produced (bytes after the 24-byte header).
+/// Default largest encapsulation data part accepted or produced (after the 24-byte header).
 pub const MAX_ENCAP_DATA: usize = 1024;
-/// Largest whole encapsulation frame: header plus data.
+/// Default largest whole encapsulation frame: header plus data (the reply buffer's size).
 pub const MAX_ENCAP_FRAME: usize = crate::wire::encap::HEADER_LEN + MAX_ENCAP_DATA;
-/// Largest assembly instance data in bytes.
-pub const MAX_ASSEMBLY_SIZE: usize = 500;
-/// Delayed ListIdentity replies (broadcast requests) that can wait at once.
+/// Default delayed ListIdentity replies (broadcast requests) that can wait at once.
 pub const MAX_PENDING_LIST_IDENTITY: usize = 4;
 /// Services inside one Multiple_Service_Packet request.
 pub const MAX_MULTIPLE_SERVICES: usize = 32;

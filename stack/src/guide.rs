@@ -228,6 +228,64 @@
 //! whose consumed or produced assembly changed size with `CloseReason::Reconfigured` right
 //! after the explicit request that changed it, so no datagram of a stale size goes out.
 //!
+//! # 7. Capacities
+//!
+//! Every table is sized at compile time, by the [`crate::Adapter`]'s type:
+//! `Adapter<D, SESSIONS, CONNECTIONS, FRAME, LIST_IDENTITY>`, with the defaults of
+//! [`crate::config`] (3 TCP sessions, 10 CIP connections shared by Class 1 and Class 3,
+//! 1 048-byte encapsulation frames, 4 delayed ListIdentity replies) that fit a small MCU.
+//! [`crate::Adapter::new`] builds the default; a gateway or a soft device on Linux names its
+//! sizes once, in a type alias, and builds with [`crate::Adapter::with_capacities`]:
+//!
+//! ```
+//! # use enip_stack::{Adapter, AssemblyInfo, Device, IdentityInfo, NetworkConfig};
+//! # use enip_stack::cip::CipResult;
+//! # struct Gateway;
+//! # impl Device for Gateway {
+//! #   fn identity(&self) -> &IdentityInfo { unimplemented!() }
+//! #   fn assemblies(&self) -> &[AssemblyInfo] { &[] }
+//! #   fn read_assembly(&mut self, _: u16, _: &mut [u8]) -> CipResult<usize> { Ok(0) }
+//! #   fn write_assembly(&mut self, _: u16, _: &[u8]) -> CipResult { Ok(()) }
+//! # }
+//! # let net = NetworkConfig::new_static([198, 18, 0, 2].into(), [255, 255, 255, 0].into(), [2, 0, 0, 0, 0, 2]);
+//! /// 16 sessions, 64 connections, frames of the header plus a 1 500-byte payload (a
+//! /// 1 448-byte assembly read explicitly), 16 ListIdentity replies waiting their delay.
+//! type GatewayAdapter = Adapter<Gateway, 16, 64, { 24 + 1500 }, 16>;
+//! let adapter = GatewayAdapter::with_capacities(Gateway, net, 0x5eed);
+//! assert_eq!(adapter.connections().len(), 0);
+//! ```
+//!
+//! - `FRAME` bounds every explicit message and reply: the runtime's reply buffers have that
+//!   size (`enip_firmware::Resources<SESSIONS, FRAME>`, which the embedded runtime takes with
+//!   the adapter), and an assembly read explicitly must fit it (0x11 otherwise). Class 1
+//!   data does not pass through it: a Large_Forward_Open carries an assembly as large as
+//!   the device declares, up to 1 448 bytes in one Ethernet frame.
+//! - The choices are checked against each other where the adapter is built, at compile
+//!   time: 1 to 254 sessions and connections, `FRAME` at least
+//!   [`crate::adapter::MIN_FRAME`] (a 504-byte Class 3 message) and within the 16-bit
+//!   length field, at least one ListIdentity slot; the embedded runtime's
+//!   `Resources::<SESSIONS, FRAME>::stack_resources::<N>()` refuses fewer embassy-net
+//!   sockets than sessions plus its UDP socket, and `Resources::new` a frame larger than a
+//!   TCP socket's transmit buffer.
+//!
+//!   ```compile_fail
+//!   # use enip_stack::{Adapter, AssemblyInfo, Device, IdentityInfo, NetworkConfig};
+//!   # use enip_stack::cip::CipResult;
+//!   # struct Gateway;
+//!   # impl Device for Gateway {
+//!   #   fn identity(&self) -> &IdentityInfo { unimplemented!() }
+//!   #   fn assemblies(&self) -> &[AssemblyInfo] { &[] }
+//!   #   fn read_assembly(&mut self, _: u16, _: &mut [u8]) -> CipResult<usize> { Ok(0) }
+//!   #   fn write_assembly(&mut self, _: u16, _: &[u8]) -> CipResult { Ok(()) }
+//!   # }
+//!   # let net = NetworkConfig::new_static([198, 18, 0, 2].into(), [255, 255, 255, 0].into(), [2, 0, 0, 0, 0, 2]);
+//!   // error: "FRAME: at least MIN_FRAME, for a 504-byte Class 3 message"
+//!   let small = Adapter::<Gateway, 3, 10, 256>::with_capacities(Gateway, net, 1);
+//!   ```
+//! - Const generics rather than a `Config` trait: stable Rust cannot size an array by a
+//!   trait's associated constant in generic code, and a const parameter costs nothing at
+//!   run time: the default build is the same code as before the sizes were parameters.
+//!
 //! # What the stack guarantees
 //!
 //! - **Idle data**: O->T data whose run/idle header says Idle is never written to the

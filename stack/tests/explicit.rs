@@ -6,7 +6,7 @@ mod common;
 use std::net::{Ipv4Addr, SocketAddrV4};
 
 use common::*;
-use enip_stack::config::MAX_ENCAP_FRAME;
+
 use enip_stack::originator;
 use enip_stack::wire::encap::{EncapRepr, HEADER_LEN};
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
@@ -93,7 +93,7 @@ fn cip_error_statuses() {
         assert_eq!(g, want, "case {i}");
     }
     // A path segment error: reserved logical format.
-    let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+    let mut buf = vec![0u8; FRAME];
     let session = h.session;
     let n = originator::send_rr_data(&mut buf, session, None, |w| {
         w.bytes(&[0x0E, 2, 0x23, 1, 0x24, 1])
@@ -181,7 +181,7 @@ fn unconnected_send_to_port_1_slot_0() {
 #[test]
 fn tcp_framing_split_and_batched() {
     let mut h = Harness::new();
-    let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+    let mut buf = vec![0u8; FRAME];
     let session = h.session;
     let n = originator::send_rr_data(&mut buf, session, None, |w| {
         originator::request(w, 0x0E, &path(1, 1, Some(1)), &[])
@@ -189,7 +189,7 @@ fn tcp_framing_split_and_batched() {
     .unwrap();
     let frame = buf[..n].to_vec();
     // One byte at a time.
-    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    let mut reply = vec![0u8; FRAME];
     for (i, b) in frame.iter().enumerate() {
         let out =
             h.adapter
@@ -215,13 +215,13 @@ fn tcp_framing_split_and_batched() {
 #[test]
 fn tcp_framing_across_segments_keeps_order_and_replies_in_place() {
     let mut h = Harness::new();
-    let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+    let mut buf = vec![0u8; FRAME];
     let n = originator::send_rr_data(&mut buf, h.session, None, |w| {
         originator::request(w, 0x0E, &path(1, 1, Some(7)), &[])
     })
     .unwrap();
     let frame = buf[..n].to_vec();
-    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    let mut reply = vec![0u8; FRAME];
     // Half a frame, then its other half with a whole frame and the start of a third.
     let stream = [frame.clone(), frame.clone(), frame.clone()].concat();
     let cut = [n / 2, 2 * n + 5];
@@ -252,8 +252,8 @@ fn tcp_framing_across_segments_keeps_order_and_replies_in_place() {
 fn a_frame_over_capacity_is_answered_0x65_and_closed_however_it_arrives() {
     for first in [24, 10, 1] {
         let mut h = Harness::new();
-        let mut reply = vec![0u8; MAX_ENCAP_FRAME];
-        let f = header(0x6F, (MAX_ENCAP_FRAME - HEADER_LEN + 1) as u16, h.session);
+        let mut reply = vec![0u8; FRAME];
+        let f = header(0x6F, (FRAME - HEADER_LEN + 1) as u16, h.session);
         let out = h
             .adapter
             .tcp_receive(SocketId(0), &f[..first], Instant(0), &mut reply);
@@ -283,12 +283,12 @@ fn a_frame_over_capacity_is_answered_0x65_and_closed_however_it_arrives() {
 #[test]
 fn an_identity_reset_is_in_the_outcome_of_its_frame() {
     let mut h = Harness::new();
-    let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+    let mut buf = vec![0u8; FRAME];
     let n = originator::send_rr_data(&mut buf, h.session, None, |w| {
         originator::request(w, 0x05, &path(1, 1, None), &[0])
     })
     .unwrap();
-    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    let mut reply = vec![0u8; FRAME];
     let out = h
         .adapter
         .tcp_receive(SocketId(0), &buf[..n], Instant(0), &mut reply);
@@ -305,7 +305,7 @@ fn an_identity_reset_is_in_the_outcome_of_its_frame() {
 #[test]
 fn encapsulation_errors() {
     let mut h = Harness::new();
-    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    let mut reply = vec![0u8; FRAME];
     let mut run = |h: &mut Harness, frame: &[u8]| {
         let out = h
             .adapter
@@ -341,7 +341,7 @@ fn encapsulation_errors() {
         SocketAddrV4::new(SCANNER_IP, 50001),
         Instant(0),
     );
-    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    let mut reply = vec![0u8; FRAME];
     let mut f = header(0x65, 4, 0).to_vec();
     f.extend([2, 0, 0, 0]);
     let out = h
@@ -364,7 +364,7 @@ fn encapsulation_errors() {
 fn udp_commands_and_broadcast_delay() {
     let mut h = Harness::new();
     let from = SocketAddrV4::new(SCANNER_IP, 50000);
-    let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+    let mut reply = vec![0u8; FRAME];
     let n = h.adapter.udp_receive(
         from,
         ADAPTER_IP,

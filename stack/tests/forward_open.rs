@@ -241,16 +241,10 @@ fn error_rpi_reports_acceptable_values() {
 #[test]
 fn error_out_of_connections() {
     let mut h = Harness::new();
-    for i in 0..10u16 {
-        let path = io_path(None, 110 + u32::from(i), 100 + u32::from(i), None);
-        assert_eq!(
-            open(&mut h, &fo(i + 1, &path, 10_000)).0,
-            0,
-            "connection {i}"
-        );
-    }
+    open_every_slot(&mut h, 10_000);
+    assert_eq!(h.adapter.connections().len(), CONNECTIONS);
     let path = io_path(None, 152, 100, None);
-    let mut f = fo(50, &path, 10_000);
+    let mut f = fo(1000, &path, 10_000);
     f.o_t_params = NetworkParams::from_u16(0x4800 | 2);
     assert_eq!(ext_of(&mut h, &f), (0x01, Some(0x0113)));
 }

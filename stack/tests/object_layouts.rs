@@ -105,7 +105,19 @@ fn message_router_get_attributes_all() {
     // Object list (count, class IDs), then Number Available (the connection capacity).
     assert_eq!(
         u16s(&data),
-        vec![9, 0x01, 0x02, 0x04, 0x06, 0xF5, 0xF6, 0x48, 0x109, 0x10A, 10]
+        vec![
+            9,
+            0x01,
+            0x02,
+            0x04,
+            0x06,
+            0xF5,
+            0xF6,
+            0x48,
+            0x109,
+            0x10A,
+            CONNECTIONS as u16
+        ]
     );
 }
 

@@ -5,12 +5,12 @@
 mod common;
 
 use common::*;
-use enip_stack::config::{MAX_ENCAP_FRAME, MAX_MULTIPLE_SERVICES};
+use enip_stack::config::MAX_MULTIPLE_SERVICES;
 use enip_stack::originator;
 
 /// Sends the raw Message Router request `req`; returns the general status and additional words.
 fn raw(h: &mut Harness, req: &[u8]) -> (u8, Vec<u16>) {
-    let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+    let mut buf = vec![0u8; FRAME];
     let n = originator::send_rr_data(&mut buf, h.session, None, |w| w.bytes(req)).unwrap();
     let (g, words, _) = status(&h.tcp(&buf[..n]));
     (g, words)

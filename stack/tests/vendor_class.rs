@@ -90,7 +90,8 @@ impl Device for Axes {
                 w.bytes(&self.name[i])?;
             }
             4 => unreachable!("write-only attributes are never read"),
-            _ => w.zeros(1200)?,
+            // More than any reply frame holds.
+            _ => w.zeros(FRAME)?,
         }
         Ok(())
     }

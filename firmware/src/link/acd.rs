@@ -26,7 +26,9 @@ pub trait AcdPort {
     fn acd_conflict(&self, last: LastConflict);
 }
 
-impl<D: Device> AcdPort for SharedAdapter<D> {
+impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> AcdPort
+    for SharedAdapter<D, S, C, F, L>
+{
     fn acd_start(&self) -> bool {
         with_adapter_quiet(self, |a| {
             a.set_acd_capable();

@@ -6,7 +6,14 @@ use super::Adapter;
 use crate::acd::{AcdSettings, AcdState, LastConflict};
 use crate::device::Device;
 
-impl<D: Device> Adapter<D> {
+impl<
+        D: Device,
+        const SESSIONS: usize,
+        const CONNECTIONS: usize,
+        const FRAME: usize,
+        const LIST_IDENTITY: usize,
+    > Adapter<D, SESSIONS, CONNECTIONS, FRAME, LIST_IDENTITY>
+{
     /// Address Conflict Detection as the TCP/IP object reports it.
     pub fn acd(&self) -> &AcdState {
         &self.inner.objects.acd

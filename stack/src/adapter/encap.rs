@@ -20,7 +20,7 @@ use crate::wire::Writer;
 /// Identity state reported in ListIdentity: operational.
 const STATE_OPERATIONAL: u8 = 3;
 
-impl<D: Device> Inner<D> {
+impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
     /// Answers one complete frame received on `session`'s socket, whose `header` the caller
     /// parsed; the outcome's `consumed` and `reset` are left for the caller.
     pub(crate) fn tcp_frame(

@@ -24,7 +24,14 @@ fn description(name: &[u8]) -> &[u8] {
     name.get(..32).unwrap_or(name)
 }
 
-impl<D: Device> Adapter<D> {
+impl<
+        D: Device,
+        const SESSIONS: usize,
+        const CONNECTIONS: usize,
+        const FRAME: usize,
+        const LIST_IDENTITY: usize,
+    > Adapter<D, SESSIONS, CONNECTIONS, FRAME, LIST_IDENTITY>
+{
     /// Takes in an LLDPDU (the payload of an LLDP frame) received at `now`; ignored while
     /// LLDP is off globally (LLDP Enable bit 0), counted as discarded if malformed.
     pub fn lldp_receive(&mut self, lldpdu: &[u8], now: Instant) {

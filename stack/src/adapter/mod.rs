@@ -25,8 +25,7 @@ use crate::rng::Rng;
 use crate::time::{Duration, Instant};
 use crate::wire::encap::{status, HEADER_LEN};
 
-/// Index of one of the runtime's [`MAX_SESSIONS`](crate::config::MAX_SESSIONS) TCP sockets
-/// on port 44818.
+/// Index of one of the runtime's TCP sockets on port 44818 (below the adapter's `SESSIONS`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SocketId(pub u8);
 
@@ -47,32 +46,94 @@ pub struct TcpOutcome {
     pub reset: Option<u8>,
 }
 
-/// An EtherNet/IP adapter for device `D`.
-pub struct Adapter<D: Device> {
+/// An EtherNet/IP adapter for device `D`, with the capacities its maker chose at compile time
+/// (the defaults are those of [`crate::config`], for a small MCU):
+///
+/// - `SESSIONS`: encapsulation sessions, one per TCP socket on port 44818 (1 to 254);
+/// - `CONNECTIONS`: slots of the CIP connection table, Class 1 and Class 3 (1 to 254);
+/// - `FRAME`: the largest encapsulation frame received or sent, header included: each
+///   session's reassembly buffer, and the size the runtime's reply buffers should have (at
+///   least [`MIN_FRAME`], which carries a 504-byte Class 3 message);
+/// - `LIST_IDENTITY`: broadcast ListIdentity replies that can wait their random delay at
+///   once (at least 1).
+///
+/// They are checked against each other when the adapter is built
+/// ([`Adapter::with_capacities`]): a choice out of range is a compile error. See the device
+/// guide ([`crate::guide`]).
+pub struct Adapter<
+    D: Device,
+    const SESSIONS: usize = { crate::config::MAX_SESSIONS },
+    const CONNECTIONS: usize = { crate::config::MAX_CONNECTIONS },
+    const FRAME: usize = { crate::config::MAX_ENCAP_FRAME },
+    const LIST_IDENTITY: usize = { crate::config::MAX_PENDING_LIST_IDENTITY },
+> {
     /// Everything that answers a frame.
-    inner: Inner<D>,
+    inner: Inner<D, CONNECTIONS, LIST_IDENTITY>,
     /// One encapsulation session per TCP socket, each framing its socket's byte stream. Kept
     /// apart from `inner` (as smoltcp keeps `InterfaceInner` apart from what borrows it) so
     /// that a frame reassembled in a session's buffer is answered from there, not copied out
     /// first: the frame and its session are borrowed from here while `inner` answers.
-    sessions: Sessions,
+    sessions: Sessions<SESSIONS, FRAME>,
 }
 
-/// The adapter but for its sessions: the device, the objects and the connections.
-pub(crate) struct Inner<D: Device> {
+/// The smallest `FRAME` an [`Adapter`] accepts: the encapsulation header, a SendUnitData's
+/// items and a 504-byte Class 3 message with its sequence count.
+pub const MIN_FRAME: usize = HEADER_LEN + 22 + crate::config::MAX_EXPLICIT_CONNECTED;
+
+/// The adapter but for its sessions: the device, the objects and `C` connections; `L`
+/// delayed ListIdentity replies.
+pub(crate) struct Inner<D: Device, const C: usize, const L: usize> {
     pub(crate) device: D,
     pub(crate) objects: ObjectState,
     pub(crate) net: NetworkConfig,
-    pub(crate) delayed: DelayedReplies,
-    pub(crate) connections: ConnectionTable,
+    pub(crate) delayed: DelayedReplies<L>,
+    pub(crate) connections: ConnectionTable<C>,
     pub(crate) rng: Rng,
     /// Where the TCP/IP settings are saved (none: they last until power-off).
     pub(crate) store: Option<&'static mut dyn NvStore>,
 }
 
 impl<D: Device> Adapter<D> {
-    /// An adapter for `device` on the interface `net`; `seed` feeds handles and reply delays.
+    /// An adapter for `device` on the interface `net`, with the default capacities
+    /// ([`crate::config`]: 3 sessions, 10 connections); `seed` feeds handles and reply
+    /// delays. Other capacities: [`Adapter::with_capacities`].
     pub fn new(device: D, net: NetworkConfig, seed: u64) -> Self {
+        Self::with_capacities(device, net, seed)
+    }
+}
+
+impl<
+        D: Device,
+        const SESSIONS: usize,
+        const CONNECTIONS: usize,
+        const FRAME: usize,
+        const LIST_IDENTITY: usize,
+    > Adapter<D, SESSIONS, CONNECTIONS, FRAME, LIST_IDENTITY>
+{
+    /// An adapter for `device` on the interface `net` with the capacities of its type, as
+    /// [`Adapter::new`] builds one with the defaults (`Adapter::<D, 16, 64>::with_capacities`);
+    /// `seed` feeds handles and reply delays. The capacities are checked here, at compile
+    /// time.
+    pub fn with_capacities(device: D, net: NetworkConfig, seed: u64) -> Self {
+        const {
+            assert!(
+                SESSIONS >= 1 && SESSIONS < u8::MAX as usize,
+                "SESSIONS: 1 to 254 (a session handle's low byte names the socket)"
+            );
+            assert!(
+                CONNECTIONS >= 1 && CONNECTIONS < u8::MAX as usize,
+                "CONNECTIONS: 1 to 254 (the production schedule links slots in bytes)"
+            );
+            assert!(
+                FRAME >= MIN_FRAME,
+                "FRAME: at least MIN_FRAME, for a 504-byte Class 3 message"
+            );
+            assert!(
+                FRAME <= HEADER_LEN + u16::MAX as usize,
+                "FRAME: the encapsulation length field is 16 bits"
+            );
+            assert!(LIST_IDENTITY >= 1, "LIST_IDENTITY: at least 1");
+        };
         let mut rng = Rng::new(seed);
         let handle_seed = rng.next_u64() as u32;
         let id_seed = rng.next_u64() as u32;
@@ -163,7 +224,7 @@ impl<D: Device> Adapter<D> {
         self.inner.objects.qos.active.explicit()
     }
     /// The connection table.
-    pub fn connections(&self) -> &ConnectionTable {
+    pub fn connections(&self) -> &ConnectionTable<CONNECTIONS> {
         &self.inner.connections
     }
     /// The interface configuration.
@@ -224,7 +285,7 @@ impl<D: Device> Adapter<D> {
     /// Feeds bytes received on `socket`. At most one frame is handled per call: the reply (if
     /// any) is in `reply[..reply_len]`, and the outcome says what follows it; call again with
     /// `data[consumed..]` until all is used. `reply` should hold
-    /// [`crate::config::MAX_ENCAP_FRAME`] bytes.
+    /// `FRAME` bytes.
     pub fn tcp_receive(
         &mut self,
         socket: SocketId,
@@ -410,9 +471,9 @@ impl<D: Device> Adapter<D> {
     }
 }
 
-impl<D: Device> Inner<D> {
+impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
     /// The service context for a request.
-    pub(crate) fn ctx(&mut self, request: RequestContext, origin: Option<Origin>) -> Ctx<'_, D> {
+    pub(crate) fn ctx(&mut self, request: RequestContext, origin: Option<Origin>) -> Ctx<'_, D, C> {
         Ctx {
             device: &mut self.device,
             state: &mut self.objects,
@@ -444,7 +505,10 @@ impl<D: Device> Inner<D> {
 
 /// Triggers production of the input assemblies in `changes`, and clears it.
 #[inline(never)]
-fn trigger_changes(connections: &mut ConnectionTable, changes: &mut InputChanges) {
+fn trigger_changes<const C: usize>(
+    connections: &mut ConnectionTable<C>,
+    changes: &mut InputChanges,
+) {
     if changes.all() {
         connections.trigger_all();
     } else {

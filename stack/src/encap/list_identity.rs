@@ -35,13 +35,13 @@ pub struct Pending {
     pub due: Instant,
 }
 
-/// The fixed-size queue of delayed replies.
+/// The fixed-size queue of delayed replies: at most `L` wait at once.
 #[derive(Debug, Clone, Default)]
-pub struct DelayedReplies {
-    queue: heapless::Vec<Pending, MAX_PENDING_LIST_IDENTITY>,
+pub struct DelayedReplies<const L: usize = MAX_PENDING_LIST_IDENTITY> {
+    queue: heapless::Vec<Pending, L>,
 }
 
-impl DelayedReplies {
+impl<const L: usize> DelayedReplies<L> {
     /// An empty queue.
     pub const fn new() -> Self {
         DelayedReplies {
@@ -99,7 +99,7 @@ mod tests {
 
     #[test]
     fn replies_come_due_within_the_bound() {
-        let mut q = DelayedReplies::new();
+        let mut q: DelayedReplies = DelayedReplies::new();
         let mut rng = Rng::new(7);
         let to = SocketAddrV4::new(core::net::Ipv4Addr::new(198, 18, 0, 1), 44818);
         for _ in 0..MAX_PENDING_LIST_IDENTITY {

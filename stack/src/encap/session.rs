@@ -3,7 +3,6 @@
 
 use core::net::SocketAddrV4;
 
-use crate::config::{MAX_ENCAP_DATA, MAX_ENCAP_FRAME, MAX_SESSIONS};
 use crate::time::Instant;
 use crate::wire::encap::{EncapRepr, HEADER_LEN};
 
@@ -23,21 +22,21 @@ pub enum Feed<'a> {
     },
     /// The frame is not complete yet: all of the input is buffered.
     Buffered,
-    /// The header declares more data than the stack accepts
-    /// ([`MAX_ENCAP_DATA`]); nothing is buffered.
+    /// The header declares more data than the stack accepts (a frame longer than the
+    /// framer's `F` bytes); nothing is buffered.
     TooLong(EncapRepr),
 }
 
-/// Reassembles encapsulation frames from one TCP byte stream.
+/// Reassembles encapsulation frames of at most `F` bytes from one TCP byte stream.
 #[derive(Debug, Clone)]
-pub struct Framer {
+pub struct Framer<const F: usize> {
     /// The first bytes of a frame that arrived split across segments.
-    buf: heapless::Vec<u8, MAX_ENCAP_FRAME>,
+    buf: heapless::Vec<u8, F>,
     /// `buf` holds a whole frame already handed out: it is dropped at the next feed.
     handed_out: bool,
 }
 
-impl Framer {
+impl<const F: usize> Framer<F> {
     const fn new() -> Self {
         Framer {
             buf: heapless::Vec::new(),
@@ -56,7 +55,7 @@ impl Framer {
         }
         if self.buf.is_empty() {
             if let Ok(header) = EncapRepr::parse_header(data) {
-                match accepted(header) {
+                match accepted::<F>(header) {
                     Ok(len) if data.len() >= len => {
                         return Feed::Frame {
                             header,
@@ -77,7 +76,7 @@ impl Framer {
         let Ok(header) = EncapRepr::parse_header(&self.buf) else {
             return Feed::Buffered;
         };
-        let len = match accepted(header) {
+        let len = match accepted::<F>(header) {
             Ok(len) => len,
             Err(header) => {
                 self.buf.clear();
@@ -107,10 +106,10 @@ impl Framer {
     }
 }
 
-/// The length of the frame `header` starts (at most [`MAX_ENCAP_FRAME`]), or the header back
-/// if it declares more data than the stack accepts.
-fn accepted(header: EncapRepr) -> Result<usize, EncapRepr> {
-    if usize::from(header.length) > MAX_ENCAP_DATA {
+/// The length of the frame `header` starts (at most `F`), or the header back if it declares
+/// more data than the stack accepts.
+fn accepted<const F: usize>(header: EncapRepr) -> Result<usize, EncapRepr> {
+    if usize::from(header.length) > F.saturating_sub(HEADER_LEN) {
         return Err(header);
     }
     Ok(HEADER_LEN.saturating_add(usize::from(header.length)))
@@ -118,7 +117,7 @@ fn accepted(header: EncapRepr) -> Result<usize, EncapRepr> {
 
 /// One TCP socket's encapsulation state.
 #[derive(Debug, Clone)]
-pub struct Slot {
+pub struct Slot<const F: usize> {
     /// The peer, while a TCP connection is open on this socket.
     pub peer: Option<SocketAddrV4>,
     /// The registered session handle, if any.
@@ -126,10 +125,10 @@ pub struct Slot {
     /// Last time a byte arrived.
     pub last_activity: Instant,
     /// Frames arriving on the socket.
-    framer: Framer,
+    framer: Framer<F>,
 }
 
-impl Slot {
+impl<const F: usize> Slot<F> {
     const fn new() -> Self {
         Slot {
             peer: None,
@@ -168,23 +167,28 @@ impl Session<'_> {
     }
 }
 
-/// All session slots.
+/// All session slots: `S` sockets, each framing frames of at most `F` bytes.
 #[derive(Debug, Clone)]
-pub struct Sessions {
-    slots: [Slot; MAX_SESSIONS],
+pub struct Sessions<const S: usize, const F: usize> {
+    slots: [Slot<F>; S],
     next_handle: u32,
 }
 
-impl Sessions {
+impl<const S: usize, const F: usize> Sessions<S, F> {
     /// Every slot free; handles start from `seed`.
     pub fn new(seed: u32) -> Self {
+        const {
+            // A handle's low byte is the socket index plus one, never 0; the connection
+            // table keeps u8::MAX for "no session".
+            assert!(S >= 1 && S < u8::MAX as usize, "1 to 254 sessions");
+        };
         Sessions {
-            slots: [const { Slot::new() }; MAX_SESSIONS],
+            slots: [const { Slot::new() }; S],
             next_handle: seed,
         }
     }
     /// The slot of socket `index`.
-    pub fn get(&self, index: usize) -> Option<&Slot> {
+    pub fn get(&self, index: usize) -> Option<&Slot<F>> {
         self.slots.get(index)
     }
     /// Feeds bytes received on socket `index` at `now` to its [`Framer`]; returns what it
@@ -226,6 +230,12 @@ mod tests {
     use std::{vec, vec::Vec};
 
     use super::*;
+    use crate::config::{MAX_ENCAP_DATA, MAX_ENCAP_FRAME, MAX_SESSIONS};
+
+    /// The framer of the default frame size.
+    type Framer = super::Framer<MAX_ENCAP_FRAME>;
+    /// The default session table.
+    type Sessions = super::Sessions<MAX_SESSIONS, MAX_ENCAP_FRAME>;
 
     /// A frame with command 0x6F, `len` data bytes numbered from 1 and `context` as its
     /// sender context's first byte.

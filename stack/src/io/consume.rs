@@ -45,8 +45,8 @@ const fn newer32(new: u32, old: u32) -> bool {
 }
 
 /// Handles an O->T datagram from `from`.
-pub fn consume<D: Device>(
-    table: &mut ConnectionTable,
+pub fn consume<D: Device, const C: usize>(
+    table: &mut ConnectionTable<C>,
     device: &mut D,
     from: SocketAddrV4,
     datagram: &[u8],

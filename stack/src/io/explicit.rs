@@ -26,8 +26,8 @@ pub enum Step {
 
 /// Finds the Class 3 connection `o_t_id` opened by socket `socket`, feeds its watchdog and
 /// says whether `sequence` is new.
-pub fn lookup(
-    table: &mut ConnectionTable,
+pub fn lookup<const C: usize>(
+    table: &mut ConnectionTable<C>,
     o_t_id: u32,
     socket: u8,
     sequence: u16,
@@ -51,13 +51,18 @@ pub fn lookup(
 }
 
 /// The reply cached in `slot`.
-pub fn cached(table: &ConnectionTable, slot: usize) -> &[u8] {
+pub fn cached<const C: usize>(table: &ConnectionTable<C>, slot: usize) -> &[u8] {
     table.cached_reply(slot)
 }
 
 /// Caches `reply` as the answer to `sequence` in `slot` (a reply too large to cache is
 /// executed again if repeated).
-pub fn store(table: &mut ConnectionTable, slot: usize, sequence: u16, reply: &[u8]) {
+pub fn store<const C: usize>(
+    table: &mut ConnectionTable<C>,
+    slot: usize,
+    sequence: u16,
+    reply: &[u8],
+) {
     let cached = table.reply_cache_mut(slot).is_some_and(|cache| {
         cache.clear();
         cache.extend_from_slice(reply).is_ok()

@@ -143,8 +143,8 @@ fn size_ok(p: &NetworkParams, expected: usize) -> bool {
 
 /// The whole Forward_Open check. On success the connection is in the table and its slot
 /// is returned.
-pub fn forward_open<D: Device>(
-    table: &mut ConnectionTable,
+pub fn forward_open<D: Device, const C: usize>(
+    table: &mut ConnectionTable<C>,
     device: &mut D,
     fo: &ForwardOpenRepr<'_>,
     origin: &Origin,
@@ -303,8 +303,8 @@ fn assembly(device: &impl Device, instance: u32) -> Option<AssemblyInfo> {
 
 /// Class 1: application paths, sizes, ownership and multicast rules.
 #[allow(clippy::too_many_arguments)]
-fn class1<D: Device>(
-    table: &ConnectionTable,
+fn class1<D: Device, const C: usize>(
+    table: &ConnectionTable<C>,
     device: &D,
     fo: &ForwardOpenRepr<'_>,
     path: &ConnPath<'_>,

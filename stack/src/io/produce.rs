@@ -32,7 +32,7 @@ fn datagram_len(size: u16) -> usize {
 }
 
 /// The most overdue producer at `now`, or `None` if none is due.
-pub fn next_due(table: &ConnectionTable, now: Instant) -> Option<IoDue> {
+pub fn next_due<const C: usize>(table: &ConnectionTable<C>, now: Instant) -> Option<IoDue> {
     let slot = table.due(now)?;
     let conn = table.get(slot)?;
     let p = conn.producer()?;
@@ -49,8 +49,8 @@ pub fn next_due(table: &ConnectionTable, now: Instant) -> Option<IoDue> {
 /// producer to its next deadline; returns the datagram's length. With `out` `None` the
 /// datagram is skipped (nowhere to send it) and the producer moves on all the same.
 /// Returns 0, changing nothing, if `out` is too short or the connection closed since.
-pub fn write<D: Device>(
-    table: &mut ConnectionTable,
+pub fn write<D: Device, const C: usize>(
+    table: &mut ConnectionTable<C>,
     device: &mut D,
     due: IoDue,
     now: Instant,
@@ -64,8 +64,8 @@ pub fn write<D: Device>(
 /// length. `None`, changing nothing, if there is no such producer or `out` is too short for
 /// its datagram.
 #[inline(always)]
-fn produce_slot<D: Device>(
-    table: &mut ConnectionTable,
+fn produce_slot<D: Device, const C: usize>(
+    table: &mut ConnectionTable<C>,
     device: &mut D,
     slot: usize,
     t_o_id: Option<u32>,

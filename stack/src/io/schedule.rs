@@ -5,37 +5,38 @@
 //! behind the others (equal RPIs taking turns) is placed from the back of the list, after
 //! one comparison, where a scan of every deadline used to find the new first.
 
-use crate::config::MAX_CONNECTIONS;
 use crate::time::Instant;
 
-/// The end of the list, in both directions: `next[END]` is the first producer, `prev[END]`
-/// the last; `END` itself as a slot is never due.
-const END: usize = MAX_CONNECTIONS;
-const _: () = assert!(END <= u8::MAX as usize, "slots fit the list's links");
-
-/// The producers' deadlines by table slot, and their order.
+/// The producers' deadlines by table slot (`C` slots), and their order.
 #[derive(Debug, Clone)]
-pub(crate) struct Schedule {
+pub(crate) struct Schedule<const C: usize> {
     /// Per slot: when its producer is next due (`Instant::NEVER` for none).
-    due: [Instant; MAX_CONNECTIONS],
+    due: [Instant; C],
     /// The scheduled slots (those with a deadline), by deadline and the lower slot first on
-    /// a tie, linked through [`END`] both ways: `next[s]` follows `s`, `prev[s]` precedes it.
-    /// The links of a slot without a deadline mean nothing.
-    next: [u8; MAX_CONNECTIONS + 1],
-    prev: [u8; MAX_CONNECTIONS + 1],
+    /// a tie, linked through [`Self::END`] both ways: `next[s]` follows `s`, `prev[s]`
+    /// precedes it. The links of a slot without a deadline mean nothing.
+    next: [u8; C],
+    prev: [u8; C],
+    /// `next[END]` and `prev[END]`: the first and the last producer.
+    end: (u8, u8),
     /// The head of the list and its deadline, as every poll asks for them: a summary that
     /// every [`Schedule::set`] keeps.
     first: (usize, Instant),
 }
 
-impl Schedule {
+impl<const C: usize> Schedule<C> {
+    /// The end of the list, in both directions: `next[END]` is the first producer,
+    /// `prev[END]` the last; `END` itself as a slot is never due.
+    pub(crate) const END: usize = C;
     /// Nothing scheduled.
     pub(crate) const fn new() -> Self {
+        const { assert!(C < u8::MAX as usize, "slots fit the list's links") };
         Schedule {
-            due: [Instant::NEVER; MAX_CONNECTIONS],
-            next: [END as u8; MAX_CONNECTIONS + 1],
-            prev: [END as u8; MAX_CONNECTIONS + 1],
-            first: (END, Instant::NEVER),
+            due: [Instant::NEVER; C],
+            next: [C as u8; C],
+            prev: [C as u8; C],
+            end: (C as u8, C as u8),
+            first: (C, Instant::NEVER),
         }
     }
 
@@ -63,8 +64,9 @@ impl Schedule {
         if listed && at != Instant::NEVER {
             let (p, n) = (self.prev(slot), self.next(slot));
             // Still after the one before it and before the one after it: the order stands.
-            if (p == END || self.before(p, slot)) && (n == END || self.before(slot, n)) {
-                if p == END {
+            if (p == Self::END || self.before(p, slot)) && (n == Self::END || self.before(slot, n))
+            {
+                if p == Self::END {
                     self.first.1 = at;
                 }
                 return;
@@ -84,16 +86,16 @@ impl Schedule {
         if self.at(slot) != Instant::NEVER {
             self.insert(slot);
         }
-        let head = self.next(END);
+        let head = self.next(Self::END);
         self.first = (head, self.at(head));
     }
 
     /// Puts `slot` (not in the list) in its place, looking from the back.
     fn insert(&mut self, slot: usize) {
-        let mut p = self.prev(END);
+        let mut p = self.prev(Self::END);
         // Bounded: the list holds at most every slot once.
-        for _ in 0..MAX_CONNECTIONS {
-            if p == END || self.before(p, slot) {
+        for _ in 0..C {
+            if p == Self::END || self.before(p, slot) {
                 break;
             }
             p = self.prev(p);
@@ -112,58 +114,63 @@ impl Schedule {
     /// The slot after `s` in the list (`END` after the last).
     #[inline]
     fn next(&self, s: usize) -> usize {
-        self.next.get(s).map_or(END, |&n| usize::from(n))
+        usize::from(self.next.get(s).copied().unwrap_or(self.end.0))
     }
 
     /// The slot before `s` in the list (`END` before the first).
     #[inline]
     fn prev(&self, s: usize) -> usize {
-        self.prev.get(s).map_or(END, |&p| usize::from(p))
+        usize::from(self.prev.get(s).copied().unwrap_or(self.end.1))
     }
 
     /// Links `a` to `b`: `b` follows `a`.
     #[inline]
     fn join(&mut self, a: usize, b: usize) {
-        if let (Some(n), Some(p)) = (self.next.get_mut(a), self.prev.get_mut(b)) {
-            (*n, *p) = (b as u8, a as u8);
-        }
+        let n = self.next.get_mut(a).unwrap_or(&mut self.end.0);
+        *n = b as u8;
+        let p = self.prev.get_mut(b).unwrap_or(&mut self.end.1);
+        *p = a as u8;
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::Instant;
+    use crate::config::MAX_CONNECTIONS;
+
+    /// The schedule of the default table.
+    type Schedule = super::Schedule<MAX_CONNECTIONS>;
 
     /// Checks `s` against the deadlines themselves: the first is the earliest (lowest slot on
     /// a tie), and the list holds every scheduled slot once, in order, linked both ways.
-    fn check(s: &Schedule) -> (usize, Instant) {
+    fn check<const C: usize>(s: &super::Schedule<C>) -> (usize, Instant) {
+        let end = C;
         let first_at = s.due.iter().copied().min().unwrap();
         let (slot, at) = s.first();
         assert_eq!(
             (slot, at),
-            (s.next(END), s.at(s.next(END))),
+            (s.next(end), s.at(s.next(end))),
             "the summary is the head"
         );
         assert_eq!(at, first_at);
         if at != Instant::NEVER {
             assert_eq!(slot, s.due.iter().position(|&d| d == first_at).unwrap());
         } else {
-            assert_eq!(slot, END, "nothing scheduled");
+            assert_eq!(slot, end, "nothing scheduled");
         }
-        let mut listed = heapless::Vec::<usize, MAX_CONNECTIONS>::new();
-        let mut p = END;
+        let mut listed = heapless::Vec::<usize, C>::new();
+        let mut p = end;
         loop {
             let n = s.next(p);
             assert_eq!(s.prev(n), p, "links both ways");
-            if n == END {
+            if n == end {
                 break;
             }
             listed.push(n).expect("no loop");
             p = n;
         }
-        let mut expected: heapless::Vec<usize, MAX_CONNECTIONS> = (0..MAX_CONNECTIONS)
-            .filter(|&i| s.due[i] != Instant::NEVER)
-            .collect();
+        let mut expected: heapless::Vec<usize, C> =
+            (0..C).filter(|&i| s.due[i] != Instant::NEVER).collect();
         expected.sort_unstable_by_key(|&i| (s.due[i], i));
         assert_eq!(listed, expected);
         (slot, at)
@@ -188,13 +195,19 @@ mod tests {
 
     #[test]
     fn equal_rpi_producers_take_turns_in_slot_order() {
-        let mut s = Schedule::new();
-        for slot in 0..MAX_CONNECTIONS {
+        take_turns::<MAX_CONNECTIONS>();
+        take_turns::<64>();
+    }
+
+    /// Every one of `C` slots due at once, then each one RPI later: they go in slot order.
+    fn take_turns<const C: usize>() {
+        let mut s = super::Schedule::<C>::new();
+        for slot in 0..C {
             s.set(slot, Instant(0));
         }
-        for n in 0..5 * MAX_CONNECTIONS {
+        for n in 0..5 * C {
             let (slot, at) = check(&s);
-            assert_eq!(slot, n % MAX_CONNECTIONS);
+            assert_eq!(slot, n % C);
             s.set(slot, Instant(at.0 + 1_000));
         }
     }
@@ -216,13 +229,19 @@ mod tests {
 
     #[test]
     fn any_sequence_of_moves_keeps_the_first_exact() {
-        let mut s = Schedule::new();
+        any_sequence_of_moves::<MAX_CONNECTIONS>();
+        any_sequence_of_moves::<64>();
+    }
+
+    /// Random deadlines for random slots of `C`, checked after each move.
+    fn any_sequence_of_moves<const C: usize>() {
+        let mut s = super::Schedule::<C>::new();
         let mut x = 0x2545_F491_4F6C_DD1Du64;
         for _ in 0..20_000 {
             x ^= x << 13;
             x ^= x >> 7;
             x ^= x << 17;
-            let slot = (x % MAX_CONNECTIONS as u64) as usize;
+            let slot = (x % C as u64) as usize;
             let at = match (x >> 8) % 8 {
                 0 => Instant::NEVER,
                 1 => s.first().1, // a tie with the first

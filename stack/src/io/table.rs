@@ -13,14 +13,6 @@ use crate::device::{CloseReason, ConnectionEvent, Device, Kind};
 use crate::time::Instant;
 use crate::wire::forward_open::Triad;
 
-/// Low bits of the connection IDs the adapter chooses: the table slot.
-const SLOT_BITS: u32 = 4;
-const SLOT_MASK: u32 = (1 << SLOT_BITS) - 1;
-const _: () = assert!(
-    MAX_CONNECTIONS <= 1 << SLOT_BITS,
-    "slots must fit in the ID's low bits"
-);
-
 /// Socket index of a connection whose opening session has ended.
 const NO_SESSION: u8 = u8::MAX;
 
@@ -35,32 +27,38 @@ const EXT_IDLE: u16 = 7 << 4;
 
 /// All connection slots.
 #[derive(Debug, Clone)]
-pub struct ConnectionTable {
-    slots: [Option<Connection>; MAX_CONNECTIONS],
+pub struct ConnectionTable<const C: usize = MAX_CONNECTIONS> {
+    slots: [Option<Connection>; C],
     next_id: u32,
-    owned: heapless::Vec<u16, MAX_CONNECTIONS>,
+    owned: heapless::Vec<u16, C>,
     /// Per slot: the last Class 3 reply, resent when a request is repeated.
-    replies: [heapless::Vec<u8, MAX_EXPLICIT_CONNECTED>; MAX_CONNECTIONS],
+    replies: [heapless::Vec<u8, MAX_EXPLICIT_CONNECTED>; C],
     /// Exclusive-owner connections closed by their watchdog so far (wrapping).
     owner_timeouts: u32,
     timeouts: u16,
     /// Every slot's watchdog, last activity and production deadline, and which comes first:
     /// the only copy.
-    timing: Timing,
+    timing: Timing<C>,
     /// One past the highest occupied slot: the watchdog scans stop there.
     used: usize,
     /// Some connection produces to a multicast group.
     multicast: bool,
 }
 
-impl ConnectionTable {
+impl<const C: usize> ConnectionTable<C> {
+    /// Low bits of the connection IDs the adapter chooses: the table slot (4 for 10 slots).
+    const SLOT_BITS: u32 = usize::BITS - C.saturating_sub(1).leading_zeros();
+    /// The slot bits of a connection ID.
+    const SLOT_MASK: u32 = (1 << Self::SLOT_BITS) - 1;
+
     /// An empty table; connection IDs start from `seed`.
     pub fn new(seed: u32) -> Self {
+        const { assert!(C >= 1, "the connection table has at least one slot") };
         ConnectionTable {
-            slots: [const { None }; MAX_CONNECTIONS],
+            slots: [const { None }; C],
             next_id: seed,
             owned: heapless::Vec::new(),
-            replies: [const { heapless::Vec::new() }; MAX_CONNECTIONS],
+            replies: [const { heapless::Vec::new() }; C],
             owner_timeouts: 0,
             timeouts: 0,
             timing: Timing::new(),
@@ -107,12 +105,12 @@ impl ConnectionTable {
     /// The slot of the connection consuming O->T connection ID `id`: the ID names its slot
     /// in its low bits ([`ConnectionTable::new_id`]), so no search.
     pub fn find_o_t(&self, id: u32) -> Option<usize> {
-        let slot = (id & SLOT_MASK) as usize;
+        let slot = (id & Self::SLOT_MASK) as usize;
         self.get(slot).filter(|c| c.o_t_id == id).map(|_| slot)
     }
     /// Like [`ConnectionTable::find_o_t`], with the connection to update.
     pub(crate) fn find_o_t_mut(&mut self, id: u32) -> Option<(usize, &mut Connection)> {
-        let slot = (id & SLOT_MASK) as usize;
+        let slot = (id & Self::SLOT_MASK) as usize;
         let conn = self.get_mut(slot).filter(|c| c.o_t_id == id)?;
         Some((slot, conn))
     }
@@ -120,8 +118,8 @@ impl ConnectionTable {
     /// connection uses; its low bits are the slot.
     pub fn new_id(&mut self, slot: usize) -> u32 {
         loop {
-            self.next_id = self.next_id.wrapping_add(1 << SLOT_BITS);
-            let id = (self.next_id & !SLOT_MASK) | (slot as u32 & SLOT_MASK);
+            self.next_id = self.next_id.wrapping_add(1 << Self::SLOT_BITS);
+            let id = (self.next_id & !Self::SLOT_MASK) | (slot as u32 & Self::SLOT_MASK);
             if id != 0 && !self.iter().any(|(_, c)| c.o_t_id == id || c.t_o_id == id) {
                 return id;
             }

@@ -12,7 +12,7 @@
 //! waits nothing reads it, and without one it is the deadline.
 
 use super::schedule::Schedule;
-use crate::config::{FIRST_PACKET_GRACE_US, MAX_CONNECTIONS};
+use crate::config::FIRST_PACKET_GRACE_US;
 use crate::time::{Duration, Instant};
 
 /// The first deadline on the grid `previous + k * rpi` that is after `now` (k >= 1): a late
@@ -49,9 +49,9 @@ impl Pending {
 
 /// The timing state of every slot of the connection table, and its summaries.
 #[derive(Debug, Clone)]
-pub(super) struct Timing {
+pub(super) struct Timing<const C: usize> {
     /// Per slot: when its watchdog fires (`Instant::NEVER` for an empty slot).
-    expiry: [Instant; MAX_CONNECTIONS],
+    expiry: [Instant; C],
     /// No watchdog fires before this instant: a lower bound that every move of an expiry
     /// keeps and a sweep ([`Timing::swept`]) makes exact, so the watchdogs are looked at
     /// only once it is reached, and [`Timing::next_deadline`] only while it is not after the
@@ -59,23 +59,23 @@ pub(super) struct Timing {
     expiry_bound: Instant,
     /// Per slot: when its originator was last heard (O->T data, a Class 3 request), or when
     /// it opened.
-    last_activity: [Instant; MAX_CONNECTIONS],
+    last_activity: [Instant; C],
     /// Per slot: the production deadline (`Instant::NEVER` for no producer of its own), and
     /// which comes first.
-    schedule: Schedule,
+    schedule: Schedule<C>,
     /// Per slot: the producer's trigger state.
-    pending: [Pending; MAX_CONNECTIONS],
+    pending: [Pending; C],
 }
 
-impl Timing {
+impl<const C: usize> Timing<C> {
     /// No slot open.
     pub(super) const fn new() -> Self {
         Timing {
-            expiry: [Instant::NEVER; MAX_CONNECTIONS],
+            expiry: [Instant::NEVER; C],
             expiry_bound: Instant::NEVER,
-            last_activity: [Instant(0); MAX_CONNECTIONS],
+            last_activity: [Instant(0); C],
             schedule: Schedule::new(),
-            pending: [Pending::NONE; MAX_CONNECTIONS],
+            pending: [Pending::NONE; C],
         }
     }
 
@@ -239,17 +239,14 @@ impl Timing {
             "bound {:?} after the earliest expiry {earliest:?}",
             self.expiry_bound
         );
-        let first = (0..MAX_CONNECTIONS)
+        let first = (0..C)
             .map(|s| self.schedule.at(s))
             .min()
             .unwrap_or(Instant::NEVER);
         let (slot, at) = self.schedule.first();
         assert_eq!(at, first, "first production");
         if at != Instant::NEVER {
-            assert_eq!(
-                Some(slot),
-                (0..MAX_CONNECTIONS).position(|s| self.schedule.at(s) == at)
-            );
+            assert_eq!(Some(slot), (0..C).position(|s| self.schedule.at(s) == at));
         }
     }
 }
@@ -257,6 +254,10 @@ impl Timing {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::MAX_CONNECTIONS;
+
+    /// The timing of the default table.
+    type Timing = super::Timing<MAX_CONNECTIONS>;
 
     const RPI: u32 = 1_000;
 

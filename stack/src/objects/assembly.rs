@@ -5,7 +5,6 @@ use super::Ctx;
 use crate::cip::object::{Access, AttributeDef, ClassDef, DataType};
 use crate::cip::status::{CipError, CipResult, General};
 use crate::cip::{class_id, Request};
-use crate::config::MAX_ASSEMBLY_SIZE;
 use crate::device::{AssemblyInfo, Device};
 use crate::wire::Writer;
 
@@ -24,15 +23,15 @@ pub const CLASS: ClassDef = ClassDef {
     optional_attributes: &[4],
 };
 
-struct Assembly<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+struct Assembly<'c, 'a, D: Device, const C: usize>(&'c mut Ctx<'a, D, C>);
 
-impl<D: Device> Assembly<'_, '_, D> {
+impl<D: Device, const C: usize> Assembly<'_, '_, D, C> {
     fn info(&self, instance: u32) -> Option<AssemblyInfo> {
         crate::device::assembly(&*self.0.device, instance)
     }
 }
 
-impl<D: Device> Object for Assembly<'_, '_, D> {
+impl<D: Device, const C: usize> Object for Assembly<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
@@ -64,12 +63,14 @@ impl<D: Device> Object for Assembly<'_, '_, D> {
             w.u16(info.size)?;
             return Ok(());
         }
-        let mut buf = [0u8; MAX_ASSEMBLY_SIZE];
-        let out = buf
-            .get_mut(..usize::from(info.size))
+        // Read straight into the reply: the largest assembly is what the reply frame holds.
+        let size = usize::from(info.size);
+        let out = w
+            .tail()
+            .get_mut(..size)
             .ok_or(CipError::new(General::ReplyDataTooLarge))?;
         let n = self.0.device.read_assembly(info.instance, out)?;
-        w.bytes(out.get(..n).unwrap_or(&[]))?;
+        w.advance(if n <= size { n } else { 0 })?;
         Ok(())
     }
     fn set(&mut self, instance: u32, _attr: &AttributeDef, value: &[u8]) -> CipResult {
@@ -90,8 +91,8 @@ impl<D: Device> Object for Assembly<'_, '_, D> {
 }
 
 /// Handles a request to the Assembly class or one of the device's assembly instances.
-pub(crate) fn handle<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn handle<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {

@@ -68,9 +68,9 @@ pub const CLASS: ClassDef = ClassDef {
     optional_attributes: &[1, 2, 3, 4, 5, 6, 7, 8],
 };
 
-struct Manager<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+struct Manager<'c, 'a, D: Device, const C: usize>(&'c mut Ctx<'a, D, C>);
 
-impl<D: Device> Object for Manager<'_, '_, D> {
+impl<D: Device, const C: usize> Object for Manager<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
@@ -111,8 +111,8 @@ impl<D: Device> Object for Manager<'_, '_, D> {
 }
 
 /// Handles a request to the Connection Manager (Unconnected_Send is unwrapped by the router).
-pub(crate) fn handle<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn handle<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
@@ -127,8 +127,8 @@ fn data_error(e: Error) -> CipError {
     }
 }
 
-fn forward_open<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+fn forward_open<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
@@ -202,7 +202,11 @@ fn forward_open<D: Device>(
     Ok(())
 }
 
-fn forward_close<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8], w: &mut Writer<'_>) -> CipResult {
+fn forward_close<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
+    data: &[u8],
+    w: &mut Writer<'_>,
+) -> CipResult {
     let fc = ForwardCloseRepr::parse(data).map_err(|e| {
         bump(&mut ctx.state.connection_manager.close_format_rejects);
         data_error(e)

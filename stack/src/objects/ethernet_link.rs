@@ -86,9 +86,9 @@ pub const CLASS: ClassDef = ClassDef {
     optional_attributes: &[4, 5, 6, 7, 8, 9, 10, 11],
 };
 
-struct Link<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+struct Link<'c, 'a, D: Device, const C: usize>(&'c mut Ctx<'a, D, C>);
 
-impl<D: Device> Object for Link<'_, '_, D> {
+impl<D: Device, const C: usize> Object for Link<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
@@ -171,8 +171,8 @@ impl<D: Device> Object for Link<'_, '_, D> {
 /// Get_And_Clear: the value of attribute 4 or 5, as Get_Attribute_Single gives it, then that
 /// attribute cleared. Another attribute of the class is 0x2E (service not supported for the
 /// path), an unknown one 0x14, none 0x05.
-fn get_and_clear<D: Device>(
-    link: &mut Link<'_, '_, D>,
+fn get_and_clear<D: Device, const C: usize>(
+    link: &mut Link<'_, '_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
@@ -203,8 +203,8 @@ fn get_and_clear<D: Device>(
 }
 
 /// Handles a request to the Ethernet Link class or its instance 1.
-pub(crate) fn handle<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn handle<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {

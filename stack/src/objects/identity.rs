@@ -32,9 +32,9 @@ pub const CLASS: ClassDef = ClassDef {
     optional_attributes: &[8],
 };
 
-struct Identity<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+struct Identity<'c, 'a, D: Device, const C: usize>(&'c mut Ctx<'a, D, C>);
 
-impl<D: Device> Object for Identity<'_, '_, D> {
+impl<D: Device, const C: usize> Object for Identity<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
@@ -63,8 +63,8 @@ impl<D: Device> Object for Identity<'_, '_, D> {
 }
 
 /// Handles a request to the Identity class or its instance 1.
-pub(crate) fn handle<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn handle<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
@@ -74,7 +74,7 @@ pub(crate) fn handle<D: Device>(
 /// Reset: no data or one byte, 0 (power cycle) or 1 (factory defaults); handed to the device.
 /// Out of line, so the check for it stays small enough to inline into every Identity request.
 #[inline(never)]
-fn reset<D: Device>(ctx: &mut Ctx<'_, D>, data: &[u8]) -> CipResult {
+fn reset<D: Device, const C: usize>(ctx: &mut Ctx<'_, D, C>, data: &[u8]) -> CipResult {
     let kind = match data {
         [] => 0,
         [k @ (0 | 1)] => *k,

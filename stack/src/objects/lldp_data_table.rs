@@ -189,9 +189,9 @@ pub const CLASS: ClassDef = ClassDef {
     optional_attributes: &[],
 };
 
-struct DataTable<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+struct DataTable<'c, 'a, D: Device, const C: usize>(&'c mut Ctx<'a, D, C>);
 
-impl<D: Device> Object for DataTable<'_, '_, D> {
+impl<D: Device, const C: usize> Object for DataTable<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
@@ -241,8 +241,8 @@ impl<D: Device> Object for DataTable<'_, '_, D> {
 
 /// Handles a request to the LLDP Data Table class or one of its instances (the caller drops
 /// the entries that expired first).
-pub(crate) fn serve_table<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn serve_table<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {

@@ -226,9 +226,9 @@ pub const CLASS: ClassDef = ClassDef {
     optional_attributes: &[],
 };
 
-struct Management<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+struct Management<'c, 'a, D: Device, const C: usize>(&'c mut Ctx<'a, D, C>);
 
-impl<D: Device> Object for Management<'_, '_, D> {
+impl<D: Device, const C: usize> Object for Management<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
@@ -280,8 +280,8 @@ impl<D: Device> Object for Management<'_, '_, D> {
 
 /// Handles a request to the LLDP Management or the LLDP Data Table class or one of their
 /// instances, after dropping the neighbours whose TTL ran out.
-pub(crate) fn handle<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn handle<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {

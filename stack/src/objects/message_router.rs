@@ -6,7 +6,7 @@ use super::Ctx;
 use crate::cip::object::{AttributeDef, ClassDef, DataType};
 use crate::cip::status::{CipError, CipResult, General};
 use crate::cip::{class_id, service, Request};
-use crate::config::{MAX_CONNECTIONS, MAX_MULTIPLE_SERVICES};
+use crate::config::MAX_MULTIPLE_SERVICES;
 use crate::device::Device;
 use crate::wire::{Reader, Writer};
 
@@ -38,18 +38,18 @@ pub const CLASS: ClassDef = ClassDef {
     optional_attributes: &[1, 2],
 };
 
-struct Router<'c, 'a, D: Device> {
-    ctx: &'c mut Ctx<'a, D>,
+struct Router<'c, 'a, D: Device, const C: usize> {
+    ctx: &'c mut Ctx<'a, D, C>,
     depth: u8,
 }
 
-impl<D: Device> Object for Router<'_, '_, D> {
+impl<D: Device, const C: usize> Object for Router<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
     fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         if attr.id == 2 {
-            w.u16(MAX_CONNECTIONS as u16)?;
+            w.u16(C as u16)?;
             return Ok(());
         }
         let vendor = self.ctx.device.classes();
@@ -71,8 +71,8 @@ impl<D: Device> Object for Router<'_, '_, D> {
 }
 
 /// Handles a request to the Message Router class or its instance 1.
-pub(crate) fn handle<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn handle<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
     depth: u8,
@@ -89,8 +89,8 @@ pub(crate) fn handle<D: Device>(
     clippy::arithmetic_side_effects,
     reason = "count is at most MAX_MULTIPLE_SERVICES (checked first); offsets are positions in the writer, after `base`; depth is below MAX_DEPTH"
 )]
-fn multiple_service_packet<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+fn multiple_service_packet<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     data: &[u8],
     w: &mut Writer<'_>,
     depth: u8,

@@ -77,12 +77,12 @@ impl Default for ObjectState {
 }
 
 /// Everything a service handler may look at or change.
-pub(crate) struct Ctx<'a, D: Device> {
+pub(crate) struct Ctx<'a, D: Device, const C: usize> {
     pub device: &'a mut D,
     pub state: &'a mut ObjectState,
     pub net: &'a NetworkConfig,
     /// The connection table (Forward_Open, ownership, identity status).
-    pub connections: &'a mut ConnectionTable,
+    pub connections: &'a mut ConnectionTable<C>,
     /// Who sent the request, when it came over TCP.
     pub origin: Option<Origin>,
     /// Set by a Forward_Open whose T->O data is multicast: the reply's T->O socket address.
@@ -93,7 +93,7 @@ pub(crate) struct Ctx<'a, D: Device> {
     pub store: Option<&'a mut (dyn NvStore + 'static)>,
 }
 
-impl<D: Device> Ctx<'_, D> {
+impl<D: Device, const C: usize> Ctx<'_, D, C> {
     /// Identity attribute 5: the device's bits plus what the connections contribute.
     pub(crate) fn identity_status(&self) -> u16 {
         self.device.status_bits() | self.connections.identity_status()

@@ -158,9 +158,9 @@ pub const CLASS: ClassDef = ClassDef {
     optional_attributes: &[1, 2, 3],
 };
 
-struct Qos<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+struct Qos<'c, 'a, D: Device, const C: usize>(&'c mut Ctx<'a, D, C>);
 
-impl<D: Device> Object for Qos<'_, '_, D> {
+impl<D: Device, const C: usize> Object for Qos<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
@@ -199,8 +199,8 @@ impl<D: Device> Object for Qos<'_, '_, D> {
 }
 
 /// Handles a request to the QoS class or its instance 1.
-pub(crate) fn handle<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn handle<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {

@@ -18,8 +18,8 @@ pub(crate) const MAX_DEPTH: u8 = 2;
 
 /// Executes the Message Router request `request` and writes its whole response into `w`.
 /// Fails only if not even an error response fits.
-pub(crate) fn respond<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn respond<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     request: &[u8],
     w: &mut Writer<'_>,
     depth: u8,
@@ -34,8 +34,8 @@ pub(crate) fn respond<D: Device>(
 /// request's response (framed once, here). A request whose path starts with an electronic
 /// key the device does not match is not executed: key failure in path (0x25) with the part
 /// that failed, as [`electronic_key`] says.
-fn respond_to<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+fn respond_to<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
     depth: u8,
@@ -106,8 +106,8 @@ fn additional_bytes(words: &[u16]) -> ([u8; 2 * crate::cip::status::MAX_ADDITION
 
 /// Sends a decoded request to its object: a built-in one, a class the device declares, or
 /// else whatever the device makes of it (0x05 if nothing).
-pub(crate) fn dispatch<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn dispatch<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
     depth: u8,

@@ -166,9 +166,9 @@ pub const CLASS: ClassDef = ClassDef {
     optional_attributes: &[8, 9, 10, 11, 13],
 };
 
-struct TcpIp<'c, 'a, D: Device>(&'c mut Ctx<'a, D>);
+struct TcpIp<'c, 'a, D: Device, const C: usize>(&'c mut Ctx<'a, D, C>);
 
-impl<D: Device> Object for TcpIp<'_, '_, D> {
+impl<D: Device, const C: usize> Object for TcpIp<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
@@ -251,7 +251,7 @@ impl<D: Device> Object for TcpIp<'_, '_, D> {
     }
 }
 
-impl<D: Device> TcpIp<'_, '_, D> {
+impl<D: Device, const C: usize> TcpIp<'_, '_, D, C> {
     /// Sets attribute 3, 5, 6 or 13 in RAM.
     fn set_interface(&mut self, attr: &AttributeDef, value: &[u8]) -> CipResult {
         let st = &mut self.0.state.tcpip;
@@ -376,8 +376,8 @@ pub(crate) fn valid_mcast(m: &MulticastConfig) -> bool {
 }
 
 /// Handles a request to the TCP/IP Interface class or its instance 1.
-pub(crate) fn handle<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn handle<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {

@@ -9,12 +9,12 @@ use crate::cip::Request;
 use crate::device::{AttributeRef, Device};
 use crate::wire::Writer;
 
-struct Vendor<'c, 'a, D: Device> {
-    ctx: &'c mut Ctx<'a, D>,
+struct Vendor<'c, 'a, D: Device, const C: usize> {
+    ctx: &'c mut Ctx<'a, D, C>,
     def: ClassDef,
 }
 
-impl<D: Device> Vendor<'_, '_, D> {
+impl<D: Device, const C: usize> Vendor<'_, '_, D, C> {
     fn at<'r>(&'r self, instance: u32, attribute: &'r AttributeDef) -> AttributeRef<'r> {
         AttributeRef {
             class: &self.def,
@@ -24,7 +24,7 @@ impl<D: Device> Vendor<'_, '_, D> {
     }
 }
 
-impl<D: Device> Object for Vendor<'_, '_, D> {
+impl<D: Device, const C: usize> Object for Vendor<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &self.def
     }
@@ -68,8 +68,8 @@ impl<D: Device> Object for Vendor<'_, '_, D> {
 
 /// Handles a request for `class` (not a built-in one): a declared class is served, anything
 /// else goes to [`Device::handle_request`]; 0x05 if the device has nothing for it either.
-pub(crate) fn handle<D: Device>(
-    ctx: &mut Ctx<'_, D>,
+pub(crate) fn handle<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
     class: Option<u16>,
     req: &Request<'_>,
     w: &mut Writer<'_>,

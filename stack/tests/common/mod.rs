@@ -5,7 +5,7 @@
 use std::net::{Ipv4Addr, SocketAddrV4};
 
 use enip_stack::cip::{CipError, CipResult, General};
-use enip_stack::config::MAX_ENCAP_FRAME;
+use enip_stack::config;
 use enip_stack::device::Trigger;
 use enip_stack::device::{
     AssemblyInfo, AssemblyRole, ConnectionEvent, Device, IdentityInfo, Multicast, OpenRequest,
@@ -13,7 +13,7 @@ use enip_stack::device::{
 use enip_stack::nv::{key, NvStore};
 use enip_stack::originator::{self, Reply};
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
-use enip_stack::wire::forward_open::{ForwardOpenRepr, NetworkParams, Triad};
+use enip_stack::wire::forward_open::{ForwardOpenReplyRepr, ForwardOpenRepr, NetworkParams, Triad};
 use enip_stack::wire::Writer;
 use enip_stack::{Adapter, Instant, NetworkConfig, SocketId};
 
@@ -158,12 +158,50 @@ impl Device for TestDevice {
     }
 }
 
+/// True in the `large` test crate (`tests/large.rs`), which includes every suite again: the
+/// same tests, with the adapter built at the large capacities below.
+pub const LARGE: bool = same(env!("CARGO_CRATE_NAME").as_bytes(), b"large");
+/// The adapter's TCP sessions: the default (3), or 16.
+pub const SESSIONS: usize = if LARGE { 16 } else { config::MAX_SESSIONS };
+/// The adapter's connection slots: the default (10), or 64.
+pub const CONNECTIONS: usize = if LARGE { 64 } else { config::MAX_CONNECTIONS };
+/// The adapter's largest encapsulation frame: the default (1 048), or the header plus a
+/// 1 500-byte Ethernet payload (room for a 1 448-byte assembly read explicitly).
+pub const FRAME: usize = if LARGE {
+    enip_stack::wire::encap::HEADER_LEN + 1500
+} else {
+    config::MAX_ENCAP_FRAME
+};
+/// Delayed ListIdentity replies: the default (4), or 16.
+pub const LIST_IDENTITY: usize = if LARGE {
+    16
+} else {
+    config::MAX_PENDING_LIST_IDENTITY
+};
+/// The adapter the suites drive.
+pub type TestAdapter<D> = Adapter<D, SESSIONS, CONNECTIONS, FRAME, LIST_IDENTITY>;
+
+/// `a == b`, at compile time.
+const fn same(a: &[u8], b: &[u8]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
 pub const ADAPTER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
 pub const SCANNER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
 
 /// One adapter and a scanner with a registered session on socket 0.
 pub struct Harness<D: Device = TestDevice> {
-    pub adapter: Adapter<D>,
+    pub adapter: TestAdapter<D>,
     pub session: u32,
     pub now: Instant,
 }
@@ -182,7 +220,7 @@ impl<D: Device> Harness<D> {
             Ipv4Addr::new(255, 255, 255, 0),
             [2, 0, 0, 0, 0, 2],
         );
-        let adapter = Adapter::new(device, net, 42);
+        let adapter = TestAdapter::with_capacities(device, net, 42);
         let mut h = Harness {
             adapter,
             session: 0,
@@ -215,7 +253,7 @@ impl<D: Device> Harness<D> {
 
     /// Feeds `frame` on `socket` and returns the reply bytes.
     pub fn tcp_on(&mut self, socket: u8, frame: &[u8]) -> Vec<u8> {
-        let mut reply = vec![0u8; MAX_ENCAP_FRAME];
+        let mut reply = vec![0u8; FRAME];
         let out = self
             .adapter
             .tcp_receive(SocketId(socket), frame, self.now, &mut reply);
@@ -226,7 +264,7 @@ impl<D: Device> Harness<D> {
 
     /// Sends a request through SendRRData and returns the raw reply frame.
     pub fn request(&mut self, service: u8, path: &[SegmentRepr<'_>], data: &[u8]) -> Vec<u8> {
-        let mut buf = vec![0u8; MAX_ENCAP_FRAME];
+        let mut buf = vec![0u8; FRAME];
         let session = self.session;
         let n = originator::send_rr_data(&mut buf, session, None, |w| {
             originator::request(w, service, path, data)
@@ -283,6 +321,27 @@ pub fn io_path(config: Option<u32>, o_t: u32, t_o: u32, config_data: Option<&[u8
         s.emit(&mut w).unwrap();
     }
     w.written().to_vec()
+}
+
+/// Opens a connection in every slot of the table at `rpi` µs, serials 1 to [`CONNECTIONS`]:
+/// an exclusive owner of each output (110.., inputs 100..), then input-only connections
+/// (heartbeat 152) to the inputs in turn. Returns their (O->T, T->O) connection IDs.
+pub fn open_every_slot<D: Device>(h: &mut Harness<D>, rpi: u32) -> Vec<(u32, u32)> {
+    (0..CONNECTIONS as u16)
+        .map(|i| {
+            let t_o = 100 + u32::from(i % 10);
+            let o_t = if i < 10 { 110 + u32::from(i) } else { 152 };
+            let path = io_path(None, o_t, t_o, None);
+            let mut f = fo(i + 1, &path, rpi);
+            if i >= 10 {
+                f.o_t_params = NetworkParams::from_u16(0x4800 | 2);
+            }
+            let (g, words, data) = status(&h.forward_open(&f));
+            assert_eq!((g, words), (0, vec![]), "connection {i}");
+            let r = ForwardOpenReplyRepr::parse(&data).unwrap();
+            (r.o_t_connection_id, r.t_o_connection_id)
+        })
+        .collect()
 }
 
 /// A point-to-point exclusive-owner Forward_Open of 32-byte output `o_t` and input `t_o`.

@@ -108,7 +108,7 @@ impl ModelProducer {
     }
 }
 
-fn connection(rng: &mut Rng, table: &ConnectionTable, n: u16) -> Connection {
+fn connection<const C: usize>(rng: &mut Rng, table: &ConnectionTable<C>, n: u16) -> Connection {
     let kind = match rng.below(4) {
         0 => Kind::Explicit,
         1 => Kind::ListenOnly,
@@ -182,7 +182,7 @@ fn connection(rng: &mut Rng, table: &ConnectionTable, n: u16) -> Connection {
 }
 
 /// Checks every slot and summary of `table` against `model`.
-fn check(table: &ConnectionTable, model: &[Option<Model>; MAX_CONNECTIONS], now: Instant) {
+fn check<const C: usize>(table: &ConnectionTable<C>, model: &[Option<Model>; C], now: Instant) {
     table.timing.assert_consistent();
     let mut earliest = u64::MAX;
     let mut first: Option<(u64, usize)> = None;
@@ -225,11 +225,21 @@ fn check(table: &ConnectionTable, model: &[Option<Model>; MAX_CONNECTIONS], now:
 
 #[test]
 fn any_sequence_of_intents_keeps_every_deadline_and_summary_right() {
+    any_sequence_of_intents::<MAX_CONNECTIONS>();
+}
+
+#[test]
+fn any_sequence_of_intents_at_64_connections() {
+    any_sequence_of_intents::<64>();
+}
+
+/// Random intents on a table of `C` slots, each checked against a model of every slot.
+fn any_sequence_of_intents<const C: usize>() {
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
     for _round in 0..20 {
-        let mut table = ConnectionTable::new(0x100);
+        let mut table = ConnectionTable::<C>::new(0x100);
         let mut device = Block;
-        let mut model: [Option<Model>; MAX_CONNECTIONS] = [None; MAX_CONNECTIONS];
+        let mut model: [Option<Model>; C] = [None; C];
         let mut now = 1_000u64;
         for n in 0..1_500u16 {
             let at = Instant(now);
@@ -257,7 +267,7 @@ fn any_sequence_of_intents_keeps_every_deadline_and_summary_right() {
                     }
                 }
                 3..=5 => {
-                    let slot = rng.below(MAX_CONNECTIONS as u64) as usize;
+                    let slot = rng.below(C as u64) as usize;
                     table.feed(slot, at);
                     if let Some(m) = &mut model[slot] {
                         m.expires = Instant(now + m.timeout);
@@ -307,7 +317,7 @@ fn any_sequence_of_intents_keeps_every_deadline_and_summary_right() {
                     }
                 }
                 11 => {
-                    let slot = rng.below(MAX_CONNECTIONS as u64) as usize;
+                    let slot = rng.below(C as u64) as usize;
                     table.close(slot, CloseReason::ForwardClose, &mut device);
                 }
                 12 => {
@@ -336,7 +346,7 @@ fn any_sequence_of_intents_keeps_every_deadline_and_summary_right() {
 #[test]
 fn a_closed_slot_reopens_with_fresh_timing() {
     let mut rng = Rng(7);
-    let mut table = ConnectionTable::new(1);
+    let mut table: ConnectionTable = ConnectionTable::new(1);
     let mut device = Block;
     let conn = loop {
         let c = connection(&mut rng, &table, 1);
