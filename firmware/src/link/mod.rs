@@ -16,6 +16,8 @@
 //! The link task also runs Address Conflict Detection (`acd.rs`: RFC 5227 probes,
 //! announcements and defence of the interface address) and holds back the network stack's
 //! frames until the address has been probed.
+//! TCP SYNs to port 44818 from a source that floods them are dropped before the stack sees
+//! them (`syn_guard.rs`).
 //! Every frame the driver receives or sends is counted for the Ethernet Link object
 //! (`counted`).
 //!
@@ -34,6 +36,7 @@ mod lldp;
 mod neighbors;
 mod net_driver;
 mod pump;
+mod syn_guard;
 
 pub use acd::AcdPort;
 pub use frames::{LinkFrames, FRAME_LEN, RX_FRAMES, TX_FRAMES};

@@ -28,6 +28,7 @@ use super::frames::{LinkFrames, TX_FRAMES};
 use super::io_port::IoPort;
 use super::lldp;
 use super::neighbors::{next_hop, Neighbors};
+use super::syn_guard::SynGuard;
 use crate::clock::{earliest, now, to_embassy};
 
 /// Passes of receive, send and produce in one wake-up at most (then the task yields to the
@@ -68,6 +69,8 @@ struct Pump {
     lldp_next: Option<Instant>,
     /// The LLDP deadline may have moved: asked again at the next pass.
     lldp_stale: bool,
+    /// Drops SYNs to port 44818 from a flooding source.
+    syn_guard: SynGuard,
 }
 
 impl Pump {
@@ -94,6 +97,7 @@ impl Pump {
             blocked: false,
             lldp_next: None,
             lldp_stale: true,
+            syn_guard: SynGuard::default(),
         }
     }
 
@@ -198,6 +202,7 @@ impl Pump {
                 consume(io, from, data, at);
                 false
             }
+            None if !self.syn_guard.admit(frame, at) => false,
             None => {
                 // A frame longer than a queue slot is cut short, and the stack drops it.
                 let _ = frames.rx.push(frame.len(), |room| copy(room, frame));
