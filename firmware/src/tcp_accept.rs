@@ -3,7 +3,7 @@
 //! again. smoltcp has no SYN cookies and one connection per socket, so without the bound a
 //! SYN flood (or a single SYN from a forged address nobody answers for) holds the adapter's
 //! three sockets for as long as smoltcp keeps retrying the SYN-ACK, and every new client is
-//! refused. The link task's SYN guard (`link/syn_guard.rs`) keeps a flooding source from
+//! refused. The link task's SYN guard (`link/flood_guard.rs`) keeps a flooding source from
 //! taking them again meanwhile.
 
 use core::future::{poll_fn, Future};

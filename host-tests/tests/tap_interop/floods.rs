@@ -7,7 +7,7 @@
 //! The SYN floods come from an address nobody answers for (198.18.0.77), as an attacker's
 //! forged SYNs do: no RST ever frees the board's half-open sockets, so what frees them is
 //! the adapter's own bound on half-open connections (`firmware/src/tcp_accept.rs`) and the
-//! link task's SYN guard (`firmware/src/link/syn_guard.rs`). Every flood is bounded in time
+//! link task's SYN guard (`firmware/src/link/flood_guard.rs`). Every flood is bounded in time
 //! and count and runs inside the test's namespace, on CPU 1.
 //!
 //! Each prints its figures as one `FAULT-REPORT {json}` line; `ENIP_FAULTS_LONG=1` runs the

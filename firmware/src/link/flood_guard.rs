@@ -1,8 +1,9 @@
-//! The SYN guard: TCP SYNs to the encapsulation port from a source that floods them are
-//! dropped before they reach the network stack.
+//! The flood guard: what the link task keeps from the network stack during a flood. TCP
+//! SYNs to the encapsulation port from a source that floods them (here), and ARP requests
+//! from strangers past a budget ([`super::arp_guard`]).
 //!
 //! The stack has three sockets on TCP 44818 and no SYN cookies, so every SYN it takes holds
-//! a socket half-open until the handshake's ACK comes or `tcp::HALF_OPEN` passes. A source
+//! a socket half-open until the handshake's ACK comes or `tcp_accept::HALF_OPEN` passes. A source
 //! that sends more than [`LIMIT`] SYNs to the port within [`WINDOW`] (a client opening all
 //! three sessions and retrying sends a handful) is a flooder: its SYNs are dropped until it
 //! has sent none for [`BLOCK`], so once its half-open connections lapse the sockets serve
@@ -14,6 +15,22 @@ use core::net::Ipv4Addr;
 
 use enip_stack::config::ENCAP_PORT;
 use enip_stack::{Duration, Instant};
+
+use super::arp_guard::ArpGuard;
+
+/// Both guards, asked about every frame on its way to the stack.
+#[derive(Debug, Default)]
+pub(crate) struct FloodGuard {
+    syn: SynGuard,
+    arp: ArpGuard,
+}
+
+impl FloodGuard {
+    /// False if `frame`, on its way to the network stack, is to be dropped.
+    pub(crate) fn admit(&mut self, frame: &[u8], at: Instant) -> bool {
+        self.syn.admit(frame, at) && self.arp.admit(frame, at)
+    }
+}
 
 /// Sources followed at once.
 pub(crate) const SOURCES: usize = 8;
