@@ -14,7 +14,7 @@ use serde_json::{json, Value};
 use crate::common::{self, REPLY};
 use crate::floods_load::{
     assert_load_held, assert_served_after, phase, pin_flooder_thread, run_phases, Flood, Phase,
-    FLOOD_CPU,
+    FLOOD_CPU, RPI,
 };
 use enip_stack::originator;
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
@@ -29,8 +29,19 @@ use host_tests::scanner::Session;
 const LINE_RATE: f64 = 148_800.0;
 /// The wrong source of forged O->T datagrams with the load's own connection IDs.
 const WRONG_SOURCE: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 3);
-/// The forged O->T data: what the owner's output assembly must never hold afterwards.
-const FORGED_DATA: [u8; 32] = [0xEE; 32];
+/// The forged O->T data: what the owner's output assembly must never hold afterwards
+/// (alternating bytes: the scanner's own data is 32 equal bytes).
+const FORGED_DATA: [u8; 32] = forged_data();
+
+const fn forged_data() -> [u8; 32] {
+    let mut d = [0xEE; 32];
+    let mut i = 1;
+    while i < 32 {
+        d[i] = 0x11;
+        i += 2;
+    }
+    d
+}
 
 fn phase_length() -> Duration {
     Duration::from_secs(count("ENIP_FAULTS_FLOOD_SECONDS", 2, 30))
@@ -190,6 +201,7 @@ fn faults_flood_udp() {
     let run = run_phases(
         &rig,
         "enip-host",
+        RPI,
         &[
             Phase {
                 name: "no flood",
@@ -270,6 +282,7 @@ fn faults_flood_arp_and_lldp() {
     let run = run_phases(
         &rig,
         "enip-host",
+        RPI,
         &[
             Phase {
                 name: "no flood",
