@@ -3,13 +3,16 @@
 //! from strangers past a budget ([`super::arp_guard`]).
 //!
 //! The stack has three sockets on TCP 44818 and no SYN cookies, so every SYN it takes holds
-//! a socket half-open until the handshake's ACK comes or `tcp_accept::HALF_OPEN` passes. A source
-//! that sends more than [`LIMIT`] SYNs to the port within [`WINDOW`] (a client opening all
-//! three sessions and retrying sends a handful) is a flooder: its SYNs are dropped until it
-//! has sent none for [`BLOCK`], so once its half-open connections lapse the sockets serve
-//! everyone else, and the stack spends no time on its SYNs. The guard follows [`SOURCES`]
-//! sources at once (the least recently seen gives way): a flood from many forged sources at
-//! a time is not told apart from clients, and holds the sockets while it lasts.
+//! a socket half-open until the handshake's ACK comes or `tcp_accept::HALF_OPEN` passes. A
+//! source that sends more than [`LIMIT`] SYNs to the port within [`WINDOW`] without a
+//! single segment that acknowledges anything (a client completes each handshake with one;
+//! one that reconnects thousands of times a second is no flooder) is a flooder: its SYNs
+//! are dropped until it has sent none for [`BLOCK`], so once its half-open connections
+//! lapse the sockets serve everyone else, and the stack spends no time on its SYNs. The
+//! guard follows [`SOURCES`] sources at once (the least recently seen gives way): a flood
+//! from many forged sources at a time is not told apart from clients and holds the sockets
+//! while it lasts, and a flooder that also talks TCP from the same address is never
+//! blocked (its forged SYN-ACKs draw its own host's resets, which free the sockets).
 
 use core::net::Ipv4Addr;
 
@@ -64,9 +67,22 @@ impl SynGuard {
     /// False if `frame` is a SYN to the encapsulation port from a flooder (drop it); true
     /// for every other frame.
     pub(crate) fn admit(&mut self, frame: &[u8], at: Instant) -> bool {
-        match syn_source(frame) {
-            Some(ip) => self.admit_syn(ip, at),
+        match segment_to_port(frame) {
+            Some((ip, true)) => self.admit_syn(ip, at),
+            Some((ip, false)) => {
+                self.acknowledged(ip);
+                true
+            }
             None => true,
+        }
+    }
+
+    /// `ip` acknowledged something: a TCP peer, not a flooder (its count starts again).
+    fn acknowledged(&mut self, ip: Ipv4Addr) {
+        let ours = self.sources.iter_mut().flatten().find(|s| s.ip == ip);
+        if let Some(s) = ours {
+            s.syns = 0;
+            s.blocked_until = None;
         }
     }
 
@@ -129,9 +145,10 @@ impl SynGuard {
     }
 }
 
-/// The source of `frame` if it is an untagged IPv4 TCP SYN (without ACK) to the
-/// encapsulation port, in the first fragment.
-fn syn_source(frame: &[u8]) -> Option<Ipv4Addr> {
+/// For an untagged IPv4 TCP segment to the encapsulation port (first fragment), its source
+/// and whether it is a SYN (without ACK); `None` for a SYN-less segment that acknowledges
+/// nothing (an RST) and for every other frame.
+fn segment_to_port(frame: &[u8]) -> Option<(Ipv4Addr, bool)> {
     const ETH: usize = 14;
     if frame.get(12..14)? != [0x08, 0x00] {
         return None;
@@ -146,8 +163,15 @@ fn syn_source(frame: &[u8]) -> Option<Ipv4Addr> {
     let tcp = ip.get(ihl..)?;
     let port = u16::from_be_bytes([*tcp.get(2)?, *tcp.get(3)?]);
     let flags = *tcp.get(13)?;
-    // SYN set, ACK and RST clear.
-    (port == ENCAP_PORT && flags & 0x16 == 0x02).then_some(Ipv4Addr::from(src))
+    let (syn, ack, rst) = (flags & 0x02 != 0, flags & 0x10 != 0, flags & 0x04 != 0);
+    if port != ENCAP_PORT || rst {
+        return None;
+    }
+    match (syn, ack) {
+        (true, false) => Some((Ipv4Addr::from(src), true)),
+        (false, true) => Some((Ipv4Addr::from(src), false)),
+        _ => None,
+    }
 }
 
 #[cfg(test)]
@@ -172,17 +196,26 @@ mod tests {
     #[test]
     fn only_syns_to_the_encapsulation_port_count() {
         let a = [198, 18, 0, 77];
-        assert_eq!(syn_source(&segment(a, 44818, SYN)), Some(Ipv4Addr::from(a)));
-        assert_eq!(syn_source(&segment(a, 44818, 0x12)), None, "SYN-ACK");
-        assert_eq!(syn_source(&segment(a, 44818, 0x10)), None, "ACK");
-        assert_eq!(syn_source(&segment(a, 80, SYN)), None, "other port");
+        let from = Ipv4Addr::from(a);
+        assert_eq!(segment_to_port(&segment(a, 44818, SYN)), Some((from, true)));
+        assert_eq!(segment_to_port(&segment(a, 44818, 0x12)), None, "SYN-ACK");
+        assert_eq!(
+            segment_to_port(&segment(a, 44818, 0x10)),
+            Some((from, false))
+        );
+        assert_eq!(segment_to_port(&segment(a, 44818, 0x14)), None, "RST-ACK");
+        assert_eq!(segment_to_port(&segment(a, 80, SYN)), None, "other port");
         let mut udp = segment(a, 44818, SYN);
         udp[23] = 17;
-        assert_eq!(syn_source(&udp), None);
+        assert_eq!(segment_to_port(&udp), None);
         let mut fragment = segment(a, 44818, SYN);
         fragment[21] = 8;
-        assert_eq!(syn_source(&fragment), None);
-        assert_eq!(syn_source(&segment(a, 44818, SYN)[..40]), None, "cut short");
+        assert_eq!(segment_to_port(&fragment), None);
+        assert_eq!(
+            segment_to_port(&segment(a, 44818, SYN)[..40]),
+            None,
+            "cut short"
+        );
     }
 
     #[test]
@@ -197,7 +230,7 @@ mod tests {
         assert_eq!(admitted, usize::from(LIMIT));
         let during = t0.add(Duration::from_millis(40));
         assert!(g.admit(&client, during), "another source passes");
-        assert!(g.admit(&segment([198, 18, 0, 77], 44818, 0x10), during));
+        assert!(g.admit(&segment([198, 18, 0, 77], 80, SYN), during), "other ports pass");
         // 100 ms after its last SYN: still blocked (and that SYN keeps it so).
         let last = t0.add(Duration::from_micros(999 * 50));
         assert!(!g.admit(&flood, last.add(Duration::from_millis(100))));
@@ -211,6 +244,20 @@ mod tests {
         let mut g = SynGuard::default();
         let client = segment([198, 18, 0, 1], 44818, SYN);
         assert!((0..500u64).all(|i| g.admit(&client, Instant(i * 10_000))));
+    }
+
+    #[test]
+    fn a_client_reconnecting_thousands_of_times_a_second_is_no_flooder() {
+        let mut g = SynGuard::default();
+        let syn = segment([198, 18, 0, 1], 44818, SYN);
+        let ack = segment([198, 18, 0, 1], 44818, 0x10);
+        // A handshake every 250 us, each completed.
+        assert!((0..4000u64).all(|i| {
+            let at = Instant(i * 250);
+            let ok = g.admit(&syn, at);
+            g.admit(&ack, at);
+            ok
+        }));
     }
 
     #[test]
