@@ -132,6 +132,7 @@ fn faults_flood_syn() {
         ],
     );
     report("flood_syn", run.clone());
+    println!("board log (last lines):\n{}", rig.board_log_tail(30));
     assert_load_held(&run);
     for name in ["syn 15k/s", "syn line rate"] {
         assert_served_after(&run, name);
@@ -238,6 +239,7 @@ fn faults_flood_list_identity() {
         ],
     );
     report("flood_list_identity", run.clone());
+    println!("board log (last lines):\n{}", rig.board_log_tail(30));
     assert_load_held(&run);
     let f = &phase(&run, "list identity storm")["flood"];
     let (requests, replies) = (f["requests"].as_u64(), f["replies"].as_u64());
@@ -304,6 +306,7 @@ fn faults_flood_qemu() {
         ],
     );
     report("flood_qemu", run.clone());
+    println!("board log (last lines):\n{}", rig.board_log_tail(30));
     assert_load_held(&run);
     assert_served_after(&run, "syn 15k/s");
     assert_served_after(&run, "udp");

@@ -245,7 +245,12 @@ pub fn run_phases(rig: &Rig, program: &str, rpi: Duration, phases: &[Phase<'_>])
                 f
             })
             .collect();
+        let by_phase: serde_json::Map<String, Value> = per_phase
+            .iter()
+            .map(|f| (f["phase"].as_str().unwrap_or("").to_string(), line(f)))
+            .collect();
         Ok(json!({
+            "by_phase": by_phase,
             "connections": CONNECTIONS,
             "rpi_us": rpi.as_micros() as u64,
             "multiplier": 32,
@@ -258,6 +263,27 @@ pub fn run_phases(rig: &Rig, program: &str, rpi: Duration, phases: &[Phase<'_>])
     outcome
         .expect("namespace")
         .unwrap_or_else(|e| panic!("{e}\n{}", rig.board_log_tail(40)))
+}
+
+/// One phase's figures on one line, for `cargo xtask faults`' table.
+fn line(f: &Value) -> Value {
+    let (c, p, n) = (&f["class1"], &f["pycomm3"], &f["new_sessions"]);
+    let mut text = format!(
+        "T->O {}% missing, {} lost, max {} us; pycomm3 {}/{} max {} ms; new {}/{}; CPU {}%",
+        c["t_o_missing_percent"],
+        c["t_o_lost"],
+        c["t_o_max_us_worst"],
+        p["reads"].as_u64().unwrap_or(0) - p["failed"].as_u64().unwrap_or(0),
+        p["reads"],
+        p["max_ms"],
+        n["served"],
+        n["tried"],
+        f["board_cpu_percent"],
+    );
+    if let Some(after) = f.get("served_after_flood_ms") {
+        text.push_str(&format!("; served {after} ms after"));
+    }
+    json!(text)
 }
 
 /// Class 1 in window `w`: T->O received against expected, sequence gaps, worst interval.

@@ -169,12 +169,20 @@ pub fn malformed_encapsulation(f: &Flood<'_>, until: Instant) -> Value {
         0x0000, // NOP
         0x00AB, // no such command
     ];
-    let sent = blast(&s, to, until, |i| match i % 4 {
+    let request = |i: u64| match i % 4 {
         0 => vec![(i % 251) as u8; (i % 40) as usize],
         1 => Header::new(command::LIST_IDENTITY).bytes()[..(i % 24) as usize].to_vec(),
         _ => Header::new(requests[(i / 4 % 4) as usize]).bytes().to_vec(),
-    });
-    drain(&s);
+    };
+    // In slices of 10 ms, the replies read in between: the socket's buffer holds only a few
+    // hundred.
+    let mut sent = 0;
+    while Instant::now() < until {
+        let slice = (Instant::now() + Duration::from_millis(10)).min(until);
+        let from = sent;
+        sent += blast(&s, to, slice, |i| request(from + i));
+        drain(&s);
+    }
     std::thread::sleep(Duration::from_millis(100));
     drain(&s);
     let secs = start.elapsed().as_secs_f64();
@@ -231,6 +239,7 @@ fn faults_flood_udp() {
         ],
     );
     report("flood_udp", run.clone());
+    println!("board log (last lines):\n{}", rig.board_log_tail(30));
     assert_load_held(&run);
     assert_served_after(&run, "udp 2222");
     assert_served_after(&run, "udp 44818");
@@ -312,6 +321,7 @@ fn faults_flood_arp_and_lldp() {
         ],
     );
     report("flood_arp_and_lldp", run.clone());
+    println!("board log (last lines):\n{}", rig.board_log_tail(30));
     assert_load_held(&run);
     assert_served_after(&run, "arp storm");
     assert_served_after(&run, "lldp storm");
