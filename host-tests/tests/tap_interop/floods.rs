@@ -19,14 +19,11 @@ use std::time::{Duration, Instant};
 use serde_json::{json, Value};
 
 use crate::common;
-use crate::floods_load::{
-    assert_load_held, assert_served_after, phase, pin_flooder_thread, run_phases, Flood, Phase,
-    QEMU_RPI, RPI,
-};
+use crate::floods_load::{flood_run, phase, pin_flooder_thread, Flood, QEMU_RPI, RPI};
 use crate::floods_udp::{forged_io, malformed_encapsulation};
 use enip_stack::config::LIST_IDENTITY_UDP_BYTES_PER_SECOND;
 use host_tests::enip::{command, Header};
-use host_tests::faults::{count, report};
+use host_tests::faults::count;
 use host_tests::process::run_bounded;
 use host_tests::rig::{Rig, BOARD_IP};
 
@@ -98,44 +95,18 @@ fn faults_flood_syn() {
     let rig = Rig::start(&common::host_bin(), "generic", None).expect("rig");
     let moderate = |f: &Flood<'_>| syn_flood(f, Some(MODERATE_SYN_PER_SECOND));
     let line_rate = |f: &Flood<'_>| syn_flood(f, None);
-    let gap = Duration::from_secs(1);
-    let run = run_phases(
+    let run = flood_run(
         &rig,
         "enip-host",
         RPI,
+        "flood_syn",
+        len,
         &[
-            Phase {
-                name: "no flood",
-                length: len,
-                flood: None,
-            },
-            Phase {
-                name: "syn 15k/s",
-                length: len,
-                flood: Some(&moderate),
-            },
-            Phase {
-                name: "after syn 15k/s",
-                length: gap,
-                flood: None,
-            },
-            Phase {
-                name: "syn line rate",
-                length: len,
-                flood: Some(&line_rate),
-            },
-            Phase {
-                name: "after syn line rate",
-                length: gap,
-                flood: None,
-            },
+            ("syn 15k/s", len, &moderate),
+            ("syn line rate", len, &line_rate),
         ],
     );
-    report("flood_syn", run.clone());
-    println!("board log (last lines):\n{}", rig.board_log_tail(30));
-    assert_load_held(&run);
     for name in ["syn 15k/s", "syn line rate"] {
-        assert_served_after(&run, name);
         let fresh = &phase(&run, name)["new_sessions"];
         assert!(
             fresh["served"].as_u64().unwrap_or(0) > 0,
@@ -221,26 +192,14 @@ fn faults_flood_list_identity() {
     let len = phase_length() + STORM_TAIL;
     let rig = Rig::start(&common::host_bin(), "generic", None).expect("rig");
     let storm = |f: &Flood<'_>| list_identity_storm(f, 2_000);
-    let run = run_phases(
+    let run = flood_run(
         &rig,
         "enip-host",
         RPI,
-        &[
-            Phase {
-                name: "no flood",
-                length: phase_length(),
-                flood: None,
-            },
-            Phase {
-                name: "list identity storm",
-                length: len,
-                flood: Some(&storm),
-            },
-        ],
+        "flood_list_identity",
+        phase_length(),
+        &[("list identity storm", len, &storm)],
     );
-    report("flood_list_identity", run.clone());
-    println!("board log (last lines):\n{}", rig.board_log_tail(30));
-    assert_load_held(&run);
     let f = &phase(&run, "list identity storm")["flood"];
     let (requests, replies) = (f["requests"].as_u64(), f["replies"].as_u64());
     assert!(requests.unwrap_or(0) > 100, "the storm sent little: {f}");
@@ -272,44 +231,14 @@ fn faults_flood_qemu() {
         let io = forged_io(f, until_half(f));
         json!({ "io_2222": io, "encapsulation_44818": malformed_encapsulation(f, f.until) })
     };
-    let gap = Duration::from_secs(1);
-    let run = run_phases(
+    flood_run(
         &rig,
         "qemu-system-arm",
         QEMU_RPI,
-        &[
-            Phase {
-                name: "no flood",
-                length: len,
-                flood: None,
-            },
-            Phase {
-                name: "syn 15k/s",
-                length: len,
-                flood: Some(&syn),
-            },
-            Phase {
-                name: "after syn 15k/s",
-                length: gap,
-                flood: None,
-            },
-            Phase {
-                name: "udp",
-                length: len,
-                flood: Some(&udp),
-            },
-            Phase {
-                name: "after udp",
-                length: gap,
-                flood: None,
-            },
-        ],
+        "flood_qemu",
+        len,
+        &[("syn 15k/s", len, &syn), ("udp", len, &udp)],
     );
-    report("flood_qemu", run.clone());
-    println!("board log (last lines):\n{}", rig.board_log_tail(30));
-    assert_load_held(&run);
-    assert_served_after(&run, "syn 15k/s");
-    assert_served_after(&run, "udp");
     rig.finish().expect("the board ran to the end");
 }
 

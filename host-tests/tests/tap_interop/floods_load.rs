@@ -57,7 +57,7 @@ pub type FloodFn<'a> = &'a (dyn Fn(&Flood<'_>) -> Value + Sync);
 
 /// One phase of the run: no flood, or a flood.
 pub struct Phase<'a> {
-    pub name: &'static str,
+    pub name: String,
     pub length: Duration,
     pub flood: Option<FloodFn<'a>>,
 }
@@ -137,7 +137,7 @@ fn served_after(ns: &Namespace) -> Option<Duration> {
 /// each phase's figures, with the board's CPU time per phase and the connection timeouts the
 /// Connection Manager counted over the whole run. Every phase after a flood also gets the
 /// time a fresh client took to be served once the flood ended.
-pub fn run_phases(rig: &Rig, program: &str, rpi: Duration, phases: &[Phase<'_>]) -> Value {
+fn run_phases(rig: &Rig, program: &str, rpi: Duration, phases: &[Phase<'_>]) -> Value {
     let pid = pin_board(rig, program);
     let ns = rig.ns();
     let total: Duration = LEAD_IN + phases.iter().map(|p| p.length).sum::<Duration>();
@@ -345,6 +345,48 @@ fn fresh_clients(probes: &[Probe], w: &Window) -> Value {
     })
 }
 
+/// A flood of a [`flood_run`]: its name, its length and the flood.
+pub type Named<'a> = (&'static str, Duration, FloodFn<'a>);
+
+/// Runs the load (at `rpi`) on `rig`'s board `program` without a flood for `len`, then each
+/// of `floods` followed by 1 s without; reports the figures as `scenario`, prints the
+/// board's last log lines, and checks what holds under every flood: the load
+/// ([`assert_load_held`]) and a fresh client served within [`SERVED_AFTER`] after each.
+pub fn flood_run(
+    rig: &Rig,
+    program: &str,
+    rpi: Duration,
+    scenario: &str,
+    len: Duration,
+    floods: &[Named<'_>],
+) -> Value {
+    let mut phases = vec![Phase {
+        name: "no flood".into(),
+        length: len,
+        flood: None,
+    }];
+    for (name, length, flood) in floods {
+        phases.push(Phase {
+            name: (*name).into(),
+            length: *length,
+            flood: Some(*flood),
+        });
+        phases.push(Phase {
+            name: format!("after {name}"),
+            length: Duration::from_secs(1),
+            flood: None,
+        });
+    }
+    let run = run_phases(rig, program, rpi, &phases);
+    host_tests::faults::report(scenario, run.clone());
+    println!("board log (last lines):\n{}", rig.board_log_tail(30));
+    assert_load_held(&run);
+    for (name, _, _) in floods {
+        assert_served_after(&run, name);
+    }
+    run
+}
+
 /// The figures of phase `name` in a [`run_phases`] result.
 pub fn phase<'v>(run: &'v Value, name: &str) -> &'v Value {
     run["phases"]
@@ -355,7 +397,7 @@ pub fn phase<'v>(run: &'v Value, name: &str) -> &'v Value {
 
 /// What holds under every flood: no connection timed out and all are open at the end, the
 /// pycomm3 session answered every read in every phase.
-pub fn assert_load_held(run: &Value) {
+fn assert_load_held(run: &Value) {
     assert_eq!(
         (
             &run["connections_timed_out"],
@@ -379,7 +421,7 @@ pub fn assert_load_held(run: &Value) {
 }
 
 /// A flood phase's fresh client was served within [`SERVED_AFTER`] once the flood ended.
-pub fn assert_served_after(run: &Value, name: &str) {
+fn assert_served_after(run: &Value, name: &str) {
     let after = phase(run, name)["served_after_flood_ms"].as_f64();
     assert!(
         after.is_some_and(|a| a <= ms(SERVED_AFTER)),

@@ -12,14 +12,11 @@ use std::time::{Duration, Instant};
 use serde_json::{json, Value};
 
 use crate::common::{self, REPLY};
-use crate::floods_load::{
-    assert_load_held, assert_served_after, phase, pin_flooder_thread, run_phases, Flood, Phase,
-    FLOOD_CPU, RPI,
-};
+use crate::floods_load::{flood_run, phase, pin_flooder_thread, Flood, FLOOD_CPU, RPI};
 use enip_stack::originator;
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
 use host_tests::enip::{command, Header};
-use host_tests::faults::{count, report};
+use host_tests::faults::count;
 use host_tests::peers;
 use host_tests::process::run_bounded;
 use host_tests::rig::{Rig, BOARD_IP, HOST_IP, TAP};
@@ -205,44 +202,14 @@ fn faults_flood_udp() {
     let rig = Rig::start(&common::host_bin(), "generic", None).expect("rig");
     let io = |f: &Flood<'_>| forged_io(f, f.until);
     let encap = |f: &Flood<'_>| malformed_encapsulation(f, f.until);
-    let gap = Duration::from_secs(1);
-    let run = run_phases(
+    let run = flood_run(
         &rig,
         "enip-host",
         RPI,
-        &[
-            Phase {
-                name: "no flood",
-                length: len,
-                flood: None,
-            },
-            Phase {
-                name: "udp 2222",
-                length: len,
-                flood: Some(&io),
-            },
-            Phase {
-                name: "after udp 2222",
-                length: gap,
-                flood: None,
-            },
-            Phase {
-                name: "udp 44818",
-                length: len,
-                flood: Some(&encap),
-            },
-            Phase {
-                name: "after udp 44818",
-                length: gap,
-                flood: None,
-            },
-        ],
+        "flood_udp",
+        len,
+        &[("udp 2222", len, &io), ("udp 44818", len, &encap)],
     );
-    report("flood_udp", run.clone());
-    println!("board log (last lines):\n{}", rig.board_log_tail(30));
-    assert_load_held(&run);
-    assert_served_after(&run, "udp 2222");
-    assert_served_after(&run, "udp 44818");
     let forged = hex(&FORGED_DATA);
     let after = &phase(&run, "udp 2222")["flood"]["owner_output_after"];
     assert!(
@@ -287,43 +254,13 @@ fn faults_flood_arp_and_lldp() {
     let rig = Rig::start(&common::host_bin(), "generic", None).expect("rig");
     let arp = |f: &Flood<'_>| frame_storm(f, "arp");
     let lldp = |f: &Flood<'_>| frame_storm(f, "lldp");
-    let gap = Duration::from_secs(1);
-    let run = run_phases(
+    flood_run(
         &rig,
         "enip-host",
         RPI,
-        &[
-            Phase {
-                name: "no flood",
-                length: len,
-                flood: None,
-            },
-            Phase {
-                name: "arp storm",
-                length: len,
-                flood: Some(&arp),
-            },
-            Phase {
-                name: "after arp storm",
-                length: gap,
-                flood: None,
-            },
-            Phase {
-                name: "lldp storm",
-                length: len,
-                flood: Some(&lldp),
-            },
-            Phase {
-                name: "after lldp storm",
-                length: gap,
-                flood: None,
-            },
-        ],
+        "flood_arp_and_lldp",
+        len,
+        &[("arp storm", len, &arp), ("lldp storm", len, &lldp)],
     );
-    report("flood_arp_and_lldp", run.clone());
-    println!("board log (last lines):\n{}", rig.board_log_tail(30));
-    assert_load_held(&run);
-    assert_served_after(&run, "arp storm");
-    assert_served_after(&run, "lldp storm");
     rig.finish().expect("the board ran to the end");
 }
