@@ -230,7 +230,10 @@ mod tests {
         assert_eq!(admitted, usize::from(LIMIT));
         let during = t0.add(Duration::from_millis(40));
         assert!(g.admit(&client, during), "another source passes");
-        assert!(g.admit(&segment([198, 18, 0, 77], 80, SYN), during), "other ports pass");
+        assert!(
+            g.admit(&segment([198, 18, 0, 77], 80, SYN), during),
+            "other ports pass"
+        );
         // 100 ms after its last SYN: still blocked (and that SYN keeps it so).
         let last = t0.add(Duration::from_micros(999 * 50));
         assert!(!g.admit(&flood, last.add(Duration::from_millis(100))));
