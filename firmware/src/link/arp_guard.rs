@@ -1,5 +1,6 @@
 //! The ARP guard: ARP requests for the adapter's address reach the network stack from the
-//! hosts that talk IPv4 to it, and from anyone else at most [`STRANGERS`] per [`WINDOW`].
+//! hosts that talk IPv4 to it, and from anyone else at most [`STRANGERS`] per [`WINDOW`];
+//! requests for other addresses (which smoltcp ignores) do not reach it.
 //!
 //! smoltcp learns the sender of every ARP request aimed at it into a neighbour cache of 8
 //! entries and answers each. A storm of requests from changing senders (an ARP scan gone
@@ -23,8 +24,8 @@ pub(crate) const WINDOW: Duration = Duration::from_secs(1);
 
 /// What a received frame is to the ARP guard.
 enum Kind {
-    /// An ARP request from this sender.
-    Request(Ipv4Addr),
+    /// An ARP request from this sender, for this address.
+    Request(Ipv4Addr, Ipv4Addr),
     /// An IPv4 packet from this source.
     Ipv4(Ipv4Addr),
     Other,
@@ -42,15 +43,17 @@ pub(crate) struct ArpGuard {
 }
 
 impl ArpGuard {
-    /// False if `frame` is an ARP request from a stranger past the budget (drop it).
-    pub(crate) fn admit(&mut self, frame: &[u8], at: Instant) -> bool {
+    /// False if `frame` is an ARP request for another address than `me`, or for `me` from a
+    /// stranger past the budget (drop it).
+    pub(crate) fn admit(&mut self, frame: &[u8], me: Ipv4Addr, at: Instant) -> bool {
         match kind(frame) {
             Kind::Ipv4(ip) => {
                 self.talked(ip);
                 true
             }
-            Kind::Request(ip) if self.talkers.iter().flatten().any(|t| t.0 == ip) => true,
-            Kind::Request(_) => self.stranger(at),
+            Kind::Request(_, target) if target != me => false,
+            Kind::Request(ip, _) if self.talkers.iter().flatten().any(|t| t.0 == ip) => true,
+            Kind::Request(..) => self.stranger(at),
             Kind::Other => true,
         }
     }
@@ -90,10 +93,11 @@ fn kind(frame: &[u8]) -> Kind {
     };
     match frame.get(12..14) {
         Some([0x08, 0x00]) => ip(26).map_or(Kind::Other, Kind::Ipv4),
-        // ARP: operation at 20-21, sender protocol address at 28.
-        Some([0x08, 0x06]) if frame.get(20..22) == Some(&[0, 1]) => {
-            ip(28).map_or(Kind::Other, Kind::Request)
-        }
+        // ARP: operation at 20-21, sender protocol address at 28, target's at 38.
+        Some([0x08, 0x06]) if frame.get(20..22) == Some(&[0, 1]) => match (ip(28), ip(38)) {
+            (Some(sender), Some(target)) => Kind::Request(sender, target),
+            _ => Kind::Other,
+        },
         _ => Kind::Other,
     }
 }
@@ -119,21 +123,29 @@ mod tests {
         f
     }
 
+    const ME: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
+
     #[test]
     fn a_storm_of_strangers_passes_its_budget_and_talkers_always() {
         let mut g = ArpGuard::default();
         let t = Instant(10_000_000);
-        assert!(g.admit(&ipv4([198, 18, 0, 1]), t));
+        assert!(g.admit(&ipv4([198, 18, 0, 1]), ME, t));
         let passed = (0..=255u8)
-            .filter(|i| g.admit(&request([198, 18, 1, *i]), t))
+            .filter(|i| g.admit(&request([198, 18, 1, *i]), ME, t))
             .count();
         assert_eq!(passed, usize::from(STRANGERS));
-        assert!(g.admit(&request([198, 18, 0, 1]), t), "a talker passes");
+        assert!(g.admit(&request([198, 18, 0, 1]), ME, t), "a talker passes");
         let mut reply = request([198, 18, 1, 9]);
         reply[21] = 2;
-        assert!(g.admit(&reply, t), "replies pass");
+        assert!(g.admit(&reply, ME, t), "replies pass");
+        let mut other = request([198, 18, 0, 1]);
+        other[41] = 9;
+        assert!(
+            !g.admit(&other, ME, t),
+            "a request for another address goes nowhere"
+        );
         // The next window has a new budget.
-        assert!(g.admit(&request([198, 18, 1, 9]), t.add(WINDOW)));
+        assert!(g.admit(&request([198, 18, 1, 9]), ME, t.add(WINDOW)));
     }
 
     #[test]
@@ -141,14 +153,14 @@ mod tests {
         let mut g = ArpGuard::default();
         let t = Instant(0);
         for i in 0..=TALKERS as u8 {
-            g.admit(&ipv4([10, 0, 0, i]), t);
+            g.admit(&ipv4([10, 0, 0, i]), ME, t);
         }
         g.strangers = STRANGERS;
         g.window = Some(t);
         assert!(
-            !g.admit(&request([10, 0, 0, 0]), t),
+            !g.admit(&request([10, 0, 0, 0]), ME, t),
             "the oldest was forgotten"
         );
-        assert!(g.admit(&request([10, 0, 0, TALKERS as u8]), t));
+        assert!(g.admit(&request([10, 0, 0, TALKERS as u8]), ME, t));
     }
 }

@@ -29,9 +29,10 @@ pub(crate) struct FloodGuard {
 }
 
 impl FloodGuard {
-    /// False if `frame`, on its way to the network stack, is to be dropped.
-    pub(crate) fn admit(&mut self, frame: &[u8], at: Instant) -> bool {
-        self.syn.admit(frame, at) && self.arp.admit(frame, at)
+    /// False if `frame`, on its way to the network stack of the adapter at `me`, is to be
+    /// dropped.
+    pub(crate) fn admit(&mut self, frame: &[u8], me: Ipv4Addr, at: Instant) -> bool {
+        self.syn.admit(frame, at) && self.arp.admit(frame, me, at)
     }
 }
 

@@ -202,7 +202,7 @@ impl Pump {
                 consume(io, from, data, at);
                 false
             }
-            None if !self.flood_guard.admit(frame, at) => false,
+            None if !self.flood_guard.admit(frame, me.ip, at) => false,
             None => {
                 // A frame longer than a queue slot is cut short, and the stack drops it.
                 let _ = frames.rx.push(frame.len(), |room| copy(room, frame));
