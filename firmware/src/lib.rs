@@ -47,6 +47,7 @@ mod resources;
 mod runtime;
 mod shared;
 pub mod tcp;
+mod tcp_accept;
 mod udp;
 
 pub use netif::network_config;

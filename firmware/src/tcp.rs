@@ -1,5 +1,6 @@
 //! One encapsulation TCP socket on port 44818: accept, feed the adapter, reply, close, listen
-//! again. Each socket is its own future, so a slow or silent peer holds up only its own socket.
+//! again. Each socket is its own future, so a slow or silent peer holds up only its own socket,
+//! and a half-open connection holds it at most `tcp_accept::HALF_OPEN`.
 //!
 //! The session timeouts here ([`WRITE_TIMEOUT`], [`LINGER`]) are every runtime's: the host's
 //! kernel-socket runtime (`enip-host --bind`) uses them too.
@@ -7,7 +8,6 @@
 use embassy_net::tcp::{State, TcpSocket};
 use embassy_net::Stack;
 use embassy_time::{with_deadline, with_timeout, Duration, Timer};
-use enip_stack::config::ENCAP_PORT;
 use enip_stack::device::CloseReason;
 use enip_stack::{Device, SocketId, TcpOutcome};
 
@@ -15,6 +15,7 @@ use crate::clock::{now, to_embassy};
 use crate::netif::v4_endpoint;
 use crate::resources::TcpBuffers;
 use crate::shared::{with_adapter, SharedAdapter};
+use crate::tcp_accept::accept;
 
 /// Longest wait for a reply to fit in the transmit buffer (or be acknowledged before a reset);
 /// a peer that takes longer loses its connection.
@@ -44,7 +45,7 @@ pub(crate) async fn serve<
     let TcpBuffers { rx, tx, reply } = bufs;
     let mut socket = TcpSocket::new(net, rx, tx);
     loop {
-        if let Err(e) = socket.accept(ENCAP_PORT).await {
+        if let Err(e) = accept(&mut socket).await {
             warn!("tcp socket {}: listen failed: {:?}", id.0, e);
             socket.abort();
             Timer::after(RETRY).await;

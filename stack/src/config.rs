@@ -12,6 +12,11 @@ pub const MAX_ENCAP_DATA: usize = 1024;
 pub const MAX_ENCAP_FRAME: usize = crate::wire::encap::HEADER_LEN + MAX_ENCAP_DATA;
 /// Default delayed ListIdentity replies (broadcast requests) that can wait at once.
 pub const MAX_PENDING_LIST_IDENTITY: usize = 4;
+/// Bytes of ListIdentity replies over UDP the adapter sends per second at most (encapsulation
+/// bytes, unicast and broadcast requests alike; a full second's worth may go out at once).
+/// Past it requests go unanswered, so a storm of spoofed requests cannot turn the device
+/// into an amplifier: about 40 replies of the generic profile's 100 bytes a second.
+pub const LIST_IDENTITY_UDP_BYTES_PER_SECOND: u32 = 4096;
 /// Services inside one Multiple_Service_Packet request.
 pub const MAX_MULTIPLE_SERVICES: usize = 32;
 /// Longest host name (TCP/IP attribute 6).

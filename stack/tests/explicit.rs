@@ -414,3 +414,58 @@ fn udp_commands_and_broadcast_delay() {
     assert_eq!(&reply[12..14], &[0xF4, 0x01]);
     assert!(n > 24);
 }
+
+/// A storm of ListIdentity requests over UDP, unicast and broadcast: never more replies
+/// than requests, and never more reply bytes than `LIST_IDENTITY_UDP_BYTES_PER_SECOND` a
+/// second plus the second's worth that may be saved up; a broadcast request that finds the
+/// delay queue full goes unanswered instead of being answered at once.
+#[test]
+fn a_list_identity_storm_is_answered_within_the_byte_budget() {
+    use enip_stack::config::LIST_IDENTITY_UDP_BYTES_PER_SECOND;
+    let mut h = Harness::new();
+    let from = SocketAddrV4::new(SCANNER_IP, 50000);
+    let mut reply = vec![0u8; FRAME];
+    let mut broadcast = header(0x63, 0, 0);
+    broadcast[12] = 0xF4;
+    broadcast[13] = 0x01;
+    let unicast = header(0x63, 0, 0);
+    let (mut requests, mut replies, mut bytes) = (0u64, 0u64, 0u64);
+    // 2 s of 10 000 requests a second, alternately broadcast and unicast.
+    for i in 0..20_000u64 {
+        let at = Instant(i * 100);
+        let (to, f) = if i % 2 == 0 {
+            (Ipv4Addr::new(198, 18, 0, 255), &broadcast)
+        } else {
+            (ADAPTER_IP, &unicast)
+        };
+        requests += 1;
+        let n = h.adapter.udp_receive(from, to, f, at, &mut reply);
+        if n > 0 {
+            replies += 1;
+            bytes += n as u64;
+        }
+        if i == 0 {
+            // The first broadcasts fill the delay queue; the rest find it full.
+            for _ in 1..LIST_IDENTITY {
+                let n = h.adapter.udp_receive(from, to, f, at, &mut reply);
+                assert_eq!(n, 0, "queued, not answered at once");
+                requests += 1;
+            }
+        }
+        while let Some((_, n)) = h.adapter.poll_udp(at, &mut reply) {
+            replies += 1;
+            bytes += n as u64;
+        }
+    }
+    while let Some((_, n)) = h.adapter.poll_udp(Instant(3_000_000), &mut reply) {
+        replies += 1;
+        bytes += n as u64;
+    }
+    let budget = u64::from(LIST_IDENTITY_UDP_BYTES_PER_SECOND);
+    assert!(replies <= requests);
+    assert!(
+        bytes <= budget * 3,
+        "{bytes} reply bytes in 2 s (budget {budget}/s)"
+    );
+    assert!(bytes >= budget, "the budget is used: {bytes}");
+}

@@ -3,19 +3,27 @@
 //!
 //! The tests are host-tests' `faults_*` TAP tests run with `ENIP_FAULTS_LONG=1`; each prints
 //! one `FAULT-REPORT {json}` line, which is collected here. Not part of `cargo xtask test`
-//! (which runs the short versions): the soak alone takes 10 minutes.
+//! (which runs the short versions): the soak alone takes 10 minutes. `ENIP_FAULTS_FILTER`
+//! narrows the run to the tests whose names contain it (e.g. `faults_flood` for the floods
+//! of issue 28, which need `hping3` and, for the emulated board's, its generic ELF: built
+//! here).
 
 use std::io::{BufRead, BufReader};
 use std::process::Stdio;
 
 use serde_json::{Map, Value};
 
+use enip_lab::rig;
+
+use crate::boards;
 use crate::util::{self, cargo, err, run, Result};
 
 /// What a test prints before its figures.
 const PREFIX: &str = "FAULT-REPORT ";
-/// The tests' name filter.
+/// The tests' name filter, unless `ENIP_FAULTS_FILTER` gives another.
 const FILTER: &str = "faults_";
+/// The environment variable that narrows the run.
+const FILTER_ENV: &str = "ENIP_FAULTS_FILTER";
 
 /// Builds, runs the long fault tests, writes the report and prints the table.
 pub fn run_all() -> Result {
@@ -24,6 +32,13 @@ pub fn run_all() -> Result {
     }
     run(cargo().args(["build", "--release", "-p", "enip-host"]))?;
     let host = util::target_dir().join("release/enip-host");
+    // The emulated board of the flood tests (faults_flood_qemu): the generic profile.
+    let elf = util::target_dir().join("qemu-generic.elf");
+    std::fs::copy(
+        boards::build_with(boards::QEMU, boards::DEFAULT_PROFILE, &[])?,
+        &elf,
+    )?;
+    let filter = std::env::var(FILTER_ENV).unwrap_or_else(|_| FILTER.to_string());
     let mut test = cargo();
     test.args([
         "test",
@@ -33,9 +48,17 @@ pub fn run_all() -> Result {
         "--test",
         "tap_interop",
     ])
-    .args(["--", "--ignored", "--test-threads=1", "--nocapture", FILTER])
+    .args([
+        "--",
+        "--ignored",
+        "--test-threads=1",
+        "--nocapture",
+        &filter,
+    ])
     .env("ENIP_FAULTS_LONG", "1")
     .env("ENIP_HOST_BIN", &host)
+    .env(rig::qemu_elf_var(boards::DEFAULT_PROFILE), &elf)
+    .env("ENIP_PEER_PYTHON", enip_lab::peers::venv_python())
     .stdout(Stdio::piped());
     println!("$ {}", util::show(&test));
     let mut child = test

@@ -65,7 +65,8 @@ commands:
   footprint           the boards' release image sizes and the F767 budget (part of bench)
   smoke               the QEMU smoke run alone (part of test)
   faults              the long fault tests (link flap, Reset, churn, idle sockets, vanishing
-                      scanner, 10-minute soak); figures in target/faults/report.json
+                      scanner, 10-minute soak, floods); figures in target/faults/report.json
+                      (ENIP_FAULTS_FILTER=faults_flood: the floods alone)
   eds                 regenerate eds/<profile>.eds from every profile's own description
                       (`cargo run -p enip-host -- --eds --profile NAME` prints one)
   own-device          build examples/own-device in a project of its own outside the

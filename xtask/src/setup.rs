@@ -42,6 +42,8 @@ pub const APT_PACKAGES: &[(&str, &[&str])] = &[
     // Layer-2 peers of the conformance tests: an LLDP agent and an ARP prober (RFC 5227).
     ("lldpd", &["lldpd", "-v"]),
     ("arping", &["arping", "--help"]),
+    // The SYN floods of the flood tests (issue 28).
+    ("hping3", &["hping3", "--version"]),
 ];
 
 /// Everything: Rust target and toolchains, Debian packages, Python and npm peers.

@@ -16,6 +16,9 @@
 //! The link task also runs Address Conflict Detection (`acd.rs`: RFC 5227 probes,
 //! announcements and defence of the interface address) and holds back the network stack's
 //! frames until the address has been probed.
+//! During a flood the link task keeps work from the stack (`flood_guard.rs`): TCP SYNs to
+//! port 44818 from a source that floods them, and ARP requests from hosts that do not talk
+//! IPv4 to the adapter past a few a second (`arp_guard.rs`).
 //! Every frame the driver receives or sends is counted for the Ethernet Link object
 //! (`counted`).
 //!
@@ -24,9 +27,11 @@
 //! UDP 44818 as before.
 
 mod acd;
+mod arp_guard;
 mod checksum;
 mod counted;
 mod dscp;
+mod flood_guard;
 mod frame;
 mod frames;
 mod io_port;

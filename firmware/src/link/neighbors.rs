@@ -14,7 +14,10 @@ pub(crate) const NEIGHBORS: usize = MAX_SESSIONS + MAX_CONNECTIONS;
 const ARP_INTERVAL_US: u64 = 100_000;
 
 /// IPv4 host -> MAC address, learned from received frames; the least recently learned entry
-/// makes room for a new host.
+/// that no T->O datagram went to makes room for a new host (the least recently learned of
+/// all only when every entry has carried T->O): a storm of frames from changing senders
+/// (ARP requests, forged IPv4) cycles through the other entries and leaves the
+/// originators' alone.
 #[derive(Debug, Default)]
 pub(crate) struct Neighbors {
     entries: [Option<Entry>; NEIGHBORS],
@@ -31,6 +34,8 @@ struct Entry {
     ip: Ipv4Addr,
     mac: [u8; 6],
     learned: u32,
+    /// A T->O datagram went to it ([`Neighbors::get`]).
+    used: bool,
 }
 
 impl Neighbors {
@@ -38,21 +43,35 @@ impl Neighbors {
     pub fn learn(&mut self, ip: Ipv4Addr, mac: [u8; 6]) {
         self.clock = self.clock.wrapping_add(1);
         let learned = self.clock;
-        let slot = match self.find(ip) {
-            Some(i) => i,
-            None => self.oldest(),
+        let (slot, used) = match self.find(ip) {
+            Some(i) => (
+                i,
+                self.entries
+                    .get(i)
+                    .copied()
+                    .flatten()
+                    .is_some_and(|e| e.used),
+            ),
+            None => (self.oldest(), false),
         };
         if let Some(e) = self.entries.get_mut(slot) {
-            *e = Some(Entry { ip, mac, learned });
+            *e = Some(Entry {
+                ip,
+                mac,
+                learned,
+                used,
+            });
             self.last = slot;
         }
     }
 
-    /// The MAC address of `ip`'s frames, if any came.
+    /// The MAC address of `ip`'s frames, if any came; the entry is one T->O goes to now.
     pub fn get(&mut self, ip: Ipv4Addr) -> Option<[u8; 6]> {
         let i = self.find(ip)?;
         self.last = i;
-        self.entries.get(i).copied().flatten().map(|e| e.mac)
+        let e = self.entries.get_mut(i)?.as_mut()?;
+        e.used = true;
+        Some(e.mac)
     }
 
     /// The entry of `ip`: the last one used, else the first that matches.
@@ -75,11 +94,17 @@ impl Neighbors {
         quiet
     }
 
-    /// The free entry, else the least recently learned one.
+    /// The free entry, else the least recently learned one no T->O went to, else the least
+    /// recently learned one.
     fn oldest(&self) -> usize {
-        let age = |e: &Option<Entry>| e.map_or(u32::MAX, |e| self.clock.wrapping_sub(e.learned));
+        // Free first, then unused before used, then by age.
+        let rank = |e: &Option<Entry>| {
+            e.map_or((true, true, u32::MAX), |e| {
+                (false, !e.used, self.clock.wrapping_sub(e.learned))
+            })
+        };
         (0..NEIGHBORS)
-            .max_by_key(|&i| self.entries.get(i).map_or(0, age))
+            .max_by_key(|&i| self.entries.get(i).map_or((false, false, 0), rank))
             .unwrap_or(0)
     }
 }
@@ -113,7 +138,9 @@ mod tests {
         assert_eq!(n.get(A), None);
         n.learn(A, [2, 0, 0, 0, 0, 1]);
         n.learn(A, [2, 0, 0, 0, 0, 2]);
-        assert_eq!(n.get(A), Some([2, 0, 0, 0, 0, 2]));
+        // Looked at without `get`, which would make A one T->O goes to.
+        let mac = |n: &Neighbors, ip| n.find(ip).and_then(|i| n.entries[i]).map(|e| e.mac);
+        assert_eq!(mac(&n, A), Some([2, 0, 0, 0, 0, 2]));
         for i in 0..NEIGHBORS as u8 {
             n.learn(Ipv4Addr::new(198, 18, 1, i), [2, 0, 0, 0, 1, i]);
         }
@@ -131,6 +158,23 @@ mod tests {
             Some([2, 0, 0, 0, 1, 0])
         );
         assert_eq!(n.get(Ipv4Addr::new(198, 18, 1, 1)), None);
+    }
+
+    #[test]
+    fn a_storm_of_senders_leaves_the_originators_alone() {
+        let mut n = Neighbors::default();
+        n.learn(A, [2, 0, 0, 0, 0, 1]);
+        assert!(n.get(A).is_some(), "T->O goes to A");
+        for i in 0..=255u8 {
+            n.learn(Ipv4Addr::new(198, 18, 1, i), [2, 0, 0, 0, 1, i]);
+        }
+        assert_eq!(n.get(A), Some([2, 0, 0, 0, 0, 1]));
+        // Learned again, A stays one T->O goes to.
+        n.learn(A, [2, 0, 0, 0, 0, 2]);
+        for i in 0..=255u8 {
+            n.learn(Ipv4Addr::new(198, 18, 2, i), [2, 0, 0, 0, 2, i]);
+        }
+        assert_eq!(n.get(A), Some([2, 0, 0, 0, 0, 2]));
     }
 
     #[test]

@@ -23,6 +23,7 @@ use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 use super::acd::{passes_unaddressed, Guard};
 use super::counted::Counted;
 use super::dscp;
+use super::flood_guard::FloodGuard;
 use super::frame::{self, copy, send_copy, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
 use super::frames::{LinkFrames, TX_FRAMES};
 use super::io_port::IoPort;
@@ -68,6 +69,8 @@ struct Pump {
     lldp_next: Option<Instant>,
     /// The LLDP deadline may have moved: asked again at the next pass.
     lldp_stale: bool,
+    /// Drops flood frames on their way to the stack.
+    flood_guard: FloodGuard,
 }
 
 impl Pump {
@@ -94,6 +97,7 @@ impl Pump {
             blocked: false,
             lldp_next: None,
             lldp_stale: true,
+            flood_guard: FloodGuard::default(),
         }
     }
 
@@ -198,6 +202,7 @@ impl Pump {
                 consume(io, from, data, at);
                 false
             }
+            None if !self.flood_guard.admit(frame, me.ip, at) => false,
             None => {
                 // A frame longer than a queue slot is cut short, and the stack drops it.
                 let _ = frames.rx.push(frame.len(), |room| copy(room, frame));

@@ -75,7 +75,8 @@ impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
         }
     }
 
-    /// Handles one datagram received on UDP 44818.
+    /// Handles one datagram received on UDP 44818. ListIdentity replies are charged to the
+    /// byte budget ([`crate::config::LIST_IDENTITY_UDP_BYTES_PER_SECOND`]).
     pub(crate) fn udp_frame(
         &mut self,
         from: SocketAddrV4,
@@ -90,22 +91,25 @@ impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
         };
         match header.command {
             command::NOP => 0,
-            command::LIST_IDENTITY if broadcast => {
-                let queued = self.delayed.schedule(
-                    from,
-                    header.sender_context,
-                    header.session_handle,
-                    now,
-                    &mut self.rng,
-                );
-                if queued {
-                    0
-                } else {
-                    self.list_identity_reply(header.session_handle, header.sender_context, reply)
-                }
-            }
+            // At most one reply per request, and only within the byte budget: a reply that
+            // does not fit (or, for a broadcast request, finds the delay queue full) is not
+            // sent at all, so spoofed requests cannot make the device an amplifier.
             command::LIST_IDENTITY => {
-                self.list_identity_reply(header.session_handle, header.sender_context, reply)
+                let (handle, context) = (header.session_handle, header.sender_context);
+                if broadcast && !self.delayed.has_room() {
+                    return 0;
+                }
+                // Written now to know its size; a delayed one is written again when due.
+                let len = self.list_identity_reply(handle, context, reply);
+                if len == 0 || !self.delayed.budget.take(len, now) {
+                    return 0;
+                }
+                if broadcast {
+                    self.delayed
+                        .schedule(from, context, handle, now, &mut self.rng);
+                    return 0;
+                }
+                len
             }
             command::LIST_SERVICES => list_services_reply(&header, reply),
             command::LIST_INTERFACES => list_interfaces_reply(&header, reply),

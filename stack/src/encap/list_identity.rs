@@ -1,9 +1,11 @@
-//! ListIdentity replies: the identity item, and the queue of replies to broadcast requests
-//! that wait a random delay bounded by the requester's maximum (sender context bytes 0-1).
+//! ListIdentity replies: the identity item, the queue of replies to broadcast requests
+//! that wait a random delay bounded by the requester's maximum (sender context bytes 0-1),
+//! and the byte budget every ListIdentity reply over UDP is charged to
+//! ([`LIST_IDENTITY_UDP_BYTES_PER_SECOND`]).
 
 use core::net::SocketAddrV4;
 
-use crate::config::MAX_PENDING_LIST_IDENTITY;
+use crate::config::{LIST_IDENTITY_UDP_BYTES_PER_SECOND, MAX_PENDING_LIST_IDENTITY};
 use crate::rng::Rng;
 use crate::time::{Duration, Instant};
 
@@ -35,10 +37,61 @@ pub struct Pending {
     pub due: Instant,
 }
 
-/// The fixed-size queue of delayed replies: at most `L` wait at once.
+/// A token bucket of reply bytes: [`LIST_IDENTITY_UDP_BYTES_PER_SECOND`] a second, at most
+/// one second's worth saved up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ReplyBudget {
+    /// Bytes that may go out now, in millionths of a byte (the refill is per microsecond).
+    micro_bytes: u64,
+    /// When `micro_bytes` was last brought up to date (`None`: never, the bucket is full).
+    at: Option<Instant>,
+}
+
+impl ReplyBudget {
+    /// The most the bucket holds, in millionths of a byte.
+    const FULL: u64 = LIST_IDENTITY_UDP_BYTES_PER_SECOND as u64 * 1_000_000;
+
+    /// A full bucket.
+    pub const fn new() -> Self {
+        ReplyBudget {
+            micro_bytes: Self::FULL,
+            at: None,
+        }
+    }
+
+    /// Takes `len` bytes from the budget at `now`; false (nothing taken) if it holds fewer.
+    pub fn take(&mut self, len: usize, now: Instant) -> bool {
+        let refill = self.at.map_or(Self::FULL, |at| {
+            now.since(at)
+                .as_micros()
+                .saturating_mul(u64::from(LIST_IDENTITY_UDP_BYTES_PER_SECOND))
+        });
+        self.micro_bytes = self.micro_bytes.saturating_add(refill).min(Self::FULL);
+        self.at = Some(now);
+        let cost = (len as u64).saturating_mul(1_000_000);
+        match self.micro_bytes.checked_sub(cost) {
+            Some(left) => {
+                self.micro_bytes = left;
+                true
+            }
+            None => false,
+        }
+    }
+}
+
+impl Default for ReplyBudget {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// The fixed-size queue of delayed replies (at most `L` wait at once), and the byte budget
+/// of all UDP replies.
 #[derive(Debug, Clone, Default)]
 pub struct DelayedReplies<const L: usize = MAX_PENDING_LIST_IDENTITY> {
     queue: heapless::Vec<Pending, L>,
+    /// What every ListIdentity reply over UDP, delayed or not, is charged to.
+    pub budget: ReplyBudget,
 }
 
 impl<const L: usize> DelayedReplies<L> {
@@ -46,7 +99,12 @@ impl<const L: usize> DelayedReplies<L> {
     pub const fn new() -> Self {
         DelayedReplies {
             queue: heapless::Vec::new(),
+            budget: ReplyBudget::new(),
         }
+    }
+    /// True if another reply can wait.
+    pub fn has_room(&self) -> bool {
+        !self.queue.is_full()
     }
     /// Queues a reply due at a random instant within the requester's bound; `false` if full.
     pub fn schedule(
@@ -113,5 +171,29 @@ mod tests {
             n += 1;
         }
         assert_eq!(n, MAX_PENDING_LIST_IDENTITY);
+    }
+
+    #[test]
+    fn the_budget_holds_a_second_and_refills_at_its_rate() {
+        let rate = u64::from(LIST_IDENTITY_UDP_BYTES_PER_SECOND);
+        let mut b = ReplyBudget::new();
+        let t0 = Instant(5_000_000);
+        let mut sent = 0u64;
+        while b.take(100, t0) {
+            sent += 100;
+        }
+        assert_eq!(sent, rate / 100 * 100, "a full second's worth at once");
+        assert!(b.take((rate % 100) as usize, t0));
+        assert!(!b.take(1, t0), "empty");
+        // A quarter second later, a quarter of the rate.
+        let t1 = t0.add(Duration::from_millis(250));
+        assert!(b.take((rate / 4) as usize, t1));
+        assert!(!b.take(1, t1));
+        // Long idle: never more than one second's worth.
+        let t2 = t1.add(Duration::from_secs(3600));
+        assert!(b.take(rate as usize, t2));
+        assert!(!b.take(1, t2));
+        // A clock that goes backwards gives nothing.
+        assert!(!b.take(1, Instant(0)));
     }
 }
