@@ -22,7 +22,7 @@ mod network {
 }
 
 use embassy_executor::Spawner;
-use enip_firmware::AdapterCell;
+use enip_qemu_mps2::AdapterCell;
 use enip_profiles::PoweredUp;
 
 /// The adapter over the chosen profile, for the whole run.
