@@ -8,7 +8,7 @@
 
 use core::cell::{Cell, RefCell};
 use core::future::{poll_fn, Future};
-use core::pin::pin;
+use core::pin::Pin;
 
 use embassy_sync::waitqueue::WakerRegistration;
 use embassy_time::{Duration, Timer};
@@ -35,13 +35,13 @@ impl Default for Heartbeat {
     }
 }
 
-/// Runs `task`, counting each of its polls in `heart`.
-pub async fn beating<F: Future>(heart: &Heartbeat, task: F) -> F::Output {
-    let mut task = pin!(task);
+/// Runs `task`, counting each of its polls in `heart`. Pass the task pinned where it is
+/// (`beating(heart, pin!(future))`), so that its future is not stored twice.
+pub async fn beating<F: Future + Unpin>(heart: &Heartbeat, mut task: F) -> F::Output {
     poll_fn(|cx| {
         heart.polls.set(heart.polls.get().wrapping_add(1));
         heart.waker.borrow_mut().register(cx.waker());
-        task.as_mut().poll(cx)
+        Pin::new(&mut task).poll(cx)
     })
     .await
 }

@@ -42,6 +42,7 @@ mod test_faults {
 
 use core::cell::RefCell;
 use core::net::Ipv4Addr;
+use core::pin::pin;
 
 use embassy_executor::Spawner;
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
@@ -206,7 +207,7 @@ async fn link_task(
     adapter: &'static dyn IoPort,
     heart: &'static Heartbeat,
 ) -> ! {
-    beating(heart, enip_firmware::link::run(driver, frames, adapter)).await
+    beating(heart, pin!(enip_firmware::link::run(driver, frames, adapter))).await
 }
 
 /// Starts the watchdog and feeds it while the executor runs and the link task is polled.
