@@ -19,13 +19,15 @@
 //! standard output with `-nographic`). The call stack is painted at boot ([`stack`]) and its
 //! high-water mark read through the diagnostics object (`enip_firmware::diagnostics`); the
 //! CMSDK watchdog ([`watchdog`]) is fed while the executor and the link task run; a panic or
-//! a HardFault (a stack overflow: the board links with flip-link) is reported on UART0 and
+//! a HardFault (a stack overflow: the board links with flip-link, and an MPU [`guard`]
+//! covers the bottom of the stack) is reported on UART0 and
 //! resets the machine ([`faults`]).
 #![no_std]
 
 #[path = "../../shared/fault.rs"]
 mod fault;
 pub mod faults;
+mod guard;
 mod irq;
 pub mod lan9118;
 mod mmio;
@@ -106,6 +108,7 @@ pub async fn run<D: Device>(
     acd: bool,
 ) -> ! {
     stack::paint();
+    guard::install();
     time::init();
     uart::init(log::LevelFilter::Info);
     log::info!("enip-qemu-mps2: booting (profile {name})");
