@@ -41,8 +41,9 @@ const BOARD_START: Duration = Duration::from_secs(10);
 const QEMU_READY: &str = "listening on";
 /// How long QEMU may take to boot the emulated board.
 const QEMU_BOOT: Duration = Duration::from_secs(30);
-/// What the emulated board prints when it panics.
-const QEMU_PANIC: &str = "PANIC";
+/// What the emulated board prints when it panics, faults or its watchdog fires (each ends in
+/// a reset).
+const QEMU_FAULTS: [&str; 3] = ["PANIC", "HARDFAULT", "WATCHDOG"];
 /// Reachability probes sent after start-up (15 s: a board that probes its address for
 /// conflicts, as the emulated board's default image does, sends its first IP packet 6 to
 /// 9 s after it starts).
@@ -370,13 +371,14 @@ impl Rig {
         self.board.tail(n)
     }
 
-    /// Fails if the board exited or logged a panic.
+    /// Fails if the board exited or logged a panic, a HardFault or its watchdog firing.
     pub fn check_alive(&mut self) -> io::Result<()> {
         if let Some(status) = self.board.exited() {
             return Err(io::Error::other(format!("the board exited ({status})")));
         }
-        if self.board.output().contains(QEMU_PANIC) {
-            return Err(io::Error::other("the board panicked"));
+        let output = self.board.output();
+        if let Some(fault) = QEMU_FAULTS.iter().find(|f| output.contains(**f)) {
+            return Err(io::Error::other(format!("the board reported {fault}")));
         }
         Ok(())
     }

@@ -12,6 +12,8 @@
 //!   written to `target/bench/footprint.json` (`footprint` alone).
 //! - `smoke`: the QEMU smoke run of `test`, alone.
 //! - `faults`: the long fault tests, written to `target/faults/report.json` (not in `test`).
+//! - `stack`: the emulated board's call stack after each profile's tests, and the margin on
+//!   the NUCLEO-F767ZI, written to `target/bench/stack.json` (not in `test`).
 
 #![forbid(unsafe_code)]
 
@@ -29,6 +31,7 @@ mod module_graph;
 mod qemu;
 mod setup;
 mod smoke;
+mod stack;
 mod test;
 mod util;
 mod workspace;
@@ -65,6 +68,9 @@ commands:
   smoke               the QEMU smoke run alone (part of test)
   faults              the long fault tests (link flap, Reset, churn, idle sockets, vanishing
                       scanner, 10-minute soak); figures in target/faults/report.json
+  stack               the emulated board's call stack high-water mark after the TAP tests
+                      each profile can run on it; worst depth per profile and the margin on
+                      the NUCLEO-F767ZI; figures in target/bench/stack.json
   eds                 regenerate eds/<profile>.eds from every profile's own description
                       (`cargo run -p enip-host -- --eds --profile NAME` prints one)
 ";
@@ -96,6 +102,7 @@ enum Command {
     Modules,
     Smoke,
     Faults,
+    Stack,
     Eds,
     Help,
 }
@@ -137,6 +144,7 @@ fn main() -> ExitCode {
         Command::Modules => module_graph::check(),
         Command::Smoke => smoke::run_smoke().map(|_| ()),
         Command::Faults => faults::run_all(),
+        Command::Stack => stack::run_all(),
         // The profiles' EDS test knows every profile; asked to, it rewrites the files.
         Command::Eds => util::run(
             util::cargo()
@@ -186,6 +194,7 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
         "modules" => Command::Modules,
         "smoke" => Command::Smoke,
         "faults" => Command::Faults,
+        "stack" => Command::Stack,
         "eds" => Command::Eds,
         "help" => Command::Help,
         _ => return Err(format!("unknown command {name:?}").into()),

@@ -170,7 +170,11 @@ pub async fn run<D: Device>(
     interface.dhcp = dhcp;
     // Built inside the call, so the main task's future holds one adapter, not two.
     let adapter = with_store(
-        Adapter::new(Diagnosed::new(device, PLATFORM), interface, seed.rotate_left(32)),
+        Adapter::new(
+            Diagnosed::new(device, PLATFORM),
+            interface,
+            seed.rotate_left(32),
+        ),
         NV_HANDLE.init(store),
     );
     let Some(adapter) = home.share(adapter) else {
@@ -274,13 +278,20 @@ async fn link_task(
     adapter: &'static dyn IoPort,
     heart: &'static Heartbeat,
 ) -> ! {
-    beating(heart, pin!(enip_firmware::link::run(driver, frames, adapter))).await
+    beating(
+        heart,
+        pin!(enip_firmware::link::run(driver, frames, adapter)),
+    )
+    .await
 }
 
 /// Starts the independent watchdog and feeds it while the executor runs and the link task
 /// is polled.
 #[embassy_executor::task]
-async fn watchdog_task(mut dog: IndependentWatchdog<'static, IWDG>, heart: &'static Heartbeat) -> ! {
+async fn watchdog_task(
+    mut dog: IndependentWatchdog<'static, IWDG>,
+    heart: &'static Heartbeat,
+) -> ! {
     dog.unleash();
     keep_fed(heart, FEED_PERIOD, || dog.pet()).await
 }

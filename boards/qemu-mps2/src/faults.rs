@@ -6,11 +6,11 @@
 use cortex_m::peripheral::SCB;
 
 /// The fault kinds of [`provoke`]: a firmware that hangs in the executor.
-const HANG: u8 = 1;
+pub const HANG: u8 = 1;
 /// A recursion that runs off the bottom of the stack.
-const OVERFLOW: u8 = 2;
+pub const OVERFLOW: u8 = 2;
 /// A panic.
-const PANIC: u8 = 3;
+pub const PANIC: u8 = 3;
 
 /// Faults on purpose (the diagnostics object's test service): [`HANG`], [`OVERFLOW`] or
 /// [`PANIC`]; other kinds do nothing.

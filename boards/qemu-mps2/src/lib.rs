@@ -19,7 +19,7 @@
 //! standard output with `-nographic`). The call stack is painted at boot ([`stack`]) and its
 //! high-water mark read through the diagnostics object (`enip_firmware::diagnostics`); the
 //! CMSDK watchdog ([`watchdog`]) is fed while the executor and the link task run; a panic or
-//! a HardFault (a stack overflow: the board links with flip-link, and an MPU [`guard`]
+//! a HardFault (a stack overflow: the board links with flip-link, and an MPU guard
 //! covers the bottom of the stack) is reported on UART0 and
 //! resets the machine ([`faults`]).
 #![no_std]
@@ -53,9 +53,9 @@ use enip_firmware::diagnostics::Platform;
 use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
 use enip_firmware::watchdog::{beating, keep_fed, Heartbeat};
 use enip_firmware::{Diagnosed, Resources};
-use faults::hard_fault;
 use enip_stack::nv::{AbStore, RamFlash, SharedStore, IMAGE_SIZE, MAX_WRITE_SIZE};
 use enip_stack::{Adapter, Device};
+use faults::hard_fault;
 use lan9118::Lan9118;
 use static_cell::{ConstStaticCell, StaticCell};
 
@@ -210,14 +210,21 @@ async fn link_task(
     adapter: &'static dyn IoPort,
     heart: &'static Heartbeat,
 ) -> ! {
-    beating(heart, pin!(enip_firmware::link::run(driver, frames, adapter))).await
+    beating(
+        heart,
+        pin!(enip_firmware::link::run(driver, frames, adapter)),
+    )
+    .await
 }
 
 /// Starts the watchdog and feeds it while the executor runs and the link task is polled.
 #[embassy_executor::task]
 async fn watchdog_task(heart: &'static Heartbeat) -> ! {
     watchdog::start();
-    log::info!("watchdog: fed every {} ms while the link task runs", FEED_PERIOD.as_millis());
+    log::info!(
+        "watchdog: fed every {} ms while the link task runs",
+        FEED_PERIOD.as_millis()
+    );
     keep_fed(heart, FEED_PERIOD, watchdog::feed).await
 }
 

@@ -18,7 +18,7 @@ const RESEN: u32 = 1 << 1;
 /// LOCK: the key that allows writes to the other registers; anything else locks them.
 const UNLOCK: u32 = 0x1ACC_E551;
 /// Counts of one stage: 2 s at 25 MHz (NMI after 2 s unfed, reset after 4 s).
-const STAGE: u32 = 2 * 25_000_000;
+pub const STAGE: u32 = 2 * 25_000_000;
 /// Milliseconds of one stage, for the log.
 pub const STAGE_MS: u32 = 2_000;
 

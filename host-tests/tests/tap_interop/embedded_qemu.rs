@@ -10,14 +10,17 @@
 //!   second expiry resets the machine;
 //! - a panic is reported and resets the machine.
 //!
-//! After each, the board boots again and answers ListIdentity and pycomm3.
+//! After each, the board boots again and answers ListIdentity and pycomm3. A second test
+//! reads the high-water mark after 10 Class 1 connections at 1 ms (the rig reads it again
+//! when it stops the board, as it does for every test on the emulated board).
 
 use std::time::{Duration, Instant};
 
 use host_tests::enip::{mr_request, Client};
 use host_tests::netns::Namespace;
 use host_tests::peers;
-use host_tests::rig::Rig;
+use host_tests::rig::{Rig, BOARD_IP};
+use host_tests::scanner::{exchange, open_generic, Session};
 use serde_json::{json, Value};
 
 use crate::common::{NAME, REPLY};
@@ -35,6 +38,13 @@ const REPORTED: Duration = Duration::from_secs(6);
 /// How long the reset and the new boot may take after the report (the watchdog's second
 /// stage is 2 s).
 const REBOOTED: Duration = Duration::from_secs(15);
+
+/// Class 1 load of the second test: connections, RPI, timeout multiplier code (5: x128, as
+/// the smoke run's, for an emulated board on a shared host) and how long.
+const CONNECTIONS: usize = 10;
+const RPI: Duration = Duration::from_millis(1);
+const MULTIPLIER: u8 = 5;
+const LOAD: Duration = Duration::from_secs(4);
 
 /// The diagnostics object read with pycomm3 once the board answers a pycomm3 ListIdentity
 /// (waiting up to `wait` for it).
@@ -118,5 +128,39 @@ fn qemu_overflow_hang_and_panic_each_end_in_a_reset() {
     }
     let log = rig.board_log();
     assert!(log.contains("resetting"), "{log}");
+    rig.finish().unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
+#[ignore]
+fn qemu_stack_mark_after_ten_connections_at_1_ms() {
+    let Some(elf) = std::env::var_os(ELF_VAR) else {
+        eprintln!("SKIPPED: set {ELF_VAR} to an enip-qemu-mps2 ELF built with ENIP_TEST_FAULTS=on");
+        return;
+    };
+    let rig = Rig::start_qemu(std::path::Path::new(&elf), None).expect("boot the test image");
+    let (_, _, at_boot) = stack_figures(&diagnostics(rig.ns(), 10));
+    let record = rig
+        .ns()
+        .inside(|| -> std::io::Result<_> {
+            let mut s = Session::connect(BOARD_IP, REPLY)?;
+            let opened = open_generic(&mut s, CONNECTIONS, RPI.as_micros() as u32, MULTIPLIER)?;
+            exchange(BOARD_IP, &opened, RPI, LOAD, |k| [k as u8; 32])
+        })
+        .expect("namespace")
+        .expect("10 connections at 1 ms");
+    let received: usize = record.packets.values().map(Vec::len).sum();
+    assert!(
+        record.packets.len() == CONNECTIONS && received > 0,
+        "T->O from {} connections, {received} packets",
+        record.packets.len()
+    );
+    let (_, painted, after) = stack_figures(&diagnostics(rig.ns(), 5));
+    assert!(after >= at_boot, "the mark went down: {at_boot} -> {after}");
+    println!(
+        "stack: {at_boot} bytes at boot, {after} after {CONNECTIONS} x 1 ms for {LOAD:?} \
+         ({} O->T sent, {received} T->O received; {painted} painted)",
+        record.sent
+    );
     rig.finish().unwrap_or_else(|e| panic!("{e}"));
 }
