@@ -301,12 +301,12 @@ async fn watchdog_task(
 extern "C" fn hard_fault(sp: u32) -> ! {
     let f = fault::fault(sp);
     defmt::error!(
-        "HardFault (stack overflow: {}): sp {=u32:#x} CFSR {=u32:#x} HFSR {=u32:#x} BFAR {=u32:#x}: resetting",
+        "HardFault (stack overflow: {}): sp {=u32:#x} CFSR {=u32:#x} HFSR {=u32:#x} address {=u32:#x}: resetting",
         f.overflow,
         f.sp,
         f.cfsr,
         f.hfsr,
-        f.bfar
+        f.address
     );
     cortex_m::peripheral::SCB::sys_reset()
 }

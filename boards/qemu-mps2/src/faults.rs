@@ -51,8 +51,8 @@ pub extern "C" fn hard_fault(sp: u32) -> ! {
         "fault"
     };
     crate::uart::report(format_args!(
-        "HARDFAULT: {what} (sp {:#010x}, CFSR {:#010x}, HFSR {:#010x}, BFAR {:#010x}): resetting",
-        f.sp, f.cfsr, f.hfsr, f.bfar
+        "HARDFAULT: {what} (sp {:#010x}, CFSR {:#010x}, HFSR {:#010x}, address {:#010x}): resetting",
+        f.sp, f.cfsr, f.hfsr, f.address
     ));
     SCB::sys_reset()
 }
