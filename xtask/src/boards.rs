@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::setup::THUMB_TARGET;
+use crate::setup::{self, THUMB_TARGET};
 use crate::util::{self, run, Result};
 use crate::workspace::Metadata;
 
@@ -51,6 +51,8 @@ pub fn build(board: &str, profile: &str) -> Result<PathBuf> {
 /// or off at start; the others ignore it) and `ENIP_TEST_FAULTS`, the Ametek profile's
 /// `ENIP_PLS_RPM`.
 pub fn build_with(board: &str, profile: &str, env: &[(&str, &str)]) -> Result<PathBuf> {
+    // The boards link through it (`.cargo/config.toml`).
+    setup::flip_link()?;
     let mut cargo = util::cargo();
     cargo.args(["build", "-p", board, "--release", "--target", THUMB_TARGET]);
     cargo.envs(env.iter().copied());
