@@ -292,6 +292,11 @@ async fn watchdog_task(
     mut dog: IndependentWatchdog<'static, IWDG>,
     heart: &'static Heartbeat,
 ) -> ! {
+    // A core halted by a debugger (a breakpoint, `probe-rs run` stopping at a fault) stops
+    // the watchdog with it rather than being reset under the debugger.
+    embassy_stm32::pac::DBGMCU
+        .apb1fzr()
+        .modify(|w| w.set_iwdg(true));
     dog.unleash();
     keep_fed(heart, FEED_PERIOD, || dog.pet()).await
 }
