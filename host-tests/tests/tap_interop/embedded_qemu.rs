@@ -138,7 +138,7 @@ fn qemu_stack_mark_after_ten_connections_at_1_ms() {
         eprintln!("SKIPPED: set {ELF_VAR} to an enip-qemu-mps2 ELF built with ENIP_TEST_FAULTS=on");
         return;
     };
-    let rig = Rig::start_qemu(std::path::Path::new(&elf), None).expect("boot the test image");
+    let mut rig = Rig::start_qemu(std::path::Path::new(&elf), None).expect("boot the test image");
     let (_, _, at_boot) = stack_figures(&diagnostics(rig.ns(), 10));
     let record = rig
         .ns()
@@ -157,6 +157,9 @@ fn qemu_stack_mark_after_ten_connections_at_1_ms() {
     );
     let (_, painted, after) = stack_figures(&diagnostics(rig.ns(), 5));
     assert!(after >= at_boot, "the mark went down: {at_boot} -> {after}");
+    // The load neither starved the watchdog nor faulted.
+    rig.check_alive()
+        .unwrap_or_else(|e| panic!("{e}:\n{}", rig.board_log()));
     println!(
         "stack: {at_boot} bytes at boot, {after} after {CONNECTIONS} x 1 ms for {LOAD:?} \
          ({} O->T sent, {received} T->O received; {painted} painted)",
