@@ -14,6 +14,9 @@ const GATEWAY_VAR: &str = "ENIP_GATEWAY";
 /// Environment variable turning Address Conflict Detection off at build time (`off`; default
 /// `on`): test images that are not about it start without its seconds of probing.
 const ACD_VAR: &str = "ENIP_ACD";
+/// Environment variable building a test image (`on`; default `off`) whose diagnostics object
+/// answers the service that faults on purpose (hang, stack overflow, panic).
+const TEST_FAULTS_VAR: &str = "ENIP_TEST_FAULTS";
 /// Cargo features that choose the device profile start with this.
 const PROFILE_FEATURE: &str = "CARGO_FEATURE_PROFILE_";
 /// The profile used when no other `profile-*` feature is enabled.
@@ -124,17 +127,31 @@ fn network_settings(default_cidr: &str) {
 /// whether the board detects address conflicts at start whatever TCP/IP attribute 10 says.
 #[allow(dead_code)] // the emulated board's only
 fn acd_setting() {
-    println!("cargo:rerun-if-env-changed={ACD_VAR}");
-    let on = match env::var(ACD_VAR).as_deref() {
-        Err(_) | Ok("on") => true,
+    let doc = "Address Conflict Detection at start (attribute 10 still turns it off)";
+    switch_setting(ACD_VAR, true, "acd.rs", "ACD", doc);
+}
+
+/// Writes `OUT_DIR/test_faults.rs` with `TEST_FAULTS: bool` from `ENIP_TEST_FAULTS` (`off`,
+/// the default, or `on`): whether the image can be made to fault on purpose over CIP.
+#[allow(dead_code)] // the emulated board's only
+fn test_faults_setting() {
+    let doc = "A test image, which faults on purpose when asked";
+    switch_setting(TEST_FAULTS_VAR, false, "test_faults.rs", "TEST_FAULTS", doc);
+}
+
+/// Writes `OUT_DIR/<file>` with `pub const <name>: bool` from the variable `var` (`on` or
+/// `off`; `default` when unset), documented as `doc`.
+#[allow(dead_code)] // the emulated board's only
+fn switch_setting(var: &str, default: bool, file: &str, name: &str, doc: &str) {
+    println!("cargo:rerun-if-env-changed={var}");
+    let on = match env::var(var).as_deref() {
+        Err(_) => default,
+        Ok("on") => true,
         Ok("off") => false,
-        Ok(v) => panic!("{ACD_VAR}={v:?}: expected on or off"),
+        Ok(v) => panic!("{var}={v:?}: expected on or off"),
     };
-    let code = format!(
-        "/// Address Conflict Detection at start (`{ACD_VAR}` at build time; attribute 10 \
-         still turns it off).\npub const ACD: bool = {on};\n"
-    );
-    fs::write(out_dir().join("acd.rs"), code).expect("OUT_DIR is writable");
+    let code = format!("/// {doc} (`{var}` at build time).\npub const {name}: bool = {on};\n");
+    fs::write(out_dir().join(file), code).expect("OUT_DIR is writable");
 }
 
 /// Writes `OUT_DIR/profile.rs` for the profile chosen by a `profile-NAME` feature

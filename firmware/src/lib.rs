@@ -15,7 +15,9 @@
 //! - [`Resources`] are the socket buffers, which the board places (usually in a `static`),
 //!   and the embassy-net stack needs [`SOCKETS`] sockets (build its resources with
 //!   [`stack_resources`], which refuses fewer);
-//! - [`indicators`] shows the ODVA Module and Network Status on the board's LEDs.
+//! - [`indicators`] shows the ODVA Module and Network Status on the board's LEDs;
+//! - [`diagnostics`] puts the board's own object (its call stack's high-water mark) in front of
+//!   the device profile, and [`watchdog`] feeds a hardware watchdog while the link task runs.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -39,6 +41,7 @@ extern crate enip_stack;
 
 mod clock;
 mod device_tick;
+pub mod diagnostics;
 pub mod indicators;
 pub mod link;
 mod multicast;
@@ -49,7 +52,9 @@ mod shared;
 pub mod tcp;
 mod tcp_accept;
 mod udp;
+pub mod watchdog;
 
+pub use diagnostics::Diagnosed;
 pub use netif::network_config;
 pub use resources::{stack_resources, Resources, SOCKETS};
 pub use runtime::run;

@@ -11,6 +11,7 @@
 #![forbid(unsafe_code)]
 
 pub mod capture;
+pub mod diagnostics;
 pub mod netns;
 pub mod paths;
 pub mod peers;

@@ -25,6 +25,10 @@ pub const TAP: &str = "enip0";
 /// `ENIP_HOST_LINK=bind` runs every host board the tests start on kernel sockets
 /// ([`Board::HostBind`]) instead of a TAP.
 pub const LINK_ENV: &str = "ENIP_HOST_LINK";
+/// `ENIP_TAP_QEMU_ELF=<elf>` runs the tests that start the host board with the generic
+/// profile and no extra arguments on that emulated board's ELF instead (e.g. the hostile
+/// battery on the firmware, with its stack's high-water mark read at the end of each).
+pub const QEMU_BOARD_ENV: &str = "ENIP_TAP_QEMU_ELF";
 /// The encapsulation port.
 pub const ENCAP_PORT: u16 = enip_stack::config::ENCAP_PORT;
 /// What the host board prints once it serves.
@@ -37,8 +41,9 @@ const BOARD_START: Duration = Duration::from_secs(10);
 const QEMU_READY: &str = "listening on";
 /// How long QEMU may take to boot the emulated board.
 const QEMU_BOOT: Duration = Duration::from_secs(30);
-/// What the emulated board prints when it panics.
-const QEMU_PANIC: &str = "PANIC";
+/// What the emulated board prints when it panics, faults or its watchdog fires (each ends in
+/// a reset).
+const QEMU_FAULTS: [&str; 3] = ["PANIC", "HARDFAULT", "WATCHDOG"];
 /// Reachability probes sent after start-up (15 s: a board that probes its address for
 /// conflicts, as the emulated board's default image does, sends its first IP packet 6 to
 /// 9 s after it starts).
@@ -207,6 +212,8 @@ pub struct Rig {
     board: LoggedChild,
     capture: Option<Capture>,
     lab: Lab,
+    /// The emulated board's ELF, if the board is one: its stack is read before it stops.
+    qemu_elf: Option<PathBuf>,
 }
 
 impl Rig {
@@ -236,6 +243,12 @@ impl Rig {
         capture: Option<&Path>,
         board_ip: Ipv4Addr,
     ) -> io::Result<Self> {
+        if let Some(elf) = std::env::var_os(QEMU_BOARD_ENV) {
+            if profile == "generic" && extra.is_empty() && board_ip == BOARD_IP {
+                let elf = PathBuf::from(elf);
+                return Self::start_qemu(&elf, capture);
+            }
+        }
         if std::env::var_os(LINK_ENV).is_some_and(|v| v == "bind") {
             let board = Board::HostBind {
                 bin,
@@ -293,10 +306,15 @@ impl Rig {
         let (name, ready, bound) = board.start_up();
         let mut child = LoggedChild::spawn_logged(name, board.command(&lab), options.log_file)?;
         child.wait_for_line(ready, bound)?;
+        let qemu_elf = match board {
+            Board::Qemu { elf, .. } => Some(elf.to_path_buf()),
+            _ => None,
+        };
         Ok(Rig {
             board: child,
             capture,
             lab,
+            qemu_elf,
         })
     }
 
@@ -353,25 +371,30 @@ impl Rig {
         self.board.tail(n)
     }
 
-    /// Fails if the board exited or logged a panic.
+    /// Fails if the board exited or logged a panic, a HardFault or its watchdog firing.
     pub fn check_alive(&mut self) -> io::Result<()> {
         if let Some(status) = self.board.exited() {
             return Err(io::Error::other(format!("the board exited ({status})")));
         }
-        if self.board.output().contains(QEMU_PANIC) {
-            return Err(io::Error::other("the board panicked"));
+        let output = self.board.output();
+        if let Some(fault) = QEMU_FAULTS.iter().find(|f| output.contains(**f)) {
+            return Err(io::Error::other(format!("the board reported {fault}")));
         }
         Ok(())
     }
 
     /// Stops the board (failing if it had died on its own) and the capture; returns the
-    /// capture file, if any.
+    /// capture file, if any. An emulated board's stack high-water mark is read and reported
+    /// first ([`crate::diagnostics::report_stack_use`]).
     pub fn finish(mut self) -> io::Result<Option<PathBuf>> {
         if let Some(status) = self.board.exited() {
             return Err(io::Error::other(format!(
                 "the board died during the test ({status}); log:\n{}",
                 self.board.output()
             )));
+        }
+        if let Some(elf) = &self.qemu_elf {
+            crate::diagnostics::report_stack_use(self.lab.ns(), elf);
         }
         self.board.stop(SIGTERM, STOP_GRACE);
         Ok(self.capture.take().map(Capture::stop))

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::setup::THUMB_TARGET;
+use crate::setup::{self, THUMB_TARGET};
 use crate::util::{self, run, Result};
 use crate::workspace::Metadata;
 
@@ -48,8 +48,11 @@ pub fn build(board: &str, profile: &str) -> Result<PathBuf> {
 
 /// [`build`] with build-time settings in the environment, read with `option_env!` so cargo
 /// rebuilds when they change: the emulated board's `ENIP_ACD` (Address Conflict Detection on
-/// or off at start; the others ignore it), the Ametek profile's `ENIP_PLS_RPM`.
+/// or off at start; the others ignore it) and `ENIP_TEST_FAULTS`, the Ametek profile's
+/// `ENIP_PLS_RPM`.
 pub fn build_with(board: &str, profile: &str, env: &[(&str, &str)]) -> Result<PathBuf> {
+    // The boards link through it (`.cargo/config.toml`).
+    setup::flip_link()?;
     let mut cargo = util::cargo();
     cargo.args(["build", "-p", board, "--release", "--target", THUMB_TARGET]);
     cargo.envs(env.iter().copied());
@@ -58,6 +61,16 @@ pub fn build_with(board: &str, profile: &str, env: &[(&str, &str)]) -> Result<Pa
     }
     run(&mut cargo)?;
     Ok(elf(board))
+}
+
+/// Builds the emulated board's test image (generic profile, `ENIP_TEST_FAULTS=on`, Address
+/// Conflict Detection off), which faults on purpose when asked over CIP; returns its copy,
+/// `target/qemu-faults.elf`.
+pub fn faults_image() -> Result<PathBuf> {
+    let elf = util::target_dir().join("qemu-faults.elf");
+    let settings = [("ENIP_TEST_FAULTS", "on"), ("ENIP_ACD", "off")];
+    std::fs::copy(build_with(QEMU, DEFAULT_PROFILE, &settings)?, &elf)?;
+    Ok(elf)
 }
 
 /// Clippy on `board` as it is built (release, Cortex-M target), warnings denied.

@@ -12,6 +12,8 @@
 //!   written to `target/bench/footprint.json` (`footprint` alone).
 //! - `smoke`: the QEMU smoke run of `test`, alone.
 //! - `faults`: the long fault tests, written to `target/faults/report.json` (not in `test`).
+//! - `stack`: the emulated board's call stack after each profile's tests, and the margin on
+//!   the NUCLEO-F767ZI, written to `target/bench/stack.json` (not in `test`).
 
 #![forbid(unsafe_code)]
 
@@ -30,6 +32,7 @@ mod own_device;
 mod qemu;
 mod setup;
 mod smoke;
+mod stack;
 mod test;
 mod util;
 mod workspace;
@@ -67,6 +70,9 @@ commands:
   faults              the long fault tests (link flap, Reset, churn, idle sockets, vanishing
                       scanner, 10-minute soak, floods); figures in target/faults/report.json
                       (ENIP_FAULTS_FILTER=faults_flood: the floods alone)
+  stack               the emulated board's call stack high-water mark after the TAP tests
+                      each profile can run on it; worst depth per profile and the margin on
+                      the NUCLEO-F767ZI; figures in target/bench/stack.json
   eds                 regenerate eds/<profile>.eds from every profile's own description
                       (`cargo run -p enip-host -- --eds --profile NAME` prints one)
   own-device          build examples/own-device in a project of its own outside the
@@ -100,6 +106,7 @@ enum Command {
     Modules,
     Smoke,
     Faults,
+    Stack,
     Eds,
     OwnDevice,
     Help,
@@ -142,6 +149,7 @@ fn main() -> ExitCode {
         Command::Modules => module_graph::check(),
         Command::Smoke => smoke::run_smoke().map(|_| ()),
         Command::Faults => faults::run_all(),
+        Command::Stack => stack::run_all(),
         // The profiles' EDS test knows every profile; asked to, it rewrites the files.
         Command::Eds => util::run(
             util::cargo()
@@ -192,6 +200,7 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
         "modules" => Command::Modules,
         "smoke" => Command::Smoke,
         "faults" => Command::Faults,
+        "stack" => Command::Stack,
         "eds" => Command::Eds,
         "own-device" => Command::OwnDevice,
         "help" => Command::Help,

@@ -72,14 +72,26 @@ fn probe_ok(probe: &[&str]) -> bool {
     have(prog) && run_quiet(Command::new(prog).args(args)).is_ok()
 }
 
-/// Adds the Cortex-M target to the active toolchain if it is missing.
+/// Adds the Cortex-M target to the active toolchain if it is missing, and the linker the
+/// embedded boards link with ([`flip_link`]).
 pub fn rust_target() -> Result {
+    flip_link()?;
     let installed =
         output(Command::new("rustup").args(["target", "list", "--installed"])).unwrap_or_default();
     if installed.lines().any(|l| l.trim() == THUMB_TARGET) {
         return Ok(());
     }
     run(Command::new("rustup").args(["target", "add", THUMB_TARGET]))
+}
+
+/// Installs `flip-link` from crates.io if it is missing: `.cargo/config.toml` names it as the
+/// Cortex-M linker, which puts the stack below the statics so that an overflow faults at the
+/// start of RAM instead of overwriting them.
+pub fn flip_link() -> Result {
+    if have("flip-link") {
+        return Ok(());
+    }
+    run(Command::new("cargo").args(["install", "--locked", "flip-link"]))
 }
 
 /// True if the nightly toolchain is there, installing it (minimal profile) if needed.

@@ -151,15 +151,7 @@ fn tap_interop() -> Result<Outcome> {
         ));
         return Ok(Outcome::Skipped);
     }
-    run(util::cargo().args([
-        "build",
-        "--profile",
-        INTEROP_PROFILE,
-        "-p",
-        "enip-host",
-        "-p",
-        "io-block-host",
-    ]))?;
+    build_interop_boards()?;
     // The profiles' scenarios (and the default profile's LLDP, QoS and ACD checks) also run on
     // the emulated board: a copy of its ELF per profile (ENIP_QEMU_<PROFILE>_ELF), since every
     // build writes the same path. The profiles' scenarios are built without Address Conflict
@@ -186,8 +178,28 @@ fn tap_interop() -> Result<Outcome> {
     let built = boards::build_with(boards::QEMU, "ametek-pls", &settings)?;
     std::fs::copy(built, &moving)?;
     elves.push(("ENIP_QEMU_AMETEK_PLS_MOVING_ELF".to_string(), moving));
+    // The test image that faults on purpose (stack overflow, hang, panic) when asked over CIP.
+    let faults = boards::faults_image()?;
+    elves.push(("ENIP_QEMU_FAULTS_ELF".to_string(), faults.clone()));
     run(interop(&[]).envs(elves))?;
+    // The hostile battery again on the emulated board, which reports its stack's high-water
+    // mark at the end of each test.
+    run(interop(&["hostile_"]).env(rig::QEMU_BOARD_ENV, &faults))?;
     Ok(Outcome::Passed)
+}
+
+/// Builds the host boards the interop suites start (`enip-host`, `io-block-host`) with the
+/// [`INTEROP_PROFILE`].
+pub fn build_interop_boards() -> Result {
+    run(util::cargo().args([
+        "build",
+        "--profile",
+        INTEROP_PROFILE,
+        "-p",
+        "enip-host",
+        "-p",
+        "io-block-host",
+    ]))
 }
 
 /// The same peers against `enip-host --bind` on kernel sockets over a veth pair (the lab's
@@ -210,7 +222,7 @@ fn bind_interop() -> Result<Outcome> {
 
 /// `cargo test` of the TAP interop suite, one test at a time, with the tests matching
 /// `filters` (all without), and where the boards and peers are.
-fn interop(filters: &[&str]) -> std::process::Command {
+pub fn interop(filters: &[&str]) -> std::process::Command {
     let boards = util::target_dir().join(INTEROP_PROFILE);
     let mut cmd = util::cargo();
     cmd.args(["test", "-p", "host-tests", "--test", "tap_interop", "--"])

@@ -19,14 +19,27 @@
 //! MAC to the link task (Class 1 I/O, then every other frame on to embassy-net), runs the
 //! adapter (shared in the firmware's `static` [`AdapterCell`]) and shows the ODVA Module and Network Status on the LEDs ([`leds`]). Logs are
 //! defmt over RTT; an Identity Reset restarts the chip. The firmware's build script links
-//! with `memory.x` (the STM32F767ZI map), cortex-m-rt's `link.x` and defmt's `defmt.x`.
+//! with `memory.x` (the STM32F767ZI map), cortex-m-rt's `link.x` and defmt's `defmt.x`,
+//! through flip-link (the stack below the statics, so an overflow faults).
+//!
+//! The call stack is painted at boot ([`stack`]; its high-water mark is readable through the
+//! diagnostics object, `enip_firmware::diagnostics`). The independent watchdog (IWDG) is fed
+//! while the executor and the link task run, with a timeout ([`WATCHDOG_TIMEOUT_US`]) above
+//! the longest stall the firmware has: erasing a 256 KiB store sector, up to 4 s. A panic
+//! (panic-probe: `udf`) and any other HardFault are logged over defmt and reset the chip;
+//! with a debugger attached, `probe-rs run` catches the fault first and shows the backtrace.
 #![no_std]
 
 mod clocks;
+#[path = "../../shared/fault.rs"]
+mod fault;
 pub mod leds;
 pub mod nv_flash;
+#[path = "../../shared/stack.rs"]
+pub mod stack;
 
 use core::net::Ipv4Addr;
+use core::pin::pin;
 
 use core::cell::RefCell;
 use defmt::{info, panic, warn};
@@ -34,12 +47,15 @@ use embassy_executor::Spawner;
 use embassy_net::{Runner, StackResources};
 use embassy_stm32::eth::{self, Ethernet, GenericPhy, PacketQueue, Sma};
 use embassy_stm32::gpio::{Level, Output, Speed};
-use embassy_stm32::peripherals::{ETH, ETH_SMA, RNG};
+use embassy_stm32::peripherals::{ETH, ETH_SMA, IWDG, RNG};
 use embassy_stm32::rng::{self, Rng};
+use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, uid};
+use embassy_time::Duration;
+use enip_firmware::diagnostics::Platform;
 use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
-pub use enip_firmware::AdapterCell;
-use enip_firmware::Resources;
+use enip_firmware::watchdog::{beating, keep_fed, Heartbeat};
+use enip_firmware::{Diagnosed, Resources};
 use enip_stack::nv::{AbStore, SharedStore};
 use enip_stack::objects::TcpIpState;
 use enip_stack::{Adapter, Device};
@@ -55,6 +71,24 @@ bind_interrupts!(struct Irqs {
 
 /// The Ethernet driver: on-chip MAC, LAN8742A through the generic PHY driver.
 type Driver = Ethernet<'static, ETH, GenericPhy<Sma<'static, ETH_SMA>>>;
+
+/// A `static` home for the adapter over a device `D`, with the board's diagnostics object in
+/// front of it: `static ADAPTER: AdapterCell<MyDevice> = AdapterCell::new();`.
+pub type AdapterCell<D> = enip_firmware::AdapterCell<Diagnosed<D>>;
+
+/// What the board tells the diagnostics object: its stack (no fault trigger on hardware).
+const PLATFORM: Platform = Platform {
+    stack: stack::measure,
+    provoke: None,
+};
+/// The independent watchdog's timeout: 8 s at the LSI's nominal 32 kHz (at least 5.4 s at its
+/// fastest, 47 kHz), above a 256 KiB sector erase (2 s typical, 4 s at most), which stalls
+/// the CPU with the executor.
+pub const WATCHDOG_TIMEOUT_US: u32 = 8_000_000;
+/// How often the watchdog task checks the link task and feeds the watchdog.
+const FEED_PERIOD: Duration = Duration::from_millis(500);
+/// The link task's polls, watched by the watchdog task.
+static HEARTBEAT: StaticCell<Heartbeat> = StaticCell::new();
 
 /// Sockets of the embassy-net stack: what the runtime needs, and one for DHCP.
 const SOCKETS: usize = enip_firmware::SOCKETS + 1;
@@ -101,6 +135,7 @@ pub async fn run<D: Device>(
     device: impl FnOnce(SharedStore) -> D,
     network: embassy_net::Config,
 ) -> ! {
+    stack::paint();
     let p = embassy_stm32::init(clocks::config());
     let leds = NucleoLeds {
         ld1_green: Output::new(p.PB0, Level::Low, Speed::Low),
@@ -135,18 +170,29 @@ pub async fn run<D: Device>(
     interface.dhcp = dhcp;
     // Built inside the call, so the main task's future holds one adapter, not two.
     let adapter = with_store(
-        Adapter::new(device, interface, seed.rotate_left(32)),
+        Adapter::new(
+            Diagnosed::new(device, PLATFORM),
+            interface,
+            seed.rotate_left(32),
+        ),
         NV_HANDLE.init(store),
     );
     let Some(adapter) = home.share(adapter) else {
         panic!("enip_nucleo_f767zi::run called twice");
     };
-    match (net_task(runner), link_task(driver, frames, adapter)) {
-        (Ok(net), Ok(link)) => {
+    let heart: &'static Heartbeat = HEARTBEAT.init(Heartbeat::new());
+    let dog = IndependentWatchdog::new(p.IWDG, WATCHDOG_TIMEOUT_US);
+    match (
+        net_task(runner),
+        link_task(driver, frames, adapter, heart),
+        watchdog_task(dog, heart),
+    ) {
+        (Ok(net), Ok(link), Ok(dog)) => {
             spawner.spawn(net);
             spawner.spawn(link);
+            spawner.spawn(dog);
         }
-        _ => panic!("cannot spawn the network and link tasks"),
+        _ => panic!("cannot spawn the network, link and watchdog tasks"),
     }
     info!("enip-nucleo-f767zi: MAC {=[u8]:02x}", mac);
     let resources = FIRMWARE_RESOURCES.init_with(Resources::new);
@@ -159,7 +205,10 @@ pub async fn run<D: Device>(
 }
 
 /// `adapter` with the flash store attached (its TCP/IP settings loaded from it).
-fn with_store<D: Device>(mut adapter: Adapter<D>, store: &'static mut SharedStore) -> Adapter<D> {
+fn with_store<D: Device>(
+    mut adapter: Adapter<Diagnosed<D>>,
+    store: &'static mut SharedStore,
+) -> Adapter<Diagnosed<D>> {
     match adapter.attach_store(store) {
         Ok(true) => info!("TCP/IP settings loaded from flash"),
         Ok(false) => info!("no TCP/IP settings in flash: factory defaults"),
@@ -223,8 +272,48 @@ async fn net_task(mut runner: Runner<'static, NetDriver<'static>>) -> ! {
 
 /// Owns the Ethernet MAC: Class 1 I/O, and every other frame to and from the network stack.
 #[embassy_executor::task]
-async fn link_task(driver: Driver, frames: &'static LinkFrames, adapter: &'static dyn IoPort) -> ! {
-    enip_firmware::link::run(driver, frames, adapter).await
+async fn link_task(
+    driver: Driver,
+    frames: &'static LinkFrames,
+    adapter: &'static dyn IoPort,
+    heart: &'static Heartbeat,
+) -> ! {
+    beating(
+        heart,
+        pin!(enip_firmware::link::run(driver, frames, adapter)),
+    )
+    .await
+}
+
+/// Starts the independent watchdog and feeds it while the executor runs and the link task
+/// is polled.
+#[embassy_executor::task]
+async fn watchdog_task(
+    mut dog: IndependentWatchdog<'static, IWDG>,
+    heart: &'static Heartbeat,
+) -> ! {
+    // A core halted by a debugger (a breakpoint, `probe-rs run` stopping at a fault) stops
+    // the watchdog with it rather than being reset under the debugger.
+    embassy_stm32::pac::DBGMCU
+        .apb1fzr()
+        .modify(|w| w.set_iwdg(true));
+    dog.unleash();
+    keep_fed(heart, FEED_PERIOD, || dog.pet()).await
+}
+
+/// The HardFault handler proper (see the shared `fault` entry), on a fresh stack: logs the
+/// fault registers and resets.
+extern "C" fn hard_fault(sp: u32) -> ! {
+    let f = fault::fault(sp);
+    defmt::error!(
+        "HardFault (stack overflow: {}): sp {=u32:#x} CFSR {=u32:#x} HFSR {=u32:#x} address {=u32:#x}: resetting",
+        f.overflow,
+        f.sp,
+        f.cfsr,
+        f.hfsr,
+        f.address
+    );
+    cortex_m::peripheral::SCB::sys_reset()
 }
 
 /// Identity Reset: restart the microcontroller.

@@ -18,7 +18,7 @@ mod network {
 }
 
 use embassy_executor::Spawner;
-use enip_firmware::AdapterCell;
+use enip_nucleo_f767zi::AdapterCell;
 use enip_profiles::PoweredUp;
 
 /// The adapter over the chosen profile, for the whole run.

@@ -16,27 +16,67 @@
 //! [`run`] gives the [`lan9118`] driver to the link task (Class 1 I/O, then every other
 //! frame on to embassy-net), builds the embassy-net stack and runs the adapter.
 //! Time comes from the CMSDK timers ([`time`]), logs go to UART0 ([`uart`], QEMU's
-//! standard output with `-nographic`); a panic is reported there too.
+//! standard output with `-nographic`). The call stack is painted at boot ([`stack`]) and its
+//! high-water mark read through the diagnostics object (`enip_firmware::diagnostics`); the
+//! CMSDK watchdog ([`watchdog`]) is fed while the executor and the link task run; a panic or
+//! a HardFault (a stack overflow: the board links with flip-link, and an MPU guard
+//! covers the bottom of the stack) is reported on UART0 and
+//! resets the machine ([`faults`]).
 #![no_std]
 
+#[path = "../../shared/fault.rs"]
+mod fault;
+pub mod faults;
+mod guard;
 mod irq;
 pub mod lan9118;
 mod mmio;
+#[path = "../../shared/stack.rs"]
+pub mod stack;
 pub mod time;
 pub mod uart;
+pub mod watchdog;
+
+/// The build-time test-image choice.
+mod test_faults {
+    include!(concat!(env!("OUT_DIR"), "/test_faults.rs"));
+}
 
 use core::cell::RefCell;
 use core::net::Ipv4Addr;
+use core::pin::pin;
 
 use embassy_executor::Spawner;
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
+use embassy_time::Duration;
+use enip_firmware::diagnostics::Platform;
 use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
-pub use enip_firmware::AdapterCell;
-use enip_firmware::Resources;
+use enip_firmware::watchdog::{beating, keep_fed, Heartbeat};
+use enip_firmware::{Diagnosed, Resources};
 use enip_stack::nv::{AbStore, RamFlash, SharedStore, IMAGE_SIZE, MAX_WRITE_SIZE};
 use enip_stack::{Adapter, Device};
+use faults::hard_fault;
 use lan9118::Lan9118;
 use static_cell::{ConstStaticCell, StaticCell};
+
+/// A `static` home for the adapter over a device `D`, with the board's diagnostics object in
+/// front of it: `static ADAPTER: AdapterCell<MyDevice> = AdapterCell::new();`.
+pub type AdapterCell<D> = enip_firmware::AdapterCell<Diagnosed<D>>;
+
+/// What the board tells the diagnostics object: its stack, and the fault trigger of test
+/// images.
+const PLATFORM: Platform = Platform {
+    stack: stack::measure,
+    provoke: if test_faults::TEST_FAULTS {
+        Some(faults::provoke)
+    } else {
+        None
+    },
+};
+/// How often the watchdog task checks the link task and feeds the watchdog.
+const FEED_PERIOD: Duration = Duration::from_millis(250);
+/// The link task's polls, watched by the watchdog task.
+static HEARTBEAT: StaticCell<Heartbeat> = StaticCell::new();
 
 /// Sockets of the embassy-net stack: what the runtime needs.
 const SOCKETS: usize = enip_firmware::SOCKETS;
@@ -67,6 +107,8 @@ pub async fn run<D: Device>(
     (address, prefix_len, gateway): ([u8; 4], u8, Option<[u8; 4]>),
     acd: bool,
 ) -> ! {
+    stack::paint();
+    guard::install();
     time::init();
     uart::init(log::LevelFilter::Info);
     log::info!("enip-qemu-mps2: booting (profile {name})");
@@ -88,7 +130,7 @@ pub async fn run<D: Device>(
     let store = SharedStore::new(NV_STORE.init(RefCell::new(AbStore::mount(RamFlash::new()))));
     let adapter = with_store(
         Adapter::new(
-            device(store),
+            Diagnosed::new(device(store), PLATFORM),
             enip_firmware::network_config(net),
             seed.rotate_left(32),
         ),
@@ -98,12 +140,18 @@ pub async fn run<D: Device>(
     let Some(adapter) = home.share(adapter) else {
         panic!("enip_qemu_mps2::run called twice");
     };
-    match (net_task(runner), link_task(driver, frames, adapter)) {
-        (Ok(net), Ok(link)) => {
+    let heart: &'static Heartbeat = HEARTBEAT.init(Heartbeat::new());
+    match (
+        net_task(runner),
+        link_task(driver, frames, adapter, heart),
+        watchdog_task(heart),
+    ) {
+        (Ok(net), Ok(link), Ok(dog)) => {
             spawner.spawn(net);
             spawner.spawn(link);
+            spawner.spawn(dog);
         }
-        _ => panic!("cannot spawn the network and link tasks"),
+        _ => panic!("cannot spawn the network, link and watchdog tasks"),
     }
     // Each byte through `u32`'s hex formatter, which the image has already; a byte list's
     // Debug would add more.
@@ -124,10 +172,10 @@ pub async fn run<D: Device>(
 /// conflict detection unless `acd`. (Not in `run`: a local borrowed there would live in its
 /// future, the whole adapter with it.)
 fn with_store<D: Device>(
-    mut adapter: Adapter<D>,
+    mut adapter: Adapter<Diagnosed<D>>,
     store: &'static mut SharedStore,
     acd: bool,
-) -> Adapter<D> {
+) -> Adapter<Diagnosed<D>> {
     if let Err(e) = adapter.attach_store(store) {
         log::warn!("non-volatile store: {e}");
     }
@@ -160,20 +208,28 @@ async fn link_task(
     driver: Lan9118,
     frames: &'static LinkFrames,
     adapter: &'static dyn IoPort,
+    heart: &'static Heartbeat,
 ) -> ! {
-    enip_firmware::link::run(driver, frames, adapter).await
+    beating(
+        heart,
+        pin!(enip_firmware::link::run(driver, frames, adapter)),
+    )
+    .await
+}
+
+/// Starts the watchdog and feeds it while the executor runs and the link task is polled.
+#[embassy_executor::task]
+async fn watchdog_task(heart: &'static Heartbeat) -> ! {
+    watchdog::start();
+    log::info!(
+        "watchdog: fed every {} ms while the link task runs",
+        FEED_PERIOD.as_millis()
+    );
+    keep_fed(heart, FEED_PERIOD, watchdog::feed).await
 }
 
 /// Identity Reset: restart the machine (QEMU resets it, or exits with `-no-reboot`).
 fn on_reset(kind: u8) {
     log::warn!("identity reset (type {kind}): restarting");
     cortex_m::peripheral::SCB::sys_reset();
-}
-
-#[panic_handler]
-fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
-    uart::panic_report(info);
-    loop {
-        cortex_m::asm::wfi();
-    }
 }

@@ -22,8 +22,8 @@ mod network {
 }
 
 use embassy_executor::Spawner;
-use enip_firmware::AdapterCell;
 use enip_profiles::PoweredUp;
+use enip_qemu_mps2::AdapterCell;
 
 /// The adapter over the chosen profile, for the whole run.
 static ADAPTER: AdapterCell<profile::Chosen> = AdapterCell::new();

@@ -76,9 +76,10 @@ pub fn init(level: LevelFilter) {
     log::set_max_level(level);
 }
 
-/// Writes a panic report, without the logger (which may be what panicked).
-pub fn panic_report(info: &core::panic::PanicInfo<'_>) {
+/// Writes one line straight to the UART, without the logger (which may be what failed): a
+/// panic, a fault or the watchdog's report.
+pub fn report(line: core::fmt::Arguments<'_>) {
     critical_section::with(|_| {
-        let _ = writeln!(Uart, "PANIC: {info}");
+        let _ = writeln!(Uart, "{line}");
     });
 }

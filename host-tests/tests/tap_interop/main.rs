@@ -35,6 +35,7 @@ mod class3;
 mod common;
 mod concurrency;
 mod electronic_key;
+mod embedded_qemu;
 mod ethernet_link;
 mod example_io_block;
 mod explicit;
