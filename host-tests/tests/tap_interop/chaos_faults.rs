@@ -290,7 +290,7 @@ pub fn identity_reset(kind: u8) -> Outcome {
 /// TCP/IP host name (attribute 6) or a QoS DSCP (attributes 4-8), chosen by `which`.
 pub fn nv_write(which: u64) -> Outcome {
     let mut s = session().map_err(text)?;
-    let (class, attr, value) = if which % 2 == 0 {
+    let (class, attr, value) = if which.is_multiple_of(2) {
         let name = format!("chaos-{:04x}", (which >> 8) as u16);
         let mut v = (name.len() as u16).to_le_bytes().to_vec();
         v.extend_from_slice(name.as_bytes());
