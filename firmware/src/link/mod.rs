@@ -29,6 +29,8 @@ mod counted;
 mod dscp;
 mod frame;
 mod frames;
+#[cfg(feature = "fuzzing")]
+pub mod fuzzing;
 mod io_port;
 mod lldp;
 mod neighbors;
