@@ -6,6 +6,7 @@
 pub mod device;
 pub mod frames;
 pub mod io_script;
+pub mod link_seeds;
 pub mod profile;
 pub mod script;
 pub mod store;

@@ -96,7 +96,7 @@ pub fn run_all() -> Result {
 
 /// The scenario name and figures of a `FAULT-REPORT` line (the prefix may follow other
 /// output on the same line, as the test harness prints the test's name first).
-fn parse_report(line: &str) -> Option<(String, Value)> {
+pub(crate) fn parse_report(line: &str) -> Option<(String, Value)> {
     let json = line.split_once(PREFIX)?.1;
     let figures: Value = serde_json::from_str(json).ok()?;
     let name = figures.get("scenario")?.as_str()?.to_string();

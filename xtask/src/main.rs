@@ -11,7 +11,8 @@
 //! - `bench`: benchmarks, written to `target/bench/report.json`, and the boards' footprint,
 //!   written to `target/bench/footprint.json` (`footprint` alone).
 //! - `smoke`: the QEMU smoke run of `test`, alone.
-//! - `faults`: the long fault tests, written to `target/faults/report.json` (not in `test`).
+//! - `faults`: the long fault tests, written to `target/faults/report.json` (not in `test`);
+//!   `faults --chaos MINUTES [--seed S]`: the chaos soak, written to `target/bench/chaos.json`.
 //! - `stack`: the emulated board's call stack after each profile's tests, and the margin on
 //!   the NUCLEO-F767ZI, written to `target/bench/stack.json` (not in `test`).
 
@@ -22,6 +23,7 @@ mod bench_host;
 mod bench_qemu;
 mod bench_scale;
 mod boards;
+mod chaos;
 mod demo;
 mod faults;
 mod footprint;
@@ -70,6 +72,9 @@ commands:
   faults              the long fault tests (link flap, Reset, churn, idle sockets, vanishing
                       scanner, 10-minute soak, floods); figures in target/faults/report.json
                       (ENIP_FAULTS_FILTER=faults_flood: the floods alone)
+  faults --chaos MINUTES [--seed S]
+                      the chaos soak: seeded random faults over 1 ms I/O for MINUTES
+                      minutes, invariants checked; report in target/bench/chaos.json
   stack               the emulated board's call stack high-water mark after the TAP tests
                       each profile can run on it; worst depth per profile and the margin on
                       the NUCLEO-F767ZI; figures in target/bench/stack.json
@@ -107,6 +112,7 @@ enum Command {
     Smoke,
     Faults,
     Stack,
+    Chaos { minutes: u64, seed: Option<u64> },
     Eds,
     OwnDevice,
     Help,
@@ -150,6 +156,7 @@ fn main() -> ExitCode {
         Command::Smoke => smoke::run_smoke().map(|_| ()),
         Command::Faults => faults::run_all(),
         Command::Stack => stack::run_all(),
+        Command::Chaos { minutes, seed } => chaos::run_chaos(minutes, seed),
         // The profiles' EDS test knows every profile; asked to, it rewrites the files.
         Command::Eds => util::run(
             util::cargo()
@@ -220,6 +227,17 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
                     return Err("--seconds wants a positive number".into());
                 }
             }
+            (Command::Faults, Long("chaos")) => {
+                let minutes = parser.value()?.parse()?;
+                if minutes == 0 {
+                    return Err("--chaos wants a positive number of minutes".into());
+                }
+                command = Command::Chaos {
+                    minutes,
+                    seed: None,
+                };
+            }
+            (Command::Chaos { seed, .. }, Long("seed")) => *seed = Some(parser.value()?.parse()?),
             (Command::Qemu { profile }, Long("profile")) => *profile = parser.value()?.string()?,
             (Command::Demo { board }, Long("host")) => *board = demo::Board::Host,
             (Command::Bench { part }, Long("qemu")) => *part = BenchPart::Qemu,
@@ -269,6 +287,14 @@ mod tests {
         assert!(p(&[]).is_err());
         assert_eq!(p(&["--help"]).unwrap(), Command::Help);
         assert_eq!(p(&["smoke"]).unwrap(), Command::Smoke);
+        let chaos = |minutes, seed| Command::Chaos { minutes, seed };
+        assert_eq!(p(&["faults", "--chaos", "30"]).unwrap(), chaos(30, None));
+        assert_eq!(
+            p(&["faults", "--chaos", "1", "--seed", "42"]).unwrap(),
+            chaos(1, Some(42))
+        );
+        assert!(p(&["faults", "--chaos", "0"]).is_err());
+        assert!(p(&["faults", "--seed", "42"]).is_err());
     }
 
     #[test]

@@ -34,6 +34,8 @@ mod dscp;
 mod flood_guard;
 mod frame;
 mod frames;
+#[cfg(feature = "fuzzing")]
+pub mod fuzzing;
 mod io_port;
 mod lldp;
 mod neighbors;

@@ -105,6 +105,9 @@ fn main() {
     }
     let o_t = learn_o_t_id(session, "test", &Connection::test_device());
     add("io_datagram", "o_t_run", frames::o_t_datagram(o_t, 1));
+    for (target, name, bytes) in enip_fuzz::link_seeds::seeds(&frames::o_t_datagram(o_t, 1)) {
+        add(target, name, bytes);
+    }
     let mut io = IoScript::default()
         .accept(0)
         .tcp(0, &frames::register_session())

@@ -30,6 +30,10 @@
 mod acd;
 mod ametek_pls;
 mod ametek_pls_inputs;
+mod chaos;
+mod chaos_faults;
+mod chaos_io;
+mod chaos_plan;
 mod class1;
 mod class3;
 mod common;
