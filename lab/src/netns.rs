@@ -198,6 +198,17 @@ impl Lab {
         })
     }
 
+    /// Adds `ip` (in 198.18.0.0/24) to the board's end of the veth pair, beside
+    /// [`BOARD_IP`]: another device's address for a fleet on the kernel's sockets.
+    pub fn add_board_address(&self, ip: Ipv4Addr) -> io::Result<()> {
+        let ns = self
+            .board_ns
+            .as_ref()
+            .ok_or_else(|| io::Error::other("a TAP lab has no kernel address of the board"))?;
+        let cidr = format!("{ip}/{PREFIX}");
+        ns.exec_checked("ip", &["addr", "add", &cidr, "dev", BOARD_VETH])
+    }
+
     /// The namespace.
     pub fn ns(&self) -> &Namespace {
         &self.ns
