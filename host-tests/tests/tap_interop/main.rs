@@ -43,6 +43,7 @@ mod faults;
 mod faults_link_flap;
 mod faults_reset;
 mod faults_soak;
+mod fleet;
 mod hostile_cip;
 mod hostile_framing;
 mod kollmorgen_akd;
