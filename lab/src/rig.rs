@@ -160,7 +160,7 @@ impl Board<'_> {
                 extra,
             } => {
                 let list = fleet_list(profile, extra)?;
-                lab.add_board_address(NEIGHBOUR_IP)?;
+                lab.add_board_addresses(&[format!("{NEIGHBOUR_IP}/{PREFIX}")])?;
                 let mut cmd = lab.board_command(bin);
                 cmd.arg("--devices").arg(list).env("RUST_LOG", log_level);
                 cmd

@@ -125,9 +125,8 @@ fn sixteen_devices_of_five_profiles_in_one_process() {
     let list_path = common::scratch("fleet.toml");
     std::fs::write(&list_path, list).expect("write the device list");
     let lab = Lab::create_veth(LINK).expect("veth lab");
-    for d in &expected {
-        lab.add_board_address(d.ip).expect("board address");
-    }
+    let cidrs: Vec<String> = expected.iter().map(|d| format!("{}/24", d.ip)).collect();
+    lab.add_board_addresses(&cidrs).expect("board addresses");
     let mut cmd = lab.board_command(common::host_bin());
     cmd.arg("--devices").arg(&list_path).env("RUST_LOG", "info");
     let mut fleet = LoggedChild::spawn("enip-host --devices", cmd).expect("start the fleet");
