@@ -65,7 +65,14 @@ fn measure(seconds: u64, max_devices: u32, scale: Scale) -> Result<Value> {
         return err("the fleet benchmark needs root (network namespaces)");
     }
     run(cargo().args(["build", "--release", "-p", "enip-host"]))?;
-    run(cargo().args(["build", "--release", "-p", "host-tests", "--bin", "fleet_scanner"]))?;
+    run(cargo().args([
+        "build",
+        "--release",
+        "-p",
+        "host-tests",
+        "--bin",
+        "fleet_scanner",
+    ]))?;
     let dir = scale.dir();
     fs::create_dir_all(&dir).map_err(|e| Error(format!("{}: {e}", dir.display())))?;
     let bin = util::target_dir().join("release");

@@ -124,7 +124,10 @@ pub fn run_all() -> bool {
         }) && steps.run("fuzz", || fuzz::run_all(FUZZ_SECONDS))
             && steps.run("TAP interop", tap_interop)
             && steps.run("interop on kernel sockets (enip-host --bind)", bind_interop)
-            && steps.run("interop on one device of a fleet (enip-host --devices)", fleet_interop)
+            && steps.run(
+                "interop on one device of a fleet (enip-host --devices)",
+                fleet_interop,
+            )
             && steps.run("QEMU smoke run", smoke::run_smoke)
             && steps.run("the benchmark runs (bench --check)", || {
                 crate::bench::check().map(|()| Outcome::Passed)

@@ -82,9 +82,11 @@ pub fn parse(text: &str, dir: &Path) -> Result<Vec<DeviceEntry>, String> {
         let table = tables
             .last_mut()
             .ok_or_else(|| at("expected [[device]] before any key".into()))?;
-        let (key, value) = line
-            .split_once('=')
-            .ok_or_else(|| at(format!("expected `key = value` or [[device]], not {line:?}")))?;
+        let (key, value) = line.split_once('=').ok_or_else(|| {
+            at(format!(
+                "expected `key = value` or [[device]], not {line:?}"
+            ))
+        })?;
         table.set(key.trim(), value.trim()).map_err(at)?;
     }
     let mut devices = Vec::new();
@@ -150,7 +152,10 @@ impl Table {
                 .ok_or("the addresses of count run past 255.255.255.255")?;
             let fill = |s: &str| s.replace("{n}", &(n + 1).to_string());
             out.push(DeviceEntry {
-                name: self.name.as_deref().map_or_else(|| address.to_string(), fill),
+                name: self
+                    .name
+                    .as_deref()
+                    .map_or_else(|| address.to_string(), fill),
                 address,
                 profile: self.profile.clone().unwrap_or_else(|| "generic".into()),
                 serial_number: self.serial_number.map(|s| s.wrapping_add(n)),
@@ -266,6 +271,8 @@ mod tests {
         assert!(bad("[[device]]\naddress = \"198.18.0.1\"\ncount = 0").contains("count 0"));
         let past = "[[device]]\naddress = \"255.255.255.255\"\ncount = 2";
         assert!(bad(past).contains("past"));
-        assert!(bad("[[device]]\naddress = \"198.18.0.1\"\nserial_number = -1").contains("integer"));
+        assert!(
+            bad("[[device]]\naddress = \"198.18.0.1\"\nserial_number = -1").contains("integer")
+        );
     }
 }

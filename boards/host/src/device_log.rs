@@ -21,7 +21,12 @@ pub fn init() {
         .format(|buf, record| {
             let ts = buf.timestamp_millis();
             let style = buf.default_level_style(record.level());
-            write!(buf, "[{ts} {style}{:<5}{style:#} {}] ", record.level(), record.target())?;
+            write!(
+                buf,
+                "[{ts} {style}{:<5}{style:#} {}] ",
+                record.level(),
+                record.target()
+            )?;
             if let Some(label) = CURRENT.with(Cell::get) {
                 write!(buf, "{label}: ")?;
             }

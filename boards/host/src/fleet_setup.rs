@@ -20,12 +20,8 @@ fn spec(entry: DeviceEntry) -> Result<DeviceSpec<Renamed<Profile>>, (String, Str
     let mut profile = crate::profile(&entry.profile).map_err(fail)?;
     let store = enip_host::own_store(entry.nv_file.as_deref()).map_err(fail)?;
     profile_options::set_up(&mut profile, &ProfileOptions::default(), store);
-    let device = Renamed::new(
-        profile,
-        entry.serial_number,
-        entry.product_name.as_deref(),
-    )
-    .map_err(fail)?;
+    let device =
+        Renamed::new(profile, entry.serial_number, entry.product_name.as_deref()).map_err(fail)?;
     Ok(DeviceSpec {
         label: Some(Box::leak(entry.name.clone().into_boxed_str())),
         ip: entry.address,

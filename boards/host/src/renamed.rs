@@ -5,9 +5,7 @@ use enip_stack::cip::context::RequestContext;
 use enip_stack::cip::object::{Access, ClassDef};
 use enip_stack::cip::request::Request;
 use enip_stack::cip::status::CipResult;
-use enip_stack::device::{
-    AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest,
-};
+use enip_stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
 
@@ -90,7 +88,12 @@ impl<D: Device> Device for Renamed<D> {
     ) -> CipResult {
         self.inner.get_attribute(cx, at, w)
     }
-    fn set_attribute(&mut self, cx: &RequestContext, at: &AttributeRef<'_>, value: &[u8]) -> CipResult {
+    fn set_attribute(
+        &mut self,
+        cx: &RequestContext,
+        at: &AttributeRef<'_>,
+        value: &[u8],
+    ) -> CipResult {
         self.inner.set_attribute(cx, at, value)
     }
     fn handle_request(

@@ -155,7 +155,11 @@ pub fn run(
             .join()
             .map_err(|_| io::Error::other("explicit requester panicked"))
     })?;
-    (record.explicit_ok, record.explicit_failed, record.explicit_worst_us) = explicit;
+    (
+        record.explicit_ok,
+        record.explicit_failed,
+        record.explicit_worst_us,
+    ) = explicit;
     Ok(record)
 }
 

@@ -157,18 +157,32 @@ fn sixteen_devices_of_five_profiles_in_one_process() {
         assert_eq!(id["serial_number"], format!("{:#010x}", d.serial), "{what}");
         assert_eq!(id["product_name"], d.name.as_str(), "{what}");
         assert_eq!(id["vendor_id"], identity.vendor_id.to_string(), "{what}");
-        assert_eq!(id["product_code"], identity.product_code.to_string(), "{what}");
+        assert_eq!(
+            id["product_code"],
+            identity.product_code.to_string(),
+            "{what}"
+        );
         assert_eq!(r["forward_open"], 0, "{what}");
         let received = r["received"].as_u64().unwrap_or(0);
-        eprintln!("{} {:<15} {:#010x} {received:>4} T->O", d.ip, d.profile, d.serial);
+        eprintln!(
+            "{} {:<15} {:#010x} {received:>4} T->O",
+            d.ip, d.profile, d.serial
+        );
         assert!(received >= due / 2, "{what}: {received} T->O of {due}");
         assert_eq!(r["forward_close"], 0, "{what}");
     }
-    assert!(fleet.exited().is_none(), "the fleet ended:\n{}", fleet.tail(40));
+    assert!(
+        fleet.exited().is_none(),
+        "the fleet ended:\n{}",
+        fleet.tail(40)
+    );
     let log = fleet.output();
     // Each device's lines carry its name: the Forward_Opens logged by the profiles' devices.
     assert!(log.contains("generic-1: listening on 198.18.0.10"), "{log}");
-    assert!(!log.contains(" ERROR "), "errors in the fleet's log:\n{log}");
+    assert!(
+        !log.contains(" ERROR "),
+        "errors in the fleet's log:\n{log}"
+    );
     fleet.stop(SIGTERM, Duration::from_secs(3));
     // The generic devices' stores are files of their own.
     assert!(std::path::Path::new(&format!("{}-1", nv.display())).exists());

@@ -11,9 +11,7 @@ use host_tests::enip::{
     command, mr_request, path, register_data, rr_data, ucmm_cpf, Frame, Header,
 };
 use host_tests::netns::Namespace;
-use host_tests::rig::{
-    board_addr, Rig, BOARD_IP, BROADCAST_IP, ENCAP_PORT, HOST_IP, NEIGHBOUR_IP,
-};
+use host_tests::rig::{board_addr, Rig, BOARD_IP, BROADCAST_IP, ENCAP_PORT, HOST_IP, NEIGHBOUR_IP};
 
 /// Maximum reply delay asked for in the broadcast requests (sender context bytes 0-1).
 const ASKED_DELAY_MS: u16 = 500;

@@ -139,7 +139,13 @@ impl<D: Device> Fleet<D> {
         device_log::set_current(node.label);
         node.woken = false;
         let base = index as u64 * SLOTS;
-        let next = node.wake(&self.epoll, base, now, self.rx.as_mut_slice(), self.tx.as_mut_slice());
+        let next = node.wake(
+            &self.epoll,
+            base,
+            now,
+            self.rx.as_mut_slice(),
+            self.tx.as_mut_slice(),
+        );
         if next != node.queued {
             // The entry of the deadline it replaces, if any, goes stale.
             node.queued = next;

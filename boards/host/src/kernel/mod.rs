@@ -64,4 +64,3 @@ pub fn run<D: Device>(specs: Vec<Spec<D>>, program: &str) -> ! {
     let e = fleet.run();
     fail(None, format!("waiting for sockets: {e}"))
 }
-

@@ -122,8 +122,18 @@ impl<D: Device> Node<D> {
 
     /// Puts the sockets that live as long as the node in `epoll`, under keys from `base`.
     pub fn register(&mut self, epoll: &Epoll, base: u64) -> std::io::Result<()> {
-        epoll.watch(self.io.socket.as_raw_fd(), base + u64::from(IO), true, false)?;
-        epoll.watch(self.udp.unicast.as_raw_fd(), base + u64::from(UDP), true, false)?;
+        epoll.watch(
+            self.io.socket.as_raw_fd(),
+            base + u64::from(IO),
+            true,
+            false,
+        )?;
+        epoll.watch(
+            self.udp.unicast.as_raw_fd(),
+            base + u64::from(UDP),
+            true,
+            false,
+        )?;
         let broadcast = self.udp.broadcast.as_raw_fd();
         epoll.watch(broadcast, base + u64::from(BROADCAST), true, false)?;
         self.watch_tcp(epoll, base);
@@ -233,7 +243,9 @@ impl<D: Device> Node<D> {
             let (r, w) = (is(readable, slot), is(writable, slot));
             if r || w {
                 self.tcp_changed = true;
-                changed |= self.tcp.serve(index, r, w, &mut self.adapter, now, on_reset);
+                changed |= self
+                    .tcp
+                    .serve(index, r, w, &mut self.adapter, now, on_reset);
             }
         }
         if is(readable, LISTENER) {

@@ -100,7 +100,11 @@ impl Epoll {
 
     /// Waits until a descriptor is ready or `timeout` passes (`None`: no timeout), then
     /// hands each ready one to `ready`; a signal ends the wait early, as a timeout does.
-    pub fn wait(&mut self, timeout: Option<Duration>, mut ready: impl FnMut(Ready)) -> io::Result<()> {
+    pub fn wait(
+        &mut self,
+        timeout: Option<Duration>,
+        mut ready: impl FnMut(Ready),
+    ) -> io::Result<()> {
         let ts = timeout.map(|t| libc::timespec {
             tv_sec: libc::time_t::try_from(t.as_secs()).unwrap_or(libc::time_t::MAX),
             tv_nsec: t.subsec_nanos() as libc::c_long,
