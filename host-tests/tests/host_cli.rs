@@ -119,7 +119,8 @@ fn a_fleet_device_without_its_address_is_named_in_the_error() {
     // In the child's own namespace no interface holds either address: the first device
     // opened fails, named.
     let list = std::env::temp_dir().join(format!("enip-fleet-cli-{}.toml", std::process::id()));
-    let text = "[[device]]\nname = \"press-7\"\naddress = \"198.18.0.7\"\nprofile = \"parker-ipa\"\n\
+    let text =
+        "[[device]]\nname = \"press-7\"\naddress = \"198.18.0.7\"\nprofile = \"parker-ipa\"\n\
                 [[device]]\nname = \"press-8\"\naddress = \"198.18.0.8\"\n";
     std::fs::write(&list, text).expect("write the device list");
     let out = run_host(&["--devices", list.to_str().expect("a UTF-8 path")]);
@@ -135,13 +136,19 @@ fn a_fleet_device_without_its_address_is_named_in_the_error() {
 #[test]
 fn a_bad_device_list_is_a_usage_error_with_its_line() {
     let list = std::env::temp_dir().join(format!("enip-fleet-bad-{}.toml", std::process::id()));
-    std::fs::write(&list, "[[device]]\naddress = \"198.18.0.7\"\nprofile = \"nope\"\n")
-        .expect("write the device list");
+    std::fs::write(
+        &list,
+        "[[device]]\naddress = \"198.18.0.7\"\nprofile = \"nope\"\n",
+    )
+    .expect("write the device list");
     let out = run_host(&["--devices", list.to_str().expect("a UTF-8 path")]);
     let _ = std::fs::remove_file(&list);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert!(stderr.contains("unknown profile \"nope\""), "stderr: {stderr}");
+    assert!(
+        stderr.contains("unknown profile \"nope\""),
+        "stderr: {stderr}"
+    );
     let out = run_host(&["--devices", "/nonexistent/plant.toml"]);
     assert_eq!(out.status.code(), Some(2));
 }

@@ -7,6 +7,11 @@
 //! out, explicit requests failed, the fleet process's CPU time (user + system) per
 //! device-second over the run, and its resident memory, in all and per device.
 //!
+//! The fleet and the scanner run under SCHED_FIFO, as a plant's devices and its PLC would on
+//! machines of their own: on this shared VM a process at normal priority is at times not
+//! scheduled for hundreds of milliseconds, longer than the watchdog, which then times the
+//! connections out whoever stalled.
+//!
 //! Needs root (namespaces) and the release builds of `enip-host` and `fleet_scanner`, which
 //! [`run_all`] makes. Writes `target/bench/fleet.json`.
 
@@ -36,6 +41,8 @@ const FIRST: Ipv4Addr = Ipv4Addr::new(198, 19, 0, 1);
 const PEERS_IP: &str = "198.19.255.254/16";
 /// The link device on the peers' side.
 const LINK: &str = "enipfleet0";
+/// SCHED_FIFO priority of the fleet and of the scanner.
+const PRIORITY: &str = "10";
 /// Bound for the fleet to open every device.
 const START: Duration = Duration::from_secs(60);
 
@@ -113,6 +120,19 @@ fn measure(seconds: u64, max_devices: u32, scale: Scale) -> Result<Value> {
     Ok(json!({"rpi_us": RPI_US, "seconds": seconds, "runs": runs}))
 }
 
+/// Puts every thread of process `pid` under SCHED_FIFO [`PRIORITY`] (util-linux `chrt`).
+fn real_time(pid: u32) -> Result {
+    let status = std::process::Command::new("chrt")
+        .args(["--fifo", "--all-tasks", "--pid", PRIORITY, &pid.to_string()])
+        .status()
+        .map_err(|e| Error(format!("chrt: {e}")))?;
+    if status.success() {
+        Ok(())
+    } else {
+        err(format!("chrt --fifo --pid {pid}: {status}"))
+    }
+}
+
 /// One fleet of `n` devices for `seconds`: the scanner's JSON report.
 fn measure_size(bin: &Path, dir: &Path, n: u32, seconds: u64) -> Result<Value> {
     let lab = Lab::create_veth(LINK)?;
@@ -133,8 +153,11 @@ fn measure_size(bin: &Path, dir: &Path, n: u32, seconds: u64) -> Result<Value> {
     let mut fleet = LoggedChild::spawn("enip-host --devices", cmd)?;
     let last = Ipv4Addr::from(u32::from(FIRST) + n - 1);
     fleet.wait_for_line(&format!("dev-{n}: listening on {last} "), START)?;
-    let mut scanner = lab.command(bin.join("fleet_scanner"));
+    real_time(fleet.id())?;
+    let mut scanner = lab.command("chrt");
     scanner
+        .args(["--fifo", PRIORITY])
+        .arg(bin.join("fleet_scanner"))
         .args(["--first", &FIRST.to_string()])
         .args(["--devices", &n.to_string()])
         .args(["--rpi-us", &RPI_US.to_string()])

@@ -27,9 +27,6 @@ use crate::netlink::Watch;
 /// The key of the netlink watch (no node's).
 const WATCH: u64 = u64::MAX;
 
-/// Ready descriptors one wait reports at most (more wait for the next turn).
-const BATCH: usize = 256;
-
 /// The nodes, their wait, their deadlines, and the buffers they share.
 pub struct Fleet<D: Device> {
     nodes: Vec<Node<D>>,
@@ -50,7 +47,9 @@ pub struct Fleet<D: Device> {
 impl<D: Device> Fleet<D> {
     /// The loop of `nodes`, their sockets registered, the netlink `watch` with them.
     pub fn new(mut nodes: Vec<Node<D>>, watch: Watch) -> std::io::Result<Self> {
-        let epoll = Epoll::new(BATCH)?;
+        // Room for every descriptor: after a stall of the process, every socket that became
+        // ready meanwhile is served before any deadline's work.
+        let epoll = Epoll::new(nodes.len() * SLOTS as usize + 1)?;
         epoll.watch(watch.fd(), WATCH, true, false)?;
         for (base, node) in (0..).step_by(SLOTS as usize).zip(nodes.iter_mut()) {
             node.register(&epoll, base)?;

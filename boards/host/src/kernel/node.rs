@@ -30,6 +30,12 @@ pub const SLOTS: u64 = SESSIONS as u64 + MAX_SESSIONS as u64;
 // The ready sockets of a node are kept as bits of a `u32`.
 const _: () = assert!(SLOTS <= 32);
 
+/// How late past its I/O deadline a node must be woken for the loop to count it a stall of
+/// the process, µs.
+const STALL_US: u64 = 2_000;
+/// O->T datagrams read at most after a stall, before the deadline's work.
+const STALL_DRAIN: usize = 64;
+
 /// What a node is made of before it opens its sockets.
 pub struct Spec<D> {
     /// Its name in the log (none for a lone device: its lines are not prefixed).
@@ -163,7 +169,7 @@ impl<D: Device> Node<D> {
     ) -> Option<Instant> {
         let connections = self.adapter.connections().len();
         let mut settings_may_change = self.serve_ready(now, rx, tx);
-        let next = self.run_due(now, tx);
+        let next = self.run_due(now, rx, tx);
         settings_may_change |= self.adapter.connections().len() != connections;
         if settings_may_change {
             self.io.track_multicast(&self.adapter);
@@ -175,13 +181,24 @@ impl<D: Device> Node<D> {
     }
 
     /// Runs the device's clock, produces T->O data, sends delayed replies and checks TCP
-    /// deadlines, as far as each is due at `now`; returns when the next of them is due.
-    fn run_due(&mut self, now: Instant, tx: &mut [u8]) -> Option<Instant> {
+    /// deadlines, as far as each is due at `now`; returns when the next of them is due. After
+    /// a stall it reads the waiting O->T data into `rx` first.
+    fn run_due(&mut self, now: Instant, rx: &mut [u8], tx: &mut [u8]) -> Option<Instant> {
         let due = |at: Option<Instant>| at.is_some_and(|at| at <= now);
         if due(self.device_due) {
             self.device_due = self.adapter.poll_device(now);
         }
         let mut io = self.adapter.io_deadline();
+        if io.is_some_and(|at| now.as_micros() > at.as_micros().saturating_add(STALL_US)) {
+            // Woken this late, the process was not scheduled: the O->T data that arrived
+            // meanwhile goes in before the connections' watchdogs are judged.
+            for _ in 0..STALL_DRAIN {
+                if !self.io.consume(&mut self.adapter, now, rx) {
+                    break;
+                }
+            }
+            io = self.adapter.io_deadline();
+        }
         if due(io) {
             self.io.produce(&mut self.adapter, now, tx);
             io = self.adapter.io_deadline();
