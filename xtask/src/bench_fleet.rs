@@ -12,6 +12,9 @@
 //! scheduled for hundreds of milliseconds, longer than the watchdog, which then times the
 //! connections out whoever stalled.
 //!
+//! With `ENIP_OPENER_BIN` naming OpENer's POSIX build, the same runs against OpENer, one
+//! process per device, for N = 1 and 16 ([`crate::bench_fleet_opener`]).
+//!
 //! Needs root (namespaces) and the release builds of `enip-host` and `fleet_scanner`, which
 //! [`run_all`] makes. Writes `target/bench/fleet.json`.
 
@@ -36,9 +39,9 @@ const RPI_US: u32 = 10_000;
 /// Their watchdog multiplier code: 2 (x16, 160 ms).
 const MULTIPLIER: &str = "2";
 /// The first device's address; the others follow (198.19.0.0/16, inside 198.18.0.0/15).
-const FIRST: Ipv4Addr = Ipv4Addr::new(198, 19, 0, 1);
+pub const FIRST: Ipv4Addr = Ipv4Addr::new(198, 19, 0, 1);
 /// The peers' own address in that subnet.
-const PEERS_IP: &str = "198.19.255.254/16";
+pub const PEERS_IP: &str = "198.19.255.254/16";
 /// The link device on the peers' side.
 const LINK: &str = "enipfleet0";
 /// SCHED_FIFO priority of the fleet and of the scanner.
@@ -85,7 +88,7 @@ fn measure(seconds: u64, max_devices: u32, scale: Scale) -> Result<Value> {
     let bin = util::target_dir().join("release");
     let mut runs = Vec::new();
     println!(
-        "{:>7} {:>9} {:>6} {:>5} {:>8} {:>10} {:>9} {:>9} {:>11} {:>9} {:>10}",
+        "{:>11} {:>9} {:>6} {:>5} {:>8} {:>10} {:>9} {:>9} {:>12} {:>9} {:>10}",
         "devices",
         "T->O",
         "lost",
@@ -100,28 +103,45 @@ fn measure(seconds: u64, max_devices: u32, scale: Scale) -> Result<Value> {
     );
     for n in SIZES.into_iter().filter(|n| *n <= max_devices) {
         let r = measure_size(&bin, &dir, n, seconds)?;
-        let f = |k: &str| r[k].as_f64().unwrap_or(0.0);
-        println!(
-            "{:>7} {:>9} {:>6} {:>5} {:>8} {:>10} {:>9} {:>9} {:>11.1} {:>9} {:>10.1}",
-            n,
-            f("received"),
-            f("lost"),
-            f("late"),
-            f("timeouts"),
-            f("explicit_failed"),
-            f("worst_p99_us"),
-            f("worst_max_us"),
-            f("cpu_us_per_device_second"),
-            f("rss_kib"),
-            f("rss_kib") / f64::from(n),
-        );
+        print_row(&n.to_string(), n, &r);
         runs.push(r);
     }
-    Ok(json!({"rpi_us": RPI_US, "seconds": seconds, "runs": runs}))
+    let mut opener_runs = Vec::new();
+    match std::env::var_os("ENIP_OPENER_BIN") {
+        Some(opener) => {
+            for n in crate::bench_fleet_opener::SIZES {
+                let r =
+                    crate::bench_fleet_opener::measure(opener.as_ref(), &bin, &dir, n, seconds)?;
+                print_row(&format!("OpENer x{n}"), n, &r);
+                opener_runs.push(r);
+            }
+        }
+        None => println!("OpENer: not measured (set ENIP_OPENER_BIN to its POSIX build)"),
+    }
+    Ok(json!({"rpi_us": RPI_US, "seconds": seconds, "runs": runs, "opener": opener_runs}))
+}
+
+/// One line of the table: `label`, a run of `n` devices and its report `r`.
+fn print_row(label: &str, n: u32, r: &Value) {
+    let f = |k: &str| r[k].as_f64().unwrap_or(0.0);
+    println!(
+        "{:>11} {:>9} {:>6} {:>5} {:>8} {:>10} {:>9} {:>9} {:>12.1} {:>9} {:>10.1}",
+        label,
+        f("received"),
+        f("lost"),
+        f("late"),
+        f("timeouts"),
+        f("explicit_failed"),
+        f("worst_p99_us"),
+        f("worst_max_us"),
+        f("cpu_us_per_device_second"),
+        f("rss_kib"),
+        f("rss_kib") / f64::from(n),
+    );
 }
 
 /// Puts every thread of process `pid` under SCHED_FIFO [`PRIORITY`] (util-linux `chrt`).
-fn real_time(pid: u32) -> Result {
+pub fn real_time(pid: u32) -> Result {
     let status = std::process::Command::new("chrt")
         .args(["--fifo", "--all-tasks", "--pid", PRIORITY, &pid.to_string()])
         .status()
@@ -131,6 +151,30 @@ fn real_time(pid: u32) -> Result {
     } else {
         err(format!("chrt --fifo --pid {pid}: {status}"))
     }
+}
+
+/// `fleet_scanner` from `bin` in `ns` under SCHED_FIFO against `n` devices from [`FIRST`]
+/// for `seconds`, measuring the processes `pids`.
+pub fn scanner_command(
+    ns: &enip_lab::netns::Namespace,
+    bin: &Path,
+    n: u32,
+    seconds: u64,
+    pids: &[u32],
+) -> std::process::Command {
+    let mut scanner = ns.command("chrt");
+    scanner
+        .args(["--fifo", PRIORITY])
+        .arg(bin.join("fleet_scanner"))
+        .args(["--first", &FIRST.to_string()])
+        .args(["--devices", &n.to_string()])
+        .args(["--rpi-us", &RPI_US.to_string()])
+        .args(["--seconds", &seconds.to_string()])
+        .args(["--multiplier", MULTIPLIER]);
+    for pid in pids {
+        scanner.args(["--measure-pid", &pid.to_string()]);
+    }
+    scanner
 }
 
 /// One fleet of `n` devices for `seconds`: the scanner's JSON report.
@@ -154,16 +198,7 @@ fn measure_size(bin: &Path, dir: &Path, n: u32, seconds: u64) -> Result<Value> {
     let last = Ipv4Addr::from(u32::from(FIRST) + n - 1);
     fleet.wait_for_line(&format!("dev-{n}: listening on {last} "), START)?;
     real_time(fleet.id())?;
-    let mut scanner = lab.command("chrt");
-    scanner
-        .args(["--fifo", PRIORITY])
-        .arg(bin.join("fleet_scanner"))
-        .args(["--first", &FIRST.to_string()])
-        .args(["--devices", &n.to_string()])
-        .args(["--rpi-us", &RPI_US.to_string()])
-        .args(["--seconds", &seconds.to_string()])
-        .args(["--multiplier", MULTIPLIER])
-        .args(["--measure-pid", &fleet.id().to_string()]);
+    let scanner = scanner_command(lab.ns(), bin, n, seconds, &[fleet.id()]);
     // Opening 256 sessions and connections, and closing them, takes a few seconds.
     let out = run_bounded(scanner, None, Duration::from_secs(seconds + 120))?;
     let alive = fleet.exited().is_none();

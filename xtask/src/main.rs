@@ -17,6 +17,7 @@
 
 mod bench;
 mod bench_fleet;
+mod bench_fleet_opener;
 mod bench_host;
 mod bench_qemu;
 mod bench_scale;

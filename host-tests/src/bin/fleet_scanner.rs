@@ -1,8 +1,8 @@
 //! `fleet_scanner`: one exclusive owner on each of N devices at consecutive addresses (the
 //! generic profile of a fleet), all at one RPI, plus one explicit request per device per
 //! second, for a while; prints JSON: T->O lost and late, connections timed out, explicit
-//! requests failed, and with `--measure-pid` that process's CPU time over the run and its
-//! resident memory.
+//! requests failed, and with `--measure-pid` (repeated for several) the CPU time over the run
+//! and the resident memory of those processes, summed.
 
 use std::net::Ipv4Addr;
 use std::process::ExitCode;
@@ -17,11 +17,12 @@ struct Args {
     rpi_us: u32,
     seconds: u64,
     multiplier: u8,
-    measure_pid: Option<u32>,
+    /// Processes whose CPU time and resident memory are summed (`--measure-pid`, repeated).
+    measure_pids: Vec<u32>,
 }
 
 const USAGE: &str = "usage: fleet_scanner --first IP --devices N [--rpi-us US] [--seconds S] \
-                     [--multiplier CODE] [--measure-pid PID]";
+                     [--multiplier CODE] [--measure-pid PID]...";
 
 fn parse() -> Result<Args, String> {
     let mut a = Args {
@@ -30,7 +31,7 @@ fn parse() -> Result<Args, String> {
         rpi_us: 10_000,
         seconds: 30,
         multiplier: 2,
-        measure_pid: None,
+        measure_pids: Vec::new(),
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -44,16 +45,20 @@ fn parse() -> Result<Args, String> {
             "--rpi-us" => a.rpi_us = value.parse().map_err(|e| bad(&e))?,
             "--seconds" => a.seconds = value.parse().map_err(|e| bad(&e))?,
             "--multiplier" => a.multiplier = value.parse().map_err(|e| bad(&e))?,
-            "--measure-pid" => a.measure_pid = Some(value.parse().map_err(|e| bad(&e))?),
+            "--measure-pid" => a.measure_pids.push(value.parse().map_err(|e| bad(&e))?),
             _ => return Err(USAGE.into()),
         }
     }
     Ok(a)
 }
 
+/// User and system CPU time of the processes `pids`, in seconds.
+fn cpu_seconds(pids: &[u32]) -> f64 {
+    pids.iter().map(|p| cpu_seconds_of(*p)).sum()
+}
+
 /// User and system CPU time of process `pid`, in seconds (0 if unreadable).
-fn cpu_seconds(pid: Option<u32>) -> f64 {
-    let Some(pid) = pid else { return 0.0 };
+fn cpu_seconds_of(pid: u32) -> f64 {
     let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
     // Fields after the command name (which may hold spaces): state is field 3, utime 14.
     let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
@@ -65,9 +70,13 @@ fn cpu_seconds(pid: Option<u32>) -> f64 {
     ticks as f64 / rustix::param::clock_ticks_per_second() as f64
 }
 
+/// Resident memory of the processes `pids`, KiB.
+fn rss_kib(pids: &[u32]) -> u64 {
+    pids.iter().map(|p| rss_kib_of(*p)).sum()
+}
+
 /// Resident memory of process `pid`, KiB (0 if unreadable).
-fn rss_kib(pid: Option<u32>) -> u64 {
-    let Some(pid) = pid else { return 0 };
+fn rss_kib_of(pid: u32) -> u64 {
     let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
     status
         .lines()
@@ -101,11 +110,11 @@ fn measure(a: &Args) -> Result<serde_json::Value, String> {
         &mut owned,
         rpi,
         duration,
-        || cpu_start = cpu_seconds(a.measure_pid),
-        || cpu_end = cpu_seconds(a.measure_pid),
+        || cpu_start = cpu_seconds(&a.measure_pids),
+        || cpu_end = cpu_seconds(&a.measure_pids),
     )
     .map_err(|e| format!("run: {e}"))?;
-    let rss = rss_kib(a.measure_pid);
+    let rss = rss_kib(&a.measure_pids);
     let mut closed_gone = vec![false; owned.len()];
     for (o, gone) in owned.iter_mut().zip(&mut closed_gone) {
         // A connection the device timed out is no longer there to close (0x01/0x0107).
