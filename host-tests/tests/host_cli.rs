@@ -1,7 +1,8 @@
 //! `enip-host` start-up errors (no root needed): a missing interface or one that is not a
 //! TAP ends the program at once with status 1 and a message naming the interface, instead
 //! of a new TAP being created or the program running unreachable; so does `--bind` to an
-//! address no interface holds, and `--bind` with TAP options is a usage error (status 2).
+//! address no interface holds (or a fleet device's, named), and `--bind` with TAP options or
+//! a bad device list is a usage error (status 2).
 //!
 //! ```text
 //! cargo build -p enip-host
@@ -111,4 +112,43 @@ fn bind_with_tap_options_is_a_usage_error() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
     assert!(stderr.contains("--bind"), "stderr: {stderr}");
+}
+
+#[test]
+fn a_fleet_device_without_its_address_is_named_in_the_error() {
+    // In the child's own namespace no interface holds either address: the first device
+    // opened fails, named.
+    let list = std::env::temp_dir().join(format!("enip-fleet-cli-{}.toml", std::process::id()));
+    let text =
+        "[[device]]\nname = \"press-7\"\naddress = \"198.18.0.7\"\nprofile = \"parker-ipa\"\n\
+                [[device]]\nname = \"press-8\"\naddress = \"198.18.0.8\"\n";
+    std::fs::write(&list, text).expect("write the device list");
+    let out = run_host(&["--devices", list.to_str().expect("a UTF-8 path")]);
+    let _ = std::fs::remove_file(&list);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "stderr: {stderr}");
+    assert!(
+        stderr.contains("press-7: no interface has the address 198.18.0.7"),
+        "stderr: {stderr}"
+    );
+}
+
+#[test]
+fn a_bad_device_list_is_a_usage_error_with_its_line() {
+    let list = std::env::temp_dir().join(format!("enip-fleet-bad-{}.toml", std::process::id()));
+    std::fs::write(
+        &list,
+        "[[device]]\naddress = \"198.18.0.7\"\nprofile = \"nope\"\n",
+    )
+    .expect("write the device list");
+    let out = run_host(&["--devices", list.to_str().expect("a UTF-8 path")]);
+    let _ = std::fs::remove_file(&list);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
+    assert!(
+        stderr.contains("unknown profile \"nope\""),
+        "stderr: {stderr}"
+    );
+    let out = run_host(&["--devices", "/nonexistent/plant.toml"]);
+    assert_eq!(out.status.code(), Some(2));
 }

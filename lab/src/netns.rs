@@ -198,6 +198,27 @@ impl Lab {
         })
     }
 
+    /// Adds `cidrs` (addresses with their prefix, inside 198.18.0.0/15) to the board's end of
+    /// the veth pair, beside [`BOARD_IP`]: the addresses of a fleet's devices on the kernel's
+    /// sockets. One `ip -batch` for them all.
+    pub fn add_board_addresses(&self, cidrs: &[String]) -> io::Result<()> {
+        let ns = self
+            .board_ns
+            .as_ref()
+            .ok_or_else(|| io::Error::other("a TAP lab has no kernel address of the board"))?;
+        let batch: String = cidrs
+            .iter()
+            .map(|c| format!("addr add {c} dev {BOARD_VETH}\n"))
+            .collect();
+        let mut c = ns.command("ip");
+        c.args(["-batch", "-"]);
+        check(
+            run_bounded(c, Some(batch.as_bytes()), IP_TIMEOUT)?,
+            "ip",
+            &["-batch", "-"],
+        )
+    }
+
     /// The namespace.
     pub fn ns(&self) -> &Namespace {
         &self.ns

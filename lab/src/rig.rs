@@ -23,12 +23,15 @@ pub use crate::netns::{BOARD_CIDR, BOARD_IP, BROADCAST_IP, HOST_IP, PREFIX};
 /// The TAP device's name inside the namespace (unless [`Options::tap`] names another).
 pub const TAP: &str = "enip0";
 /// `ENIP_HOST_LINK=bind` runs every host board the tests start on kernel sockets
-/// ([`Board::HostBind`]) instead of a TAP.
+/// ([`Board::HostBind`]) instead of a TAP; `ENIP_HOST_LINK=fleet` the same, as one device of
+/// a fleet of two in one process ([`Board::HostFleet`]).
 pub const LINK_ENV: &str = "ENIP_HOST_LINK";
 /// `ENIP_TAP_QEMU_ELF=<elf>` runs the tests that start the host board with the generic
 /// profile and no extra arguments on that emulated board's ELF instead (e.g. the hostile
 /// battery on the firmware, with its stack's high-water mark read at the end of each).
 pub const QEMU_BOARD_ENV: &str = "ENIP_TAP_QEMU_ELF";
+/// The other device of a [`Board::HostFleet`], at the next address.
+pub const NEIGHBOUR_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 3);
 /// The encapsulation port.
 pub const ENCAP_PORT: u16 = enip_stack::config::ENCAP_PORT;
 /// What the host board prints once it serves.
@@ -102,6 +105,17 @@ pub enum Board<'a> {
         /// More arguments.
         extra: &'a [&'a str],
     },
+    /// Like [`Board::HostBind`], as the device `dut` of a device list (`--devices`) whose
+    /// other device, `neighbour`, a generic one, serves at [`NEIGHBOUR_IP`] in the same
+    /// process; `extra` may only be `--nv-file PATH` (the device's `nv_file`).
+    HostFleet {
+        /// The `enip-host` binary.
+        bin: &'a Path,
+        /// The profile of `dut`.
+        profile: &'a str,
+        /// More arguments.
+        extra: &'a [&'a str],
+    },
     /// A program built on `enip_host::run` (its own device, no `--profile`).
     Program {
         /// The program.
@@ -119,9 +133,9 @@ pub enum Board<'a> {
 
 impl Board<'_> {
     /// The command that starts the board on `tap` inside `lab`.
-    fn command(&self, lab: &Lab) -> Command {
+    fn command(&self, lab: &Lab) -> io::Result<Command> {
         let log_level = std::env::var("RUST_LOG").unwrap_or("info".into());
-        match *self {
+        Ok(match *self {
             Board::Host {
                 bin,
                 profile,
@@ -145,6 +159,17 @@ impl Board<'_> {
                     .env("RUST_LOG", log_level);
                 cmd
             }
+            Board::HostFleet {
+                bin,
+                profile,
+                extra,
+            } => {
+                let list = fleet_list(profile, extra)?;
+                lab.add_board_addresses(&[format!("{NEIGHBOUR_IP}/{PREFIX}")])?;
+                let mut cmd = lab.board_command(bin);
+                cmd.arg("--devices").arg(list).env("RUST_LOG", log_level);
+                cmd
+            }
             Board::Program { bin } => {
                 let mut cmd = host_command(lab, bin);
                 cmd.env("RUST_LOG", log_level);
@@ -162,7 +187,7 @@ impl Board<'_> {
                     .args(extra);
                 cmd
             }
-        }
+        })
     }
 
     /// Its label in messages, what it prints once it serves, and how long that may take.
@@ -170,6 +195,8 @@ impl Board<'_> {
         match self {
             Board::Host { .. } => ("enip-host", LISTENING, BOARD_START),
             Board::HostBind { .. } => ("enip-host --bind", LISTENING, BOARD_START),
+            // The devices open in the list's order; the loop serves once the last has.
+            Board::HostFleet { .. } => ("enip-host --devices", FLEET_READY, BOARD_START),
             Board::Program { .. } => ("program", PROGRAM_READY, BOARD_START),
             Board::Qemu { .. } => ("qemu", QEMU_READY, QEMU_BOOT),
         }
@@ -178,9 +205,39 @@ impl Board<'_> {
     fn answers_at(&self) -> Ipv4Addr {
         match self {
             Board::Host { answers_at, .. } => *answers_at,
-            Board::HostBind { .. } | Board::Program { .. } | Board::Qemu { .. } => BOARD_IP,
+            Board::HostBind { .. }
+            | Board::HostFleet { .. }
+            | Board::Program { .. }
+            | Board::Qemu { .. } => BOARD_IP,
         }
     }
+}
+
+/// What a [`Board::HostFleet`] prints once its last device serves.
+const FLEET_READY: &str = "enip-host: neighbour: listening on";
+
+/// Writes the device list of a [`Board::HostFleet`] running `profile` with `extra`
+/// arguments, in the target directory; returns its path.
+fn fleet_list(profile: &str, extra: &[&str]) -> io::Result<PathBuf> {
+    let nv = match extra {
+        [] => String::new(),
+        ["--nv-file", path] => format!("nv_file = {path:?}\n"),
+        _ => {
+            return Err(io::Error::other(format!(
+                "a fleet's device takes no {extra:?} (only --nv-file PATH)"
+            )))
+        }
+    };
+    let list = format!(
+        "[[device]]\nname = \"dut\"\naddress = \"{BOARD_IP}\"\nprofile = {profile:?}\n{nv}\n\
+         [[device]]\nname = \"neighbour\"\naddress = \"{NEIGHBOUR_IP}\"\n\
+         profile = \"generic\"\nserial_number = 2\n"
+    );
+    let dir = crate::paths::target_dir().join("tmp");
+    std::fs::create_dir_all(&dir)?;
+    let path = dir.join(format!("fleet-{}-{profile}.toml", std::process::id()));
+    std::fs::write(&path, list)?;
+    Ok(path)
 }
 
 /// `bin --tap TAP --ip 198.18.0.2/24 --acd off` inside `lab`: tests that are not about
@@ -249,8 +306,17 @@ impl Rig {
                 return Self::start_qemu(&elf, capture);
             }
         }
-        if std::env::var_os(LINK_ENV).is_some_and(|v| v == "bind") {
+        let link = std::env::var_os(LINK_ENV);
+        if link.as_ref().is_some_and(|v| v == "bind") {
             let board = Board::HostBind {
+                bin,
+                profile,
+                extra,
+            };
+            return Self::launch(board, &Options::capturing(capture));
+        }
+        if link.is_some_and(|v| v == "fleet") {
+            let board = Board::HostFleet {
                 bin,
                 profile,
                 extra,
@@ -295,7 +361,7 @@ impl Rig {
     pub fn launch_unverified(board: Board<'_>, options: &Options<'_>) -> io::Result<Self> {
         let tap = options.tap.unwrap_or(TAP);
         let lab = match (&board, options.namespace) {
-            (Board::HostBind { .. }, _) => Lab::create_veth(tap)?,
+            (Board::HostBind { .. } | Board::HostFleet { .. }, _) => Lab::create_veth(tap)?,
             (_, Some(name)) => Lab::create(name, tap)?,
             (_, None) => Lab::create_unique(tap)?,
         };
@@ -304,7 +370,7 @@ impl Rig {
             .map(|p| Capture::start(lab.ns(), tap, p))
             .transpose()?;
         let (name, ready, bound) = board.start_up();
-        let mut child = LoggedChild::spawn_logged(name, board.command(&lab), options.log_file)?;
+        let mut child = LoggedChild::spawn_logged(name, board.command(&lab)?, options.log_file)?;
         child.wait_for_line(ready, bound)?;
         let qemu_elf = match board {
             Board::Qemu { elf, .. } => Some(elf.to_path_buf()),

@@ -9,6 +9,8 @@
 //!   packets lost and connections timed out, measured by the project's scanner;
 //! - on the emulated Cortex-M board, instructions per Class 1 cycle with a breakdown by part,
 //!   and 10 connections at 1 ms and 2 ms ([`crate::bench_qemu`]);
+//! - a plant in one process: N = 1 to 256 devices of one `enip-host --devices`, each with an
+//!   owner at 10 ms and an explicit request a second ([`crate::bench_fleet`]);
 //! - beside it, the host's own floor: a plain thread sleeping to 1 ms deadlines for 10 s. On
 //!   a shared virtual machine its p99 already exceeds 1.1 ms, and no program here can beat it.
 
@@ -61,6 +63,10 @@ pub fn run_all(scale: Scale) -> Result {
     let tap = tap_run(&bin, &dir, tap_seconds)?;
     let qemu = crate::bench_qemu::run_all(scale)?;
     let host_runtime = crate::bench_host::measure(scale)?;
+    let fleet = match scale {
+        Scale::Full => crate::bench_fleet::measure_all()?,
+        Scale::Check => crate::bench_fleet::check()?,
+    };
 
     let parsed =
         |doc: &str| serde_json::from_str::<serde_json::Value>(doc.trim()).unwrap_or_default();
@@ -84,6 +90,7 @@ pub fn run_all(scale: Scale) -> Result {
         "tap": parsed(&tap),
         "qemu": qemu,
         "host_runtime": host_runtime,
+        "fleet": fleet,
     })
     .to_string();
     let path = dir.join("report.json");
@@ -144,7 +151,7 @@ pub fn run_all(scale: Scale) -> Result {
 }
 
 /// The figures every report must hold, as JSON pointers.
-const FIGURES: [&str; 22] = [
+const FIGURES: [&str; 26] = [
     "/class1_cycle/instructions_per_cycle",
     "/class1_cycle/ns_per_cycle_median",
     "/class1_cycle_as_the_link_task_calls/instructions_per_cycle",
@@ -167,6 +174,10 @@ const FIGURES: [&str; 22] = [
     "/host_runtime/enip-host --bind/cpu_us_per_request_3_sessions",
     "/host_runtime/enip-host --tap/instructions_per_request_3_sessions",
     "/host_runtime/enip-host --bind/instructions_per_request_3_sessions",
+    "/fleet/runs/1/lost",
+    "/fleet/runs/1/timeouts",
+    "/fleet/runs/1/cpu_us_per_device_second",
+    "/fleet/runs/1/rss_kib",
 ];
 
 /// `cargo xtask bench --check` (a step of `cargo xtask test`): every part of the benchmark

@@ -19,6 +19,8 @@
 #![forbid(unsafe_code)]
 
 mod bench;
+mod bench_fleet;
+mod bench_fleet_opener;
 mod bench_host;
 mod bench_qemu;
 mod bench_scale;
@@ -56,7 +58,7 @@ commands:
                       boot the emulated board (QEMU mps2-an386) in netns enip-qemu until Ctrl-C
   demo [--host]       boot the emulated board (--host: the Linux host board) in netns
                       enip-demo; show its identity and a live Class 1 connection
-  bench [--qemu | --host | --check]
+  bench [--qemu | --host | --check | --fleet [--seconds S] [--devices N]]
                       boards' footprint; Class 1 cycle cost (callgrind, native) and
                       10 x 1 ms I/O on the host TAP; the emulated board's instructions per
                       cycle and 10 x 1 ms / 2 ms I/O (--qemu: that part alone); the host
@@ -64,7 +66,9 @@ commands:
                       requests/s, TAP vs kernel sockets, vs OpENer when ENIP_OPENER_BIN names
                       its POSIX build (--host: that part alone); --check: every part once and
                       briefly into target/bench-check, checking that each figure is reported
-                      (a step of test)
+                      (a step of test); --fleet: that part alone, N = 1, 16, 64, 128, 256
+                      devices in one enip-host --devices process (up to --devices N), an owner
+                      at 10 ms and an explicit request a second on each, S s each (default 30)
   modules             the module check: no cycle among the stack's modules, the profiles
                       or the files of one profile (part of test)
   footprint           the boards' release image sizes and the F767 budget (part of bench)
@@ -95,6 +99,8 @@ enum BenchPart {
     Host,
     /// Every one, briefly, into target/bench-check: that the benchmark runs.
     Check,
+    /// The fleet of devices in one process, up to `max_devices`, `seconds` per size.
+    Fleet { seconds: u64, max_devices: u32 },
 }
 
 /// A command line, parsed.
@@ -151,6 +157,13 @@ fn main() -> ExitCode {
         Command::Bench {
             part: BenchPart::Host,
         } => bench_host::run_all(),
+        Command::Bench {
+            part:
+                BenchPart::Fleet {
+                    seconds,
+                    max_devices,
+                },
+        } => bench_fleet::run_all(seconds, max_devices),
         Command::Footprint => footprint::footprint(),
         Command::Modules => module_graph::check(),
         Command::Smoke => smoke::run_smoke().map(|_| ()),
@@ -243,6 +256,29 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
             (Command::Bench { part }, Long("qemu")) => *part = BenchPart::Qemu,
             (Command::Bench { part }, Long("host")) => *part = BenchPart::Host,
             (Command::Bench { part }, Long("check")) => *part = BenchPart::Check,
+            (Command::Bench { part }, Long("fleet")) => {
+                *part = BenchPart::Fleet {
+                    seconds: bench_fleet::SECONDS,
+                    max_devices: bench_fleet::SIZES[bench_fleet::SIZES.len() - 1],
+                }
+            }
+            (
+                Command::Bench {
+                    part: BenchPart::Fleet { seconds, .. },
+                },
+                Long("seconds"),
+            ) => {
+                *seconds = parser.value()?.parse()?;
+                if *seconds == 0 {
+                    return Err("--seconds wants a positive number".into());
+                }
+            }
+            (
+                Command::Bench {
+                    part: BenchPart::Fleet { max_devices, .. },
+                },
+                Long("devices"),
+            ) => *max_devices = parser.value()?.parse()?,
             (_, other) => return Err(other.unexpected()),
         }
     }
@@ -295,6 +331,19 @@ mod tests {
         );
         assert!(p(&["faults", "--chaos", "0"]).is_err());
         assert!(p(&["faults", "--seed", "42"]).is_err());
+        let fleet = |seconds, max_devices| Command::Bench {
+            part: BenchPart::Fleet {
+                seconds,
+                max_devices,
+            },
+        };
+        assert_eq!(p(&["bench", "--fleet"]).unwrap(), fleet(30, 256));
+        assert_eq!(
+            p(&["bench", "--fleet", "--seconds", "3", "--devices", "16"]).unwrap(),
+            fleet(3, 16)
+        );
+        assert!(p(&["bench", "--seconds", "3"]).is_err());
+        assert!(p(&["bench", "--fleet", "--seconds", "0"]).is_err());
     }
 
     #[test]

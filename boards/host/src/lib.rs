@@ -31,21 +31,32 @@
 //! The TCP/IP settings a scanner sets are kept in the non-volatile store, a file with
 //! [`Options::nv_file`] (`--nv-file`), so that a restart comes up at the address set; a
 //! device profile keeps its saved settings in the same store ([`shared_store`]).
+//!
+//! [`run_fleet`] runs many devices in one process on the kernel's sockets, each at its own
+//! address with its own store ([`own_store`]) and identity ([`Renamed`]), on one thread:
+//! `enip-host --devices FILE` reads them from a device list ([`read_device_list`]).
 
 mod device_main;
+mod device_list;
+mod device_log;
 mod kernel;
 mod netlink;
 mod nv_file;
 mod options;
+mod renamed;
 mod runner;
 mod signals;
 mod tap;
 mod tap_device;
 
 pub use device_main::{device_usage, run_device, Command};
+pub use device_list::{read as read_device_list, DeviceEntry, MAX_DEVICES};
+pub use kernel::Spec as DeviceSpec;
+pub use nv_file::own as own_store;
 pub use nv_file::shared as shared_store;
 pub use options::{Link, Options, Parsed, TapOptions, DEFAULT_MAC, OPTIONS_USAGE};
-pub use runner::run;
+pub use renamed::{Renamed, MAX_PRODUCT_NAME};
+pub use runner::{run, run_fleet};
 
 /// The running program's file name, for messages.
 pub fn program_name() -> String {

@@ -149,9 +149,16 @@ pub fn shared(path: Option<&Path>) -> Result<SharedStore, String> {
         if let Some(store) = cell.get() {
             return Ok(*store);
         }
-        let store: &'static RefCell<HostStore> = Box::leak(Box::new(RefCell::new(open(path)?)));
-        Ok(*cell.get_or_init(|| SharedStore::new(store)))
+        let store = own(path)?;
+        Ok(*cell.get_or_init(|| store))
     })
+}
+
+/// A store of its own at `path` (or in RAM), for one device of several: opened on every
+/// call, kept for the life of the process.
+pub fn own(path: Option<&Path>) -> Result<SharedStore, String> {
+    let store: &'static RefCell<HostStore> = Box::leak(Box::new(RefCell::new(open(path)?)));
+    Ok(SharedStore::new(store))
 }
 
 /// The store `--nv-file` names, or one in RAM.

@@ -2,9 +2,8 @@
 //! ametek-pls profile's simulated resolver; and every profile's saved settings kept in the
 //! adapter's non-volatile store (`--nv-file`).
 
-use std::path::Path;
-
 use enip_profiles::Profile;
+use enip_stack::nv::SharedStore;
 
 /// The profile options of the command line.
 #[derive(Debug, Default)]
@@ -40,17 +39,11 @@ impl ProfileOptions {
     }
 }
 
-/// Powers `profile` up from its records in the store `nv_file` names (RAM without one) and
-/// applies the profile options.
-pub fn set_up(
-    profile: &mut Profile,
-    options: &ProfileOptions,
-    nv_file: Option<&Path>,
-) -> Result<(), String> {
-    profile.attach_store(enip_host::shared_store(nv_file)?);
+/// Powers `profile` up from its records in `store` and applies the profile options.
+pub fn set_up(profile: &mut Profile, options: &ProfileOptions, store: SharedStore) {
+    profile.attach_store(store);
     if let Profile::AmetekPls(pls) = profile {
         let rpm = options.pls_rpm.unwrap_or(pls.engine().rpm());
         pls.set_resolver(rpm, options.pls_resolver_fault);
     }
-    Ok(())
 }

@@ -36,8 +36,7 @@ type AdapterRun = Pin<&'static mut dyn Future<Output = ()>>;
 /// Runs `device` on the TAP interface or the kernel address `options` names until SIGINT or
 /// SIGTERM (exit 0); any start-up error is printed and exits 1.
 pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
-    let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
-        .try_init();
+    crate::device_log::init();
     let program = program_name();
     // On the TAP the link task is told of the signal: it sends the LLDP shutdown frame.
     let (tell, told) = match options.link {
@@ -73,12 +72,31 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
         }
         Link::Kernel(ip) => {
             let store = open_store(&options, &program);
-            kernel::run(device, ip, store, &program)
+            let device = kernel::Spec {
+                label: None,
+                ip,
+                device,
+                store,
+            };
+            kernel::run(vec![device], &program)
         }
     }
 }
 
 /// The non-volatile store `--nv-file` names (or one in RAM); exits 1 if it cannot be opened.
+/// Runs every device of `devices` on the kernel's sockets at its own address, on this
+/// thread, until SIGINT or SIGTERM (exit 0); any start-up error is printed, prefixed by the
+/// device's label, and exits 1. Log lines of a device are prefixed by its label.
+pub fn run_fleet<D: Device>(devices: Vec<kernel::Spec<D>>) -> ! {
+    crate::device_log::init();
+    let program = program_name();
+    if let Err(e) = signals::exit_on_termination(None) {
+        eprintln!("{program}: cannot install signal handlers: {e}");
+        exit(1);
+    }
+    kernel::run(devices, &program)
+}
+
 fn open_store(options: &Options, program: &str) -> SharedStore {
     nv_file::shared(options.nv_file.as_deref()).unwrap_or_else(|e| {
         eprintln!("{program}: {e}");

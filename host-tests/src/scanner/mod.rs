@@ -3,6 +3,7 @@
 //! arrival time recorded, and interval statistics. Frames come from `enip_stack::originator`.
 
 pub mod exchange;
+pub mod fleet;
 pub mod session;
 pub mod stats;
 

@@ -48,6 +48,7 @@ mod faults;
 mod faults_link_flap;
 mod faults_reset;
 mod faults_soak;
+mod fleet;
 mod floods;
 mod floods_load;
 mod floods_udp;

@@ -11,7 +11,7 @@ use host_tests::enip::{
     command, mr_request, path, register_data, rr_data, ucmm_cpf, Frame, Header,
 };
 use host_tests::netns::Namespace;
-use host_tests::rig::{board_addr, Rig, BOARD_IP, BROADCAST_IP, ENCAP_PORT, HOST_IP};
+use host_tests::rig::{board_addr, Rig, BOARD_IP, BROADCAST_IP, ENCAP_PORT, HOST_IP, NEIGHBOUR_IP};
 
 /// Maximum reply delay asked for in the broadcast requests (sender context bytes 0-1).
 const ASKED_DELAY_MS: u16 = 500;
@@ -39,20 +39,34 @@ fn ask(
 ) -> (Frame, SocketAddr, Duration) {
     let start = Instant::now();
     s.send_to(frame, to).expect("send");
-    s.set_read_timeout(Some(bound)).expect("timeout");
     let mut buf = [0u8; 1500];
-    let (n, from) = s
-        .recv_from(&mut buf)
+    let (n, from) = receive(s, &mut buf, bound)
         .unwrap_or_else(|e| panic!("no reply to {:02x?} within {bound:?}: {e}", &frame[..2]));
     let frame = Frame::parse(&buf[..n]).unwrap_or_else(|| panic!("bad reply {:02x?}", &buf[..n]));
     (frame, from, start.elapsed())
 }
 
+/// The next datagram within `bound`, passing over those of the other device of a fleet
+/// (`ENIP_HOST_LINK=fleet`: it answers broadcasts too, as any device on the subnet would).
+fn receive(s: &UdpSocket, buf: &mut [u8], bound: Duration) -> io::Result<(usize, SocketAddr)> {
+    let deadline = Instant::now() + bound;
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            return Err(io::ErrorKind::TimedOut.into());
+        }
+        s.set_read_timeout(Some(left))?;
+        let (n, from) = s.recv_from(buf)?;
+        if from.ip() != NEIGHBOUR_IP {
+            return Ok((n, from));
+        }
+    }
+}
+
 /// Asserts that nothing arrives on `s` for `wait`.
 fn assert_silent(s: &UdpSocket, wait: Duration, what: &str) {
-    s.set_read_timeout(Some(wait)).expect("timeout");
     let mut buf = [0u8; 1500];
-    if let Ok((n, _)) = s.recv_from(&mut buf) {
+    if let Ok((n, _)) = receive(s, &mut buf, wait) {
         panic!("{what}: unexpected reply {:02x?}", &buf[..n]);
     }
 }

@@ -49,16 +49,26 @@ impl Io {
         })
     }
 
-    /// Hands one waiting O->T datagram to the adapter, if any.
-    pub fn consume<D: Device>(&self, adapter: &mut Adapter<D>, now: Instant, rx: &mut [u8]) {
+    /// Hands one waiting O->T datagram to the adapter, if any; false if none was waiting
+    /// (or the socket failed).
+    pub fn consume<D: Device>(
+        &self,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+        rx: &mut [u8],
+    ) -> bool {
         match self.socket.recv_from(rx) {
             Ok((len, SocketAddr::V4(from))) => {
                 // A discarded datagram is counted by the adapter; nothing to answer.
                 let _ = adapter.io_receive(from, rx.get(..len).unwrap_or(&[]), now);
+                true
             }
-            Ok(_) => {}
-            Err(e) if e.kind() == io::ErrorKind::WouldBlock => {}
-            Err(e) => log::warn!("udp {IO_PORT} receive: {e}"),
+            Ok(_) => true,
+            Err(e) if e.kind() == io::ErrorKind::WouldBlock => false,
+            Err(e) => {
+                log::warn!("udp {IO_PORT} receive: {e}");
+                false
+            }
         }
     }
 

@@ -1,20 +1,19 @@
-//! The event loop's wait: a fixed set of file descriptors handed to `ppoll(2)` with a
-//! timeout to the next deadline, and the clock deadlines are counted on.
+//! The event loop's wait: one `epoll` instance holding every socket of every device, each
+//! registered with a key naming its device and its place there, waited on with
+//! `epoll_pwait2(2)` until a socket is ready or the next deadline; and the clock deadlines
+//! are counted on.
 //!
-//! `ppoll` rather than epoll: the runtime watches at most [`MAX_FDS`] descriptors, so one
-//! `ppoll` per wait costs no more than `epoll_wait` and needs no registration calls when the
-//! interest changes (a TCP reply waiting for room, the listener closed while every session
-//! is taken); its timeout is a `timespec`, so deadlines are kept to the microsecond.
+//! `epoll` rather than `ppoll`: a fleet holds 8 descriptors per device (2 048 at 256
+//! devices), and a wait must cost what became ready, not what is watched: `ppoll` copies and
+//! scans the whole set at every wake-up, `epoll` hands back only the ready ones with their
+//! key. Its interest is changed only when a TCP session's changes (a reply waiting for
+//! room), and `epoll_pwait2` takes a `timespec`, so deadlines are kept to the microsecond.
 
 use std::io;
-use std::os::fd::RawFd;
+use std::os::fd::{AsRawFd, FromRawFd, OwnedFd, RawFd};
 use std::time::Duration;
 
 use enip_stack::Instant;
-
-/// Descriptors the loop watches: UDP 2222, 2 UDP 44818 sockets, the interface watch, the
-/// listener and 3 TCP connections.
-pub const MAX_FDS: usize = 8;
 
 /// The monotonic clock (`CLOCK_MONOTONIC`, [`enip_host_runtime::now_micros`], the clock of
 /// embassy-time on the host too), as the stack's microsecond [`Instant`].
@@ -33,64 +32,115 @@ pub fn until(now: Instant, at: Instant) -> Duration {
     Duration::from_micros(at.as_micros().saturating_sub(now.as_micros()))
 }
 
-/// The descriptors the loop waits on, each at a fixed index, and after a wait what each is
-/// ready for. An entry without a descriptor (-1) is ignored by `ppoll`.
-pub struct PollSet {
-    fds: [libc::pollfd; MAX_FDS],
+/// One ready descriptor, as a wait reports it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Ready {
+    /// The key it was registered with.
+    pub key: u64,
+    /// It can be read (or has hung up or failed, which a read reports).
+    pub readable: bool,
+    /// It can be written (or has failed, which a write reports).
+    pub writable: bool,
 }
 
-impl PollSet {
-    /// A set watching nothing.
-    pub const fn new() -> Self {
-        const NONE: libc::pollfd = libc::pollfd {
-            fd: -1,
-            events: 0,
-            revents: 0,
-        };
-        PollSet {
-            fds: [NONE; MAX_FDS],
+/// An `epoll` instance and the buffer its waits fill.
+pub struct Epoll {
+    fd: OwnedFd,
+    events: Vec<libc::epoll_event>,
+}
+
+impl Epoll {
+    /// An instance reporting up to `batch` ready descriptors per wait.
+    pub fn new(batch: usize) -> io::Result<Self> {
+        // SAFETY: plain epoll_create1(2) call; the result is checked before use.
+        let raw = unsafe { libc::epoll_create1(libc::EPOLL_CLOEXEC) };
+        if raw < 0 {
+            return Err(io::Error::last_os_error());
         }
+        // SAFETY: `raw` is a new descriptor nothing else owns.
+        let fd = unsafe { OwnedFd::from_raw_fd(raw) };
+        let empty = libc::epoll_event { events: 0, u64: 0 };
+        Ok(Epoll {
+            fd,
+            events: vec![empty; batch.max(1)],
+        })
     }
 
-    /// Watches `fd` at `index` for readability (and, with `write`, room to write); `None`
-    /// watches nothing there.
-    pub fn set(&mut self, index: usize, fd: Option<RawFd>, read: bool, write: bool) {
-        let Some(entry) = self.fds.get_mut(index) else {
-            return;
-        };
+    /// Watches `fd` under `key` for readability (and, with `write`, room to write), whether
+    /// it is registered already or not. A descriptor leaves the set by itself when closed.
+    pub fn watch(&self, fd: RawFd, key: u64, read: bool, write: bool) -> io::Result<()> {
         let mut events = 0;
         if read {
-            events |= libc::POLLIN;
+            events |= libc::EPOLLIN;
         }
         if write {
-            events |= libc::POLLOUT;
+            events |= libc::EPOLLOUT;
         }
-        *entry = libc::pollfd {
-            fd: fd.unwrap_or(-1),
-            events,
-            revents: 0,
+        let mut event = libc::epoll_event {
+            events: events as u32,
+            u64: key,
         };
+        // SAFETY: `event` is a valid epoll_event that outlives the call.
+        let ctl = |op, event: &mut libc::epoll_event| unsafe {
+            libc::epoll_ctl(self.fd.as_raw_fd(), op, fd, event)
+        };
+        if ctl(libc::EPOLL_CTL_MOD, &mut event) == 0 {
+            return Ok(());
+        }
+        let e = io::Error::last_os_error();
+        if e.raw_os_error() != Some(libc::ENOENT) {
+            return Err(e);
+        }
+        if ctl(libc::EPOLL_CTL_ADD, &mut event) == 0 {
+            Ok(())
+        } else {
+            Err(io::Error::last_os_error())
+        }
     }
 
-    /// Waits until a descriptor is ready or `timeout` passes (`None`: no timeout); a signal
-    /// ends the wait early, as a timeout does.
-    pub fn wait(&mut self, timeout: Option<Duration>) -> io::Result<()> {
-        enip_host_runtime::ppoll(&mut self.fds, timeout).map(|_| ())
-    }
-
-    /// Whether the descriptor at `index` can be read (or has hung up or failed, which a read
-    /// reports).
-    pub fn readable(&self, index: usize) -> bool {
-        self.revents(index) & (libc::POLLIN | libc::POLLHUP | libc::POLLERR) != 0
-    }
-
-    /// Whether the descriptor at `index` can be written (or has failed, which a write
-    /// reports).
-    pub fn writable(&self, index: usize) -> bool {
-        self.revents(index) & (libc::POLLOUT | libc::POLLHUP | libc::POLLERR) != 0
-    }
-
-    fn revents(&self, index: usize) -> i16 {
-        self.fds.get(index).map_or(0, |f| f.revents)
+    /// Waits until a descriptor is ready or `timeout` passes (`None`: no timeout), then
+    /// hands each ready one to `ready`; a signal ends the wait early, as a timeout does.
+    pub fn wait(
+        &mut self,
+        timeout: Option<Duration>,
+        mut ready: impl FnMut(Ready),
+    ) -> io::Result<()> {
+        let ts = timeout.map(|t| libc::timespec {
+            tv_sec: libc::time_t::try_from(t.as_secs()).unwrap_or(libc::time_t::MAX),
+            tv_nsec: t.subsec_nanos() as libc::c_long,
+        });
+        let ts_ptr = ts.as_ref().map_or(std::ptr::null(), |t| t as *const _);
+        let max = libc::c_int::try_from(self.events.len()).unwrap_or(libc::c_int::MAX);
+        // SAFETY: `events` holds `max` writable entries, `ts_ptr` is null or points to a
+        // timespec that outlives the call, and a null signal mask leaves the mask unchanged.
+        let n = unsafe {
+            libc::epoll_pwait2(
+                self.fd.as_raw_fd(),
+                self.events.as_mut_ptr(),
+                max,
+                ts_ptr,
+                std::ptr::null(),
+            )
+        };
+        let n = match usize::try_from(n) {
+            Ok(n) => n,
+            Err(_) => {
+                let e = io::Error::last_os_error();
+                return if e.kind() == io::ErrorKind::Interrupted {
+                    Ok(())
+                } else {
+                    Err(e)
+                };
+            }
+        };
+        let failed = (libc::EPOLLHUP | libc::EPOLLERR) as u32;
+        for e in self.events.iter().take(n) {
+            ready(Ready {
+                key: e.u64,
+                readable: e.events & (libc::EPOLLIN as u32 | failed) != 0,
+                writable: e.events & (libc::EPOLLOUT as u32 | failed) != 0,
+            });
+        }
+        Ok(())
     }
 }

@@ -1,0 +1,313 @@
+//! [`Node`]: one device on the kernel's sockets at its own address: its [`Adapter`], its
+//! sockets, the deadlines of its clock, Class 1 production, delayed replies and TCP, and
+//! what it does when one of its sockets is ready or one of its deadlines is due. The loop of
+//! [`super::fleet`] drives any number of them, each only when something of its own happens.
+
+use std::net::Ipv4Addr;
+use std::os::fd::AsRawFd;
+
+use enip_stack::config::MAX_SESSIONS;
+use enip_stack::nv::SharedStore;
+use enip_stack::objects::TcpIpState;
+use enip_stack::{Adapter, Device, Instant};
+
+use super::io::Io;
+use super::netif::Interface;
+use super::poll::Epoll;
+use super::tcp::Tcp;
+use super::udp::Udp;
+use crate::runner::{on_reset, seed};
+
+/// Where each socket of a node sits among its keys: the fixed ones, then the listener and
+/// the sessions.
+const IO: u32 = 0;
+const UDP: u32 = 1;
+const BROADCAST: u32 = 2;
+const LISTENER: u32 = 3;
+const SESSIONS: u32 = 4;
+/// Keys per node: node `i`'s sockets have keys `i * SLOTS + slot`.
+pub const SLOTS: u64 = SESSIONS as u64 + MAX_SESSIONS as u64;
+// The ready sockets of a node are kept as bits of a `u32`.
+const _: () = assert!(SLOTS <= 32);
+
+/// How late past its I/O deadline a node must be woken for the loop to count it a stall of
+/// the process, µs.
+const STALL_US: u64 = 2_000;
+/// O->T datagrams read at most after a stall, before the deadline's work.
+const STALL_DRAIN: usize = 64;
+
+/// What a node is made of before it opens its sockets.
+pub struct Spec<D> {
+    /// Its name in the log (none for a lone device: its lines are not prefixed).
+    pub label: Option<&'static str>,
+    /// The local address it serves at.
+    pub ip: Ipv4Addr,
+    /// The device.
+    pub device: D,
+    /// Its non-volatile store.
+    pub store: SharedStore,
+}
+
+/// One device on its own address, and the state of its share of the loop.
+pub struct Node<D: Device> {
+    /// Its name in the log.
+    pub label: Option<&'static str>,
+    adapter: Adapter<D>,
+    ip: Ipv4Addr,
+    iface: Interface,
+    tcp: Tcp,
+    udp: Udp,
+    io: Io,
+    /// When the device's own clock next wants to run.
+    device_due: Option<Instant>,
+    /// The listener or a session changed since the epoll set was last told.
+    tcp_changed: bool,
+    /// The deadline the loop holds for this node, if any.
+    pub queued: Option<Instant>,
+    /// A socket of it is ready and it is on the loop's list to wake.
+    pub woken: bool,
+    /// Sockets found readable since last served, one bit per slot.
+    readable: u32,
+    /// Sockets found writable since last served.
+    writable: u32,
+}
+
+impl<D: Device> Node<D> {
+    /// Opens the sockets of `spec` at its address, or says why it cannot.
+    pub fn open(spec: Spec<D>) -> Result<Self, String> {
+        let Spec {
+            label,
+            ip,
+            device,
+            mut store,
+        } = spec;
+        let iface = Interface::holding(ip)?;
+        warn_if_stored_elsewhere(&mut store, ip);
+        let opened = (|| {
+            Ok::<_, std::io::Error>((Tcp::open(ip)?, Udp::open(ip, iface.index)?, Io::open(ip)?))
+        })();
+        let (mut tcp, udp, io) = opened.map_err(|e| format!("cannot listen on {ip}: {e}"))?;
+        let mut adapter = Adapter::new(device, iface.config, seed());
+        if let Err(e) = adapter.attach_store(Box::leak(Box::new(store))) {
+            log::error!("non-volatile store unreadable ({e}): factory TCP/IP settings");
+        }
+        // Explicit messaging's DSCP, as the device starts (QoS: it applies from a start);
+        // Class 1 datagrams get their connection's as they go ([`Io::produce`]).
+        let dscp = adapter.explicit_dscp();
+        tcp.set_dscp(dscp);
+        if let Err(e) = udp.set_dscp(dscp) {
+            log::warn!("udp {ip}: dscp {dscp}: {e}");
+        }
+        let mut node = Node {
+            label,
+            adapter,
+            ip,
+            iface,
+            tcp,
+            udp,
+            io,
+            device_due: Some(Instant::from_micros(0)),
+            tcp_changed: true,
+            queued: None,
+            woken: false,
+            readable: 0,
+            writable: 0,
+        };
+        node.io.track_multicast(&node.adapter);
+        Ok(node)
+    }
+
+    /// The line saying where it listens.
+    pub fn listening(&self) -> String {
+        let name = self.adapter.device().identity().product_name;
+        format!(
+            "listening on {} (kernel sockets on {}, link up {}, device {name:?})",
+            self.ip, self.iface.name, self.iface.config.link_up
+        )
+    }
+
+    /// Puts the sockets that live as long as the node in `epoll`, under keys from `base`.
+    pub fn register(&mut self, epoll: &Epoll, base: u64) -> std::io::Result<()> {
+        epoll.watch(
+            self.io.socket.as_raw_fd(),
+            base + u64::from(IO),
+            true,
+            false,
+        )?;
+        epoll.watch(
+            self.udp.unicast.as_raw_fd(),
+            base + u64::from(UDP),
+            true,
+            false,
+        )?;
+        let broadcast = self.udp.broadcast.as_raw_fd();
+        epoll.watch(broadcast, base + u64::from(BROADCAST), true, false)?;
+        self.watch_tcp(epoll, base);
+        Ok(())
+    }
+
+    /// Notes that the socket at `slot` is ready (`slot` below [`SLOTS`]).
+    pub fn mark(&mut self, slot: u64, readable: bool, writable: bool) {
+        let bit = 1u32.checked_shl(slot as u32).unwrap_or(0);
+        if readable {
+            self.readable |= bit;
+        }
+        if writable {
+            self.writable |= bit;
+        }
+    }
+
+    /// Serves what became ready, then runs what is due at `now`; returns when the node next
+    /// has something due. `rx` and `tx` are the loop's datagram buffers.
+    pub fn wake(
+        &mut self,
+        epoll: &Epoll,
+        base: u64,
+        now: Instant,
+        rx: &mut [u8],
+        tx: &mut [u8],
+    ) -> Option<Instant> {
+        let connections = self.adapter.connections().len();
+        let mut settings_may_change = self.serve_ready(now, rx, tx);
+        let next = self.run_due(now, rx, tx);
+        settings_may_change |= self.adapter.connections().len() != connections;
+        if settings_may_change {
+            self.io.track_multicast(&self.adapter);
+        }
+        if self.tcp_changed {
+            self.watch_tcp(epoll, base);
+        }
+        next
+    }
+
+    /// Runs the device's clock, produces T->O data, sends delayed replies and checks TCP
+    /// deadlines, as far as each is due at `now`; returns when the next of them is due. After
+    /// a stall it reads the waiting O->T data into `rx` first.
+    fn run_due(&mut self, now: Instant, rx: &mut [u8], tx: &mut [u8]) -> Option<Instant> {
+        let due = |at: Option<Instant>| at.is_some_and(|at| at <= now);
+        if due(self.device_due) {
+            self.device_due = self.adapter.poll_device(now);
+        }
+        let mut io = self.adapter.io_deadline();
+        if io.is_some_and(|at| now.as_micros() > at.as_micros().saturating_add(STALL_US)) {
+            // Woken this late, the process was not scheduled: the O->T data that arrived
+            // meanwhile goes in before the connections' watchdogs are judged.
+            for _ in 0..STALL_DRAIN {
+                if !self.io.consume(&mut self.adapter, now, rx) {
+                    break;
+                }
+            }
+            io = self.adapter.io_deadline();
+        }
+        if due(io) {
+            self.io.produce(&mut self.adapter, now, tx);
+            io = self.adapter.io_deadline();
+        }
+        let mut udp = self.adapter.udp_deadline();
+        if due(udp) {
+            self.udp.send_due(&mut self.adapter, now, tx);
+            udp = self.adapter.udp_deadline();
+        }
+        let mut tcp = self.tcp.next_deadline();
+        if due(tcp) {
+            self.tcp.check_deadlines(&mut self.adapter, now);
+            self.tcp_changed = true;
+            tcp = self.tcp.next_deadline();
+        }
+        [io, udp, self.device_due, tcp].into_iter().flatten().min()
+    }
+
+    /// Puts the listener and the sessions, as they are now, in `epoll` (a closed one left by
+    /// itself).
+    fn watch_tcp(&mut self, epoll: &Epoll, base: u64) {
+        let watch = |slot: u32, fd, read, write| {
+            if let Err(e) = epoll.watch(fd, base + u64::from(slot), read, write) {
+                log::error!("tcp {}: cannot wait on a socket: {e}", self.ip);
+            }
+        };
+        if let Some(fd) = self.tcp.listener_fd() {
+            watch(LISTENER, fd, true, false);
+        }
+        for (index, slot) in (0..MAX_SESSIONS).zip(SESSIONS..) {
+            if let Some(i) = self.tcp.interest(index) {
+                watch(slot, i.fd, i.read, i.write);
+            }
+        }
+        self.tcp_changed = false;
+    }
+
+    /// Serves every socket found ready; returns whether encapsulation frames were handled
+    /// (which may change the multicast settings).
+    fn serve_ready(&mut self, now: Instant, rx: &mut [u8], tx: &mut [u8]) -> bool {
+        let (readable, writable) = (self.readable, self.writable);
+        if readable | writable == 0 {
+            return false;
+        }
+        (self.readable, self.writable) = (0, 0);
+        let is = |mask: u32, slot: u32| mask & (1 << slot) != 0;
+        // Class 1 first: it is the traffic with deadlines.
+        if is(readable, IO) {
+            self.io.consume(&mut self.adapter, now, rx);
+        }
+        if is(readable, UDP) {
+            self.udp.serve_unicast(&mut self.adapter, now, rx, tx);
+        }
+        if is(readable, BROADCAST) {
+            self.udp.serve_broadcast(&mut self.adapter, now, rx, tx);
+        }
+        let mut changed = false;
+        for (index, slot) in (0..MAX_SESSIONS).zip(SESSIONS..) {
+            let (r, w) = (is(readable, slot), is(writable, slot));
+            if r || w {
+                self.tcp_changed = true;
+                changed |= self
+                    .tcp
+                    .serve(index, r, w, &mut self.adapter, now, on_reset);
+            }
+        }
+        if is(readable, LISTENER) {
+            self.tcp.accept(&mut self.adapter, now);
+            self.tcp_changed = true;
+        }
+        changed
+    }
+
+    /// Reads the interface again after a netlink notification, and applies a change.
+    pub fn refresh_interface(&mut self) {
+        let now = self.iface.refreshed(self.ip);
+        if now == self.iface {
+            return;
+        }
+        let old = *self.adapter.network();
+        if old.ip != now.config.ip || old.link_up != now.config.link_up {
+            log::info!(
+                "interface {}: ip {}, link up {}",
+                now.name,
+                now.config.ip,
+                now.config.link_up
+            );
+        }
+        self.adapter.set_network(enip_stack::NetworkConfig {
+            dhcp: old.dhcp,
+            link_speed_mbps: old.link_speed_mbps,
+            ..now.config
+        });
+        self.iface = now;
+        self.io.track_multicast(&self.adapter);
+    }
+}
+
+/// A static interface configuration stored by a scanner cannot be applied to the kernel's
+/// interface: says so when it names another address.
+fn warn_if_stored_elsewhere(store: &mut SharedStore, ip: Ipv4Addr) {
+    let stored = TcpIpState::stored(store).ok().flatten();
+    if let Some(i) = stored.as_ref().and_then(|st| st.static_interface()) {
+        if i.ip != ip {
+            log::warn!(
+                "the stored TCP/IP configuration names {}; on kernel sockets the adapter \
+                 serves at {ip} (set the kernel's address to change it)",
+                i.ip
+            );
+        }
+    }
+}
