@@ -125,13 +125,20 @@ impl Pump {
                 at = now();
             }
             let more_frames = self.receive(cx, driver, frames, io, &me, at);
-            self.send_acd_frame(cx, driver, at);
-            // The stack's frames may answer a request that moved the LLDP deadline.
-            self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
+            // The rare work (ACD, the stack's frames, LLDP) is checked here and done out of
+            // line: a Class 1 wake-up pays a comparison for each.
+            let acd = self.guard.deadline(at);
+            if acd.is_some_and(|d| d <= at) {
+                self.send_acd_frame(cx, driver, at);
+            }
+            if !frames.tx.is_empty() {
+                // The stack's frames may answer a request that moved the LLDP deadline.
+                self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
+            }
             self.produce(cx, driver, io, &me, at);
-            let stale = core::mem::take(&mut self.lldp_stale);
-            let next = &mut self.lldp_next;
-            self.blocked |= lldp::service(cx, driver, io, self.mac, up, at, next, stale);
+            if up && (self.lldp_stale || self.lldp_next.is_some_and(|d| d <= at)) {
+                self.send_lldp(cx, driver, io, at);
+            }
             let lldp = self.lldp_next.filter(|_| up);
             let deadline = earliest(earliest(io.deadline(), lldp), self.guard.deadline(at));
             settled = !more_frames && self.sleep_until(deadline, at, cx);
@@ -181,11 +188,14 @@ impl Pump {
         me: &NetworkConfig,
         at: Instant,
     ) -> bool {
-        if let Some(lldpdu) = lldp::lldpdu(frame) {
-            io.lldp_receive(lldpdu, at);
-            return false;
+        // IPv4 (Class 1) first: the ethertype alone rules out LLDP and ARP.
+        if !frame::is_ipv4(frame) {
+            if let Some(lldpdu) = lldp::lldpdu(frame) {
+                io.lldp_receive(lldpdu, at);
+                return false;
+            }
+            self.guard.receive(frame, io, at);
         }
-        self.guard.receive(frame, io, at);
         let seen = frame::inspect(frame, me.ip, &self.sums);
         if let Some((ip, mac)) = seen.sender {
             self.neighbors.learn(ip, mac);
@@ -206,7 +216,22 @@ impl Pump {
         }
     }
 
+    /// Asks for the LLDP deadline again and sends the LLDPDU due at `at` (`lldp::service`).
+    #[inline(never)]
+    fn send_lldp<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        io: &dyn IoPort,
+        at: Instant,
+    ) {
+        let stale = core::mem::take(&mut self.lldp_stale);
+        let next = &mut self.lldp_next;
+        self.blocked |= lldp::service(cx, driver, io, self.mac, at, next, stale);
+    }
+
     /// Sends the probe or announcement due at `at`, if the driver has room.
+    #[inline(never)]
     fn send_acd_frame<D: Driver>(&mut self, cx: &mut Context<'_>, driver: &mut D, at: Instant) {
         let Some(arp) = self.guard.due(at) else {
             return;
@@ -223,6 +248,7 @@ impl Pump {
 
     /// Sends the frames the stack queued, explicit messaging marked with its DSCP; drops them
     /// while the address may not be used (but those of a DHCP client). True if it sent any.
+    #[inline(never)]
     fn send_stack_frames<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
