@@ -135,12 +135,12 @@ impl Pump {
                 // The stack's frames may answer a request that moved the LLDP deadline.
                 self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
             }
-            self.produce(cx, driver, io, &me, at);
+            let io_next = self.produce(cx, driver, io, &me, at);
             if up && (self.lldp_stale || self.lldp_next.is_some_and(|d| d <= at)) {
                 self.send_lldp(cx, driver, io, at);
             }
             let lldp = self.lldp_next.filter(|_| up);
-            let deadline = earliest(earliest(io.deadline(), lldp), self.guard.deadline(at));
+            let deadline = earliest(earliest(io_next, lldp), self.guard.deadline(at));
             settled = !more_frames && self.sleep_until(deadline, at, cx);
             if settled {
                 break;
@@ -284,7 +284,8 @@ impl Pump {
         sent
     }
 
-    /// Sends (or drops) every T->O datagram due at `at`.
+    /// Sends (or drops) every T->O datagram due at `at`; returns the adapter's next deadline
+    /// (`IoPort::deadline`).
     fn produce<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -292,13 +293,15 @@ impl Pump {
         io: &dyn IoPort,
         me: &NetworkConfig,
         at: Instant,
-    ) {
+    ) -> Option<Instant> {
         self.blocked = false;
         let usable = self.guard.usable();
         // Bounded: each round sends or drops one datagram, and each producer is due once.
         for _ in 0..MAX_CONNECTIONS.saturating_mul(2) {
-            let Some(due) = io.due(at) else {
-                break;
+            let due = match io.due(at) {
+                Ok(due) => due,
+                // Nothing more due: the answer says when the next is.
+                Err(next) => return next,
             };
             if !usable {
                 // Not from an address that may be in conflict: dropped.
@@ -339,6 +342,8 @@ impl Pump {
             let len = HEADERS_LEN.saturating_add(due.max_len);
             tx.consume(len, |buf| self.write_t_o(buf, io, due, &route, at));
         }
+        // The driver had no room, or the bound was reached: asked apart.
+        io.deadline()
     }
 
     /// Writes the T->O datagram `due` into `buf`: the adapter's payload, then the headers.
