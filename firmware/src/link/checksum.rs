@@ -35,13 +35,17 @@ impl Sum {
         Sum(sum.wrapping_add(u64::from(u32::from_ne_bytes(last))))
     }
 
+    /// Adds four bytes at an even offset of the checksummed bytes.
+    pub fn add_word(self, word: [u8; 4]) -> Sum {
+        Sum(self.0.wrapping_add(u64::from(u32::from_ne_bytes(word))))
+    }
+
     /// Adds the IPv4 pseudo-header of a UDP datagram of `udp_len` bytes.
     pub fn add_pseudo_header(self, src: Ipv4Addr, dst: Ipv4Addr, udp_len: u16) -> Sum {
         let [l0, l1] = udp_len.to_be_bytes();
-        let words = [src.octets(), dst.octets(), [0, 17, l0, l1]];
-        Sum(words.iter().fold(self.0, |sum, word| {
-            sum.wrapping_add(u64::from(u32::from_ne_bytes(*word)))
-        }))
+        self.add_word(src.octets())
+            .add_word(dst.octets())
+            .add_word([0, 17, l0, l1])
     }
 
     /// The sum folded to 16 bits, as its two bytes in memory order.

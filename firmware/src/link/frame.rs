@@ -194,10 +194,10 @@ pub(crate) fn write_t_o_headers(
     let (Ok(udp_len), Ok(ip_len)) = (u16::try_from(udp_len), u16::try_from(ip_len)) else {
         return false;
     };
-    let Some((headers, payload)) = frame
-        .get_mut(..frame_len)
-        .and_then(|f| f.split_first_chunk_mut::<HEADERS_LEN>())
-    else {
+    let Some(frame) = frame.get_mut(..frame_len) else {
+        return false;
+    };
+    let Some(headers) = frame.first_chunk_mut::<HEADERS_LEN>() else {
         return false;
     };
     let ([d0, d1, d2, d3, d4, d5], to) = route.to;
@@ -216,17 +216,24 @@ pub(crate) fn write_t_o_headers(
         0x45, tos, i0, i1, 0, 0, 0x40, 0, ttl, UDP, 0, 0, a0, a1, a2, a3, b0, b1, b2, b3, // IPv4
         p0, p1, q0, q1, u0, u1, 0, 0, // UDP
     ];
-    let (ip, udp) = headers.split_at_mut(ETHERNET_HEADER_LEN + IPV4_HEADER_LEN);
+    // The addresses count in both sums; the IPv4 header's other words are known here.
+    let addresses = Sum::default()
+        .add_word(src.octets())
+        .add_word(dst.octets());
     if fill.ipv4.tx() {
-        let sum = Sum::default().add(ip.get(ETHERNET_HEADER_LEN..).unwrap_or(&[]));
-        copy(ip.get_mut(24..).unwrap_or(&mut []), &sum.checksum());
+        let sum = addresses
+            .add_word([0x45, tos, i0, i1])
+            .add_word([0, 0, 0x40, 0])
+            .add_word([ttl, UDP, 0, 0]);
+        copy(frame.get_mut(24..).unwrap_or(&mut []), &sum.checksum());
     }
     if fill.udp.tx() {
-        let sum = Sum::default().add_pseudo_header(src, dst, udp_len);
-        let sum = sum.add(udp).add(payload).checksum();
+        let datagram = frame.get(ETHERNET_HEADER_LEN + IPV4_HEADER_LEN..);
+        let sum = addresses.add_word([0, UDP, u0, u1]);
+        let sum = sum.add(datagram.unwrap_or(&[])).checksum();
         // A computed zero is sent as all ones (RFC 768): zero means none was computed.
         let sum = if sum == [0, 0] { [0xFF, 0xFF] } else { sum };
-        copy(udp.get_mut(6..).unwrap_or(&mut []), &sum);
+        copy(frame.get_mut(40..).unwrap_or(&mut []), &sum);
     }
     true
 }

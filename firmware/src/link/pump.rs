@@ -124,24 +124,7 @@ impl Pump {
             if pass > 0 {
                 at = now();
             }
-            let more_frames = self.receive(cx, driver, frames, io, &me, at);
-            // The rare work (ACD, the stack's frames, LLDP) is checked here and done out of
-            // line: a Class 1 wake-up pays a comparison for each.
-            let acd = self.guard.deadline(at);
-            if acd.is_some_and(|d| d <= at) {
-                self.send_acd_frame(cx, driver, at);
-            }
-            if !frames.tx.is_empty() {
-                // The stack's frames may answer a request that moved the LLDP deadline.
-                self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
-            }
-            let io_next = self.produce(cx, driver, io, &me, at);
-            if up && (self.lldp_stale || self.lldp_next.is_some_and(|d| d <= at)) {
-                self.send_lldp(cx, driver, io, at);
-            }
-            let lldp = self.lldp_next.filter(|_| up);
-            let deadline = earliest(earliest(io_next, lldp), self.guard.deadline(at));
-            settled = !more_frames && self.sleep_until(deadline, at, cx);
+            settled = self.pass(cx, driver, frames, io, (&me, up), at);
             if settled {
                 break;
             }
@@ -150,6 +133,39 @@ impl Pump {
         if io.poll_deadline_moved(cx).is_ready() || !settled {
             cx.waker().wake_by_ref();
         }
+    }
+
+    /// One pass at `at` for the interface `me` (its link up or not): receives, sends and
+    /// produces what is ready, then arms the timer; true if nothing is left to do now. Out of
+    /// line: the wake-up's loop around it holds few values.
+    #[inline(never)]
+    fn pass<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        frames: &LinkFrames,
+        io: &dyn IoPort,
+        (me, up): (&NetworkConfig, bool),
+        at: Instant,
+    ) -> bool {
+        let more_frames = self.receive(cx, driver, frames, io, me, at);
+        // The rare work (ACD, the stack's frames, LLDP) is checked here and done out of
+        // line: a Class 1 wake-up pays a comparison for each.
+        let acd = self.guard.deadline(at);
+        if acd.is_some_and(|d| d <= at) {
+            self.send_acd_frame(cx, driver, at);
+        }
+        if !frames.tx.is_empty() {
+            // The stack's frames may answer a request that moved the LLDP deadline.
+            self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
+        }
+        let io_next = self.produce(cx, driver, io, me, at);
+        if up && (self.lldp_stale || self.lldp_next.is_some_and(|d| d <= at)) {
+            self.send_lldp(cx, driver, io, at);
+        }
+        let lldp = self.lldp_next.filter(|_| up);
+        let deadline = earliest(earliest(io_next, lldp), self.guard.deadline(at));
+        !more_frames && self.sleep_until(deadline, at, cx)
     }
 
     /// Reads what the driver received; true if it read a whole burst (more may wait).
