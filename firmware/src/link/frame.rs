@@ -129,7 +129,10 @@ fn inspect_ipv4(
     let end = header_len.wrapping_add(ETHERNET_HEADER_LEN + usize::from(udp_len));
     Seen {
         sender,
-        o_t: Some((SocketAddrV4::new(src, u16::from_be_bytes([p0, p1])), start..end)),
+        o_t: Some((
+            SocketAddrV4::new(src, u16::from_be_bytes([p0, p1])),
+            start..end,
+        )),
     }
 }
 
@@ -211,15 +214,13 @@ pub(crate) fn write_t_o_headers(
     let [q0, q1] = to.port().to_be_bytes();
     let [t0, t1] = IPV4;
     let (tos, ttl) = ((route.dscp & 0x3F) << 2, route.ttl);
+    // Ethernet (14 bytes), IPv4 (20), UDP (8).
     *headers = [
-        d0, d1, d2, d3, d4, d5, s0, s1, s2, s3, s4, s5, t0, t1, // Ethernet
-        0x45, tos, i0, i1, 0, 0, 0x40, 0, ttl, UDP, 0, 0, a0, a1, a2, a3, b0, b1, b2, b3, // IPv4
-        p0, p1, q0, q1, u0, u1, 0, 0, // UDP
+        d0, d1, d2, d3, d4, d5, s0, s1, s2, s3, s4, s5, t0, t1, 0x45, tos, i0, i1, 0, 0, 0x40, 0,
+        ttl, UDP, 0, 0, a0, a1, a2, a3, b0, b1, b2, b3, p0, p1, q0, q1, u0, u1, 0, 0,
     ];
     // The addresses count in both sums; the IPv4 header's other words are known here.
-    let addresses = Sum::default()
-        .add_word(src.octets())
-        .add_word(dst.octets());
+    let addresses = Sum::default().add_word(src.octets()).add_word(dst.octets());
     if fill.ipv4.tx() {
         let sum = addresses
             .add_word([0x45, tos, i0, i1])
@@ -434,7 +435,12 @@ mod tests {
         let mut ours = std::vec![0u8; HEADERS_LEN + payload.len()];
         ours[HEADERS_LEN..].copy_from_slice(payload);
         let mut theirs = ours.clone();
-        assert!(write_t_o_headers(&mut ours, &route, payload.len(), &software()));
+        assert!(write_t_o_headers(
+            &mut ours,
+            &route,
+            payload.len(),
+            &software()
+        ));
         let mut eth = EthernetFrame::new_unchecked(&mut theirs[..]);
         EthernetRepr {
             src_addr: EthernetAddress(MY_MAC),

@@ -117,7 +117,12 @@ impl Device for Generic {
 #[inline(never)] // Shared by both paths, and never a bare copy that becomes `memcpy` again.
 fn copy_words(dst: &mut [u8; IO_SIZE], src: &[u8; IO_SIZE]) -> bool {
     let mut changed = false;
-    for (to, from) in dst.as_chunks_mut::<16>().0.iter_mut().zip(src.as_chunks::<16>().0) {
+    for (to, from) in dst
+        .as_chunks_mut::<16>()
+        .0
+        .iter_mut()
+        .zip(src.as_chunks::<16>().0)
+    {
         let (old, new) = (u128::from_ne_bytes(*to), u128::from_ne_bytes(*from));
         changed |= old != new;
         *to = new.to_ne_bytes();
