@@ -130,3 +130,17 @@ fn only_new_outputs_mark_the_input_changed() {
     assert!(!changed(&mut dev));
     assert_eq!(read(&mut dev, INPUT).unwrap().0[..32], data);
 }
+
+#[test]
+fn copy_words_copies_and_says_whether_anything_changed() {
+    let mut dst = [0u8; IO_SIZE];
+    assert!(!copy_words(&mut dst, &[0; IO_SIZE]));
+    for i in 0..IO_SIZE {
+        let mut src = [0u8; IO_SIZE];
+        src[i] = 0x80;
+        assert!(copy_words(&mut dst, &src), "byte {i}");
+        assert_eq!(dst, src);
+        assert!(!copy_words(&mut dst, &src), "byte {i} again");
+        dst = [0; IO_SIZE];
+    }
+}
