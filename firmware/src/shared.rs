@@ -177,10 +177,10 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
         let _ = with_adapter_quiet(self, |a| a.io_receive(from, data, now));
     }
 
-    fn due(&self, now: Instant) -> Option<IoDue> {
+    fn due(&self, now: Instant) -> Result<IoDue, Option<Instant>> {
         let (due, expired) = with_adapter_quiet(self, |a| {
             let before = a.connections().timeouts();
-            let due = a.io_due(now);
+            let due = a.io_due(now).ok_or_else(|| a.io_deadline());
             (due, a.connections().timeouts() != before)
         });
         if expired {

@@ -14,7 +14,10 @@
 //! board produces at the same RPI: after 100 datagrams per connection, the next 300 per
 //! connection are counted ([`Scale::qemu_traced`]). The count does not depend on the host's speed, only
 //! on how many datagrams one wake-up of the board finds waiting, which varies with the phase
-//! of the scanner's clock: the median of three runs is reported.
+//! of the scanner's clock: the median of three runs is reported. Each run also writes its
+//! instructions per cycle by translation block (address, count, function) and the calls
+//! per cycle of each function by calling block to `blocks-N.txt` beside the logs, for
+//! attribution within a function.
 
 use std::collections::{BTreeMap, HashMap};
 use std::fs;
@@ -148,6 +151,11 @@ impl Symbols {
         i.map_or("?", |i| self.0[i].2.as_str())
     }
 
+    /// True if a function starts at `pc`.
+    fn starts(&self, pc: u32) -> bool {
+        self.find(pc).is_some_and(|i| self.0[i].0 == pc)
+    }
+
     /// Start address of the function called `name`.
     fn start_of(&self, name: &str) -> Option<u32> {
         self.0.iter().find(|s| s.2 == name).map(|s| s.0)
@@ -160,6 +168,11 @@ struct Cost {
     cycles: u64,
     /// Instructions by function index (`None`: outside every symbol).
     by_function: HashMap<Option<usize>, u64>,
+    /// Instructions by translation block (its first address): the finer attribution
+    /// written to `blocks-N.txt` beside the logs.
+    by_block: HashMap<u32, u64>,
+    /// Entries of a function (its start) from a block (the one run before): the callers.
+    calls: HashMap<(u32, u32), u64>,
     /// Function names, resolved.
     names: Vec<(String, u64)>,
 }
@@ -171,6 +184,29 @@ impl Cost {
 
     fn per_cycle(&self, n: u64) -> f64 {
         (n as f64 / self.cycles.max(1) as f64 * 10.0).round() / 10.0
+    }
+
+    /// One line per translation block, the costliest first: its address, instructions per
+    /// cycle and function (for `addr2line` on the image).
+    fn blocks(&self, symbols: &Symbols) -> String {
+        let mut blocks: Vec<_> = self.by_block.iter().collect();
+        blocks.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
+        blocks
+            .into_iter()
+            .map(|(pc, n)| {
+                let name = symbols.name(symbols.find(*pc));
+                format!("{pc:08x} {:>8.1} {name}\n", self.per_cycle(*n))
+            })
+            .chain(self.calls.iter().map(|((from, to), n)| {
+                let (caller, callee) = (symbols.find(*from), symbols.find(*to));
+                format!(
+                    "call {from:08x} {:>6.2} {} -> {}\n",
+                    self.per_cycle(*n),
+                    symbols.name(caller),
+                    symbols.name(callee)
+                )
+            }))
+            .collect()
     }
 
     /// Instructions by part of the firmware.
@@ -294,6 +330,10 @@ fn traced_run(
     });
     let _ = fs::remove_file(&fifo);
     let cost = result?;
+    fs::write(
+        dir.join(format!("blocks-{connections}.txt")),
+        cost.blocks(symbols),
+    )?;
     if cost.cycles < wanted.1 {
         return err(format!(
             "the traced board handled only {} of {} O->T datagrams in time",
@@ -395,11 +435,17 @@ fn count(fifo: &Path, symbols: &Symbols, marker: u32, wanted: (u64, u64)) -> Res
                 idle_function.get_or_insert(block.function);
                 let counting = markers > wanted.0 && markers <= wanted.0 + wanted.1;
                 if busy && counting {
+                    let mut previous = None;
                     for pc in segment.drain(..).chain([pc]) {
                         if let Some(b) = blocks.get(&pc) {
                             *cost.by_function.entry(b.function).or_default() +=
                                 u64::from(b.instructions);
+                            *cost.by_block.entry(pc).or_default() += u64::from(b.instructions);
+                            if let Some(from) = previous.filter(|_| symbols.starts(pc)) {
+                                *cost.calls.entry((from, pc)).or_default() += 1;
+                            }
                         }
+                        previous = Some(pc);
                     }
                 }
                 segment.clear();

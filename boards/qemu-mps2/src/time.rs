@@ -130,8 +130,14 @@ impl Driver for Mps2Time {
     fn schedule_wake(&self, at: u64, waker: &Waker) {
         critical_section::with(|cs| {
             let changed = self.queue.borrow_ref_mut(cs).schedule_wake(at, waker);
-            if changed && at < self.armed.borrow(cs).get() {
-                self.dispatch(cs);
+            let armed = self.armed.borrow(cs).get();
+            if changed && at < armed {
+                // Every other timer is due at `armed` or later, so `at` is the earliest: the
+                // alarm is armed for it without walking the queue, unless the alarm is due
+                // already or so is `at` (then the walk wakes what expired).
+                if armed <= self.now_in(cs) || !self.arm(cs, at) {
+                    self.dispatch(cs);
+                }
             }
         })
     }

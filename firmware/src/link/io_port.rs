@@ -20,8 +20,9 @@ pub trait IoPort: LldpPort + AcdPort {
     /// Feeds one O->T datagram from `from` (`Adapter::io_receive`).
     fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant);
     /// Closes expired connections, then names the most overdue T->O datagram
-    /// (`Adapter::io_due`).
-    fn due(&self, now: Instant) -> Option<IoDue>;
+    /// (`Adapter::io_due`), or if none is due the next production or watchdog expiry
+    /// (`Adapter::io_deadline`, asked under the same lock).
+    fn due(&self, now: Instant) -> Result<IoDue, Option<Instant>>;
     /// Writes (or with `None` drops) the datagram `due` named (`Adapter::write_io`).
     fn write(&self, due: IoDue, now: Instant, out: Option<&mut [u8]>) -> usize;
     /// The next production or watchdog expiry (`Adapter::io_deadline`).

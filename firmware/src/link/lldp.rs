@@ -48,26 +48,21 @@ pub(crate) fn lldpdu(frame: &[u8]) -> Option<&[u8]> {
     (*to == MULTICAST_MAC && kind == ETHERTYPE.to_be_bytes()).then_some(payload)
 }
 
-/// Sends the LLDPDU due at `at` from `mac` if the link is up; true if one waits for the
+/// Sends the LLDPDU due at `at` from `mac` (the link is up); true if one waits for the
 /// driver's room (whose wake-up then brings the link task back). `next` is the link task's
 /// copy of the adapter's LLDP deadline (`None`: LLDP off), asked for again only when `stale`
 /// (the link came up, or the stack sent frames, which may answer a request that changed the
 /// LLDP settings or the host name), when it came due, and after a send: the adapter's lock
 /// stays off the wake-ups of Class 1.
-#[allow(clippy::too_many_arguments)] // the link task's state, borrowed apart
 pub(crate) fn service<D: Driver>(
     cx: &mut Context<'_>,
     driver: &mut D,
     port: &dyn LldpPort,
     mac: [u8; 6],
-    link_up: bool,
     at: Instant,
     next: &mut Option<Instant>,
     stale: bool,
 ) -> bool {
-    if !link_up {
-        return false;
-    }
     if stale || next.is_some_and(|d| d <= at) {
         *next = port.lldp_deadline();
     }

@@ -128,17 +128,7 @@ impl Pump {
             if pass > 0 {
                 at = now();
             }
-            let more_frames = self.receive(cx, driver, frames, io, &me, at);
-            self.send_acd_frame(cx, driver, at);
-            // The stack's frames may answer a request that moved the LLDP deadline.
-            self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
-            self.produce(cx, driver, io, &me, at);
-            let stale = core::mem::take(&mut self.lldp_stale);
-            let next = &mut self.lldp_next;
-            self.blocked |= lldp::service(cx, driver, io, self.mac, up, at, next, stale);
-            let lldp = self.lldp_next.filter(|_| up);
-            let deadline = earliest(earliest(io.deadline(), lldp), self.guard.deadline(at));
-            settled = !more_frames && self.sleep_until(deadline, at, cx);
+            settled = self.pass(cx, driver, frames, io, (&me, up), at);
             if settled {
                 break;
             }
@@ -147,6 +137,39 @@ impl Pump {
         if io.poll_deadline_moved(cx).is_ready() || !settled {
             cx.waker().wake_by_ref();
         }
+    }
+
+    /// One pass at `at` for the interface `me` (its link up or not): receives, sends and
+    /// produces what is ready, then arms the timer; true if nothing is left to do now. Out of
+    /// line: the wake-up's loop around it holds few values.
+    #[inline(never)]
+    fn pass<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        frames: &LinkFrames,
+        io: &dyn IoPort,
+        (me, up): (&NetworkConfig, bool),
+        at: Instant,
+    ) -> bool {
+        let more_frames = self.receive(cx, driver, frames, io, me, at);
+        // The rare work (ACD, the stack's frames, LLDP) is checked here and done out of
+        // line: a Class 1 wake-up pays a comparison for each.
+        let acd = self.guard.deadline(at);
+        if acd.is_some_and(|d| d <= at) {
+            self.send_acd_frame(cx, driver, at);
+        }
+        if !frames.tx.is_empty() {
+            // The stack's frames may answer a request that moved the LLDP deadline.
+            self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
+        }
+        let io_next = self.produce(cx, driver, io, me, at);
+        if up && (self.lldp_stale || self.lldp_next.is_some_and(|d| d <= at)) {
+            self.send_lldp(cx, driver, io, at);
+        }
+        let lldp = self.lldp_next.filter(|_| up);
+        let deadline = earliest(earliest(io_next, lldp), self.guard.deadline(at));
+        !more_frames && self.sleep_until(deadline, at, cx)
     }
 
     /// Reads what the driver received; true if it read a whole burst (more may wait).
@@ -185,11 +208,14 @@ impl Pump {
         me: &NetworkConfig,
         at: Instant,
     ) -> bool {
-        if let Some(lldpdu) = lldp::lldpdu(frame) {
-            io.lldp_receive(lldpdu, at);
-            return false;
+        // IPv4 (Class 1) first: the ethertype alone rules out LLDP and ARP.
+        if !frame::is_ipv4(frame) {
+            if let Some(lldpdu) = lldp::lldpdu(frame) {
+                io.lldp_receive(lldpdu, at);
+                return false;
+            }
+            self.guard.receive(frame, io, at);
         }
-        self.guard.receive(frame, io, at);
         let seen = frame::inspect(frame, me.ip, &self.sums);
         if let Some((ip, mac)) = seen.sender {
             self.neighbors.learn(ip, mac);
@@ -211,7 +237,22 @@ impl Pump {
         }
     }
 
+    /// Asks for the LLDP deadline again and sends the LLDPDU due at `at` (`lldp::service`).
+    #[inline(never)]
+    fn send_lldp<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        io: &dyn IoPort,
+        at: Instant,
+    ) {
+        let stale = core::mem::take(&mut self.lldp_stale);
+        let next = &mut self.lldp_next;
+        self.blocked |= lldp::service(cx, driver, io, self.mac, at, next, stale);
+    }
+
     /// Sends the probe or announcement due at `at`, if the driver has room.
+    #[inline(never)]
     fn send_acd_frame<D: Driver>(&mut self, cx: &mut Context<'_>, driver: &mut D, at: Instant) {
         let Some(arp) = self.guard.due(at) else {
             return;
@@ -228,6 +269,7 @@ impl Pump {
 
     /// Sends the frames the stack queued, explicit messaging marked with its DSCP; drops them
     /// while the address may not be used (but those of a DHCP client). True if it sent any.
+    #[inline(never)]
     fn send_stack_frames<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -263,7 +305,8 @@ impl Pump {
         sent
     }
 
-    /// Sends (or drops) every T->O datagram due at `at`.
+    /// Sends (or drops) every T->O datagram due at `at`; returns the adapter's next deadline
+    /// (`IoPort::deadline`).
     fn produce<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -271,13 +314,15 @@ impl Pump {
         io: &dyn IoPort,
         me: &NetworkConfig,
         at: Instant,
-    ) {
+    ) -> Option<Instant> {
         self.blocked = false;
         let usable = self.guard.usable();
         // Bounded: each round sends or drops one datagram, and each producer is due once.
         for _ in 0..MAX_CONNECTIONS.saturating_mul(2) {
-            let Some(due) = io.due(at) else {
-                break;
+            let due = match io.due(at) {
+                Ok(due) => due,
+                // Nothing more due: the answer says when the next is.
+                Err(next) => return next,
             };
             if !usable {
                 // Not from an address that may be in conflict: dropped.
@@ -318,6 +363,8 @@ impl Pump {
             let len = HEADERS_LEN.saturating_add(due.max_len);
             tx.consume(len, |buf| self.write_t_o(buf, io, due, &route, at));
         }
+        // The driver had no room, or the bound was reached: asked apart.
+        io.deadline()
     }
 
     /// Writes the T->O datagram `due` into `buf`: the adapter's payload, then the headers.

@@ -107,3 +107,40 @@ fn identity_matches_the_constants() {
     assert_eq!(id.serial_number, 0x5255_5354);
     assert_eq!(id.product_name, "enip-rs generic");
 }
+
+#[test]
+fn only_new_outputs_mark_the_input_changed() {
+    let mut dev = Generic::new();
+    let changed = |dev: &mut Generic| {
+        let marks = dev.input_changes().unwrap();
+        let any = !marks.is_empty();
+        marks.clear();
+        any
+    };
+    dev.write_assembly(OUTPUT, &[0; 32]).unwrap();
+    assert!(!changed(&mut dev), "the same zeros");
+    let mut data = [0u8; 32];
+    data[31] = 1;
+    dev.write_assembly(OUTPUT, &data).unwrap();
+    assert!(changed(&mut dev), "the last byte differs");
+    dev.write_assembly(OUTPUT, &data).unwrap();
+    assert!(!changed(&mut dev), "the same again");
+    // A short write changes nothing.
+    assert!(dev.write_assembly(OUTPUT, &[9; 31]).is_err());
+    assert!(!changed(&mut dev));
+    assert_eq!(read(&mut dev, INPUT).unwrap().0[..32], data);
+}
+
+#[test]
+fn copy_words_copies_and_says_whether_anything_changed() {
+    let mut dst = [0u8; IO_SIZE];
+    assert!(!copy_words(&mut dst, &[0; IO_SIZE]));
+    for i in 0..IO_SIZE {
+        let mut src = [0u8; IO_SIZE];
+        src[i] = 0x80;
+        assert!(copy_words(&mut dst, &src), "byte {i}");
+        assert_eq!(dst, src);
+        assert!(!copy_words(&mut dst, &src), "byte {i} again");
+        dst = [0; IO_SIZE];
+    }
+}

@@ -110,8 +110,19 @@ impl Lan9118 {
                 }
                 continue;
             }
-            for chunk in self.rx[..words * 4].chunks_exact_mut(4) {
-                chunk.copy_from_slice(&LAN.read(RX_DATA).to_le_bytes());
+            // Four words a step (one loop test per 16 bytes), then the rest a word at a time.
+            let (quads, rest) = self.rx[..words * 4].as_chunks_mut::<16>();
+            for quad in quads {
+                let [a0, a1, a2, a3] = LAN.read(RX_DATA).to_le_bytes();
+                let [b0, b1, b2, b3] = LAN.read(RX_DATA).to_le_bytes();
+                let [c0, c1, c2, c3] = LAN.read(RX_DATA).to_le_bytes();
+                let [d0, d1, d2, d3] = LAN.read(RX_DATA).to_le_bytes();
+                *quad = [
+                    a0, a1, a2, a3, b0, b1, b2, b3, c0, c1, c2, c3, d0, d1, d2, d3,
+                ];
+            }
+            for word in rest.as_chunks_mut::<4>().0 {
+                *word = LAN.read(RX_DATA).to_le_bytes();
             }
             return Some(len - 4);
         }
@@ -239,15 +250,20 @@ impl TxToken for Tx<'_> {
         let result = f(frame);
         LAN.write(TX_DATA, tx_command_a(len));
         LAN.write(TX_DATA, tx_command_b(len));
-        // Whole words, then the last one padded (no variable-length copy per word).
-        let mut words = frame.chunks_exact(4);
-        for word in &mut words {
-            LAN.write(
-                TX_DATA,
-                u32::from_le_bytes([word[0], word[1], word[2], word[3]]),
-            );
+        // Whole words, four a step, then the last one padded (no variable-length copy per
+        // word).
+        let (quads, rest) = frame.as_chunks::<16>();
+        for quad in quads {
+            let [a0, a1, a2, a3, b0, b1, b2, b3, c0, c1, c2, c3, d0, d1, d2, d3] = *quad;
+            LAN.write(TX_DATA, u32::from_le_bytes([a0, a1, a2, a3]));
+            LAN.write(TX_DATA, u32::from_le_bytes([b0, b1, b2, b3]));
+            LAN.write(TX_DATA, u32::from_le_bytes([c0, c1, c2, c3]));
+            LAN.write(TX_DATA, u32::from_le_bytes([d0, d1, d2, d3]));
         }
-        let rest = words.remainder();
+        let (words, rest) = rest.as_chunks::<4>();
+        for word in words {
+            LAN.write(TX_DATA, u32::from_le_bytes(*word));
+        }
         if !rest.is_empty() {
             let mut last = [0u8; 4];
             for (to, from) in last.iter_mut().zip(rest) {
