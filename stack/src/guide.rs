@@ -59,9 +59,8 @@
 //! ```
 //!
 //! The stack calls `read_assembly` with `out` exactly the assembly's current size (as
-//! [`crate::Device::assemblies`] says at that moment; at most
-//! [`crate::config::MAX_ASSEMBLY_SIZE`]), and sends exactly the length it returns (never
-//! more than the size). It calls `write_assembly` with exactly the assembly's current size:
+//! [`crate::Device::assemblies`] says at that moment; see the capacities below for the
+//! largest), and sends exactly the length it returns (never more than the size). It calls `write_assembly` with exactly the assembly's current size:
 //! O->T data in Run (never Idle data, never a duplicate), an explicit Set of an output,
 //! configuration or explicit assembly, and a Forward_Open's configuration data. Heartbeat
 //! assemblies ([`crate::AssemblyRole::InputOnlyHeartbeat`], [`crate::AssemblyRole::ListenOnlyHeartbeat`],
