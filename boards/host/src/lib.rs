@@ -34,11 +34,12 @@
 //!
 //! [`run_fleet`] runs many devices in one process on the kernel's sockets, each at its own
 //! address with its own store ([`own_store`]) and identity ([`Renamed`]), on one thread:
-//! `enip-host --devices FILE` reads them from a device list ([`read_device_list`]).
+//! `enip-host --devices FILE` reads them from a device list ([`read_device_list`], or
+//! [`parse_device_list`] from its text).
 
-mod device_main;
 mod device_list;
 mod device_log;
+mod device_main;
 mod kernel;
 mod netlink;
 mod nv_file;
@@ -49,8 +50,10 @@ mod signals;
 mod tap;
 mod tap_device;
 
+pub use device_list::{
+    parse as parse_device_list, read as read_device_list, DeviceEntry, MAX_DEVICES,
+};
 pub use device_main::{device_usage, run_device, Command};
-pub use device_list::{read as read_device_list, DeviceEntry, MAX_DEVICES};
 pub use kernel::Spec as DeviceSpec;
 pub use nv_file::own as own_store;
 pub use nv_file::shared as shared_store;
