@@ -4,7 +4,8 @@
 //! read as ARP by `Arp::from_frame` and, if it is one, processed; between frames the
 //! machine sends what is due. Checked: what it sends parses back as its own ARP request
 //! about the address, a conflict it reports round-trips through TCP/IP attribute 11's
-//! bytes, the address is usable only in the ongoing phase, and a lost address stays lost.
+//! bytes, it defends only an announced address, the address is usable only in the ongoing
+//! phase, and a lost address stays lost.
 #![no_main]
 
 use std::net::Ipv4Addr;
@@ -52,7 +53,13 @@ fuzz_target!(|data: &[u8]| {
             match acd.process(&arp, now) {
                 Verdict::None => {}
                 Verdict::Defend(last) => {
-                    assert_eq!(acd.phase(), Phase::Ongoing, "defending outside use");
+                    // Once an announcement is out the address is claimed and defended
+                    // (RFC 5227 section 2.3), though only used once the last one is.
+                    assert!(
+                        matches!(acd.phase(), Phase::Announcing { .. } | Phase::Ongoing),
+                        "defending an address not announced: {:?}",
+                        acd.phase()
+                    );
                     conflict_round_trips(last);
                 }
                 Verdict::Lost(last) => {

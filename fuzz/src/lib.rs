@@ -4,6 +4,7 @@
 #![deny(missing_docs)]
 
 pub mod device;
+pub mod device_lists;
 pub mod frames;
 pub mod io_script;
 pub mod link_seeds;

@@ -63,7 +63,9 @@ pub fn read(path: &Path) -> Result<Vec<DeviceEntry>, String> {
     parse(&text, dir).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Parses a device list; relative `nv_file` paths are taken from `dir`.
+/// Parses a device list; relative `nv_file` paths are taken from `dir`. A list it accepts
+/// names 1 to [`MAX_DEVICES`] devices at distinct addresses, a run of `count` at consecutive
+/// ones, with every `{n}` filled in.
 pub fn parse(text: &str, dir: &Path) -> Result<Vec<DeviceEntry>, String> {
     let mut tables: Vec<Table> = Vec::new();
     for (number, raw) in (1..).zip(text.lines()) {

@@ -34,7 +34,8 @@
 //!
 //! [`run_fleet`] runs many devices in one process on the kernel's sockets, each at its own
 //! address with its own store ([`own_store`]) and identity ([`Renamed`]), on one thread:
-//! `enip-host --devices FILE` reads them from a device list ([`read_device_list`]).
+//! `enip-host --devices FILE` reads them from a device list ([`read_device_list`], or
+//! [`parse_device_list`] from its text).
 
 mod device_list;
 mod device_log;
@@ -49,7 +50,9 @@ mod signals;
 mod tap;
 mod tap_device;
 
-pub use device_list::{read as read_device_list, DeviceEntry, MAX_DEVICES};
+pub use device_list::{
+    parse as parse_device_list, read as read_device_list, DeviceEntry, MAX_DEVICES,
+};
 pub use device_main::{device_usage, run_device, Command};
 pub use kernel::Spec as DeviceSpec;
 pub use nv_file::own as own_store;

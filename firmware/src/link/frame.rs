@@ -63,7 +63,7 @@ pub(crate) fn inspect(frame: &[u8], me: Ipv4Addr, verify: &ChecksumCapabilities)
     match [t0, t1] {
         IPV4 => inspect_ipv4(packet, mac, me, verify),
         ARP => Seen {
-            sender: arp_sender(packet, me),
+            sender: arp_sender(packet, mac, me),
             o_t: None,
         },
         _ => Seen::default(),
@@ -136,8 +136,10 @@ fn inspect_ipv4(
     }
 }
 
-/// The sender of an ARP message asking for or answering about `me`.
-fn arp_sender(packet: &[u8], me: Ipv4Addr) -> Option<(Ipv4Addr, [u8; 6])> {
+/// The sender of an ARP message asking for or answering about `me`, sent from `from`: one
+/// whose sender hardware address is not `from` names no sender (which of the two would the
+/// T->O datagrams go to?).
+fn arp_sender(packet: &[u8], from: EthernetAddress, me: Ipv4Addr) -> Option<(Ipv4Addr, [u8; 6])> {
     let arp = ArpPacket::new_checked(packet).ok()?;
     let Ok(ArpRepr::EthernetIpv4 {
         source_hardware_addr: mac,
@@ -148,7 +150,8 @@ fn arp_sender(packet: &[u8], me: Ipv4Addr) -> Option<(Ipv4Addr, [u8; 6])> {
     else {
         return None;
     };
-    (target_protocol_addr == me && is_host(ip) && is_unicast(mac)).then_some((ip, mac.0))
+    (target_protocol_addr == me && mac == from && is_host(ip) && is_unicast(mac))
+        .then_some((ip, mac.0))
 }
 
 /// A MAC address of one station (not group, not zero).
@@ -414,6 +417,11 @@ mod tests {
             inspect(&frame, Ipv4Addr::new(198, 18, 0, 9), &software()),
             Seen::default()
         );
+        // From another MAC than the one it names (found by the `link_frame` fuzz target):
+        // nothing either.
+        let mut forged = frame;
+        forged[6 + 4] ^= 0x20;
+        assert_eq!(inspect(&forged, ME, &software()), Seen::default());
         assert!(!write_arp_request(
             &mut frame[..ARP_REQUEST_LEN - 1],
             (PEER_MAC, PEER),

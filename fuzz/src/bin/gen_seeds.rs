@@ -108,6 +108,9 @@ fn main() {
     for (target, name, bytes) in enip_fuzz::link_seeds::seeds(&frames::o_t_datagram(o_t, 1)) {
         add(target, name, bytes);
     }
+    for (name, list) in enip_fuzz::device_lists::seeds() {
+        add("device_list", name, list);
+    }
     let mut io = IoScript::default()
         .accept(0)
         .tcp(0, &frames::register_session())

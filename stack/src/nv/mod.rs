@@ -95,7 +95,8 @@ pub trait NvStore {
 }
 
 /// Record `key` of `store` read into a buffer of `N` bytes and decoded: `None` if there is
-/// none, or if it does not decode (logged as `what`'s settings, whose defaults then hold).
+/// none, or if it does not decode (logged as `what`'s settings, whose defaults then hold). A
+/// record longer than `N` bytes (another layout's) does not decode: it is not an error.
 pub(crate) fn read_decoded<const N: usize, T>(
     store: &mut dyn NvStore,
     key: u16,
@@ -103,10 +104,12 @@ pub(crate) fn read_decoded<const N: usize, T>(
     decode: impl FnOnce(&[u8]) -> Option<T>,
 ) -> Result<Option<T>, NvError> {
     let mut buf = [0u8; N];
-    let Some(len) = store.read(key, &mut buf)? else {
-        return Ok(None);
+    let decoded = match store.read(key, &mut buf) {
+        Ok(None) => return Ok(None),
+        Ok(Some(len)) => buf.get(..len).and_then(decode),
+        Err(NvError::BufferTooSmall) => None,
+        Err(e) => return Err(e),
     };
-    let decoded = buf.get(..len).and_then(decode);
     if decoded.is_none() {
         warn!("stored {} settings unreadable; factory defaults hold", what);
     }

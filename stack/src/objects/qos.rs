@@ -242,6 +242,8 @@ mod tests {
             &[RECORD_VERSION, 0, 59, 47, 55, 64, 43, 31, 27][..],
             &[RECORD_VERSION, 1, 59, 47, 55, 47, 43, 31, 27],
             &[RECORD_VERSION, 0, 59, 47, 55, 47, 43, 31],
+            // Longer than the record (found by the `nv_records` fuzz target: was an error).
+            &[RECORD_VERSION, 0, 59, 47, 55, 47, 43, 31, 27, 0],
             &[2, 0, 59, 47, 55, 47, 43, 31, 27],
         ] {
             store.write(key::QOS, bad).unwrap();

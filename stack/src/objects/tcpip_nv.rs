@@ -128,19 +128,12 @@ pub(crate) fn valid_name(name: &[u8]) -> bool {
 
 impl TcpIpState {
     /// The settings stored in `store` over the factory defaults; `None` if there are none
-    /// (or they are unreadable: logged, and the defaults hold).
+    /// (or they are unreadable, longer than [`RECORD_MAX`] too: logged, and the defaults hold).
     pub fn stored(store: &mut dyn NvStore) -> Result<Option<TcpIpState>, NvError> {
-        let mut buf = [0u8; RECORD_MAX];
-        let Some(len) = store.read(key::TCP_IP, &mut buf)? else {
-            return Ok(None);
-        };
-        let mut state = TcpIpState::new();
-        let decoded = buf.get(..len).and_then(|b| state.decode(b));
-        if decoded.is_none() {
-            warn!("stored TCP/IP settings unreadable; factory defaults hold");
-            return Ok(None);
-        }
-        Ok(Some(state))
+        crate::nv::read_decoded::<RECORD_MAX, _>(store, key::TCP_IP, "TCP/IP", |b| {
+            let mut state = TcpIpState::new();
+            state.decode(b).map(|()| state)
+        })
     }
 
     /// Stores attributes 3, 5, 6, 8, 9 and 13 in `store`.
@@ -280,6 +273,9 @@ mod tests {
         );
         assert_eq!((back.ttl, back.mcast), (5, st.mcast));
         store.write(key::TCP_IP, &[RECORD_VERSION, 0]).unwrap();
+        assert_eq!(TcpIpState::stored(&mut store), Ok(None));
+        // Longer than any record of this layout: not believed either, and not an error.
+        store.write(key::TCP_IP, &[0; RECORD_MAX + 1]).unwrap();
         assert_eq!(TcpIpState::stored(&mut store), Ok(None));
     }
 
