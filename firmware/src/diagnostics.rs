@@ -12,13 +12,12 @@
 //! [`PROVOKE`] (data: one byte, a fault kind the board knows) to fault on purpose.
 
 use enip_stack::cip::context::RequestContext;
-use enip_stack::cip::object::{Access, ClassDef};
 use enip_stack::cip::request::Request;
 use enip_stack::cip::service::GET_ATTRIBUTE_SINGLE;
 use enip_stack::cip::status::{CipError, CipResult, General};
-use enip_stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
+use enip_stack::device::Front;
 use enip_stack::wire::Writer;
-use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
+use enip_stack::Device;
 
 /// The diagnostics class.
 pub const CLASS: u32 = 0x3A0;
@@ -90,57 +89,15 @@ impl<D: Device> Diagnosed<D> {
     }
 }
 
-impl<D: Device> Device for Diagnosed<D> {
-    fn identity(&self) -> &IdentityInfo {
-        self.device.identity()
+impl<D: Device> Front for Diagnosed<D> {
+    type Inner = D;
+    fn inner(&self) -> &D {
+        &self.device
     }
-    fn status_bits(&self) -> u16 {
-        self.device.status_bits()
+    fn inner_mut(&mut self) -> &mut D {
+        &mut self.device
     }
-    fn assemblies(&self) -> &[AssemblyInfo] {
-        self.device.assemblies()
-    }
-    fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
-        self.device.read_assembly(instance, out)
-    }
-    fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
-        self.device.write_assembly(instance, data)
-    }
-    fn accepts_connection_size(&self, assembly: &AssemblyInfo, data: usize) -> bool {
-        self.device.accepts_connection_size(assembly, data)
-    }
-    fn classes(&self) -> &[ClassDef] {
-        self.device.classes()
-    }
-    fn has_instance(&self, class: &ClassDef, instance: u32) -> bool {
-        self.device.has_instance(class, instance)
-    }
-    fn instance_count(&self, class: &ClassDef) -> u32 {
-        self.device.instance_count(class)
-    }
-    fn attribute_access(&self, at: &AttributeRef<'_>) -> Access {
-        self.device.attribute_access(at)
-    }
-    fn attribute_size(&self, at: &AttributeRef<'_>) -> Option<usize> {
-        self.device.attribute_size(at)
-    }
-    fn get_attribute(
-        &mut self,
-        cx: &RequestContext,
-        at: &AttributeRef<'_>,
-        w: &mut Writer<'_>,
-    ) -> CipResult {
-        self.device.get_attribute(cx, at, w)
-    }
-    fn set_attribute(
-        &mut self,
-        cx: &RequestContext,
-        at: &AttributeRef<'_>,
-        value: &[u8],
-    ) -> CipResult {
-        self.device.set_attribute(cx, at, value)
-    }
-    fn handle_request(
+    fn front_request(
         &mut self,
         cx: &RequestContext,
         req: &Request<'_>,
@@ -150,27 +107,6 @@ impl<D: Device> Device for Diagnosed<D> {
             return Some(self.serve(req, reply));
         }
         self.device.handle_request(cx, req, reply)
-    }
-    fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
-        self.device.admit(request)
-    }
-    fn connection_event(&mut self, event: ConnectionEvent) {
-        self.device.connection_event(event)
-    }
-    fn input_changes(&mut self) -> Option<&mut InputChanges> {
-        self.device.input_changes()
-    }
-    fn reset(&mut self, kind: u8) -> CipResult {
-        self.device.reset(kind)
-    }
-    fn poll(&mut self, now: Instant) -> Option<Instant> {
-        self.device.poll(now)
-    }
-    fn multicast(&self) -> Option<Multicast> {
-        self.device.multicast()
-    }
-    fn set_multicast(&mut self, multicast: Multicast) -> CipResult {
-        self.device.set_multicast(multicast)
     }
 }
 

@@ -285,6 +285,14 @@
 //!   trait's associated constant in generic code, and a const parameter costs nothing at
 //!   run time: the default build is the same code as before the sizes were parameters.
 //!
+//! # 8. A device in front of another
+//!
+//! A wrapper that changes one thing of a device it holds (another identity for each
+//! device of a simulated plant, a board's diagnostics class served before the profile's)
+//! implements [`crate::device::Front`] instead of [`Device`]: it names the inner device and
+//! takes over [`Device::identity`] or [`Device::handle_request`]; every other call goes
+//! through to the inner device, and the wrapper is a [`Device`] itself.
+//!
 //! # What the stack guarantees
 //!
 //! - **Idle data**: O->T data whose run/idle header says Idle is never written to the

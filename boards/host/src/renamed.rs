@@ -1,13 +1,8 @@
 //! [`Renamed`]: a device with its identity's serial number and product name replaced, so
 //! that the devices of a fleet running the same profile tell themselves apart.
 
-use enip_stack::cip::context::RequestContext;
-use enip_stack::cip::object::{Access, ClassDef};
-use enip_stack::cip::request::Request;
-use enip_stack::cip::status::CipResult;
-use enip_stack::device::{AttributeRef, ConnectionEvent, InputChanges, Multicast, OpenRequest};
-use enip_stack::wire::Writer;
-use enip_stack::{AssemblyInfo, Device, IdentityInfo, Instant};
+use enip_stack::device::Front;
+use enip_stack::{Device, IdentityInfo};
 
 /// Longest product name the Identity object holds (attribute 7).
 pub const MAX_PRODUCT_NAME: usize = 32;
@@ -46,91 +41,24 @@ impl<D: Device> Renamed<D> {
     }
 }
 
-impl<D: Device> Device for Renamed<D> {
-    fn identity(&self) -> &IdentityInfo {
+impl<D: Device> Front for Renamed<D> {
+    type Inner = D;
+    fn inner(&self) -> &D {
+        &self.inner
+    }
+    fn inner_mut(&mut self) -> &mut D {
+        &mut self.inner
+    }
+    fn front_identity(&self) -> &IdentityInfo {
         &self.identity
-    }
-    fn status_bits(&self) -> u16 {
-        self.inner.status_bits()
-    }
-    fn assemblies(&self) -> &[AssemblyInfo] {
-        self.inner.assemblies()
-    }
-    fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
-        self.inner.read_assembly(instance, out)
-    }
-    fn write_assembly(&mut self, instance: u16, data: &[u8]) -> CipResult {
-        self.inner.write_assembly(instance, data)
-    }
-    fn accepts_connection_size(&self, assembly: &AssemblyInfo, data: usize) -> bool {
-        self.inner.accepts_connection_size(assembly, data)
-    }
-    fn classes(&self) -> &[ClassDef] {
-        self.inner.classes()
-    }
-    fn has_instance(&self, class: &ClassDef, instance: u32) -> bool {
-        self.inner.has_instance(class, instance)
-    }
-    fn instance_count(&self, class: &ClassDef) -> u32 {
-        self.inner.instance_count(class)
-    }
-    fn attribute_access(&self, at: &AttributeRef<'_>) -> Access {
-        self.inner.attribute_access(at)
-    }
-    fn attribute_size(&self, at: &AttributeRef<'_>) -> Option<usize> {
-        self.inner.attribute_size(at)
-    }
-    fn get_attribute(
-        &mut self,
-        cx: &RequestContext,
-        at: &AttributeRef<'_>,
-        w: &mut Writer<'_>,
-    ) -> CipResult {
-        self.inner.get_attribute(cx, at, w)
-    }
-    fn set_attribute(
-        &mut self,
-        cx: &RequestContext,
-        at: &AttributeRef<'_>,
-        value: &[u8],
-    ) -> CipResult {
-        self.inner.set_attribute(cx, at, value)
-    }
-    fn handle_request(
-        &mut self,
-        cx: &RequestContext,
-        req: &Request<'_>,
-        reply: &mut Writer<'_>,
-    ) -> Option<CipResult> {
-        self.inner.handle_request(cx, req, reply)
-    }
-    fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
-        self.inner.admit(request)
-    }
-    fn connection_event(&mut self, event: ConnectionEvent) {
-        self.inner.connection_event(event)
-    }
-    fn input_changes(&mut self) -> Option<&mut InputChanges> {
-        self.inner.input_changes()
-    }
-    fn reset(&mut self, kind: u8) -> CipResult {
-        self.inner.reset(kind)
-    }
-    fn poll(&mut self, now: Instant) -> Option<Instant> {
-        self.inner.poll(now)
-    }
-    fn multicast(&self) -> Option<Multicast> {
-        self.inner.multicast()
-    }
-    fn set_multicast(&mut self, multicast: Multicast) -> CipResult {
-        self.inner.set_multicast(multicast)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use enip_stack::AssemblyRole;
+    use enip_stack::cip::status::CipResult;
+    use enip_stack::{AssemblyInfo, AssemblyRole};
 
     /// A device with one assembly, recording the calls forwarded to it.
     struct Probe(u32);

@@ -11,6 +11,7 @@ use enip_stack::wire::epath::{LogicalType, SegmentRepr};
 use enip_stack::{Adapter, NetworkConfig, SocketId};
 
 use super::*;
+use enip_stack::Instant;
 
 fn measured() -> StackUse {
     StackUse {

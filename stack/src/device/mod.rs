@@ -6,6 +6,7 @@ pub mod admission;
 pub mod connection_kind;
 pub mod electronic_key;
 pub mod events;
+pub mod front;
 pub mod inputs;
 pub mod multicast;
 
@@ -20,6 +21,7 @@ pub use admission::{Direction, OpenRequest};
 pub use connection_kind::{Kind, Trigger};
 pub use electronic_key::KeyMismatch;
 pub use events::{CloseReason, ConnectionEvent, ConnectionInfo, ConnectionPoints};
+pub use front::Front;
 pub use inputs::InputChanges;
 pub use multicast::{Multicast, MulticastConfig};
 
