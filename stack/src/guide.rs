@@ -289,9 +289,9 @@
 //!
 //! A wrapper that changes one thing of a device it holds (another identity for each
 //! device of a simulated plant, a board's diagnostics class served before the profile's)
-//! implements [`crate::device::Front`] instead of [`Device`]: it names the inner device and
-//! takes over [`Device::identity`] or [`Device::handle_request`]; every other call goes
-//! through to the inner device, and the wrapper is a [`Device`] itself.
+//! implements [`crate::device::Front`] instead of [`crate::Device`]: it names the inner device and
+//! takes over [`crate::Device::identity`] or [`crate::Device::handle_request`]; every other call goes
+//! through to the inner device, and the wrapper is a [`crate::Device`] itself.
 //!
 //! # What the stack guarantees
 //!
