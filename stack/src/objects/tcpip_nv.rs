@@ -128,7 +128,7 @@ pub(crate) fn valid_name(name: &[u8]) -> bool {
 
 impl TcpIpState {
     /// The settings stored in `store` over the factory defaults; `None` if there are none
-    /// (or they are unreadable, longer than [`RECORD_MAX`] too: logged, and the defaults hold).
+    /// (or they are unreadable, longer than its largest record too: logged, and the defaults hold).
     pub fn stored(store: &mut dyn NvStore) -> Result<Option<TcpIpState>, NvError> {
         crate::nv::read_decoded::<RECORD_MAX, _>(store, key::TCP_IP, "TCP/IP", |b| {
             let mut state = TcpIpState::new();
