@@ -1,10 +1,11 @@
 """A storm of Ethernet frames at the board, through an AF_PACKET socket on the namespace's
 link: ARP requests for the board's address from changing senders (198.18.0.100-249, each
 with its own locally administered MAC), or LLDPDUs from changing chassis (MAC addresses),
-as fast as the socket takes them, bounded by time and count.
+at most "per_second" frames a second (a TAP has no line rate of its own), bounded by time
+and count.
 
 Reads {"iface": str, "kind": "arp"|"lldp", "seconds": float, "max_frames": int,
-"target": str} as JSON from stdin. Prints one JSON line: {"kind", "frames", "seconds",
+"per_second": float, "target": str} as JSON from stdin. Prints one JSON line: {"kind", "frames", "seconds",
 "frames_per_second"}.
 """
 import json
@@ -48,8 +49,13 @@ start = time.monotonic()
 end = start + req["seconds"]
 sent = 0
 limit = req["max_frames"]
+rate = req["per_second"]
 i = 0
 while sent < limit and time.monotonic() < end:
+    # Paced a batch at a time: ahead of the rate, wait until it catches up.
+    ahead = sent / rate - (time.monotonic() - start)
+    if ahead > 0:
+        time.sleep(ahead)
     for _ in range(min(256, limit - sent)):
         try:
             s.send(frames[i])

@@ -23,7 +23,7 @@ use host_tests::rig::{Rig, BOARD_IP, HOST_IP, TAP};
 use host_tests::scanner::Session;
 
 /// Datagrams or frames a flood sends per second at most: minimum-size frames at 100 Mbit/s.
-const LINE_RATE: f64 = 148_800.0;
+pub const LINE_RATE: f64 = 148_800.0;
 /// The wrong source of forged O->T datagrams with the load's own connection IDs.
 const WRONG_SOURCE: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 3);
 /// The forged O->T data: what the owner's output assembly must never hold afterwards
@@ -53,29 +53,40 @@ fn line_rate_bound(until: Instant) -> u64 {
     .ceil() as u64
 }
 
-/// Sends `next(i)` to `to` from `s` as fast as the kernel takes them until `until` (bounded
-/// by line rate's count); returns what was sent.
+/// Sends `next(i)` to `to` from `s` until `until`, paced to `per_second` datagrams a second
+/// (a TAP has no line rate of its own: unpaced, this machine sends twice what 100 Mbit/s
+/// carries, which no Ethernet port of the adapter would ever see); returns what was sent.
 fn blast(
     s: &UdpSocket,
     to: SocketAddrV4,
     until: Instant,
+    per_second: f64,
     mut next: impl FnMut(u64) -> Vec<u8>,
 ) -> u64 {
-    let bound = line_rate_bound(until);
+    let start = Instant::now();
     let mut sent = 0;
-    while sent < bound && Instant::now() < until {
+    loop {
+        let now = Instant::now();
+        if now >= until {
+            return sent;
+        }
+        let allowed = (per_second * now.duration_since(start).as_secs_f64()) as u64 + 1;
+        if sent >= allowed {
+            std::thread::yield_now();
+            continue;
+        }
         // A full TAP queue refuses some: counted as not sent.
         if s.send_to(&next(sent), to).is_ok() {
             sent += 1;
         }
     }
-    sent
 }
 
-/// Forged O->T on UDP 2222 until `until`, a third of the time each: valid-looking datagrams
-/// with unknown connection IDs, the load's own O->T IDs (data [`FORGED_DATA`], sequence
-/// numbers far ahead) from [`WRONG_SOURCE`], and truncated ones.
-pub fn forged_io(f: &Flood<'_>, until: Instant) -> Value {
+/// Forged O->T on UDP 2222 until `until` at `per_second` datagrams a second, a third of the
+/// time each: valid-looking datagrams with unknown connection IDs, the load's own O->T IDs
+/// (data [`FORGED_DATA`], sequence numbers far ahead) from [`WRONG_SOURCE`], and truncated
+/// ones.
+pub fn forged_io(f: &Flood<'_>, until: Instant, per_second: f64) -> Value {
     pin_flooder_thread();
     // Already there from an earlier flood of the same run: fine.
     let _ =
@@ -91,15 +102,15 @@ pub fn forged_io(f: &Flood<'_>, until: Instant) -> Value {
             .expect("datagram");
         buf[..len.unwrap_or(n).min(n)].to_vec()
     };
-    let unknown = blast(&host, to, start + third, |i| {
+    let unknown = blast(&host, to, start + third, per_second, |i| {
         datagram(0x0BAD_0000 + (i % 4096) as u32, i as u32, None)
     });
     let ids: Vec<u32> = f.opened.iter().map(|c| c.o_t_id).collect();
-    let wrong_source = blast(&wrong, to, start + third * 2, |i| {
+    let wrong_source = blast(&wrong, to, start + third * 2, per_second, |i| {
         let id = ids[(i as usize) % ids.len()];
         datagram(id, 1_000_000 + i as u32, None)
     });
-    let truncated = blast(&host, to, until, |i| {
+    let truncated = blast(&host, to, until, per_second, |i| {
         datagram(
             ids[(i as usize) % ids.len()],
             1_000_000 + i as u32,
@@ -143,9 +154,10 @@ fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// Malformed and unicast requests on UDP 44818 until `until`: garbage, cut headers, unknown
-/// commands, and ListServices, ListIdentity and NOP requests; replies counted.
-pub fn malformed_encapsulation(f: &Flood<'_>, until: Instant) -> Value {
+/// Malformed and unicast requests on UDP 44818 until `until` at `per_second` a second:
+/// garbage, cut headers, unknown commands, and ListServices, ListIdentity and NOP requests;
+/// replies counted.
+pub fn malformed_encapsulation(f: &Flood<'_>, until: Instant, per_second: f64) -> Value {
     pin_flooder_thread();
     let _ = f;
     let s = UdpSocket::bind(SocketAddrV4::new(HOST_IP, 0)).expect("bind");
@@ -177,7 +189,7 @@ pub fn malformed_encapsulation(f: &Flood<'_>, until: Instant) -> Value {
     while Instant::now() < until {
         let slice = (Instant::now() + Duration::from_millis(10)).min(until);
         let from = sent;
-        sent += blast(&s, to, slice, |i| request(from + i));
+        sent += blast(&s, to, slice, per_second, |i| request(from + i));
         drain(&s);
     }
     std::thread::sleep(Duration::from_millis(100));
@@ -200,8 +212,8 @@ pub fn malformed_encapsulation(f: &Flood<'_>, until: Instant) -> Value {
 fn faults_flood_udp() {
     let len = phase_length();
     let rig = Rig::start(&common::host_bin(), "generic", None).expect("rig");
-    let io = |f: &Flood<'_>| forged_io(f, f.until);
-    let encap = |f: &Flood<'_>| malformed_encapsulation(f, f.until);
+    let io = |f: &Flood<'_>| forged_io(f, f.until, LINE_RATE);
+    let encap = |f: &Flood<'_>| malformed_encapsulation(f, f.until, LINE_RATE);
     let run = flood_run(
         &rig,
         "enip-host",
@@ -229,6 +241,7 @@ fn frame_storm(f: &Flood<'_>, kind: &str) -> Value {
         "kind": kind,
         "seconds": secs.as_secs_f64(),
         "max_frames": line_rate_bound(f.until),
+        "per_second": LINE_RATE,
         "target": BOARD_IP.to_string(),
     });
     let mut cmd = f.ns.command("taskset");
