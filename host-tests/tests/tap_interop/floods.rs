@@ -2,7 +2,7 @@
 //! `floods_load.rs` and compared with the same load without it in the same run: SYN floods
 //! on TCP 44818 from Debian's `hping3` (moderate and at line rate), and a broadcast
 //! ListIdentity storm; and the SYN and UDP floods, shorter, on the emulated board. The UDP
-//! floods and the frame-level storms are in `floods_udp.rs`.
+//! floods and the frame-level storms are in `floods_datagrams.rs`.
 //!
 //! The SYN floods come from an address nobody answers for (198.18.0.77), as an attacker's
 //! forged SYNs do: no RST ever frees the board's half-open sockets, so what frees them is
@@ -20,7 +20,7 @@ use serde_json::{json, Value};
 
 use crate::common;
 use crate::floods_load::{flood_run, phase, pin_flooder_thread, Flood, QEMU_RPI, RPI};
-use crate::floods_udp::{forged_io, malformed_encapsulation};
+use crate::floods_datagrams::{forged_io, malformed_encapsulation};
 use enip_stack::config::LIST_IDENTITY_UDP_BYTES_PER_SECOND;
 use host_tests::enip::{command, Header};
 use host_tests::faults::count;
