@@ -19,8 +19,8 @@ use std::time::{Duration, Instant};
 use serde_json::{json, Value};
 
 use crate::common;
-use crate::floods_load::{flood_run, phase, pin_flooder_thread, Flood, QEMU_RPI, RPI};
 use crate::floods_datagrams::{forged_io, malformed_encapsulation};
+use crate::floods_load::{flood_run, phase, pin_flooder_thread, Flood, QEMU_RPI, RPI};
 use enip_stack::config::LIST_IDENTITY_UDP_BYTES_PER_SECOND;
 use host_tests::enip::{command, Header};
 use host_tests::faults::count;
