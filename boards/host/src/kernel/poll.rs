@@ -7,7 +7,9 @@
 //! devices), and a wait must cost what became ready, not what is watched: `ppoll` copies and
 //! scans the whole set at every wake-up, `epoll` hands back only the ready ones with their
 //! key. Its interest is changed only when a TCP session's changes (a reply waiting for
-//! room), and `epoll_pwait2` takes a `timespec`, so deadlines are kept to the microsecond.
+//! room), and `epoll_pwait2` takes a `timespec`, so deadlines are kept to the microsecond
+//! (where it is missing, before Linux 5.11 or under valgrind, `epoll_wait` to the
+//! millisecond, rounded up).
 
 use std::io;
 use std::os::fd::{AsRawFd, FromRawFd, OwnedFd, RawFd};
@@ -47,6 +49,9 @@ pub struct Ready {
 pub struct Epoll {
     fd: OwnedFd,
     events: Vec<libc::epoll_event>,
+    /// `epoll_pwait2` is missing (kernels before 5.11, valgrind): `epoll_wait` with the
+    /// timeout rounded up to the millisecond instead.
+    whole_ms: bool,
 }
 
 impl Epoll {
@@ -63,6 +68,7 @@ impl Epoll {
         Ok(Epoll {
             fd,
             events: vec![empty; batch.max(1)],
+            whole_ms: false,
         })
     }
 
@@ -105,27 +111,15 @@ impl Epoll {
         timeout: Option<Duration>,
         mut ready: impl FnMut(Ready),
     ) -> io::Result<()> {
-        let ts = timeout.map(|t| libc::timespec {
-            tv_sec: libc::time_t::try_from(t.as_secs()).unwrap_or(libc::time_t::MAX),
-            tv_nsec: t.subsec_nanos() as libc::c_long,
-        });
-        let ts_ptr = ts.as_ref().map_or(std::ptr::null(), |t| t as *const _);
-        let max = libc::c_int::try_from(self.events.len()).unwrap_or(libc::c_int::MAX);
-        // SAFETY: `events` holds `max` writable entries, `ts_ptr` is null or points to a
-        // timespec that outlives the call, and a null signal mask leaves the mask unchanged.
-        let n = unsafe {
-            libc::epoll_pwait2(
-                self.fd.as_raw_fd(),
-                self.events.as_mut_ptr(),
-                max,
-                ts_ptr,
-                std::ptr::null(),
-            )
-        };
+        let n = self.wait_raw(timeout);
         let n = match usize::try_from(n) {
             Ok(n) => n,
             Err(_) => {
                 let e = io::Error::last_os_error();
+                if e.raw_os_error() == Some(libc::ENOSYS) && !self.whole_ms {
+                    self.whole_ms = true;
+                    return self.wait(timeout, ready);
+                }
                 return if e.kind() == io::ErrorKind::Interrupted {
                     Ok(())
                 } else {
@@ -142,5 +136,37 @@ impl Epoll {
             });
         }
         Ok(())
+    }
+
+    /// One wait into `events`: the count ready, or -1 with `errno` set.
+    fn wait_raw(&mut self, timeout: Option<Duration>) -> libc::c_int {
+        let max = libc::c_int::try_from(self.events.len()).unwrap_or(libc::c_int::MAX);
+        if self.whole_ms {
+            // Rounded up: a deadline is never woken for early.
+            let ms = timeout.map_or(-1, |t| {
+                let ms = t.as_nanos().div_ceil(1_000_000);
+                libc::c_int::try_from(ms).unwrap_or(libc::c_int::MAX)
+            });
+            // SAFETY: `events` holds `max` writable entries.
+            return unsafe {
+                libc::epoll_wait(self.fd.as_raw_fd(), self.events.as_mut_ptr(), max, ms)
+            };
+        }
+        let ts = timeout.map(|t| libc::timespec {
+            tv_sec: libc::time_t::try_from(t.as_secs()).unwrap_or(libc::time_t::MAX),
+            tv_nsec: t.subsec_nanos() as libc::c_long,
+        });
+        let ts_ptr = ts.as_ref().map_or(std::ptr::null(), |t| t as *const _);
+        // SAFETY: `events` holds `max` writable entries, `ts_ptr` is null or points to a
+        // timespec that outlives the call, and a null signal mask leaves the mask unchanged.
+        unsafe {
+            libc::epoll_pwait2(
+                self.fd.as_raw_fd(),
+                self.events.as_mut_ptr(),
+                max,
+                ts_ptr,
+                std::ptr::null(),
+            )
+        }
     }
 }
