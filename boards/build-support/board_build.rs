@@ -46,12 +46,29 @@ fn link_with_top_level_memory_map() {
 /// directory (the workspace root, holding the STM32 map) before any search path. So this
 /// writes `OUT_DIR/board-link.x`: the board's map followed by cortex-m-rt's `link.x` without
 /// that line. cortex-m-rt's build script has run before this one (it declares `links`).
-#[allow(dead_code)] // each board uses one of the two link set-ups
+#[allow(dead_code)] // each board uses one of the link set-ups
 fn link_with_own_memory_map(memory_x: &str) {
+    link_own(memory_x, false);
+}
+
+/// [`link_with_own_memory_map`] for a board whose HAL gives cortex-m-rt its `device` feature
+/// (the interrupt vectors of `device.x`, which the HAL's PAC puts on the search path): the
+/// STM32 boards other than the F767.
+#[allow(dead_code)] // each board uses one of the link set-ups
+fn link_with_own_memory_map_and_device(memory_x: &str) {
+    link_own(memory_x, true);
+}
+
+/// Writes `OUT_DIR/board-link.x` from `memory_x` and the `link.x` of the cortex-m-rt built
+/// with (`device`) or without its `device` feature, and links the board's binaries with it.
+/// The search path reaches the crates that depend on the board too: their build script
+/// links their binaries with `-Tboard-link.x`.
+#[allow(dead_code)] // each board uses one of the link set-ups
+fn link_own(memory_x: &str, device: bool) {
     let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
     let source = manifest.join(memory_x);
     let map = fs::read_to_string(&source).unwrap_or_else(|e| panic!("{}: {e}", source.display()));
-    let rt_link = cortex_m_rt_link_x();
+    let rt_link = cortex_m_rt_link_x(device);
     let rt = fs::read_to_string(&rt_link).unwrap_or_else(|e| panic!("{}: {e}", rt_link.display()));
     let body: Vec<&str> = rt.lines().filter(|l| l.trim() != "INCLUDE memory.x").collect();
     assert!(body.len() < rt.lines().count(), "{}: no INCLUDE memory.x", rt_link.display());
@@ -65,8 +82,9 @@ fn link_with_own_memory_map(memory_x: &str) {
 }
 
 /// The newest `link.x` written by a cortex-m-rt build script next to this one, among those
-/// built without the `device` feature (the other boards' builds have it; this one does not).
-fn cortex_m_rt_link_x() -> PathBuf {
+/// built with the `device` feature if `device` (the STM32 boards' builds), else without it.
+#[allow(dead_code)] // each board uses one of the link set-ups
+fn cortex_m_rt_link_x(device: bool) -> PathBuf {
     let out = out_dir();
     let build = out
         .parent()
@@ -77,7 +95,7 @@ fn cortex_m_rt_link_x() -> PathBuf {
         .filter_map(Result::ok)
         .filter(|e| e.file_name().to_string_lossy().starts_with("cortex-m-rt-"))
         .map(|e| e.path().join("out/link.x"))
-        .filter(|p| fs::read_to_string(p).is_ok_and(|s| !s.contains("INCLUDE device.x")))
+        .filter(|p| fs::read_to_string(p).is_ok_and(|s| s.contains("INCLUDE device.x") == device))
         .filter_map(|p| Some((fs::metadata(&p).ok()?.modified().ok()?, p)))
         .max()
         .map(|(_, p)| p)

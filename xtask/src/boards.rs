@@ -12,6 +12,14 @@ pub const NUCLEO: &str = "enip-nucleo-f767zi";
 pub const QEMU: &str = "enip-qemu-mps2";
 /// The example firmware: the I/O block on the NUCLEO-F767ZI through the board's library.
 pub const EXAMPLE_NUCLEO: &str = "io-block-nucleo";
+/// The NUCLEO-H743ZI board crate.
+pub const NUCLEO_H743: &str = "enip-nucleo-h743zi";
+/// The I/O block on the NUCLEO-H743ZI.
+pub const EXAMPLE_NUCLEO_H743: &str = "io-block-nucleo-h743zi";
+/// The NUCLEO-H563ZI board crate (Cortex-M33).
+pub const NUCLEO_H563: &str = "enip-nucleo-h563zi";
+/// The I/O block on the NUCLEO-H563ZI.
+pub const EXAMPLE_NUCLEO_H563: &str = "io-block-nucleo-h563zi";
 /// The profile a board runs unless told otherwise.
 pub const DEFAULT_PROFILE: &str = "generic";
 
@@ -32,15 +40,24 @@ pub fn profiles(metadata: &Metadata) -> Result<Vec<String>> {
     Ok(names)
 }
 
+/// The target `board` builds for: the Cortex-M33 boards' [`setup::V8M_TARGET`], else
+/// [`THUMB_TARGET`].
+pub fn target(board: &str) -> &'static str {
+    match board {
+        NUCLEO_H563 | EXAMPLE_NUCLEO_H563 => setup::V8M_TARGET,
+        _ => THUMB_TARGET,
+    }
+}
+
 /// The release ELF of `board` (its binary has the crate's name).
 pub fn elf(board: &str) -> PathBuf {
     util::target_dir()
-        .join(THUMB_TARGET)
+        .join(target(board))
         .join("release")
         .join(board)
 }
 
-/// Builds `board` in release for the Cortex-M target, running `profile` (its
+/// Builds `board` in release for its Cortex-M target ([`target`]), running `profile` (its
 /// `profile-NAME` feature; the default profile needs none); returns the ELF.
 pub fn build(board: &str, profile: &str) -> Result<PathBuf> {
     build_with(board, profile, &[])
@@ -54,7 +71,7 @@ pub fn build_with(board: &str, profile: &str, env: &[(&str, &str)]) -> Result<Pa
     // The boards link through it (`.cargo/config.toml`).
     setup::flip_link()?;
     let mut cargo = util::cargo();
-    cargo.args(["build", "-p", board, "--release", "--target", THUMB_TARGET]);
+    cargo.args(["build", "-p", board, "--release", "--target", target(board)]);
     cargo.envs(env.iter().copied());
     if profile != DEFAULT_PROFILE {
         cargo.args(["--features", &format!("profile-{profile}")]);
@@ -73,7 +90,7 @@ pub fn faults_image() -> Result<PathBuf> {
     Ok(elf)
 }
 
-/// Clippy on `board` as it is built (release, Cortex-M target), warnings denied.
+/// Clippy on `board` as it is built (release, its Cortex-M target), warnings denied.
 pub fn clippy(board: &str) -> Result {
     run(util::cargo().args([
         "clippy",
@@ -81,7 +98,7 @@ pub fn clippy(board: &str) -> Result {
         board,
         "--release",
         "--target",
-        THUMB_TARGET,
+        target(board),
         "--",
         "-D",
         "warnings",
