@@ -109,14 +109,14 @@ pub fn clippy(board: &str) -> Result {
 mod tests {
     use super::*;
 
-    /// Every profile can be chosen on both embedded boards (a `profile-NAME` feature
+    /// Every profile can be chosen on every embedded board (a `profile-NAME` feature
     /// enabling the profiles crate's `NAME`) and is compiled into `enip-host` by default.
     #[test]
     fn every_profile_has_a_board_feature() {
         let metadata = Metadata::read().unwrap();
         let names = profiles(&metadata).unwrap();
         assert!(names.contains(&DEFAULT_PROFILE.to_string()), "{names:?}");
-        for board in [NUCLEO, QEMU, "enip-host"] {
+        for board in [NUCLEO, QEMU, NUCLEO_H743, NUCLEO_H563, "enip-host"] {
             for name in &names {
                 let feature = format!("profile-{name}");
                 let enables = metadata.feature(board, &feature).unwrap();
@@ -134,6 +134,25 @@ mod tests {
                 defaults.contains(&feature),
                 "enip-host's defaults lack {feature}"
             );
+        }
+    }
+
+    /// The Cortex-M33 boards build for thumbv8m.main, the others for thumbv7em, and their
+    /// ELF is under their target's directory.
+    #[test]
+    fn each_board_builds_for_its_core() {
+        for board in [NUCLEO_H563, EXAMPLE_NUCLEO_H563] {
+            assert_eq!(target(board), "thumbv8m.main-none-eabihf");
+            assert!(elf(board).starts_with(util::target_dir().join(setup::V8M_TARGET)));
+        }
+        for board in [
+            NUCLEO,
+            QEMU,
+            EXAMPLE_NUCLEO,
+            NUCLEO_H743,
+            EXAMPLE_NUCLEO_H743,
+        ] {
+            assert_eq!(target(board), THUMB_TARGET);
         }
     }
 }

@@ -4,7 +4,7 @@
 //! implementation. `memory.x` keeps the program in bank 1.
 //!
 //! The store's image (2 KiB) fits an 8 KiB sector, so a save erases 8 KiB only: a
-//! stall of milliseconds (the datasheet's sector erase time), not the second a 128 KiB
+//! stall expected in milliseconds (not measured here), not the second a 128 KiB
 //! sector of the H743 or the 256 KiB one of the F767 takes. The store's save is
 //! synchronous: the executor, and with it Class 1, waits for that erase and the programming;
 //! bank 2 being erased while bank 1 stays readable, the CPU keeps fetching instructions and

@@ -13,16 +13,16 @@
 //! }
 //! ```
 //!
-//! [`run`] initialises the chip (400 MHz, [`clocks`]), builds the embassy-net stack over the
-//! on-chip Ethernet MAC (RMII to the LAN8742A PHY at address 0, `GenericPhy` over MDIO: the
-//! link state is the PHY's) with the MAC address derived from the chip's unique ID and the
-//! network seed from the RNG, mounts the non-volatile store in flash bank 2 ([`nv_flash`]),
-//! gives the MAC to the link task (Class 1 I/O, then every other frame on to embassy-net),
-//! runs the adapter (shared in the firmware's `static` [`AdapterCell`]) and shows the ODVA
-//! Module and Network Status on the LEDs ([`leds`]). Logs are defmt over RTT; an Identity
-//! Reset restarts the chip. The firmware's build script links with this crate's `memory.x`
-//! (program in bank 1, RAM in the AXI SRAM the Ethernet DMA reaches), cortex-m-rt's `link.x`
-//! and defmt's `defmt.x`, through flip-link (the stack below the statics).
+//! [`run`] initialises the chip (400 MHz: the `clocks` module), builds the embassy-net stack
+//! over the on-chip Ethernet MAC (RMII to the LAN8742A PHY at address 0, `GenericPhy` over
+//! MDIO: the link state is the PHY's) with the MAC address derived from the chip's unique ID
+//! and the network seed from the RNG, mounts the non-volatile store in flash bank 2
+//! ([`nv_flash`]), gives the MAC to the link task (Class 1 I/O, then every other frame on to
+//! embassy-net), runs the adapter (shared in the firmware's `static` [`AdapterCell`]) and shows
+//! the ODVA Module and Network Status on the LEDs ([`leds`]). Logs are defmt over RTT; an
+//! Identity Reset restarts the chip. The firmware's build script links with this crate's
+//! `memory.x` (program in bank 1, RAM in the AXI SRAM the Ethernet DMA reaches), cortex-m-rt's
+//! `link.x` and defmt's `defmt.x`, through flip-link (the stack below the statics).
 //!
 //! The call stack is painted at boot ([`stack`]). The independent watchdog (IWDG1) is fed
 //! while the executor and the link task run, with a timeout ([`WATCHDOG_TIMEOUT_US`]) above

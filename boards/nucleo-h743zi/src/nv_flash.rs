@@ -6,8 +6,8 @@
 //! Bank 2 is erased while bank 1 stays readable, so the CPU is not stalled on instruction
 //! fetches during an erase: interrupts are taken (the MAC's DMA keeps filling its receive
 //! descriptors, the time driver keeps time). The store's save is synchronous, though: the
-//! executor waits in the driver's busy loop for the whole erase of a 128 KiB sector (about a
-//! second; the datasheet's t_ERASE128KB), so Class 1 production and the watchdog's feeding
+//! executor waits in the driver's busy loop for the whole erase of a 128 KiB sector (on the
+//! order of a second; not measured here), so Class 1 production and the watchdog's feeding
 //! pause for that long at every save. Saves happen only when a scanner sets a stored
 //! attribute (TCP/IP attributes 3, 5, 6, 13) or resets to factory defaults; the A/B scheme
 //! makes a power cut during one harmless. The D-cache is off (embassy-stm32 leaves it so),
