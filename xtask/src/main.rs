@@ -71,7 +71,7 @@ commands:
                       at 10 ms and an explicit request a second on each, S s each (default 30)
   modules             the module check: no cycle among the stack's modules, the profiles
                       or the files of one profile (part of test)
-  footprint           the boards' release image sizes and the F767 budget (part of bench)
+  footprint           the boards' release image sizes and their budgets (part of bench)
   smoke               the QEMU smoke run alone (part of test)
   faults              the long fault tests (link flap, Reset, churn, idle sockets, vanishing
                       scanner, 10-minute soak, floods); figures in target/faults/report.json
