@@ -48,10 +48,25 @@ fn link_with_top_level_memory_map() {
 /// that line. cortex-m-rt's build script has run before this one (it declares `links`).
 #[allow(dead_code)] // each board uses one of the two link set-ups
 fn link_with_own_memory_map(memory_x: &str) {
+    link_with_map(memory_x, false);
+}
+
+/// [`link_with_own_memory_map`] for a board whose peripheral access crate gives cortex-m-rt
+/// its `device.x` (the interrupt vectors): cortex-m-rt's `link.x` built with that feature.
+/// `board-link.x` is in this crate's `OUT_DIR`, on the link search path of every firmware
+/// built on the board, which links with `-Tboard-link.x` too.
+#[allow(dead_code)] // each board uses one of the link set-ups
+fn link_with_own_device_memory_map(memory_x: &str) {
+    link_with_map(memory_x, true);
+}
+
+/// Writes and links `board-link.x`: `memory_x` then cortex-m-rt's `link.x`, the one built
+/// with the `device` feature if `device`.
+fn link_with_map(memory_x: &str, device: bool) {
     let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
     let source = manifest.join(memory_x);
     let map = fs::read_to_string(&source).unwrap_or_else(|e| panic!("{}: {e}", source.display()));
-    let rt_link = cortex_m_rt_link_x();
+    let rt_link = cortex_m_rt_link_x(device);
     let rt = fs::read_to_string(&rt_link).unwrap_or_else(|e| panic!("{}: {e}", rt_link.display()));
     let body: Vec<&str> = rt.lines().filter(|l| l.trim() != "INCLUDE memory.x").collect();
     assert!(body.len() < rt.lines().count(), "{}: no INCLUDE memory.x", rt_link.display());
@@ -65,8 +80,9 @@ fn link_with_own_memory_map(memory_x: &str) {
 }
 
 /// The newest `link.x` written by a cortex-m-rt build script next to this one, among those
-/// built without the `device` feature (the other boards' builds have it; this one does not).
-fn cortex_m_rt_link_x() -> PathBuf {
+/// built with the `device` feature if `device`, else without it (the STM32 boards' builds
+/// have it, the emulated board's does not).
+fn cortex_m_rt_link_x(device: bool) -> PathBuf {
     let out = out_dir();
     let build = out
         .parent()
@@ -77,7 +93,7 @@ fn cortex_m_rt_link_x() -> PathBuf {
         .filter_map(Result::ok)
         .filter(|e| e.file_name().to_string_lossy().starts_with("cortex-m-rt-"))
         .map(|e| e.path().join("out/link.x"))
-        .filter(|p| fs::read_to_string(p).is_ok_and(|s| !s.contains("INCLUDE device.x")))
+        .filter(|p| fs::read_to_string(p).is_ok_and(|s| s.contains("INCLUDE device.x") == device))
         .filter_map(|p| Some((fs::metadata(&p).ok()?.modified().ok()?, p)))
         .max()
         .map(|(_, p)| p)
