@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::setup::{self, THUMB_TARGET};
+use crate::setup::{self, THUMBV6M_TARGET, THUMB_TARGET};
 use crate::util::{self, run, Result};
 use crate::workspace::Metadata;
 
@@ -12,6 +12,10 @@ pub const NUCLEO: &str = "enip-nucleo-f767zi";
 pub const QEMU: &str = "enip-qemu-mps2";
 /// The example firmware: the I/O block on the NUCLEO-F767ZI through the board's library.
 pub const EXAMPLE_NUCLEO: &str = "io-block-nucleo";
+/// The W5500-EVB-Pico board crate (RP2040, Cortex-M0+).
+pub const PICO: &str = "enip-w5500-evb-pico";
+/// The example firmware: the I/O block on the W5500-EVB-Pico.
+pub const EXAMPLE_PICO: &str = "io-block-pico";
 /// The profile a board runs unless told otherwise.
 pub const DEFAULT_PROFILE: &str = "generic";
 
@@ -32,15 +36,23 @@ pub fn profiles(metadata: &Metadata) -> Result<Vec<String>> {
     Ok(names)
 }
 
+/// The Cortex-M target `board` builds for.
+pub fn target(board: &str) -> &'static str {
+    match board {
+        PICO | EXAMPLE_PICO => THUMBV6M_TARGET,
+        _ => THUMB_TARGET,
+    }
+}
+
 /// The release ELF of `board` (its binary has the crate's name).
 pub fn elf(board: &str) -> PathBuf {
     util::target_dir()
-        .join(THUMB_TARGET)
+        .join(target(board))
         .join("release")
         .join(board)
 }
 
-/// Builds `board` in release for the Cortex-M target, running `profile` (its
+/// Builds `board` in release for its Cortex-M target, running `profile` (its
 /// `profile-NAME` feature; the default profile needs none); returns the ELF.
 pub fn build(board: &str, profile: &str) -> Result<PathBuf> {
     build_with(board, profile, &[])
@@ -54,7 +66,7 @@ pub fn build_with(board: &str, profile: &str, env: &[(&str, &str)]) -> Result<Pa
     // The boards link through it (`.cargo/config.toml`).
     setup::flip_link()?;
     let mut cargo = util::cargo();
-    cargo.args(["build", "-p", board, "--release", "--target", THUMB_TARGET]);
+    cargo.args(["build", "-p", board, "--release", "--target", target(board)]);
     cargo.envs(env.iter().copied());
     if profile != DEFAULT_PROFILE {
         cargo.args(["--features", &format!("profile-{profile}")]);
@@ -73,7 +85,7 @@ pub fn faults_image() -> Result<PathBuf> {
     Ok(elf)
 }
 
-/// Clippy on `board` as it is built (release, Cortex-M target), warnings denied.
+/// Clippy on `board` as it is built (release, its Cortex-M target), warnings denied.
 pub fn clippy(board: &str) -> Result {
     run(util::cargo().args([
         "clippy",
@@ -81,7 +93,7 @@ pub fn clippy(board: &str) -> Result {
         board,
         "--release",
         "--target",
-        THUMB_TARGET,
+        target(board),
         "--",
         "-D",
         "warnings",
@@ -92,14 +104,22 @@ pub fn clippy(board: &str) -> Result {
 mod tests {
     use super::*;
 
-    /// Every profile can be chosen on both embedded boards (a `profile-NAME` feature
+    /// Every profile can be chosen on the embedded boards (a `profile-NAME` feature
     /// enabling the profiles crate's `NAME`) and is compiled into `enip-host` by default.
+    #[test]
+    fn the_pico_and_its_example_build_for_the_cortex_m0_plus() {
+        assert_eq!(target(PICO), "thumbv6m-none-eabi");
+        assert_eq!(target(EXAMPLE_PICO), "thumbv6m-none-eabi");
+        assert_eq!(target(NUCLEO), THUMB_TARGET);
+        assert!(elf(PICO).ends_with("thumbv6m-none-eabi/release/enip-w5500-evb-pico"));
+    }
+
     #[test]
     fn every_profile_has_a_board_feature() {
         let metadata = Metadata::read().unwrap();
         let names = profiles(&metadata).unwrap();
         assert!(names.contains(&DEFAULT_PROFILE.to_string()), "{names:?}");
-        for board in [NUCLEO, QEMU, "enip-host"] {
+        for board in [NUCLEO, QEMU, PICO, "enip-host"] {
             for name in &names {
                 let feature = format!("profile-{name}");
                 let enables = metadata.feature(board, &feature).unwrap();

@@ -9,6 +9,8 @@ use crate::util::{self, err, have, loud, output, run, run_quiet, Result};
 
 /// The cross target the firmware and boards build for.
 pub const THUMB_TARGET: &str = "thumbv7em-none-eabihf";
+/// The Cortex-M0+ target of the W5500-EVB-Pico (RP2040).
+pub const THUMBV6M_TARGET: &str = "thumbv6m-none-eabi";
 /// The toolchain `cargo fuzz` needs.
 pub const NIGHTLY: &str = "nightly";
 /// Python peers for the interop tests, pinned; installed into [`venv_dir`].
@@ -72,16 +74,18 @@ fn probe_ok(probe: &[&str]) -> bool {
     have(prog) && run_quiet(Command::new(prog).args(args)).is_ok()
 }
 
-/// Adds the Cortex-M target to the active toolchain if it is missing, and the linker the
+/// Adds the Cortex-M targets to the active toolchain if they are missing, and the linker the
 /// embedded boards link with ([`flip_link`]).
 pub fn rust_target() -> Result {
     flip_link()?;
     let installed =
         output(Command::new("rustup").args(["target", "list", "--installed"])).unwrap_or_default();
-    if installed.lines().any(|l| l.trim() == THUMB_TARGET) {
-        return Ok(());
+    for target in [THUMB_TARGET, THUMBV6M_TARGET] {
+        if !installed.lines().any(|l| l.trim() == target) {
+            run(Command::new("rustup").args(["target", "add", target]))?;
+        }
     }
-    run(Command::new("rustup").args(["target", "add", THUMB_TARGET]))
+    Ok(())
 }
 
 /// Installs `flip-link` from crates.io if it is missing: `.cargo/config.toml` names it as the
