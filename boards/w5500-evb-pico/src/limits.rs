@@ -46,7 +46,9 @@ pub const CLOCKS_PER_BYTE: u32 = 10;
 pub const TRANSACTION_US: u32 = 15;
 /// Processor time of the link task and the adapter per Class 1 cycle, us (estimate): the
 /// emulated Cortex-M4 runs 3 824 instructions a cycle (README, bench); Thumb-1 code takes
-/// about 1.5 times as many, at about 2 cycles each from the XIP cache at 125 MHz: 92 us.
+/// about 1.5 times as many (counted in the two images' code: 1.46 times the NUCLEO's
+/// instructions for the stack's functions, 1.55 for the firmware's), at about 2 cycles each
+/// from the XIP cache at 125 MHz: 92 us.
 pub const CYCLE_CPU_US: u32 = 100;
 /// Share of the board's time Class 1 may take at the floor, percent.
 pub const CLASS1_SHARE_PERCENT: u32 = 50;
