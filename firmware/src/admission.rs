@@ -127,6 +127,100 @@ mod tests {
         assert_eq!(device.admit(&request(Kind::Explicit, 1_000, 34)), Ok(()));
     }
 
+    /// Sends a Forward_Open for the generic profile's exclusive owner (151/150/100, 32 bytes
+    /// each way) at `rpi_us` to an adapter over `device`; returns the reply's general status
+    /// and additional status words.
+    fn open_at<D: Device>(device: D, rpi_us: u32) -> (u8, heapless::Vec<u16, 8>) {
+        use core::net::SocketAddrV4;
+        use enip_stack::config::MAX_ENCAP_FRAME;
+        use enip_stack::originator::{self, parse_reply};
+        use enip_stack::wire::encap::EncapRepr;
+        use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+        use enip_stack::wire::forward_open::ForwardOpenRepr;
+        use enip_stack::wire::Writer;
+        use enip_stack::{Adapter, Instant, NetworkConfig, SocketId};
+
+        let net = NetworkConfig::new_static(
+            Ipv4Addr::new(198, 18, 0, 2),
+            Ipv4Addr::new(255, 255, 255, 0),
+            [2, 0, 0, 0, 0, 1],
+        );
+        let mut a = Adapter::new(device, net, 7);
+        let peer = SocketAddrV4::new(Ipv4Addr::new(198, 18, 0, 1), 50000);
+        a.tcp_accept(SocketId(0), peer, Instant(0));
+        let mut frame = [0u8; 256];
+        let mut reply = [0u8; MAX_ENCAP_FRAME];
+        let n = originator::register_session(&mut frame).unwrap();
+        let out = a.tcp_receive(SocketId(0), &frame[..n], Instant(0), &mut reply);
+        let session = EncapRepr::parse_header(&reply[..out.reply_len])
+            .unwrap()
+            .session_handle;
+        let fo = ForwardOpenRepr {
+            large: false,
+            priority_tick: 0x0A,
+            timeout_ticks: 0x0E,
+            o_t_connection_id: 0,
+            t_o_connection_id: 0x4C00_0001,
+            triad: Triad {
+                connection_serial: 1,
+                vendor_id: 0xBEEF,
+                originator_serial: 0x7E57,
+            },
+            timeout_multiplier: 2,
+            o_t_rpi: rpi_us,
+            o_t_params: NetworkParams::from_u16(0x4800 | 38),
+            t_o_rpi: rpi_us,
+            t_o_params: NetworkParams::from_u16(0x4800 | 34),
+            transport: 0x01,
+            path: &[0x20, 0x04, 0x24, 151, 0x2C, 150, 0x2C, 100],
+        };
+        let mut data = [0u8; 128];
+        let mut w = Writer::new(&mut data);
+        fo.emit(&mut w).unwrap();
+        let len = w.len();
+        let cm = [
+            SegmentRepr::Logical(LogicalType::Class, 6),
+            SegmentRepr::Logical(LogicalType::Instance, 1),
+        ];
+        let n = originator::send_rr_data(&mut frame, session, None, |w| {
+            originator::request(w, 0x54, &cm, &data[..len])
+        })
+        .unwrap();
+        let out = a.tcp_receive(SocketId(0), &frame[..n], Instant(0), &mut reply);
+        let r = parse_reply(&reply[..out.reply_len])
+            .unwrap()
+            .response
+            .unwrap();
+        let words = r
+            .additional_status
+            .chunks_exact(2)
+            .map(|c| u16::from_le_bytes([c[0], c[1]]))
+            .collect();
+        (r.general_status, words)
+    }
+
+    #[test]
+    fn a_forward_open_below_the_floor_is_refused_through_the_adapter() {
+        use crate::diagnostics::{Diagnosed, Platform, StackUse};
+        let platform = Platform {
+            stack: || StackUse {
+                size: 0,
+                painted: 0,
+                deepest: 0,
+            },
+            provoke: None,
+        };
+        // As a board stacks them: its diagnostics in front of its floor in front of the device.
+        let board = || Diagnosed::new(RpiFloor::new(Generic::new(), |_| 8_000), platform);
+        let (status, words) = open_at(board(), 1_000);
+        assert_eq!(status, 0x01);
+        assert_eq!(words[0], RPI_NOT_ACCEPTABLE);
+        assert_eq!((words[2], words[4]), (8_000, 8_000));
+        assert_eq!(open_at(board(), 8_000), (0, heapless::Vec::new()));
+        // Without the floor the stack's own minimum (1 ms) is all that holds.
+        assert_eq!(open_at(Generic::new(), 1_000), (0, heapless::Vec::new()));
+    }
+
     #[test]
     fn a_floor_above_the_largest_rpi_is_the_largest_rpi() {
         let mut device = RpiFloor::new(Generic::new(), |_| u32::MAX);
