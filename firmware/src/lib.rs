@@ -16,6 +16,7 @@
 //!   and the embassy-net stack needs [`SOCKETS`] sockets (build its resources with
 //!   [`stack_resources`], which refuses fewer);
 //! - [`indicators`] shows the ODVA Module and Network Status on the board's LEDs;
+//! - [`admission`] holds Class 1 connections to the RPI the board can sustain ([`RpiFloor`]);
 //! - [`diagnostics`] puts the board's own object (its call stack's high-water mark) in front of
 //!   the device profile, and [`watchdog`] feeds a hardware watchdog while the link task runs.
 #![no_std]
@@ -39,6 +40,7 @@
 #[macro_use(debug, info, warn, error)]
 extern crate enip_stack;
 
+pub mod admission;
 mod clock;
 mod device_tick;
 pub mod diagnostics;
@@ -54,6 +56,7 @@ mod tcp_accept;
 mod udp;
 pub mod watchdog;
 
+pub use admission::RpiFloor;
 pub use diagnostics::Diagnosed;
 pub use netif::network_config;
 pub use resources::{stack_resources, Resources, SOCKETS};

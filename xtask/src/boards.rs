@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::setup::{self, THUMB_TARGET};
+use crate::setup::{self, THUMBV6M_TARGET, THUMB_TARGET};
 use crate::util::{self, run, Result};
 use crate::workspace::Metadata;
 
@@ -20,6 +20,10 @@ pub const EXAMPLE_NUCLEO_H743: &str = "io-block-nucleo-h743zi";
 pub const NUCLEO_H563: &str = "enip-nucleo-h563zi";
 /// The I/O block on the NUCLEO-H563ZI.
 pub const EXAMPLE_NUCLEO_H563: &str = "io-block-nucleo-h563zi";
+/// The W5500-EVB-Pico board crate (RP2040, Cortex-M0+).
+pub const PICO: &str = "enip-w5500-evb-pico";
+/// The example firmware: the I/O block on the W5500-EVB-Pico.
+pub const EXAMPLE_PICO: &str = "io-block-pico";
 /// The profile a board runs unless told otherwise.
 pub const DEFAULT_PROFILE: &str = "generic";
 
@@ -45,6 +49,7 @@ pub fn profiles(metadata: &Metadata) -> Result<Vec<String>> {
 pub fn target(board: &str) -> &'static str {
     match board {
         NUCLEO_H563 | EXAMPLE_NUCLEO_H563 => setup::V8M_TARGET,
+        PICO | EXAMPLE_PICO => THUMBV6M_TARGET,
         _ => THUMB_TARGET,
     }
 }
@@ -112,11 +117,19 @@ mod tests {
     /// Every profile can be chosen on every embedded board (a `profile-NAME` feature
     /// enabling the profiles crate's `NAME`) and is compiled into `enip-host` by default.
     #[test]
+    fn the_pico_and_its_example_build_for_the_cortex_m0_plus() {
+        assert_eq!(target(PICO), "thumbv6m-none-eabi");
+        assert_eq!(target(EXAMPLE_PICO), "thumbv6m-none-eabi");
+        assert_eq!(target(NUCLEO), THUMB_TARGET);
+        assert!(elf(PICO).ends_with("thumbv6m-none-eabi/release/enip-w5500-evb-pico"));
+    }
+
+    #[test]
     fn every_profile_has_a_board_feature() {
         let metadata = Metadata::read().unwrap();
         let names = profiles(&metadata).unwrap();
         assert!(names.contains(&DEFAULT_PROFILE.to_string()), "{names:?}");
-        for board in [NUCLEO, QEMU, NUCLEO_H743, NUCLEO_H563, "enip-host"] {
+        for board in [NUCLEO, QEMU, NUCLEO_H743, NUCLEO_H563, PICO, "enip-host"] {
             for name in &names {
                 let feature = format!("profile-{name}");
                 let enables = metadata.feature(board, &feature).unwrap();

@@ -74,11 +74,8 @@ pub fn run_all() -> bool {
         })
         && steps.run("list the cross-only crates", || {
             cross_crates.extend(Metadata::read()?.cross_only_packages());
-            println!(
-                "boards built for {}: {}",
-                setup::THUMB_TARGET,
-                cross_crates.join(", ")
-            );
+            let each = cross_crates.iter().map(|b| format!("{b} ({})", boards::target(b)));
+            println!("boards built: {}", each.collect::<Vec<_>>().join(", "));
             Ok(Outcome::Passed)
         });
     for package in no_std {

@@ -1,6 +1,7 @@
 //! [`Front`]: a device in front of another, taking over its identity or some requests and
 //! forwarding everything else (a board's diagnostics class, a simulated plant's per-device
-//! identity), so that such a wrapper is a few lines rather than every [`Device`] method.
+//! identity, a board's RPI floor), so that such a wrapper is a few lines rather than every
+//! [`Device`] method.
 
 use crate::cip::context::RequestContext;
 use crate::cip::object::{Access, ClassDef};
@@ -15,9 +16,9 @@ use super::{
 };
 
 /// A device in front of [`Front::Inner`]: every [`Device`] call goes to the inner device,
-/// but for [`Device::identity`] and [`Device::handle_request`], which a front may take over
-/// ([`Front::front_identity`], [`Front::front_request`]). A type that implements it is a
-/// [`Device`].
+/// but for [`Device::identity`], [`Device::handle_request`] and [`Device::admit`], which a
+/// front may take over ([`Front::front_identity`], [`Front::front_request`],
+/// [`Front::front_admit`]). A type that implements it is a [`Device`].
 ///
 /// ```
 /// use enip_stack::device::Front;
@@ -76,6 +77,11 @@ pub trait Front {
         reply: &mut Writer<'_>,
     ) -> Option<CipResult> {
         self.inner_mut().handle_request(cx, req, reply)
+    }
+    /// [`Device::admit`]: the front judges every Forward_Open first; by default the inner
+    /// device's verdict.
+    fn front_admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
+        self.inner_mut().admit(request)
     }
 }
 
@@ -138,7 +144,7 @@ impl<F: Front> Device for F {
         self.front_request(cx, req, reply)
     }
     fn admit(&mut self, request: &OpenRequest<'_>) -> CipResult {
-        self.inner_mut().admit(request)
+        self.front_admit(request)
     }
     fn connection_event(&mut self, event: ConnectionEvent) {
         self.inner_mut().connection_event(event)
