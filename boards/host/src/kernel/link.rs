@@ -14,6 +14,7 @@ pub enum Link {
 }
 
 /// Where a TLS handshake is.
+#[cfg_attr(not(feature = "tls"), allow(dead_code))]
 pub enum Handshake {
     /// Complete (always, for plaintext).
     Done,

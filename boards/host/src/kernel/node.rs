@@ -88,7 +88,10 @@ impl<D: Device> Node<D> {
         let iface = Interface::holding(ip)?;
         warn_if_stored_elsewhere(&mut store, ip);
         let name = device.identity().product_name;
+        #[cfg(feature = "tls")]
         let tls = tls_server(ip, tls.as_ref(), name)?;
+        #[cfg(not(feature = "tls"))]
+        no_tls(tls.as_ref(), name)?;
         let opened = (|| {
             let tcp = Tcp::open(
                 ip,
@@ -354,13 +357,9 @@ fn tls_server(
         .map_err(|e| format!("cannot listen on {ip}:2221: {e}"))
 }
 
-/// Without the `tls` feature there is no TLS listener.
+/// Without the `tls` feature there is no TLS listener: `--tls` is an error.
 #[cfg(not(feature = "tls"))]
-fn tls_server(
-    _ip: Ipv4Addr,
-    options: Option<&crate::options::TlsOptions>,
-    _name: &str,
-) -> Result<(), String> {
+fn no_tls(options: Option<&crate::options::TlsOptions>, _name: &str) -> Result<(), String> {
     match options {
         Some(_) => Err("--tls: this program is built without the `tls` feature".into()),
         None => Ok(()),
