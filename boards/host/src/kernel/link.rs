@@ -71,10 +71,17 @@ impl Link {
                 Err(e) => match e.code() {
                     openssl::ssl::ErrorCode::WANT_READ => Handshake::Waiting(false),
                     openssl::ssl::ErrorCode::WANT_WRITE => Handshake::Waiting(true),
-                    _ => Handshake::Failed(
-                        e.ssl_error()
-                            .map_or_else(|| e.to_string(), |stack| stack.to_string()),
-                    ),
+                    _ => {
+                        let why = e
+                            .ssl_error()
+                            .map_or_else(|| e.to_string(), |stack| stack.to_string());
+                        // The reason a peer's certificate was refused (expired, unknown CA).
+                        let verify = s.ssl().verify_result();
+                        Handshake::Failed(match verify == openssl::x509::X509VerifyResult::OK {
+                            true => why,
+                            false => format!("{why} ({})", verify.error_string()),
+                        })
+                    }
                 },
             },
         }
