@@ -222,3 +222,40 @@ pub fn context(st: &SecurityState, m: &Material) -> Result<SslContext, String> {
     }
     Ok(b.build())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use enip_stack::objects::security::{AVAILABLE_SUITES, DEFAULT_ALLOWED};
+
+    #[test]
+    fn every_available_suite_has_its_openssl_name_in_the_order_allowed() {
+        assert_eq!(
+            cipher_list(&DEFAULT_ALLOWED),
+            "ECDHE-ECDSA-AES128-SHA256:ECDHE-ECDSA-AES256-SHA384"
+        );
+        let all = cipher_list(&AVAILABLE_SUITES);
+        assert_eq!(all.split(':').count(), AVAILABLE_SUITES.len());
+        assert_eq!(
+            cipher_list(&[0xC02C, 0x003C]),
+            "ECDHE-ECDSA-AES256-GCM-SHA384"
+        );
+        // OpenSSL knows every name (a list of which it knows none is refused).
+        let mut b = SslContextBuilder::new(SslMethod::tls_server()).unwrap();
+        for name in all.split(':') {
+            b.set_cipher_list(name).unwrap();
+        }
+        assert!(b.set_cipher_list("NO-SUCH-SUITE").is_err());
+    }
+
+    #[test]
+    fn the_factory_certificate_is_made_once_and_kept() {
+        let path = std::env::temp_dir().join(format!("enip-factory-{}.pem", std::process::id()));
+        let _ = std::fs::remove_file(&path);
+        let (cert, key) = factory_certificate(Some(&path), "enip-rs generic").unwrap();
+        assert!(cert.public_key().unwrap().public_eq(&key));
+        let (again, _) = factory_certificate(Some(&path), "other").unwrap();
+        assert_eq!(again.to_der().unwrap(), cert.to_der().unwrap());
+        std::fs::remove_file(&path).unwrap();
+    }
+}
