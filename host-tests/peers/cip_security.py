@@ -13,6 +13,8 @@ Steps ("do"):
                 class, instance, optional attribute, data (hex); reports the general status,
                 the extended status words and the reply data (hex).
   list_identity ListIdentity over TCP 44818: the reply's items (type, data hex).
+  pycomm3_list_identity  pycomm3's own ListIdentity (CIPDriver.list_identity): the product
+                name it parsed from a reply that carries the CIP Security item too.
 """
 import json
 import socket
@@ -148,6 +150,9 @@ def main():
             out.append(tls_identity(host, step))
         elif do == "plaintext":
             out.append(plaintext(host))
+        elif do == "pycomm3_list_identity":
+            found = CIPDriver.list_identity(host) or {}
+            out.append({"product_name": found.get("product_name")})
         else:
             raw = raw or Raw(host)
             out.append(raw.request(step) if do == "request" else raw.list_identity())

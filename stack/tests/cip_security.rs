@@ -12,6 +12,7 @@ use enip_stack::objects::security::{CertStatus, ObjectMode};
 use enip_stack::originator;
 use enip_stack::time::{Duration, Instant};
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::SocketId;
 use std::cell::RefCell;
 use std::rc::Rc;
 
@@ -243,6 +244,18 @@ fn configuration_sequence_with_its_statuses_survives_a_restart() {
     assert!(generation > 0);
     assert_eq!(list_identity(&mut h)[1].1, vec![0x02, 0x00, 2, 2, 0b1111]);
     assert_eq!(get_class(&mut h, 0x5F, 2, 1), (0, b"\x05plant".to_vec()));
+    // Configured: reconfigured or reset only over TLS.
+    assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0x0F);
+    assert_eq!(call(&mut h, 0x4B, 0x5D, 1, &[]).0, 0x0F);
+    assert_eq!(call(&mut h, 0x05, 0x5E, 1, &[]).0, 0x0F);
+    h.adapter.set_session_secure(SocketId(0), true);
+    assert_eq!(call(&mut h, 0x05, 0x5E, 1, &[1]).0, 0x15);
+    assert_eq!(call(&mut h, 0x05, 0x5E, 1, &[]).0, 0);
+    let st = h.adapter.security(h.now);
+    assert_eq!(st.eip_mode, ObjectMode::FactoryDefault);
+    assert_eq!(&st.active.allowed[..], &[0xC023, 0xC024]);
+    assert!(!st.active.verify_client);
+    assert_eq!(call(&mut h, 0x4B, 0x5D, 1, &[]).0, 0);
 }
 
 #[test]

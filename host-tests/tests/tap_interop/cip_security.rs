@@ -8,9 +8,10 @@
 //!   Class 3 connection; `openssl s_client` sees TLS 1.2 with ECDHE-ECDSA-AES128-SHA256, and
 //!   is refused TLS 1.3 and a suite not allowed (AES-GCM, until a configuration allows it);
 //!   a plaintext RegisterSession on 2221 gets no EtherNet/IP reply;
+//! - pycomm3's own ListIdentity parses the reply that carries the CIP Security item;
 //! - the configuration sequence over 44818 (Begin_Config, allowed suites with AES-GCM,
 //!   client verification with expiry checked against the plant CA, Apply_Config,
-//!   End_Config); then the scanner's certificate is let in with AES-GCM, and no certificate,
+//!   End_Config), after which Begin_Config over plaintext is refused (0x0F); then the scanner's certificate is let in with AES-GCM, and no certificate,
 //!   the expired one and the rogue CA's are refused; the settings survive a restart on the
 //!   same `--nv-file`;
 //! - tshark, given the clients' key log, decrypts the capture: the ENIP frames on 2221
@@ -275,6 +276,7 @@ fn tls_on_2221_and_the_security_objects_with_independent_peers() {
             req(0x01, 0x5E, None, ""),
             req(0x01, 0x5F, None, ""),
             {"do": "plaintext"},
+            {"do": "pycomm3_list_identity"},
         ]),
     );
     let items = out[0]["items"].as_array().expect("items");
@@ -289,6 +291,7 @@ fn tls_on_2221_and_the_security_objects_with_independent_peers() {
     );
     assert_eq!(out[3]["status"], 0, "{out:?}");
     assert_eq!(out[4]["enip_reply"], false, "{out:?}");
+    assert_eq!(out[5]["product_name"], common::NAME, "{out:?}");
 
     // TLS: pycomm3 over Python's ssl, and openssl s_client.
     let out = peer(
@@ -329,10 +332,12 @@ fn tls_on_2221_and_the_security_objects_with_independent_peers() {
             req(0x4D, 0x5E, None, "00000000"),
             req(0x4D, 0x5D, None, ""),
             req(0x0E, 0x5D, Some(1), ""),
+            // Configured: no reconfiguration over plaintext.
+            req(0x4B, 0x5E, None, ""),
         ]),
     );
     let statuses: Vec<&Value> = out.iter().map(|o| &o["status"]).collect();
-    assert_eq!(statuses, [0, 0, 0, 0, 0, 0, 9, 0, 0, 0], "{out:?}");
+    assert_eq!(statuses, [0, 0, 0, 0, 0, 0, 9, 0, 0, 0, 0x0F], "{out:?}");
     assert_eq!(out[9]["data"], "02");
 
     let gcm = "ECDHE-ECDSA-AES128-GCM-SHA256";

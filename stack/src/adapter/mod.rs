@@ -207,6 +207,17 @@ impl<
         st
     }
 
+    /// Notes whether the session on `socket` runs over TLS (call it at each
+    /// [`Self::tcp_accept`]): a configured security object is reconfigured or reset only over
+    /// TLS.
+    #[cfg(feature = "cip-security")]
+    pub fn set_session_secure(&mut self, socket: SocketId, secure: bool) {
+        self.inner
+            .objects
+            .security
+            .set_session_secure(socket.0, secure);
+    }
+
     /// Records what the runtime found of the certificates of Certificate Management instance
     /// `instance` (its device certificate and its CA certificate); false if there is no
     /// such instance.

@@ -148,6 +148,8 @@ impl Slot {
         let tls = !matches!(stream, Link::Plain(_));
         log::debug!("tcp socket {}: connection from {peer}", self.id.0);
         adapter.tcp_accept(self.id, peer, now);
+        #[cfg(feature = "tls")]
+        adapter.set_session_secure(self.id, tls);
         self.rx_start = 0;
         self.rx_end = 0;
         self.out_start = 0;

@@ -3,7 +3,8 @@
 //! Kick_Timer, End_Config, Object_Cleanup).
 //!
 //! Begin_Config opens a session (from factory default, configured or incomplete; 0x0C while
-//! one runs) owned by the requester's address, which lapses after [`super::CONFIG_SESSION`]
+//! one runs; 0x0F for a configured device unless the request came over TLS) owned by the
+//! requester's address, which lapses after [`super::CONFIG_SESSION`]
 //! without a Kick_Timer; Kick_Timer and End_Config from anyone else, or with no session,
 //! are 0x0C. End_Config marks the device Configured with the Confidentiality profile if the
 //! EtherNet/IP Security object is configured, Incomplete Configuration if not (0x0C while
@@ -51,9 +52,12 @@ impl<D: Device, const C: usize> CipSecurity<'_, '_, D, C> {
         }
         let now = self.0.now();
         let owner = requester(&self.0.request);
+        let secure = self.0.state.security.is_secure(self.0.origin.as_ref());
         let st = &mut self.0.state.security;
         match service {
-            BEGIN_CONFIG => return begin(&mut st.cip_mode, &mut st.cip_session, owner, now),
+            BEGIN_CONFIG => {
+                return begin(&mut st.cip_mode, &mut st.cip_session, owner, now, secure)
+            }
             KICK_TIMER => {
                 owned(&mut st.cip_session, owner)?.until = now.add(super::CONFIG_SESSION);
                 return Ok(());

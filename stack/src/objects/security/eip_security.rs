@@ -10,8 +10,9 @@
 //! verification is on with no trusted CA), saves them (0x19 if the store fails, changing
 //! nothing) and puts them in use for the next TLS session; Abort_Config or a lapsed session
 //! drops them. Pre-shared keys: this device supports none (a Set of 0 keys is accepted, any
-//! other 0x09) and a Get never shows a key. Reset (0x05) is not offered: a factory reset is
-//! the Identity object's.
+//! other 0x09) and a Get never shows a key. Reset (0x05) returns the factory default
+//! settings; Reset and Begin_Config of a configured object come over TLS or are refused
+//! (0x0F), as the open reference stack's development branch checks for Reset.
 
 use super::super::serve::{serve, Object};
 use super::super::Ctx;
@@ -20,7 +21,7 @@ use super::{begin, owned, requester, ObjectMode, TlsSettings, AVAILABLE_SUITES};
 use super::{CERT_MGMT_CLASS, EIP_SECURITY_CLASS};
 use crate::cip::object::{AttributeDef, ClassDef, DataType};
 use crate::cip::status::{CipError, CipResult, General};
-use crate::cip::Request;
+use crate::cip::{service, Request};
 use crate::device::Device;
 use crate::wire::{Reader, Writer};
 
@@ -103,6 +104,10 @@ impl<D: Device, const C: usize> EipSecurity<'_, '_, D, C> {
     fn run(&mut self, service: u8, data: &[u8]) -> CipResult {
         let now = self.0.now();
         let owner = requester(&self.0.request);
+        let secure = self.0.state.security.is_secure(self.0.origin.as_ref());
+        if service == service::RESET {
+            return self.reset(data, secure);
+        }
         let st = &mut self.0.state.security;
         if service == APPLY_CONFIG {
             return self.apply(data);
@@ -112,7 +117,7 @@ impl<D: Device, const C: usize> EipSecurity<'_, '_, D, C> {
         }
         match service {
             BEGIN_CONFIG => {
-                begin(&mut st.eip_mode, &mut st.eip_session, owner, now)?;
+                begin(&mut st.eip_mode, &mut st.eip_session, owner, now, secure)?;
                 st.pending = st.active.clone();
             }
             KICK_TIMER => {
@@ -125,6 +130,35 @@ impl<D: Device, const C: usize> EipSecurity<'_, '_, D, C> {
                 st.pending = st.active.clone();
             }
         }
+        Ok(())
+    }
+
+    /// Reset: the factory default settings, saved; a configured object only over TLS (0x0F),
+    /// none while a configuration session runs (0x0C).
+    fn reset(&mut self, data: &[u8], secure: bool) -> CipResult {
+        if !data.is_empty() {
+            return Err(General::TooMuchData.into());
+        }
+        let st = &mut self.0.state.security;
+        match st.eip_mode {
+            ObjectMode::InProgress => return Err(General::ObjectStateConflict.into()),
+            ObjectMode::Configured if !secure => return Err(General::PrivilegeViolation.into()),
+            _ => {}
+        }
+        let before = (st.active.clone(), st.eip_mode);
+        st.active = TlsSettings::factory();
+        st.pending = TlsSettings::factory();
+        st.eip_mode = ObjectMode::FactoryDefault;
+        if let Some(store) = self.0.store.as_deref_mut() {
+            if super::save(&self.0.state.security, store).is_err() {
+                let st = &mut self.0.state.security;
+                (st.active, st.eip_mode) = before;
+                st.pending = st.active.clone();
+                return Err(General::StoreOperationFailure.into());
+            }
+        }
+        let st = &mut self.0.state.security;
+        st.generation = st.generation.wrapping_add(1);
         Ok(())
     }
 
@@ -249,7 +283,7 @@ impl<D: Device, const C: usize> Object for EipSecurity<'_, '_, D, C> {
     ) -> Option<CipResult> {
         let ours = matches!(
             req.service,
-            BEGIN_CONFIG | KICK_TIMER | APPLY_CONFIG | ABORT_CONFIG
+            BEGIN_CONFIG | KICK_TIMER | APPLY_CONFIG | ABORT_CONFIG | service::RESET
         );
         (instance == 1 && ours).then(|| self.run(req.service, req.data))
     }

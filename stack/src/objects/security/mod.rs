@@ -146,6 +146,9 @@ pub struct SecurityState {
     pub certs: [CertInstance; MAX_CERTS],
     /// Counts applied changes, for the runtime to notice new settings.
     pub generation: u32,
+    /// The sockets whose session runs over TLS, one bit per socket index
+    /// ([`crate::Adapter::set_session_secure`]).
+    secure_sockets: u64,
 }
 
 impl SecurityState {
@@ -163,7 +166,26 @@ impl SecurityState {
             pending: TlsSettings::factory(),
             certs: cert_mgmt::factory_instances(),
             generation: 0,
+            secure_sockets: 0,
         }
+    }
+
+    /// Notes whether the session on socket `socket` runs over TLS.
+    pub fn set_session_secure(&mut self, socket: u8, secure: bool) {
+        let bit = 1u64.checked_shl(u32::from(socket)).unwrap_or(0);
+        if secure {
+            self.secure_sockets |= bit;
+        } else {
+            self.secure_sockets &= !bit;
+        }
+    }
+
+    /// True if a request from `origin` came over TLS, or is the device's own (no origin).
+    pub(crate) fn is_secure(&self, origin: Option<&crate::io::open::Origin>) -> bool {
+        origin.is_none_or(|o| {
+            let bit = 1u64.checked_shl(u32::from(o.socket)).unwrap_or(0);
+            self.secure_sockets & bit != 0
+        })
     }
 
     /// Back to the factory defaults (Identity Reset type 1), still turned on as it was.
@@ -172,6 +194,7 @@ impl SecurityState {
             enabled: self.enabled,
             tls_port_open: self.tls_port_open,
             generation: self.generation.wrapping_add(1),
+            secure_sockets: self.secure_sockets,
             ..SecurityState::new()
         };
     }
@@ -214,14 +237,19 @@ impl Default for SecurityState {
 }
 
 /// Starts a configuration session in `mode` (0x0C unless factory default or configured, or
-/// while another client's runs).
+/// while another client's runs). A configured object is reconfigured only over TLS
+/// (`secure`; 0x0F privilege violation otherwise): over plaintext anyone could undo it.
 fn begin(
     mode: &mut ObjectMode,
     session: &mut Option<ConfigSession>,
     owner: Option<Ipv4Addr>,
     now: Instant,
+    secure: bool,
 ) -> crate::cip::status::CipResult {
     use crate::cip::status::General;
+    if *mode == ObjectMode::Configured && !secure {
+        return Err(General::PrivilegeViolation.into());
+    }
     if !matches!(
         *mode,
         ObjectMode::FactoryDefault | ObjectMode::Configured | ObjectMode::Incomplete
