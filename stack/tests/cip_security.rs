@@ -112,6 +112,7 @@ fn off_until_the_runtime_turns_the_objects_on() {
     }
     let items = list_identity(&mut h);
     assert_eq!(items.len(), 1);
+    assert_eq!(get_class(&mut h, 0xF5, 1, 14).0, 0x14);
     h.adapter.enable_security(false);
     let items = list_identity(&mut h);
     assert_eq!(items[1], (0x86, vec![0x02, 0x00, 0, 0, 0b0111]));
@@ -155,6 +156,11 @@ fn get_attributes_all_of_each_object_in_factory_state() {
     assert_eq!(call(&mut h, 0x4C, 0x5F, 1, &[2, 0]).0, 0x0C);
     assert_eq!(call(&mut h, 0x4C, 0x5F, 1, &[3, 0]).0, 0x20);
     assert_eq!(call(&mut h, 0x4C, 0x5F, 1, &[1]).0, 0x13);
+    // TCP/IP attribute 14 (IANA Port Admin) lists 2221/tcp open.
+    let (g, ports) = get_class(&mut h, 0xF5, 1, 14);
+    assert_eq!((g, ports[0]), (0, 4));
+    let tls = b"\x0fEtherNet/IP TLS\xad\x08\x06\x01\x00";
+    assert!(ports.windows(tls.len()).any(|w| w == tls), "{ports:x?}");
     // Create_CSR is not offered; the Message Router lists the three classes.
     assert_eq!(call(&mut h, 0x4B, 0x5F, 1, &[]).0, 0x08);
     let (g, list) = get_class(&mut h, 0x02, 1, 1);

@@ -277,6 +277,7 @@ fn tls_on_2221_and_the_security_objects_with_independent_peers() {
             req(0x01, 0x5F, None, ""),
             {"do": "plaintext"},
             {"do": "pycomm3_list_identity"},
+            req(0x0E, 0xF5, Some(14), ""),
         ]),
     );
     let items = out[0]["items"].as_array().expect("items");
@@ -292,6 +293,7 @@ fn tls_on_2221_and_the_security_objects_with_independent_peers() {
     assert_eq!(out[3]["status"], 0, "{out:?}");
     assert_eq!(out[4]["enip_reply"], false, "{out:?}");
     assert_eq!(out[5]["product_name"], common::NAME, "{out:?}");
+    assert_eq!(out[6]["status"], 0, "TCP/IP attribute 14: {out:?}");
 
     // TLS: pycomm3 over Python's ssl, and openssl s_client.
     let out = peer(

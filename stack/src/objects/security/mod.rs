@@ -283,3 +283,39 @@ fn requester(request: &crate::cip::context::RequestContext) -> Option<Ipv4Addr> 
 }
 
 pub(crate) use record::{load, save};
+
+/// TCP/IP attribute 14, IANA Port Admin, while the security objects are on (read-only here:
+/// no Set_Port_Admin_State): each port's name, number, protocol (6 TCP, 17 UDP), admin
+/// state (1 open) and capability (0: not configurable). Answers Get_Attribute_Single of
+/// instance 1 attribute 14 only; `None` for every other request.
+pub(crate) fn port_admin<D: crate::device::Device, const C: usize>(
+    ctx: &mut super::Ctx<'_, D, C>,
+    req: &crate::cip::Request<'_>,
+    w: &mut crate::wire::Writer<'_>,
+) -> Option<crate::cip::status::CipResult> {
+    let st = &ctx.state.security;
+    let asked = req.service == crate::cip::service::GET_ATTRIBUTE_SINGLE
+        && req.path.instance_or_point() == Some(1)
+        && req.path.attribute == Some(14);
+    if !st.enabled || !asked {
+        return None;
+    }
+    let ports: [(&[u8], u16, u8, bool); 4] = [
+        (b"EtherNet/IP", 44818, 6, true),
+        (b"EtherNet/IP", 44818, 17, true),
+        (b"EtherNet/IP I/O", 2222, 17, true),
+        (b"EtherNet/IP TLS", 2221, 6, st.tls_port_open),
+    ];
+    let write = |w: &mut crate::wire::Writer<'_>| -> crate::wire::Result<()> {
+        w.u8(ports.len() as u8)?;
+        for (name, number, protocol, open) in ports {
+            crate::cip::encoding::short_string(w, name)?;
+            w.u16(number)?;
+            w.u8(protocol)?;
+            w.u8(u8::from(open))?;
+            w.u8(0)?;
+        }
+        Ok(())
+    };
+    Some(write(w).map_err(crate::cip::status::CipError::from))
+}
