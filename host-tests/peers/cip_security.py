@@ -13,6 +13,9 @@ Steps ("do"):
                 class, instance, optional attribute, data (hex); reports the general status,
                 the extended status words and the reply data (hex).
   list_identity ListIdentity over TCP 44818: the reply's items (type, data hex).
+  capacity      the 3 sessions shared by 44818 and 2221: two plaintext sessions and one
+                over TLS are served, a fourth is refused on either port, and once the TLS
+                one closes a new TLS session is served again.
   pycomm3_list_identity  pycomm3's own ListIdentity (CIPDriver.list_identity): the product
                 name it parsed from a reply that carries the CIP Security item too.
 """
@@ -21,6 +24,7 @@ import socket
 import ssl
 import struct
 import sys
+import time
 
 from pycomm3 import CIPDriver, Services
 import pycomm3.cip_driver as cip_driver_module
@@ -104,6 +108,46 @@ def plaintext(host):
         return {"enip_reply": False, "error": str(e)}
 
 
+def register(sock):
+    sock.sendall(enip(0x65, struct.pack("<HH", 1, 0)))
+    reply = recv_frame(sock)
+    return reply is not None and reply[:2] == b"\x65\x00" and reply[8:12] == b"\0\0\0\0"
+
+
+def capacity(host, step):
+    ctx = tls_context(step)
+
+    def session(port):
+        raw = socket.create_connection((host, port), timeout=3)
+        sock = ctx.wrap_socket(raw) if port == 2221 else raw
+        if not register(sock):
+            sock.close()
+            raise OSError("no RegisterSession reply")
+        return sock
+
+    def refused(port):
+        try:
+            session(port).close()
+            return False
+        except (OSError, ssl.SSLError):
+            return True
+
+    held = [session(44818), session(44818), session(2221)]
+    out = {"fourth_tls_refused": refused(2221), "fourth_plain_refused": refused(44818)}
+    held.pop().close()
+    out["tls_again"] = False
+    deadline = time.monotonic() + 3
+    while time.monotonic() < deadline and not out["tls_again"]:
+        try:
+            session(2221).close()
+            out["tls_again"] = True
+        except (OSError, ssl.SSLError):
+            time.sleep(0.1)
+    for sock in held:
+        sock.close()
+    return out
+
+
 class Raw:
     """A minimal UCMM client over plaintext 44818, for exact statuses."""
 
@@ -150,6 +194,8 @@ def main():
             out.append(tls_identity(host, step))
         elif do == "plaintext":
             out.append(plaintext(host))
+        elif do == "capacity":
+            out.append(capacity(host, step))
         elif do == "pycomm3_list_identity":
             found = CIPDriver.list_identity(host) or {}
             out.append({"product_name": found.get("product_name")})

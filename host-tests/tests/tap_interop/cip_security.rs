@@ -7,7 +7,8 @@
 //! - pycomm3 over Python's `ssl` reads Identity over TLS 1.2 on 2221, unconnected and over a
 //!   Class 3 connection; `openssl s_client` sees TLS 1.2 with ECDHE-ECDSA-AES128-SHA256, and
 //!   is refused TLS 1.3 and a suite not allowed (AES-GCM, until a configuration allows it);
-//!   a plaintext RegisterSession on 2221 gets no EtherNet/IP reply;
+//!   a plaintext RegisterSession on 2221 gets no EtherNet/IP reply; two plaintext sessions
+//!   and one over TLS take the 3 sessions, and a fourth is refused on either port;
 //! - pycomm3's own ListIdentity parses the reply that carries the CIP Security item;
 //! - the configuration sequence over 44818 (Begin_Config, allowed suites with AES-GCM,
 //!   client verification with expiry checked against the plant CA, Apply_Config,
@@ -306,6 +307,12 @@ fn tls_on_2221_and_the_security_objects_with_independent_peers() {
     assert_eq!(out[0]["cipher"], "ECDHE-ECDSA-AES128-SHA256");
     assert_eq!(out[0]["product_name"], common::NAME);
     assert_eq!(out[0]["connected_name"], common::NAME, "{out:?}");
+    // The 3 sessions are shared by both ports.
+    let mut step = tls(&dir, "ECDHE-ECDSA-AES128-SHA256", "");
+    step["do"] = json!("capacity");
+    let out = peer(&ns, &host, json!([step]));
+    let want = json!({"fourth_tls_refused": true, "fourth_plain_refused": true, "tls_again": true});
+    assert_eq!(out[0], want, "{out:?}");
     let s = s_client(&ns, &dir, &["-tls1_2"]);
     assert!(s.contains("Cipher is ECDHE-ECDSA-AES128-SHA256"), "{s}");
     assert!(s.contains("Protocol  : TLSv1.2"), "{s}");
