@@ -18,14 +18,25 @@ use std::rc::Rc;
 
 type SmallFlash = RamFlash<{ MAX_WRITE_SIZE + IMAGE_SIZE }>;
 
+/// A store the test keeps a handle on; writes fail while `.1` is set.
 #[derive(Clone)]
-struct Shared(Rc<RefCell<AbStore<SmallFlash>>>);
+struct Shared(Rc<RefCell<AbStore<SmallFlash>>>, Rc<RefCell<bool>>);
+
+fn shared() -> Shared {
+    Shared(
+        Rc::new(RefCell::new(AbStore::mount(SmallFlash::new()))),
+        Rc::new(RefCell::new(false)),
+    )
+}
 
 impl NvStore for Shared {
     fn read(&mut self, key: u16, buf: &mut [u8]) -> Result<Option<usize>, NvError> {
         self.0.borrow_mut().read(key, buf)
     }
     fn write(&mut self, key: u16, value: &[u8]) -> Result<(), NvError> {
+        if *self.1.borrow() {
+            return Err(NvError::Flash);
+        }
         self.0.borrow_mut().write(key, value)
     }
     fn remove(&mut self, key: u16) -> Result<(), NvError> {
@@ -122,9 +133,7 @@ fn off_until_the_runtime_turns_the_objects_on() {
 
 #[test]
 fn get_attributes_all_of_each_object_in_factory_state() {
-    let mut h = start(&Shared(Rc::new(RefCell::new(AbStore::mount(
-        SmallFlash::new(),
-    )))));
+    let mut h = start(&shared());
     assert_eq!(
         call(&mut h, 0x01, 0x5D, 1, &[]),
         (0, vec![], vec![0, 0x02, 0x00])
@@ -182,7 +191,7 @@ fn get_class(h: &mut Harness, class: u32, instance: u32, attribute: u32) -> (u8,
 
 #[test]
 fn configuration_sequence_with_its_statuses_survives_a_restart() {
-    let store = Shared(Rc::new(RefCell::new(AbStore::mount(SmallFlash::new()))));
+    let store = shared();
     let mut h = start(&store);
     // Nothing is settable outside a configuration session.
     assert_eq!(set(&mut h, 0x5E, 9, &[1]).0, 0x0C);
@@ -266,9 +275,7 @@ fn configuration_sequence_with_its_statuses_survives_a_restart() {
 
 #[test]
 fn a_lapsed_or_aborted_session_drops_its_changes() {
-    let mut h = start(&Shared(Rc::new(RefCell::new(AbStore::mount(
-        SmallFlash::new(),
-    )))));
+    let mut h = start(&shared());
     assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0);
     assert_eq!(set(&mut h, 0x5E, 10, &[1]).0, 0);
     assert_eq!(get(&mut h, 0x5E, 10), (0, vec![1]));
@@ -284,4 +291,23 @@ fn a_lapsed_or_aborted_session_drops_its_changes() {
     assert_eq!(set(&mut h, 0x5E, 10, &[1]).0, 0x0C);
     assert_eq!(get(&mut h, 0x5E, 1), (0, vec![0]));
     assert_eq!(get(&mut h, 0x5E, 10), (0, vec![0]));
+}
+
+#[test]
+fn a_store_that_cannot_save_changes_nothing() {
+    let store = shared();
+    let mut h = start(&store);
+    assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0);
+    assert_eq!(set(&mut h, 0x5E, 4, &[1, 0xC0, 0x2C]).0, 0);
+    *store.1.borrow_mut() = true;
+    assert_eq!(call(&mut h, 0x4D, 0x5E, 1, &[]).0, 0x19);
+    assert_eq!(call(&mut h, 0x08, 0x5F, 0, &[1, b'x']).0, 0x19);
+    assert_eq!(get_class(&mut h, 0x5F, 2, 1).0, 0x16);
+    let st = h.adapter.security(h.now);
+    assert_eq!(st.eip_mode, ObjectMode::InProgress);
+    assert_eq!(&st.active.allowed[..], &[0xC023, 0xC024]);
+    // The session goes on: once the store saves again, Apply_Config succeeds.
+    *store.1.borrow_mut() = false;
+    assert_eq!(call(&mut h, 0x4D, 0x5E, 1, &[]).0, 0);
+    assert_eq!(&h.adapter.security(h.now).active.allowed[..], &[0xC02C]);
 }
