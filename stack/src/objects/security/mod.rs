@@ -170,6 +170,20 @@ impl SecurityState {
         }
     }
 
+    /// The settings stored in `store`, as a start finds them (turned off); `None` if there
+    /// are none or they are unreadable (the factory defaults hold).
+    pub fn stored(
+        store: &mut dyn crate::nv::NvStore,
+    ) -> Result<Option<SecurityState>, crate::nv::NvError> {
+        let mut st = SecurityState::new();
+        Ok(record::load(&mut st, store).then_some(st))
+    }
+
+    /// Stores the configured settings (a configuration in progress is not stored).
+    pub fn save(&self, store: &mut dyn crate::nv::NvStore) -> Result<(), crate::nv::NvError> {
+        record::save(self, store)
+    }
+
     /// Notes whether the session on socket `socket` runs over TLS.
     pub fn set_session_secure(&mut self, socket: u8, secure: bool) {
         let bit = 1u64.checked_shl(u32::from(socket)).unwrap_or(0);
