@@ -18,7 +18,10 @@ use super::{crc32, records, NvError, NvStore};
 /// does not depend on it, a file store's sector offsets do.)
 /// With the `cip-security` feature a copy is 160 bytes larger, for the security
 /// record: a store written by a build with it does not mount in one without, nor back.
-pub const IMAGE_SIZE: usize = 2080 + SECURITY_ROOM;
+pub const IMAGE_SIZE: usize = BASE_IMAGE_SIZE + SECURITY_ROOM;
+/// [`IMAGE_SIZE`] without the `cip-security` feature: a store of that size holds the same
+/// copies, its sectors only shorter (a host's store file can be carried over).
+pub const BASE_IMAGE_SIZE: usize = 2080;
 /// The room the CIP Security record takes in a copy, its header included (0 without the
 /// feature).
 #[cfg(feature = "cip-security")]
