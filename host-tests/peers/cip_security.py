@@ -7,6 +7,9 @@ Steps ("do"):
                 object unconnected (Get_Attributes_All) and over a Class 3 connection
                 (Forward_Open, Get_Attribute_Single, Forward_Close); reports the protocol
                 version, the suite and the product name, or the handshake's error.
+  tls_message   pycomm3 over TLS as above sends one unconnected request (service, class,
+                instance, data hex): reports its error (None on success).
+  plain_register  a RegisterSession on plaintext 44818: reports whether it was served.
   plaintext     a RegisterSession in plaintext to TLS port 2221: reports whether any
                 EtherNet/IP reply came back (it must not).
   request       a raw UCMM request over plaintext 44818 (one session per step list): service,
@@ -75,6 +78,36 @@ def tls_identity(host, step):
                     "connected_error": conn.error, **seen}
     except Exception as e:  # the handshake or the connection failed
         return {"ok": False, "error": f"{type(e).__name__}: {e}", **seen}
+
+
+def tls_message(host, step):
+    ctx = tls_context(step)
+
+    class TlsSocket(socket_module.Socket):
+        def connect(self, host, port):
+            self.sock.connect((host, port))
+            self.sock = ctx.wrap_socket(self.sock)
+
+    cip_driver_module.Socket = TlsSocket
+    try:
+        with CIPDriver(f"{host}:2221") as drv:
+            r = drv.generic_message(
+                service=step["service"], class_code=step["class"], instance=step["instance"],
+                request_data=bytes.fromhex(step["data"]), connected=False,
+                unconnected_send=False, route_path=False, name="message")
+            return {"error": r.error}
+    except Exception as e:
+        return {"error": f"{type(e).__name__}: {e}"}
+
+
+def plain_register(host):
+    try:
+        s = socket.create_connection((host, 44818), timeout=3)
+        ok = register(s)
+        s.close()
+        return {"served": ok}
+    except OSError as e:
+        return {"served": False, "error": str(e)}
 
 
 def enip(command, data=b"", session=0):
@@ -194,6 +227,10 @@ def main():
             out.append(tls_identity(host, step))
         elif do == "plaintext":
             out.append(plaintext(host))
+        elif do == "tls_message":
+            out.append(tls_message(host, step))
+        elif do == "plain_register":
+            out.append(plain_register(host))
         elif do == "capacity":
             out.append(capacity(host, step))
         elif do == "pycomm3_list_identity":

@@ -263,6 +263,20 @@ fn configuration_sequence_with_its_statuses_survives_a_restart() {
     assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0x0F);
     assert_eq!(call(&mut h, 0x4B, 0x5D, 1, &[]).0, 0x0F);
     assert_eq!(call(&mut h, 0x05, 0x5E, 1, &[]).0, 0x0F);
+    let close_44818 = [1, 0x12, 0xAF, 6, 0];
+    assert_eq!(call(&mut h, 0x4C, 0xF5, 1, &close_44818).0, 0x0F);
+    h.adapter.set_session_secure(SocketId(0), true);
+    // Over TLS: 44818/tcp closes (only it is configurable), and stays closed after a restart.
+    assert_eq!(call(&mut h, 0x4C, 0xF5, 1, &[1, 0xAE, 0x08, 6, 0]).0, 0x09);
+    assert_eq!(call(&mut h, 0x4C, 0xF5, 1, &[1, 0x12, 0xAF, 6, 2]).0, 0x09);
+    assert_eq!(call(&mut h, 0x4C, 0xF5, 1, &[1, 0x12, 0xAF, 6]).0, 0x13);
+    assert_eq!(call(&mut h, 0x4C, 0xF5, 1, &close_44818).0, 0);
+    drop(h);
+    let mut h = start(&store);
+    assert!(h.adapter.security(h.now).plain_tcp_closed);
+    assert_eq!(list_identity(&mut h)[1].1[4], 0b1110);
+    let (_, ports) = get_class(&mut h, 0xF5, 1, 14);
+    assert_eq!(&ports[..18], b"\x04\x0bEtherNet/IP\x12\xaf\x06\x00\x01");
     h.adapter.set_session_secure(SocketId(0), true);
     assert_eq!(call(&mut h, 0x05, 0x5E, 1, &[1]).0, 0x15);
     assert_eq!(call(&mut h, 0x05, 0x5E, 1, &[]).0, 0);
@@ -276,6 +290,9 @@ fn configuration_sequence_with_its_statuses_survives_a_restart() {
 #[test]
 fn a_lapsed_or_aborted_session_drops_its_changes() {
     let mut h = start(&shared());
+    // 44818 closes only on a configured device.
+    h.adapter.set_session_secure(SocketId(0), true);
+    assert_eq!(call(&mut h, 0x4C, 0xF5, 1, &[1, 0x12, 0xAF, 6, 0]).0, 0x0C);
     assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0);
     assert_eq!(set(&mut h, 0x5E, 10, &[1]).0, 0);
     assert_eq!(get(&mut h, 0x5E, 10), (0, vec![1]));

@@ -15,6 +15,7 @@
 //!   End_Config), after which Begin_Config over plaintext is refused (0x0F); then the scanner's certificate is let in with AES-GCM, and no certificate,
 //!   the expired one and the rogue CA's are refused; the settings survive a restart on the
 //!   same `--nv-file`;
+//! - over TLS, TCP/IP Set_Port_Admin_State closes 44818: plaintext sessions are refused;
 //! - tshark, given the clients' key log, decrypts the capture: the ENIP frames on 2221
 //!   dissect, and every ENIP frame of the capture is free of malformed packets and warnings.
 
@@ -383,6 +384,33 @@ fn tls_on_2221_and_the_security_objects_with_independent_peers() {
     refusals(&host);
     let out = peer(&ns, &host, json!([{"do": "list_identity"}]));
     assert_eq!(out[0]["items"][1], json!([0x86, "020002020f"]), "{out:?}");
+    // Over TLS, the scanner closes 44818 to explicit messaging (TCP/IP Set_Port_Admin_State):
+    // a plaintext session is refused from then on, TLS is served.
+    let mut close = tls(&dir, gcm, "scanner");
+    close["do"] = json!("tls_message");
+    for (k, v) in [("service", 0x4C), ("class", 0xF5), ("instance", 1)] {
+        close[k] = json!(v);
+    }
+    close["data"] = json!("0112af0600");
+    let out = peer(
+        &ns,
+        &host,
+        json!([{"do": "plain_register"}, close, {"do": "plain_register"}, tls(&dir, gcm, "scanner")]),
+    );
+    assert_eq!(out[0]["served"], true, "{out:?}");
+    assert_eq!(out[1]["error"], Value::Null, "{out:?}");
+    assert_eq!(out[2]["served"], false, "{out:?}");
+    assert_eq!(out[3]["ok"], true, "{out:?}");
+    // And stays closed after a restart.
+    drop(host);
+    let host = start_host(&ns, &nv, &dir);
+    let out = peer(
+        &ns,
+        &host,
+        json!([{"do": "plain_register"}, tls(&dir, gcm, "scanner")]),
+    );
+    assert_eq!(out[0]["served"], false, "{out:?}");
+    assert_eq!(out[1]["ok"], true, "{out:?}");
     drop(host);
 
     let pcap = capture.stop();

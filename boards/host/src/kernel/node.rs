@@ -110,6 +110,11 @@ impl<D: Device> Node<D> {
             adapter.enable_security(true);
             t.material().report(&mut adapter);
         }
+        #[cfg(feature = "tls")]
+        let closed =
+            tcp.tls().is_some() && adapter.security(Instant::from_micros(0)).plain_tcp_closed;
+        #[cfg(feature = "tls")]
+        tcp.set_plain_closed(closed, &mut adapter, Instant::from_micros(0));
         // Explicit messaging's DSCP, as the device starts (QoS: it applies from a start);
         // Class 1 datagrams get their connection's as they go ([`Io::produce`]).
         let dscp = adapter.explicit_dscp();
@@ -193,6 +198,10 @@ impl<D: Device> Node<D> {
     ) -> Option<Instant> {
         let connections = self.adapter.connections().len();
         let mut settings_may_change = self.serve_ready(now, rx, tx);
+        #[cfg(feature = "tls")]
+        if settings_may_change {
+            self.follow_port_admin(now);
+        }
         let next = self.run_due(now, rx, tx);
         settings_may_change |= self.adapter.connections().len() != connections;
         if settings_may_change {
@@ -239,6 +248,17 @@ impl<D: Device> Node<D> {
             tcp = self.tcp.next_deadline();
         }
         [io, udp, self.device_due, tcp].into_iter().flatten().min()
+    }
+
+    /// Closes or opens 44818 as TCP/IP Set_Port_Admin_State last said (only with `--tls`).
+    #[cfg(feature = "tls")]
+    fn follow_port_admin(&mut self, now: Instant) {
+        if self.tcp.tls().is_none() {
+            return;
+        }
+        let closed = self.adapter.security(now).plain_tcp_closed;
+        self.tcp.set_plain_closed(closed, &mut self.adapter, now);
+        self.tcp_changed = true;
     }
 
     /// Puts the listener and the sessions, as they are now, in `epoll` (a closed one left by

@@ -47,6 +47,9 @@ pub struct Tcp {
     /// EtherNet/IP over TLS on 2221 (`--tls`).
     #[cfg(feature = "tls")]
     tls: Option<TlsServer>,
+    /// 44818 is closed to explicit messaging (TCP/IP Set_Port_Admin_State): no listener
+    /// there; the sessions already open go on.
+    plain_closed: bool,
 }
 
 /// The TLS port's listener and what its sessions are set up with.
@@ -136,7 +139,31 @@ impl Tcp {
             dscp: 0,
             #[cfg(feature = "tls")]
             tls,
+            plain_closed: false,
         })
+    }
+
+    /// Closes 44818 to new clients (`closed`), or listens there again.
+    #[cfg(feature = "tls")]
+    pub fn set_plain_closed<D: Device>(
+        &mut self,
+        closed: bool,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+    ) {
+        if closed == self.plain_closed {
+            return;
+        }
+        log::info!(
+            "tcp {}: {} to explicit messaging",
+            self.addr,
+            if closed { "closed" } else { "open" }
+        );
+        self.plain_closed = closed;
+        if closed {
+            self.listener = None;
+        }
+        self.settle(adapter, now);
     }
 
     /// Marks the sessions' packets with `dscp` from now on (the listener's and the next
@@ -355,7 +382,7 @@ impl Tcp {
                 Err(e) => log::warn!("tcp {addr}: listen failed: {e}"),
             }
         }
-        if self.listener.is_some() {
+        if self.listener.is_some() || self.plain_closed {
             return;
         }
         match tcp_listener(self.addr) {

@@ -14,6 +14,7 @@
 pub(crate) mod cert_mgmt;
 pub(crate) mod cip_security;
 pub(crate) mod eip_security;
+mod port_admin;
 mod record;
 
 use core::net::Ipv4Addr;
@@ -146,6 +147,9 @@ pub struct SecurityState {
     pub certs: [CertInstance; MAX_CERTS],
     /// Counts applied changes, for the runtime to notice new settings.
     pub generation: u32,
+    /// TCP/IP attribute 14: 44818/tcp closed to explicit messaging (Set_Port_Admin_State;
+    /// the runtime stops listening there, and serves TLS on 2221 only).
+    pub plain_tcp_closed: bool,
     /// The sockets whose session runs over TLS, one bit per socket index
     /// ([`crate::Adapter::set_session_secure`]).
     secure_sockets: u64,
@@ -166,6 +170,7 @@ impl SecurityState {
             pending: TlsSettings::factory(),
             certs: cert_mgmt::factory_instances(),
             generation: 0,
+            plain_tcp_closed: false,
             secure_sockets: 0,
         }
     }
@@ -229,11 +234,16 @@ impl SecurityState {
     }
 
     /// The ListIdentity CIP Security item's 5 bytes: profiles supported, the two objects'
-    /// states, and the IANA port state flags (TCP 44818, UDP 44818, UDP 2222 open; TCP 2221
-    /// while the runtime listens for TLS).
+    /// states, and the IANA port state flags (TCP 44818 unless closed, UDP 44818, UDP 2222
+    /// open; TCP 2221 while the runtime listens for TLS).
     pub fn list_identity_item(&self) -> [u8; 5] {
         let [p0, p1] = PROFILE_CONFIDENTIALITY.to_le_bytes();
-        let ports = 0b0111 | if self.tls_port_open { 1 << 3 } else { 0 };
+        let plain = if self.plain_tcp_closed {
+            0b0110
+        } else {
+            0b0111
+        };
+        let ports = plain | if self.tls_port_open { 1 << 3 } else { 0 };
         [p0, p1, self.cip_mode as u8, self.eip_mode as u8, ports]
     }
 
@@ -296,40 +306,5 @@ fn requester(request: &crate::cip::context::RequestContext) -> Option<Ipv4Addr> 
     request.peer.map(|p| *p.ip())
 }
 
+pub(crate) use port_admin::port_admin;
 pub(crate) use record::{load, save};
-
-/// TCP/IP attribute 14, IANA Port Admin, while the security objects are on (read-only here:
-/// no Set_Port_Admin_State): each port's name, number, protocol (6 TCP, 17 UDP), admin
-/// state (1 open) and capability (0: not configurable). Answers Get_Attribute_Single of
-/// instance 1 attribute 14 only; `None` for every other request.
-pub(crate) fn port_admin<D: crate::device::Device, const C: usize>(
-    ctx: &mut super::Ctx<'_, D, C>,
-    req: &crate::cip::Request<'_>,
-    w: &mut crate::wire::Writer<'_>,
-) -> Option<crate::cip::status::CipResult> {
-    let st = &ctx.state.security;
-    let asked = req.service == crate::cip::service::GET_ATTRIBUTE_SINGLE
-        && req.path.instance_or_point() == Some(1)
-        && req.path.attribute == Some(14);
-    if !st.enabled || !asked {
-        return None;
-    }
-    let ports: [(&[u8], u16, u8, bool); 4] = [
-        (b"EtherNet/IP", 44818, 6, true),
-        (b"EtherNet/IP", 44818, 17, true),
-        (b"EtherNet/IP I/O", 2222, 17, true),
-        (b"EtherNet/IP TLS", 2221, 6, st.tls_port_open),
-    ];
-    let write = |w: &mut crate::wire::Writer<'_>| -> crate::wire::Result<()> {
-        w.u8(ports.len() as u8)?;
-        for (name, number, protocol, open) in ports {
-            crate::cip::encoding::short_string(w, name)?;
-            w.u16(number)?;
-            w.u8(protocol)?;
-            w.u8(u8::from(open))?;
-            w.u8(0)?;
-        }
-        Ok(())
-    };
-    Some(write(w).map_err(crate::cip::status::CipError::from))
-}

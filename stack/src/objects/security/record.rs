@@ -19,6 +19,8 @@ const _: () = assert!(RECORD_MAX <= crate::nv::SECURITY_RECORD_ROOM);
 const VERIFY_CLIENT: u8 = 1 << 0;
 const SEND_CHAIN: u8 = 1 << 1;
 const CHECK_EXPIRATION: u8 = 1 << 2;
+/// TCP/IP attribute 14: 44818/tcp closed.
+const PLAIN_TCP_CLOSED: u8 = 1 << 3;
 
 /// Loads the stored settings into `st` (in use at once); false if there are none or they are
 /// unreadable (the factory defaults hold).
@@ -27,7 +29,8 @@ pub(crate) fn load(st: &mut SecurityState, store: &mut dyn NvStore) -> bool {
     let Ok(Some(stored)) = loaded else {
         return false;
     };
-    let (cip_mode, profiles, eip_mode, active, certs) = stored;
+    let (cip_mode, profiles, eip_mode, active, certs, closed) = stored;
+    st.plain_tcp_closed = closed;
     st.cip_mode = cip_mode;
     st.profiles_configured = profiles;
     st.eip_mode = eip_mode;
@@ -63,7 +66,8 @@ fn encode(st: &SecurityState, w: &mut Writer<'_>) -> crate::wire::Result<()> {
     let bit = |on: bool, b: u8| if on { b } else { 0 };
     let flags = bit(a.verify_client, VERIFY_CLIENT)
         | bit(a.send_chain, SEND_CHAIN)
-        | bit(a.check_expiration, CHECK_EXPIRATION);
+        | bit(a.check_expiration, CHECK_EXPIRATION)
+        | bit(st.plain_tcp_closed, PLAIN_TCP_CLOSED);
     w.u8(flags)?;
     w.u8(a.active_cert.unwrap_or(0))?;
     w.u8(a.trusted_ca.unwrap_or(0))?;
@@ -93,6 +97,7 @@ type Stored = (
     ObjectMode,
     TlsSettings,
     [CertInstance; MAX_CERTS],
+    bool,
 );
 
 fn mode(b: u8) -> Option<ObjectMode> {
@@ -153,7 +158,8 @@ fn decode(bytes: &[u8]) -> Option<Stored> {
     if r.remaining() != 0 {
         return None;
     }
-    Some((cip_mode, profiles, eip_mode, active, certs))
+    let closed = flags & PLAIN_TCP_CLOSED != 0;
+    Some((cip_mode, profiles, eip_mode, active, certs, closed))
 }
 
 #[cfg(test)]
@@ -174,12 +180,14 @@ mod tests {
         st.active.check_expiration = true;
         st.certs[2] = CertInstance::created(&[b'x'; MAX_CERT_NAME], 0).unwrap();
         st.active.trusted_ca = Some(3);
+        st.plain_tcp_closed = true;
         save(&st, &mut store).unwrap();
         let mut store = AbStore::mount(store.into_flash());
         let mut back = SecurityState::new();
         assert!(load(&mut back, &mut store));
         assert_eq!(back.active, st.active);
         assert_eq!(back.certs, st.certs);
+        assert!(back.plain_tcp_closed);
         assert_eq!((back.cip_mode, back.eip_mode), (st.cip_mode, st.eip_mode));
         // A suite not available, a duplicate, a trailing byte, another version: defaults.
         for bad in [
