@@ -1,5 +1,5 @@
-//! The non-volatile record decoders of the TCP/IP, LLDP Management, QoS and Address Conflict
-//! Detection settings: the input's first byte picks the record, the rest is stored as its
+//! The non-volatile record decoders of the TCP/IP, LLDP Management, QoS, Address Conflict
+//! Detection and CIP Security settings: the input's first byte picks the record, the rest is stored as its
 //! value in an erased store and read back by the object's `stored`. Whatever it decodes to
 //! must save and read back as the same settings (a record the device wrote itself is never
 //! refused), and nothing that is not a valid record may panic.
@@ -8,6 +8,7 @@
 use enip_fuzz::store;
 use enip_stack::acd::AcdSettings;
 use enip_stack::nv::{key, NvStore};
+use enip_stack::objects::security::SecurityState;
 use enip_stack::objects::{LldpConfig, QosState, TcpIpState};
 use libfuzzer_sys::fuzz_target;
 
@@ -34,7 +35,8 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let mut s = store::erased();
-    let key = [key::TCP_IP, key::LLDP, key::QOS, key::ACD][usize::from(which % 4)];
+    let keys = [key::TCP_IP, key::LLDP, key::QOS, key::ACD, key::SECURITY];
+    let key = keys[usize::from(which) % keys.len()];
     if s.write(key, value).is_err() {
         // Longer than the record's room: refused by the store, nothing to read.
         return;
@@ -43,6 +45,7 @@ fuzz_target!(|data: &[u8]| {
         key::TCP_IP => round_trip(&mut s, TcpIpState::stored, TcpIpState::save),
         key::LLDP => round_trip(&mut s, LldpConfig::stored, LldpConfig::save),
         key::QOS => round_trip(&mut s, QosState::stored, QosState::save),
+        key::SECURITY => round_trip(&mut s, SecurityState::stored, SecurityState::save),
         _ => round_trip(&mut s, AcdSettings::stored, AcdSettings::save),
     }
 });

@@ -6,6 +6,7 @@ use std::net::Ipv4Addr;
 
 use enip_stack::acd::AcdSettings;
 use enip_stack::nv::{key, NvStore};
+use enip_stack::objects::security::{CertInstance, SecurityState};
 use enip_stack::objects::{LldpConfig, QosState, TcpIpState};
 
 use crate::store;
@@ -143,6 +144,16 @@ pub fn seeds(o_t: &[u8]) -> Vec<(&'static str, &'static str, Vec<u8>)> {
             "nv_records",
             "acd",
             record(3, key::ACD, |s| AcdSettings::DEFAULT.save(s).expect("save")),
+        ),
+        (
+            "nv_records",
+            "security",
+            record(4, key::SECURITY, |s| {
+                let mut st = SecurityState::new();
+                st.certs[1] = CertInstance::created(b"plant CA", 0).expect("a name");
+                st.active.trusted_ca = Some(2);
+                st.save(s).expect("save")
+            }),
         ),
     ]
 }

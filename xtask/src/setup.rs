@@ -50,6 +50,11 @@ pub const APT_PACKAGES: &[(&str, &[&str])] = &[
     ("arping", &["arping", "--help"]),
     // The SYN floods of the flood tests (issue 28).
     ("hping3", &["hping3", "--version"]),
+    // EtherNet/IP over TLS (`enip-host --tls`, issue 24): the openssl crate builds against
+    // the system's OpenSSL; the CIP Security test makes its certificates with the CLI.
+    ("pkg-config", &["pkg-config", "--version"]),
+    ("libssl-dev", &["pkg-config", "--exists", "openssl"]),
+    ("openssl", &["openssl", "version"]),
 ];
 
 /// Everything: Rust target and toolchains, Debian packages, Python and npm peers.

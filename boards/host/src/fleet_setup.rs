@@ -27,5 +27,6 @@ fn spec(entry: DeviceEntry) -> Result<DeviceSpec<Renamed<Profile>>, (String, Str
         ip: entry.address,
         device,
         store,
+        tls: None,
     })
 }

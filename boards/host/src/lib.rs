@@ -57,7 +57,7 @@ pub use device_main::{device_usage, run_device, Command};
 pub use kernel::Spec as DeviceSpec;
 pub use nv_file::own as own_store;
 pub use nv_file::shared as shared_store;
-pub use options::{Link, Options, Parsed, TapOptions, DEFAULT_MAC, OPTIONS_USAGE};
+pub use options::{Link, Options, Parsed, TapOptions, TlsOptions, DEFAULT_MAC, OPTIONS_USAGE};
 pub use renamed::{Renamed, MAX_PRODUCT_NAME};
 pub use runner::{run, run_fleet};
 

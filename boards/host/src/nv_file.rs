@@ -10,11 +10,15 @@ use std::path::{Path, PathBuf};
 use std::cell::{OnceCell, RefCell};
 
 use enip_stack::nv::{
-    AbStore, Flash, FlashError, RamFlash, SharedStore, IMAGE_SIZE, MAX_WRITE_SIZE,
+    AbStore, Flash, FlashError, RamFlash, SharedStore, BASE_IMAGE_SIZE, IMAGE_SIZE, MAX_WRITE_SIZE,
 };
 
 /// Bytes of one sector in the file.
 pub const SECTOR: usize = MAX_WRITE_SIZE + IMAGE_SIZE;
+/// Bytes of one sector in the file of a build without CIP Security (the stack's
+/// `cip-security` feature makes a copy larger): such a file is carried over, its copies
+/// being the same, and rewritten at the larger size.
+const BASE_SECTOR: usize = MAX_WRITE_SIZE + BASE_IMAGE_SIZE;
 
 /// The store of a host adapter: in a file, or in RAM (lost at exit).
 pub type HostStore = AbStore<HostFlash>;
@@ -48,12 +52,26 @@ impl FileFlash {
         let mut bytes = Vec::new();
         file.read_to_end(&mut bytes).map_err(err)?;
         let mut sectors = [[0xFF; SECTOR]; 2];
+        let mut rewrite = bytes.is_empty();
         match bytes.len() {
             0 => {}
             n if n == 2 * SECTOR => {
                 for (s, chunk) in sectors.iter_mut().zip(bytes.chunks(SECTOR)) {
                     s.copy_from_slice(chunk);
                 }
+            }
+            n if BASE_SECTOR < SECTOR && n == 2 * BASE_SECTOR => {
+                for (s, chunk) in sectors.iter_mut().zip(bytes.chunks(BASE_SECTOR)) {
+                    if let Some(start) = s.get_mut(..BASE_SECTOR) {
+                        start.copy_from_slice(chunk);
+                    }
+                }
+                log::info!(
+                    "--nv-file {}: a store of {n} bytes, rewritten at {}",
+                    path.display(),
+                    2 * SECTOR
+                );
+                rewrite = true;
             }
             n => {
                 return Err(format!(
@@ -68,7 +86,7 @@ impl FileFlash {
             file,
             path: path.into(),
         };
-        if bytes.is_empty() {
+        if rewrite {
             flash
                 .sync(0, 0, SECTOR)
                 .map_err(|_| "cannot write".to_string())?;
@@ -188,6 +206,36 @@ mod tests {
         assert_eq!(&buf[..5], b"newer");
         std::fs::write(&path, b"short").unwrap();
         assert!(super::open(Some(&path)).is_err());
+        let _ = std::fs::remove_file(&path);
+    }
+
+    #[test]
+    fn a_file_of_a_build_without_cip_security_is_carried_over() {
+        use super::{BASE_SECTOR, SECTOR};
+        if BASE_SECTOR == SECTOR {
+            return;
+        }
+        let path = std::env::temp_dir().join(format!("enip-nv-base-{}", std::process::id()));
+        let _ = std::fs::remove_file(&path);
+        let mut store = super::open(Some(&path)).unwrap();
+        store.write(1, b"older").unwrap();
+        store.write(1, b"kept").unwrap();
+        drop(store);
+        // The same copies in the shorter sectors of a build without the feature.
+        let bytes = std::fs::read(&path).unwrap();
+        let base: Vec<u8> = bytes
+            .chunks(SECTOR)
+            .flat_map(|s| s[..BASE_SECTOR].to_vec())
+            .collect();
+        std::fs::write(&path, &base).unwrap();
+        let mut store = super::open(Some(&path)).unwrap();
+        let mut buf = [0u8; 8];
+        assert_eq!(store.read(1, &mut buf), Ok(Some(4)));
+        assert_eq!(&buf[..4], b"kept");
+        assert_eq!(std::fs::metadata(&path).unwrap().len(), 2 * SECTOR as u64);
+        drop(store);
+        let mut store = super::open(Some(&path)).unwrap();
+        assert_eq!(store.read(1, &mut buf), Ok(Some(4)));
         let _ = std::fs::remove_file(&path);
     }
 }

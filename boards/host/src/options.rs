@@ -26,6 +26,15 @@ pub const OPTIONS_USAGE: &str =
                      address (TCP and UDP 44818, UDP 2222), on the interface that holds it;
                      the kernel owns ARP there, so the adapter does no conflict detection
                      (TCP/IP attribute 2 bit 7 clear)
+  --tls              with --bind: EtherNet/IP over TLS 1.2 on TCP 2221 too (CIP Security,
+                     the Confidentiality profile), and the CIP Security objects (0x5D, 0x5E,
+                     0x5F) and ListIdentity item; the device certificate is a factory
+                     self-signed one made at first start (kept in PATH.device-cert.pem
+                     beside --nv-file PATH; made anew each start without it)
+  --tls-cert FILE    the device certificate (PEM; more certificates after it are its
+                     chain) instead of the factory one; with --tls-key FILE, its key
+  --tls-ca FILE      the CA certificate(s) (PEM) client certificates are checked against
+                     once the EtherNet/IP Security object asks for it (attribute 9)
 
 Logs go to stderr; set RUST_LOG to change the level (default: info).";
 
@@ -51,6 +60,21 @@ pub struct Options {
     pub link: Link,
     /// `--nv-file`: the file of the non-volatile store (none: in RAM).
     pub nv_file: Option<PathBuf>,
+    /// `--tls`: EtherNet/IP over TLS on 2221 (kernel sockets only).
+    pub tls: Option<TlsOptions>,
+}
+
+/// EtherNet/IP over TLS: where the certificates come from.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct TlsOptions {
+    /// `--tls-cert`: the device certificate (and chain), PEM.
+    pub cert: Option<PathBuf>,
+    /// `--tls-key`: its private key, PEM.
+    pub key: Option<PathBuf>,
+    /// `--tls-ca`: the trusted CA certificates, PEM.
+    pub ca: Option<PathBuf>,
+    /// Where the factory certificate is kept (beside `--nv-file`).
+    pub factory_cert: Option<PathBuf>,
 }
 
 /// The network a host adapter attaches to.
@@ -95,6 +119,7 @@ impl Options {
                 acd: true,
             }),
             nv_file: None,
+            tls: None,
         }
     }
 
@@ -103,6 +128,7 @@ impl Options {
         Options {
             link: Link::Kernel(ip),
             nv_file: None,
+            tls: None,
         }
     }
 
@@ -120,11 +146,17 @@ impl Options {
         let mut bind = None;
         let mut nv_file = None;
         let mut acd = None;
+        let mut tls = false;
+        let mut tls_files = TlsOptions::default();
         while let Some(flag) = args.next() {
             match flag.as_str() {
                 "-h" | "--help" => return Ok(Parsed::Help),
                 "--create-tap" => {
                     create = true;
+                    continue;
+                }
+                "--tls" => {
+                    tls = true;
                     continue;
                 }
                 _ => {}
@@ -137,6 +169,9 @@ impl Options {
                 "--mac" => mac = Some(parse_mac(&value)?),
                 "--bind" => bind = Some(parse_ip(&value)?),
                 "--nv-file" => nv_file = Some(PathBuf::from(value)),
+                "--tls-cert" => tls_files.cert = Some(PathBuf::from(value)),
+                "--tls-key" => tls_files.key = Some(PathBuf::from(value)),
+                "--tls-ca" => tls_files.ca = Some(PathBuf::from(value)),
                 "--acd" => {
                     acd = Some(match value.as_str() {
                         "on" => true,
@@ -177,7 +212,23 @@ impl Options {
                 })
             }
         };
-        Ok(Parsed::Run(Options { link, nv_file }))
+        let files = tls_files != TlsOptions::default();
+        let tls = match (tls, &link) {
+            (false, _) if files => {
+                return Err("--tls-cert, --tls-key and --tls-ca go with --tls".into())
+            }
+            (false, _) => None,
+            (true, Link::Tap(_)) => return Err("--tls needs --bind (the kernel's sockets)".into()),
+            (true, Link::Kernel(_)) => Some(TlsOptions {
+                factory_cert: nv_file.as_ref().map(|p| {
+                    let mut s = p.as_os_str().to_owned();
+                    s.push(".device-cert.pem");
+                    PathBuf::from(s)
+                }),
+                ..tls_files
+            }),
+        };
+        Ok(Parsed::Run(Options { link, nv_file, tls }))
     }
 
     /// The options of this process's command line (`extra` as in [`Options::parse`]); on
@@ -332,6 +383,7 @@ mod tests {
             Ok(Options {
                 link: Link::Kernel(Ipv4Addr::new(198, 18, 0, 2)),
                 nv_file: Some(PathBuf::from("/x/nv")),
+                tls: None,
             })
         );
         assert!(run(&["--bind", "198.18.0.2/24"]).is_err());
@@ -340,6 +392,35 @@ mod tests {
         assert!(run(&["--bind", "198.18.0.2", "--gateway", "198.18.0.1"]).is_err());
         assert!(run(&["--bind", "198.18.0.2", "--mac", "02:00:00:00:00:01"]).is_err());
         assert!(run(&["--bind", "198.18.0.2", "--create-tap"]).is_err());
+    }
+
+    #[test]
+    fn tls_goes_with_bind_and_keeps_its_factory_certificate_beside_the_store() {
+        let a = run(&[
+            "--bind",
+            "198.18.0.2",
+            "--tls",
+            "--nv-file",
+            "/x/nv",
+            "--tls-ca",
+            "/x/ca.pem",
+        ]);
+        let tls = a.unwrap().tls.unwrap();
+        assert_eq!(
+            tls.factory_cert,
+            Some(PathBuf::from("/x/nv.device-cert.pem"))
+        );
+        assert_eq!(tls.ca, Some(PathBuf::from("/x/ca.pem")));
+        assert_eq!(
+            run(&["--bind", "198.18.0.2", "--tls"])
+                .unwrap()
+                .tls
+                .unwrap()
+                .factory_cert,
+            None
+        );
+        assert!(run(&["--tap", "t", "--ip", "198.18.0.2/24", "--tls"]).is_err());
+        assert!(run(&["--bind", "198.18.0.2", "--tls-ca", "/x/ca.pem"]).is_err());
     }
 
     #[test]

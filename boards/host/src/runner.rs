@@ -77,6 +77,7 @@ pub fn run<D: Device + 'static>(device: D, options: Options) -> ! {
                 ip,
                 device,
                 store,
+                tls: options.tls.clone(),
             };
             kernel::run(vec![device], &program)
         }

@@ -34,6 +34,7 @@ mod chaos;
 mod chaos_faults;
 mod chaos_io;
 mod chaos_plan;
+mod cip_security;
 mod class1;
 mod class3;
 mod common;

@@ -17,6 +17,10 @@ use crate::wire::register_session::{self, RegisterSessionRepr, PROTOCOL_VERSION}
 use crate::wire::rr_data::{self, RrDataRepr};
 use crate::wire::Writer;
 
+/// The ListIdentity reply's CIP Security item (CIP Vol 8; Wireshark's ENIP dissector).
+#[cfg(feature = "cip-security")]
+const CIP_SECURITY_ITEM: u16 = 0x0086;
+
 /// Identity state reported in ListIdentity: operational.
 const STATE_OPERATIONAL: u8 = 3;
 
@@ -146,7 +150,22 @@ impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
             sender_context,
             options: 0,
         };
+        #[cfg(feature = "cip-security")]
+        let security = {
+            // A configuration session that lapsed shows as lapsed from the next request to
+            // the security objects on.
+            let st = &self.objects.security;
+            st.enabled.then(|| st.list_identity_item())
+        };
         with_body(&header, out, |w| {
+            #[cfg(feature = "cip-security")]
+            if let Some(sec) = security {
+                w.u16(2)?;
+                ItemHeaderRepr::new(item_type::LIST_IDENTITY, item.buffer_len() as u16).emit(w)?;
+                item.emit(w)?;
+                ItemHeaderRepr::new(CIP_SECURITY_ITEM, sec.len() as u16).emit(w)?;
+                return w.bytes(&sec);
+            }
             w.u16(1)?;
             ItemHeaderRepr::new(item_type::LIST_IDENTITY, item.buffer_len() as u16).emit(w)?;
             item.emit(w)

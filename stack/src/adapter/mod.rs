@@ -180,7 +180,62 @@ impl<
             tcpip.mcast = st.mcast;
         }
         self.load_acd();
+        #[cfg(feature = "cip-security")]
+        if let Some(store) = self.inner.store.as_deref_mut() {
+            crate::objects::security::load(&mut self.inner.objects.security, store);
+        }
         Ok(found)
+    }
+
+    /// Turns the CIP Security objects (0x5D, 0x5E, 0x5F) and the ListIdentity CIP Security
+    /// item on; `tls_port_open`: the runtime listens for EtherNet/IP over TLS on TCP 2221.
+    /// Until this is called the adapter answers as one built without `cip-security`.
+    #[cfg(feature = "cip-security")]
+    pub fn enable_security(&mut self, tls_port_open: bool) {
+        let st = &mut self.inner.objects.security;
+        st.enabled = true;
+        st.tls_port_open = tls_port_open;
+    }
+
+    /// The CIP Security objects' state: the TLS settings in use (what a new TLS session is
+    /// to use), the certificate instances, the states; configuration sessions that lapsed by
+    /// `now` are ended first.
+    #[cfg(feature = "cip-security")]
+    pub fn security(&mut self, now: Instant) -> &crate::objects::security::SecurityState {
+        let st = &mut self.inner.objects.security;
+        st.expire(now);
+        st
+    }
+
+    /// Notes whether the session on `socket` runs over TLS (call it at each
+    /// [`Self::tcp_accept`]): a configured security object is reconfigured or reset only over
+    /// TLS.
+    #[cfg(feature = "cip-security")]
+    pub fn set_session_secure(&mut self, socket: SocketId, secure: bool) {
+        self.inner
+            .objects
+            .security
+            .set_session_secure(socket.0, secure);
+    }
+
+    /// Records what the runtime found of the certificates of Certificate Management instance
+    /// `instance` (its device certificate and its CA certificate); false if there is no
+    /// such instance.
+    #[cfg(feature = "cip-security")]
+    pub fn set_certificate_status(
+        &mut self,
+        instance: u8,
+        device: crate::objects::security::CertStatus,
+        ca: crate::objects::security::CertStatus,
+    ) -> bool {
+        let i = usize::from(instance).wrapping_sub(1);
+        match self.inner.objects.security.certs.get_mut(i) {
+            Some(c) if c.exists => {
+                (c.device, c.ca) = (device, ca);
+                true
+            }
+            _ => false,
+        }
     }
 
     /// The device profile.

@@ -16,7 +16,21 @@ use super::{crc32, records, NvError, NvStore};
 /// records and the largest shipped profile's (the Ametek program, 1 818 bytes): see
 /// [`PROFILE_RECORD_ROOM`]. (2 048 until the LLDP, QoS and ACD records came; a copy's layout
 /// does not depend on it, a file store's sector offsets do.)
-pub const IMAGE_SIZE: usize = 2080;
+/// With the `cip-security` feature a copy is 160 bytes larger, for the security
+/// record: a store written by a build with it does not mount in one without, nor back.
+pub const IMAGE_SIZE: usize = BASE_IMAGE_SIZE + SECURITY_ROOM;
+/// [`IMAGE_SIZE`] without the `cip-security` feature: a store of that size holds the same
+/// copies, its sectors only shorter (a host's store file can be carried over).
+pub const BASE_IMAGE_SIZE: usize = 2080;
+/// The room the CIP Security record takes in a copy, its header included (0 without the
+/// feature).
+#[cfg(feature = "cip-security")]
+const SECURITY_ROOM: usize = 160;
+#[cfg(not(feature = "cip-security"))]
+const SECURITY_ROOM: usize = 0;
+/// The room of the CIP Security record.
+#[cfg(feature = "cip-security")]
+pub const SECURITY_RECORD_ROOM: usize = SECURITY_ROOM - super::records::RECORD_HEADER;
 /// The largest record a device profile can keep beside the TCP/IP settings: what a copy
 /// holds once its header and CRC, the TCP/IP record and both record headers are counted.
 pub const PROFILE_RECORD_ROOM: usize =
@@ -30,7 +44,8 @@ pub const STACK_RECORD_ROOM: usize = TCP_IP_RECORD_ROOM
     + 3 * super::records::RECORD_HEADER
     + LLDP_RECORD_ROOM
     + QOS_RECORD_ROOM
-    + ACD_RECORD_ROOM;
+    + ACD_RECORD_ROOM
+    + SECURITY_ROOM;
 /// The room of the TCP/IP object's record (its settable attributes).
 pub const TCP_IP_RECORD_ROOM: usize = 150;
 /// The room of the LLDP Management object's record (attributes 1-3).

@@ -17,9 +17,11 @@ mod flash;
 mod records;
 mod shared;
 
+#[cfg(feature = "cip-security")]
+pub use ab::SECURITY_RECORD_ROOM;
 pub use ab::{
-    AbStore, ACD_RECORD_ROOM, IMAGE_SIZE, LLDP_RECORD_ROOM, PROFILE_RECORD_ROOM, QOS_RECORD_ROOM,
-    STACK_RECORD_ROOM, TCP_IP_RECORD_ROOM,
+    AbStore, ACD_RECORD_ROOM, BASE_IMAGE_SIZE, IMAGE_SIZE, LLDP_RECORD_ROOM, PROFILE_RECORD_ROOM,
+    QOS_RECORD_ROOM, STACK_RECORD_ROOM, TCP_IP_RECORD_ROOM,
 };
 pub use crc::crc32;
 pub use cut_flash::{CutFlash, CUT_SECTOR};
@@ -70,6 +72,9 @@ pub mod key {
     pub const QOS: u16 = 0x0003;
     /// Address Conflict Detection: TCP/IP attributes 10 and 11.
     pub const ACD: u16 = 0x0004;
+    /// CIP Security settings (feature `cip-security`): the security objects' states, the
+    /// TLS settings in use and the certificate instances.
+    pub const SECURITY: u16 = 0x0005;
     /// First key of the device's records.
     pub const PROFILE_BASE: u16 = 0x0100;
 }

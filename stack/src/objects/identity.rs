@@ -104,6 +104,8 @@ fn reset<D: Device, const C: usize>(ctx: &mut Ctx<'_, D, C>, data: &[u8]) -> Cip
                 crate::nv::key::LLDP,
                 crate::nv::key::QOS,
                 crate::nv::key::ACD,
+                #[cfg(feature = "cip-security")]
+                crate::nv::key::SECURITY,
             ]
             .into_iter()
             .try_for_each(|key| store.remove(key));
@@ -125,6 +127,8 @@ fn reset<D: Device, const C: usize>(ctx: &mut Ctx<'_, D, C>, data: &[u8]) -> Cip
         };
         ctx.state.acd.settings = crate::acd::AcdSettings::DEFAULT;
         ctx.state.acd.saved = crate::acd::LastConflict::NONE;
+        #[cfg(feature = "cip-security")]
+        ctx.state.security.factory_reset();
     }
     ctx.state.pending_reset = Some(kind);
     Ok(())

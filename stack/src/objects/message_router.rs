@@ -23,6 +23,23 @@ const STANDARD_CLASSES: [u16; 9] = [
     class_id::LLDP_DATA_TABLE,
 ];
 
+/// The object list with the CIP Security classes (feature `cip-security`, turned on).
+#[cfg(feature = "cip-security")]
+fn security_object_list(w: &mut Writer<'_>, vendor: &[ClassDef]) -> CipResult {
+    use super::security::{CERT_MGMT_CLASS, CIP_SECURITY_CLASS, EIP_SECURITY_CLASS};
+    let security = [CIP_SECURITY_CLASS, EIP_SECURITY_CLASS, CERT_MGMT_CLASS];
+    let count = STANDARD_CLASSES
+        .len()
+        .saturating_add(security.len())
+        .saturating_add(vendor.len());
+    w.u16(count as u16)?;
+    let standard = STANDARD_CLASSES.iter().chain(&security);
+    for c in standard.chain(vendor.iter().map(|c| &c.id)) {
+        w.u16(*c)?;
+    }
+    Ok(())
+}
+
 /// The Message Router class: its object list and connection count, and
 /// Multiple_Service_Packet.
 pub const CLASS: ClassDef = ClassDef {
@@ -53,6 +70,10 @@ impl<D: Device, const C: usize> Object for Router<'_, '_, D, C> {
             return Ok(());
         }
         let vendor = self.ctx.device.classes();
+        #[cfg(feature = "cip-security")]
+        if self.ctx.state.security.enabled {
+            return security_object_list(w, vendor);
+        }
         w.u16(STANDARD_CLASSES.len().saturating_add(vendor.len()) as u16)?;
         for c in STANDARD_CLASSES.iter().chain(vendor.iter().map(|c| &c.id)) {
             w.u16(*c)?;

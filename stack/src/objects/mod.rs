@@ -14,6 +14,8 @@ pub(crate) mod lldp_management;
 pub(crate) mod message_router;
 pub(crate) mod qos;
 pub(crate) mod router;
+#[cfg(feature = "cip-security")]
+pub mod security;
 pub(crate) mod serve;
 pub(crate) mod tcpip;
 pub(crate) mod tcpip_nv;
@@ -53,6 +55,9 @@ pub struct ObjectState {
     pub qos: qos::QosState,
     /// A Reset service was accepted: its type, for the runtime to act on once replied.
     pub pending_reset: Option<u8>,
+    /// CIP Security objects (feature `cip-security`).
+    #[cfg(feature = "cip-security")]
+    pub security: security::SecurityState,
 }
 
 impl ObjectState {
@@ -66,6 +71,8 @@ impl ObjectState {
             lldp: lldp_management::LldpState::new(),
             qos: qos::QosState::new(),
             pending_reset: None,
+            #[cfg(feature = "cip-security")]
+            security: security::SecurityState::new(),
         }
     }
 }

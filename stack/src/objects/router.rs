@@ -124,6 +124,27 @@ pub(crate) fn dispatch<D: Device, const C: usize>(
             lldp_management::handle(ctx, req, w)
         }
         Some(class_id::QOS) => qos::handle(ctx, req, w),
+        #[cfg(feature = "cip-security")]
+        Some(c @ 0x5D..=0x5F) if ctx.state.security.enabled => security_handle(ctx, c, req, w),
         _ => vendor::handle(ctx, class, req, w),
+    }
+}
+
+/// A request to one of the CIP Security classes, after ending the lapsed configuration
+/// sessions.
+#[cfg(feature = "cip-security")]
+fn security_handle<D: Device, const C: usize>(
+    ctx: &mut Ctx<'_, D, C>,
+    class: u16,
+    req: &Request<'_>,
+    w: &mut Writer<'_>,
+) -> CipResult {
+    use super::security::{cert_mgmt, cip_security, eip_security};
+    let now = ctx.now();
+    ctx.state.security.expire(now);
+    match class {
+        super::security::CIP_SECURITY_CLASS => cip_security::handle(ctx, req, w),
+        super::security::EIP_SECURITY_CLASS => eip_security::handle(ctx, req, w),
+        _ => cert_mgmt::handle(ctx, req, w),
     }
 }

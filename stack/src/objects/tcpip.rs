@@ -381,6 +381,10 @@ pub(crate) fn handle<D: Device, const C: usize>(
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
+    #[cfg(feature = "cip-security")]
+    if let Some(r) = super::security::port_admin(ctx, req, w) {
+        return r;
+    }
     serve(&mut TcpIp(ctx), req, w)
 }
 

@@ -12,12 +12,15 @@
 
 mod fleet;
 mod io;
+mod link;
 mod netif;
 mod node;
 mod poll;
 mod session;
 mod socket;
 mod tcp;
+#[cfg(feature = "tls")]
+pub(crate) mod tls;
 mod udp;
 
 use std::process::exit;

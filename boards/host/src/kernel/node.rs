@@ -24,7 +24,8 @@ const IO: u32 = 0;
 const UDP: u32 = 1;
 const BROADCAST: u32 = 2;
 const LISTENER: u32 = 3;
-const SESSIONS: u32 = 4;
+const TLS_LISTENER: u32 = 4;
+const SESSIONS: u32 = 5;
 /// Keys per node: node `i`'s sockets have keys `i * SLOTS + slot`.
 pub const SLOTS: u64 = SESSIONS as u64 + MAX_SESSIONS as u64;
 // The ready sockets of a node are kept as bits of a `u32`.
@@ -46,6 +47,8 @@ pub struct Spec<D> {
     pub device: D,
     /// Its non-volatile store.
     pub store: SharedStore,
+    /// EtherNet/IP over TLS on 2221 and the CIP Security objects (`--tls`).
+    pub tls: Option<crate::options::TlsOptions>,
 }
 
 /// One device on its own address, and the state of its share of the loop.
@@ -80,17 +83,38 @@ impl<D: Device> Node<D> {
             ip,
             device,
             mut store,
+            tls,
         } = spec;
         let iface = Interface::holding(ip)?;
         warn_if_stored_elsewhere(&mut store, ip);
+        let name = device.identity().product_name;
+        #[cfg(feature = "tls")]
+        let tls = tls_server(ip, tls.as_ref(), name)?;
+        #[cfg(not(feature = "tls"))]
+        no_tls(tls.as_ref(), name)?;
         let opened = (|| {
-            Ok::<_, std::io::Error>((Tcp::open(ip)?, Udp::open(ip, iface.index)?, Io::open(ip)?))
+            let tcp = Tcp::open(
+                ip,
+                #[cfg(feature = "tls")]
+                tls,
+            )?;
+            Ok::<_, std::io::Error>((tcp, Udp::open(ip, iface.index)?, Io::open(ip)?))
         })();
         let (mut tcp, udp, io) = opened.map_err(|e| format!("cannot listen on {ip}: {e}"))?;
         let mut adapter = Adapter::new(device, iface.config, seed());
         if let Err(e) = adapter.attach_store(Box::leak(Box::new(store))) {
             log::error!("non-volatile store unreadable ({e}): factory TCP/IP settings");
         }
+        #[cfg(feature = "tls")]
+        if let Some(t) = tcp.tls() {
+            adapter.enable_security(true);
+            t.material().report(&mut adapter);
+        }
+        #[cfg(feature = "tls")]
+        let closed =
+            tcp.tls().is_some() && adapter.security(Instant::from_micros(0)).plain_tcp_closed;
+        #[cfg(feature = "tls")]
+        tcp.set_plain_closed(closed, &mut adapter, Instant::from_micros(0));
         // Explicit messaging's DSCP, as the device starts (QoS: it applies from a start);
         // Class 1 datagrams get their connection's as they go ([`Io::produce`]).
         let dscp = adapter.explicit_dscp();
@@ -120,8 +144,13 @@ impl<D: Device> Node<D> {
     /// The line saying where it listens.
     pub fn listening(&self) -> String {
         let name = self.adapter.device().identity().product_name;
+        let tls = if self.tcp.tls_listener_fd().is_some() {
+            ", TLS on 2221"
+        } else {
+            ""
+        };
         format!(
-            "listening on {} (kernel sockets on {}, link up {}, device {name:?})",
+            "listening on {} (kernel sockets on {}, link up {}, device {name:?}{tls})",
             self.ip, self.iface.name, self.iface.config.link_up
         )
     }
@@ -169,6 +198,10 @@ impl<D: Device> Node<D> {
     ) -> Option<Instant> {
         let connections = self.adapter.connections().len();
         let mut settings_may_change = self.serve_ready(now, rx, tx);
+        #[cfg(feature = "tls")]
+        if settings_may_change {
+            self.follow_port_admin(now);
+        }
         let next = self.run_due(now, rx, tx);
         settings_may_change |= self.adapter.connections().len() != connections;
         if settings_may_change {
@@ -217,6 +250,17 @@ impl<D: Device> Node<D> {
         [io, udp, self.device_due, tcp].into_iter().flatten().min()
     }
 
+    /// Closes or opens 44818 as TCP/IP Set_Port_Admin_State last said (only with `--tls`).
+    #[cfg(feature = "tls")]
+    fn follow_port_admin(&mut self, now: Instant) {
+        if self.tcp.tls().is_none() {
+            return;
+        }
+        let closed = self.adapter.security(now).plain_tcp_closed;
+        self.tcp.set_plain_closed(closed, &mut self.adapter, now);
+        self.tcp_changed = true;
+    }
+
     /// Puts the listener and the sessions, as they are now, in `epoll` (a closed one left by
     /// itself).
     fn watch_tcp(&mut self, epoll: &Epoll, base: u64) {
@@ -227,6 +271,9 @@ impl<D: Device> Node<D> {
         };
         if let Some(fd) = self.tcp.listener_fd() {
             watch(LISTENER, fd, true, false);
+        }
+        if let Some(fd) = self.tcp.tls_listener_fd() {
+            watch(TLS_LISTENER, fd, true, false);
         }
         for (index, slot) in (0..MAX_SESSIONS).zip(SESSIONS..) {
             if let Some(i) = self.tcp.interest(index) {
@@ -265,9 +312,11 @@ impl<D: Device> Node<D> {
                     .serve(index, r, w, &mut self.adapter, now, on_reset);
             }
         }
-        if is(readable, LISTENER) {
-            self.tcp.accept(&mut self.adapter, now);
-            self.tcp_changed = true;
+        for (key, tls) in [(LISTENER, false), (TLS_LISTENER, true)] {
+            if is(readable, key) {
+                self.tcp.accept(&mut self.adapter, now, tls);
+                self.tcp_changed = true;
+            }
         }
         changed
     }
@@ -309,5 +358,30 @@ fn warn_if_stored_elsewhere(store: &mut SharedStore, ip: Ipv4Addr) {
                 i.ip
             );
         }
+    }
+}
+
+/// The TLS listener on 2221 of `ip` with the certificates `options` names.
+#[cfg(feature = "tls")]
+fn tls_server(
+    ip: Ipv4Addr,
+    options: Option<&crate::options::TlsOptions>,
+    name: &str,
+) -> Result<Option<super::tcp::TlsServer>, String> {
+    let Some(o) = options else {
+        return Ok(None);
+    };
+    let material = super::tls::Material::load(o, o.factory_cert.as_deref(), name)?;
+    super::tcp::TlsServer::open(ip, material)
+        .map(Some)
+        .map_err(|e| format!("cannot listen on {ip}:2221: {e}"))
+}
+
+/// Without the `tls` feature there is no TLS listener: `--tls` is an error.
+#[cfg(not(feature = "tls"))]
+fn no_tls(options: Option<&crate::options::TlsOptions>, _name: &str) -> Result<(), String> {
+    match options {
+        Some(_) => Err("--tls: this program is built without the `tls` feature".into()),
+        None => Ok(()),
     }
 }

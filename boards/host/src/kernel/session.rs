@@ -1,11 +1,12 @@
-//! One encapsulation session's connection on port 44818 ([`Slot`]): reads into its own
+//! One encapsulation session's connection on port 44818, or on 2221 over TLS ([`Slot`]):
+//! completes a TLS handshake first (bounded by [`HANDSHAKE`]), then reads into its own
 //! buffer only when its previous reply has gone out, hands the bytes to the adapter frame by
 //! frame, writes each reply, performs an Identity Reset once its reply is out, and on a close
 //! shuts its side down and waits (bounded) for the peer's FIN. The timeouts are the embedded
 //! runtime's ([`enip_firmware::tcp`]).
 
-use std::io::{self, Read, Write};
-use std::net::{Shutdown, SocketAddrV4, TcpStream};
+use std::io;
+use std::net::{SocketAddrV4, TcpStream};
 use std::os::fd::{AsRawFd, RawFd};
 use std::time::Duration;
 
@@ -15,8 +16,13 @@ use enip_stack::device::CloseReason;
 use enip_stack::{Adapter, Device, Instant, SocketId, TcpOutcome};
 use socket2::SockRef;
 
-/// Bytes read from a connection at once.
-const RX_LEN: usize = 2048;
+use super::link::{Handshake, Link};
+
+/// Bytes read from a connection at once: a whole TLS record's plaintext, so that none waits
+/// in the TLS layer where polling the socket cannot see it.
+const RX_LEN: usize = 16 * 1024;
+/// Longest a TLS handshake may take.
+const HANDSHAKE: Duration = Duration::from_secs(10);
 
 /// One session's buffers (allocated once) and connection.
 pub struct Slot {
@@ -34,7 +40,7 @@ pub struct Slot {
 
 /// A connection in a slot.
 struct Conn {
-    stream: TcpStream,
+    stream: Link,
     state: State,
     /// When the adapter's inactivity timeout is to be checked.
     idle_check: Option<Instant>,
@@ -43,6 +49,9 @@ struct Conn {
 /// Where a connection is in its life.
 #[derive(Clone, Copy)]
 enum State {
+    /// The TLS handshake runs until `until`; it waits for the socket to be writable
+    /// (`write`) or readable.
+    Handshake { until: Instant, write: bool },
     /// Serving frames; `then` is the outcome of the frame whose reply is pending (its Reset
     /// and close follow the reply), and `write_deadline` when that reply must be out.
     Open {
@@ -85,7 +94,7 @@ impl Conn {
                 ..
             } => Some(at),
             State::Open { .. } => self.idle_check,
-            State::Closing { until } => Some(until),
+            State::Closing { until } | State::Handshake { until, .. } => Some(until),
         }
     }
 }
@@ -125,29 +134,37 @@ impl Slot {
     /// Serves the accepted connection `stream` from `peer` in this (free) slot.
     pub fn start<D: Device>(
         &mut self,
-        stream: TcpStream,
+        stream: Link,
         peer: SocketAddrV4,
         adapter: &mut Adapter<D>,
         now: Instant,
     ) {
-        if let Err(e) = stream.set_nonblocking(true) {
+        if let Err(e) = stream.tcp().set_nonblocking(true) {
             log::warn!("tcp {peer}: {e}");
-            return reset(stream);
+            return reset(stream.tcp());
         }
         // Replies are whole frames; send each at once.
-        let _ = stream.set_nodelay(true);
+        let _ = stream.tcp().set_nodelay(true);
+        let tls = !matches!(stream, Link::Plain(_));
         log::debug!("tcp socket {}: connection from {peer}", self.id.0);
         adapter.tcp_accept(self.id, peer, now);
+        #[cfg(feature = "tls")]
+        adapter.set_session_secure(self.id, tls);
         self.rx_start = 0;
         self.rx_end = 0;
         self.out_start = 0;
         self.out_end = 0;
+        let state = if tls {
+            State::Handshake {
+                until: now.add(micros(HANDSHAKE)),
+                write: false,
+            }
+        } else {
+            open()
+        };
         self.conn = Some(Conn {
             stream,
-            state: State::Open {
-                then: TcpOutcome::default(),
-                write_deadline: None,
-            },
+            state,
             idle_check: adapter.tcp_deadline(self.id),
         });
     }
@@ -155,9 +172,12 @@ impl Slot {
     /// What the connection waits for: a read, or room for the rest of its reply.
     pub fn interest(&self) -> Option<Interest> {
         let conn = self.conn.as_ref()?;
-        let pending = self.out_start < self.out_end;
+        let pending = match conn.state {
+            State::Handshake { write, .. } => write,
+            _ => self.out_start < self.out_end,
+        };
         Some(Interest {
-            fd: conn.stream.as_raw_fd(),
+            fd: conn.stream.tcp().as_raw_fd(),
             read: !pending,
             write: pending,
         })
@@ -177,6 +197,7 @@ impl Slot {
             return false;
         };
         match conn.state {
+            State::Handshake { .. } => self.handshake(adapter, now, on_reset),
             State::Closing { .. } => {
                 if readable {
                     self.drain_closing();
@@ -207,6 +228,46 @@ impl Slot {
                 if !self.handle(adapter, now, on_reset) {
                     self.ack_now();
                 }
+                true
+            }
+        }
+    }
+
+    /// Moves the TLS handshake on; once complete, serves what already arrived. Returns
+    /// whether frames were handled (or the connection closed).
+    fn handshake<D: Device>(
+        &mut self,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+        on_reset: fn(u8),
+    ) -> bool {
+        let Some(conn) = self.conn.as_mut() else {
+            return false;
+        };
+        match conn.stream.handshake() {
+            Handshake::Done => {
+                log::debug!(
+                    "tcp socket {}: TLS session: {}",
+                    self.id.0,
+                    conn.stream.describe().unwrap_or_default()
+                );
+                conn.state = open();
+                if self.receive(adapter, now) && !self.handle(adapter, now, on_reset) {
+                    self.ack_now();
+                }
+                true
+            }
+            Handshake::Waiting(w) => {
+                if let State::Handshake { write, .. } = &mut conn.state {
+                    *write = w;
+                }
+                false
+            }
+            Handshake::Failed(why) => {
+                log::info!("tcp socket {}: TLS handshake failed: {why}", self.id.0);
+                adapter.tcp_close(self.id, now);
+                reset(conn.stream.tcp());
+                self.conn = None;
                 true
             }
         }
@@ -286,7 +347,7 @@ impl Slot {
     /// acknowledgement, and a delayed one makes the peer retransmit.
     fn ack_now(&self) {
         if let Some(conn) = self.conn.as_ref().filter(|c| c.is_open()) {
-            let _ = SockRef::from(&conn.stream).set_tcp_quickack(true);
+            let _ = SockRef::from(conn.stream.tcp()).set_tcp_quickack(true);
         }
     }
 
@@ -351,10 +412,10 @@ impl Slot {
         let Some(conn) = self.conn.as_mut() else {
             return;
         };
-        if conn.is_open() {
+        if !matches!(conn.state, State::Closing { .. }) {
             adapter.tcp_close(self.id, now);
         }
-        let _ = conn.stream.shutdown(Shutdown::Write);
+        conn.stream.shutdown();
         conn.state = State::Closing {
             until: now.add(stack_duration(LINGER)),
         };
@@ -384,9 +445,15 @@ impl Slot {
             return;
         };
         match conn.state {
+            State::Handshake { until, .. } if until <= now => {
+                log::info!("tcp socket {}: TLS handshake not done in time", self.id.0);
+                adapter.tcp_close(self.id, now);
+                reset(conn.stream.tcp());
+                self.conn = None;
+            }
             State::Closing { until } if until <= now => {
                 // The peer never finished: reset rather than wait.
-                let _ = SockRef::from(&conn.stream).set_linger(Some(Duration::ZERO));
+                reset(conn.stream.tcp());
                 self.conn = None;
                 log::debug!("tcp socket {}: closed (reset)", self.id.0);
             }
@@ -409,9 +476,17 @@ impl Slot {
     }
 }
 
-/// Resets a connection that cannot be served.
-pub fn reset(stream: TcpStream) {
-    let _ = SockRef::from(&stream).set_linger(Some(Duration::ZERO));
+/// Resets a connection that cannot be served (at its close, now or when dropped).
+pub fn reset(stream: &TcpStream) {
+    let _ = SockRef::from(stream).set_linger(Some(Duration::ZERO));
+}
+
+/// A connection's state when it starts serving frames.
+fn open() -> State {
+    State::Open {
+        then: TcpOutcome::default(),
+        write_deadline: None,
+    }
 }
 
 /// A standard duration as the stack's.

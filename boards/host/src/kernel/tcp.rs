@@ -1,5 +1,9 @@
-//! The encapsulation TCP sessions on port 44818: a listener and one slot per session the
-//! stack has room for ([`MAX_SESSIONS`]).
+//! The encapsulation TCP sessions on port 44818 (and, with `--tls`, on 2221 over TLS): a
+//! listener per port and one slot per session the stack has room for ([`MAX_SESSIONS`]).
+//!
+//! The two ports share the slots: the stack's sessions are its capacity (3 by default, each
+//! with its reassembly buffer), whichever port a client comes in on, as a device with one
+//! session table and two listening ports has it; a fourth client is refused on either port.
 //!
 //! While every slot is taken the listener is closed, so the kernel refuses a surplus client
 //! with a reset, as the embedded runtime does with no socket listening; it listens again as
@@ -15,8 +19,15 @@ use std::time::Duration;
 use enip_stack::config::{ENCAP_PORT, MAX_SESSIONS};
 use enip_stack::{Adapter, Device, Instant, SocketId};
 
+use super::link::Link;
 use super::session::{micros, reset, Interest, Slot};
 use super::socket::{set_dscp, tcp_listener, BACKLOG};
+#[cfg(feature = "tls")]
+use super::tls;
+
+/// The TCP port of EtherNet/IP over TLS.
+#[cfg(feature = "tls")]
+pub const TLS_PORT: u16 = 2221;
 
 /// Longest wait of a connection accepted while every slot was taken.
 const WAIT: Duration = Duration::from_secs(1);
@@ -33,11 +44,77 @@ pub struct Tcp {
     deadline: Option<Instant>,
     /// The DSCP of explicit messaging (QoS attribute 8), set on every listener.
     dscp: u8,
+    /// EtherNet/IP over TLS on 2221 (`--tls`).
+    #[cfg(feature = "tls")]
+    tls: Option<TlsServer>,
+    /// 44818 is closed to explicit messaging (TCP/IP Set_Port_Admin_State): no listener
+    /// there; the sessions already open go on.
+    plain_closed: bool,
+}
+
+/// The TLS port's listener and what its sessions are set up with.
+#[cfg(feature = "tls")]
+pub struct TlsServer {
+    /// Listening while a slot is free.
+    listener: Option<TcpListener>,
+    /// The device's certificates.
+    material: tls::Material,
+    /// The context of the settings in use, and their generation.
+    context: Option<(u32, openssl::ssl::SslContext)>,
+}
+
+#[cfg(feature = "tls")]
+impl TlsServer {
+    /// Listens on 2221 of `ip`, with `material`.
+    pub fn open(ip: Ipv4Addr, material: tls::Material) -> io::Result<Self> {
+        Ok(TlsServer {
+            listener: Some(tcp_listener(SocketAddrV4::new(ip, TLS_PORT))?),
+            material,
+            context: None,
+        })
+    }
+
+    /// The device's certificates, for the adapter to be told of.
+    pub fn material(&self) -> &tls::Material {
+        &self.material
+    }
+
+    /// A TLS session for `stream` with the settings in use now (the context made anew when
+    /// a configuration was applied); `None` if they cannot make one (logged).
+    fn wrap<D: Device>(
+        &mut self,
+        stream: TcpStream,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+    ) -> Option<Link> {
+        let st = adapter.security(now);
+        if self
+            .context
+            .as_ref()
+            .is_none_or(|(g, _)| *g != st.generation)
+        {
+            match tls::context(st, &self.material) {
+                Ok(ctx) => self.context = Some((st.generation, ctx)),
+                Err(e) => {
+                    log::error!("TLS settings unusable: {e}");
+                    self.context = None;
+                }
+            }
+        }
+        let (_, ctx) = self.context.as_ref()?;
+        let ssl = openssl::ssl::Ssl::new(ctx)
+            .map_err(|e| log::warn!("tls: {e}"))
+            .ok()?;
+        let tls = openssl::ssl::SslStream::new(ssl, stream)
+            .map_err(|e| log::warn!("tls: {e}"))
+            .ok()?;
+        Some(Link::Tls(Box::new(tls)))
+    }
 }
 
 /// A connection waiting for a free slot.
 struct Waiting {
-    stream: TcpStream,
+    stream: Link,
     peer: SocketAddrV4,
     /// When it is reset if no slot freed.
     until: Instant,
@@ -45,7 +122,7 @@ struct Waiting {
 
 impl Tcp {
     /// Listens on port 44818 of `ip`.
-    pub fn open(ip: Ipv4Addr) -> io::Result<Self> {
+    pub fn open(ip: Ipv4Addr, #[cfg(feature = "tls")] tls: Option<TlsServer>) -> io::Result<Self> {
         let addr = SocketAddrV4::new(ip, ENCAP_PORT);
         let mut index = 0u8;
         let slots = [(); MAX_SESSIONS].map(|()| {
@@ -60,7 +137,33 @@ impl Tcp {
             waiting: [const { None }; MAX_SESSIONS],
             deadline: None,
             dscp: 0,
+            #[cfg(feature = "tls")]
+            tls,
+            plain_closed: false,
         })
+    }
+
+    /// Closes 44818 to new clients (`closed`), or listens there again.
+    #[cfg(feature = "tls")]
+    pub fn set_plain_closed<D: Device>(
+        &mut self,
+        closed: bool,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+    ) {
+        if closed == self.plain_closed {
+            return;
+        }
+        log::info!(
+            "tcp {}: {} to explicit messaging",
+            self.addr,
+            if closed { "closed" } else { "open" }
+        );
+        self.plain_closed = closed;
+        if closed {
+            self.listener = None;
+        }
+        self.settle(adapter, now);
     }
 
     /// Marks the sessions' packets with `dscp` from now on (the listener's and the next
@@ -72,6 +175,30 @@ impl Tcp {
                 log::warn!("tcp {}: dscp {dscp}: {e}", self.addr);
             }
         }
+        #[cfg(feature = "tls")]
+        if let Some(l) = self.tls.as_ref().and_then(|t| t.listener.as_ref()) {
+            if let Err(e) = set_dscp(l, dscp) {
+                log::warn!("tcp {}:{TLS_PORT}: dscp {dscp}: {e}", self.addr.ip());
+            }
+        }
+    }
+
+    /// The TLS port's server, if `--tls`.
+    #[cfg(feature = "tls")]
+    pub fn tls(&self) -> Option<&TlsServer> {
+        self.tls.as_ref()
+    }
+
+    /// The TLS listener, while one listens.
+    pub fn tls_listener_fd(&self) -> Option<RawFd> {
+        #[cfg(feature = "tls")]
+        return self
+            .tls
+            .as_ref()
+            .and_then(|t| t.listener.as_ref())
+            .map(AsRawFd::as_raw_fd);
+        #[cfg(not(feature = "tls"))]
+        None
     }
 
     /// The listener, while one listens.
@@ -86,14 +213,26 @@ impl Tcp {
 
     /// Accepts every connection the kernel completed: into a free slot, else into the
     /// waiting queue; closes the listener once every slot is taken.
-    pub fn accept<D: Device>(&mut self, adapter: &mut Adapter<D>, now: Instant) {
+    pub fn accept<D: Device>(&mut self, adapter: &mut Adapter<D>, now: Instant, tls: bool) {
         // Bounded by what the kernel's backlog can hold.
         for _ in 0..BACKLOG + MAX_SESSIONS {
-            let Some(listener) = &self.listener else {
-                return;
+            #[cfg(feature = "tls")]
+            let listener = match tls {
+                true => self.tls.as_ref().and_then(|t| t.listener.as_ref()),
+                false => self.listener.as_ref(),
+            };
+            #[cfg(not(feature = "tls"))]
+            let listener = self.listener.as_ref().filter(|_| !tls);
+            let Some(listener) = listener else {
+                break;
             };
             match listener.accept() {
-                Ok((stream, SocketAddr::V4(peer))) => self.admit(stream, peer, adapter, now),
+                Ok((stream, SocketAddr::V4(peer))) => {
+                    let link = self.link(stream, tls, adapter, now);
+                    if let Some(link) = link {
+                        self.admit(link, peer, adapter, now);
+                    }
+                }
                 Ok(_) => {}
                 Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
                 Err(e) => {
@@ -103,17 +242,41 @@ impl Tcp {
             }
         }
         if self.slots.iter().all(|s| !s.is_free()) {
-            // Every session is taken: the kernel refuses the next client.
+            // Every session is taken: the kernel refuses the next client, on either port.
             self.listener = None;
+            #[cfg(feature = "tls")]
+            if let Some(t) = &mut self.tls {
+                t.listener = None;
+            }
         }
         self.settle(adapter, now);
+    }
+
+    /// The session stream of an accepted connection: itself, or TLS over it.
+    fn link<D: Device>(
+        &mut self,
+        stream: TcpStream,
+        tls: bool,
+        adapter: &mut Adapter<D>,
+        now: Instant,
+    ) -> Option<Link> {
+        if !tls {
+            return Some(Link::Plain(stream));
+        }
+        #[cfg(feature = "tls")]
+        if let Some(t) = &mut self.tls {
+            return t.wrap(stream, adapter, now);
+        }
+        let _ = (adapter, now);
+        reset(&stream);
+        None
     }
 
     /// Serves `stream` in a free slot; with none free, lets it wait (a client whose
     /// handshake the kernel completed just before the listener closed), or resets it.
     fn admit<D: Device>(
         &mut self,
-        stream: TcpStream,
+        stream: Link,
         peer: SocketAddrV4,
         adapter: &mut Adapter<D>,
         now: Instant,
@@ -129,7 +292,7 @@ impl Tcp {
                     until: now.add(micros(WAIT)),
                 })
             }
-            None => reset(stream),
+            None => reset(stream.tcp()),
         }
     }
 
@@ -170,7 +333,7 @@ impl Tcp {
         for w in &mut self.waiting {
             if let Some(gone) = w.take_if(|w| w.until <= now) {
                 log::debug!("tcp {}: no session free, reset", gone.peer);
-                reset(gone.stream);
+                reset(gone.stream.tcp());
             }
         }
         self.settle(adapter, now);
@@ -203,7 +366,23 @@ impl Tcp {
             };
             slot.start(w.stream, w.peer, adapter, now);
         }
-        if self.listener.is_some() || self.slots.iter().all(|s| !s.is_free()) {
+        if self.slots.iter().all(|s| !s.is_free()) {
+            return;
+        }
+        #[cfg(feature = "tls")]
+        if let Some(t) = self.tls.as_mut().filter(|t| t.listener.is_none()) {
+            let addr = SocketAddrV4::new(*self.addr.ip(), TLS_PORT);
+            match tcp_listener(addr) {
+                Ok(l) => {
+                    if let Err(e) = set_dscp(&l, self.dscp) {
+                        log::warn!("tcp {addr}: dscp {}: {e}", self.dscp);
+                    }
+                    t.listener = Some(l);
+                }
+                Err(e) => log::warn!("tcp {addr}: listen failed: {e}"),
+            }
+        }
+        if self.listener.is_some() || self.plain_closed {
             return;
         }
         match tcp_listener(self.addr) {
