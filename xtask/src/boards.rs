@@ -24,6 +24,9 @@ pub const EXAMPLE_NUCLEO_H563: &str = "io-block-nucleo-h563zi";
 pub const PICO: &str = "enip-w5500-evb-pico";
 /// The example firmware: the I/O block on the W5500-EVB-Pico.
 pub const EXAMPLE_PICO: &str = "io-block-pico";
+/// The emulated board with EtherNet/IP over TLS through mbedTLS (its feature `tls`): the
+/// footprint's name for [`qemu_tls_image`].
+pub const QEMU_TLS: &str = "enip-qemu-mps2 +tls";
 /// The profile a board runs unless told otherwise.
 pub const DEFAULT_PROFILE: &str = "generic";
 
@@ -92,6 +95,25 @@ pub fn faults_image() -> Result<PathBuf> {
     let elf = util::target_dir().join("qemu-faults.elf");
     let settings = [("ENIP_TEST_FAULTS", "on"), ("ENIP_ACD", "off")];
     std::fs::copy(build_with(QEMU, DEFAULT_PROFILE, &settings)?, &elf)?;
+    Ok(elf)
+}
+
+/// Builds the emulated board with feature `tls` (mbedTLS on 2221; generic profile); returns
+/// its copy, `target/qemu-tls.elf` (the build itself has the plain image's path).
+pub fn qemu_tls_image() -> Result<PathBuf> {
+    setup::flip_link()?;
+    let elf = util::target_dir().join("qemu-tls.elf");
+    run(util::cargo().args([
+        "build",
+        "-p",
+        QEMU,
+        "--release",
+        "--target",
+        THUMB_TARGET,
+        "--features",
+        "tls",
+    ]))?;
+    std::fs::copy(self::elf(QEMU), &elf)?;
     Ok(elf)
 }
 

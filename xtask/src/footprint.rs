@@ -66,6 +66,9 @@ impl Image {
 pub fn footprint() -> Result {
     let mut images = BTreeMap::new();
     let budgeted = BUDGETS.iter().map(|(board, _, _)| *board);
+    // Built first: it shares its ELF's path with the plain emulated image, built after it.
+    let tls = boards::qemu_tls_image()?;
+    images.insert(boards::QEMU_TLS, measure(&tls.to_string_lossy())?);
     let unbudgeted = [boards::QEMU, boards::EXAMPLE_NUCLEO, boards::EXAMPLE_PICO];
     for board in unbudgeted.into_iter().chain(budgeted) {
         let elf = boards::build(board, boards::DEFAULT_PROFILE)?;
@@ -131,8 +134,9 @@ fn measure(elf: &str) -> Result<Image> {
             }
         }
     }
-    let symbols = output(Command::new("arm-none-eabi-nm").args(["-C", "-S", "--size-sort", elf]))
-        .ok_or_else(|| util::Error(format!("arm-none-eabi-nm {elf} failed")))?;
+    let symbols =
+        output(Command::new("arm-none-eabi-nm").args(["-C", "-S", "-l", "--size-sort", elf]))
+            .ok_or_else(|| util::Error(format!("arm-none-eabi-nm {elf} failed")))?;
     for line in symbols.lines() {
         let mut cols = line.splitn(4, ' ');
         let (Some(_), Some(size), Some(kind), Some(name)) =
@@ -143,13 +147,44 @@ fn measure(elf: &str) -> Result<Image> {
         let Ok(size) = u64::from_str_radix(size, 16) else {
             continue;
         };
+        // `-l` appends the symbol's source location after a tab.
+        let (name, location) = name.split_once('\t').unwrap_or((name, ""));
+        let tls = tls_owner(name, location);
         match kind {
-            "t" | "T" | "r" | "R" => *image.flash_by.entry(owner(name)).or_default() += size,
-            "d" | "D" | "b" | "B" => *image.ram_by.entry(static_owner(name)).or_default() += size,
+            "t" | "T" | "r" | "R" => {
+                *image
+                    .flash_by
+                    .entry(tls.unwrap_or_else(|| owner(name)))
+                    .or_default() += size
+            }
+            "d" | "D" | "b" | "B" => {
+                *image
+                    .ram_by
+                    .entry(tls.unwrap_or_else(|| static_owner(name)))
+                    .or_default() += size
+            }
             _ => {}
         }
     }
     Ok(image)
+}
+
+/// The TLS image's own shares: mbedTLS's C code and statics (the arena among them) by their
+/// source location (mbedTLS's library and headers, the crate's C shim), and the Rust side of
+/// `enip-tls-mbedtls`; `None` for every other symbol.
+fn tls_owner(symbol: &str, location: &str) -> Option<String> {
+    let c = [
+        "/vendor/library/",
+        "/vendor/include/mbedtls/",
+        "tls-mbedtls/c/",
+    ];
+    if c.iter().any(|dir| location.contains(dir)) {
+        Some("mbedtls (C, arena)".to_string())
+    } else if symbol.contains("enip_tls_mbedtls::") || location.contains("tls-mbedtls/src/") {
+        Some("tls-mbedtls (Rust)".to_string())
+    } else {
+        None
+    }
 }
 
 /// Who a code or constant symbol belongs to: the stack, the firmware, the profiles, embassy-net with

@@ -55,6 +55,13 @@ pub const APT_PACKAGES: &[(&str, &[&str])] = &[
     ("pkg-config", &["pkg-config", "--version"]),
     ("libssl-dev", &["pkg-config", "--exists", "openssl"]),
     ("openssl", &["openssl", "version"]),
+    // The emulated board's TLS image (`enip-tls-mbedtls`, issue 24): mbedTLS compiled for
+    // the Cortex-M with the cross C compiler and newlib's headers.
+    ("gcc-arm-none-eabi", &["arm-none-eabi-gcc", "--version"]),
+    (
+        "libnewlib-arm-none-eabi",
+        &["test", "-e", "/usr/lib/arm-none-eabi/include/string.h"],
+    ),
 ];
 
 /// Everything: Rust target and toolchains, Debian packages, Python and npm peers.

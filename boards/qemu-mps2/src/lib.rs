@@ -34,6 +34,8 @@ mod mmio;
 #[path = "../../shared/stack.rs"]
 pub mod stack;
 pub mod time;
+#[cfg(feature = "tls")]
+mod tls;
 pub mod uart;
 pub mod watchdog;
 
@@ -79,7 +81,7 @@ const FEED_PERIOD: Duration = Duration::from_millis(250);
 static HEARTBEAT: StaticCell<Heartbeat> = StaticCell::new();
 
 /// Sockets of the embassy-net stack: what the runtime needs.
-const SOCKETS: usize = enip_firmware::SOCKETS;
+const SOCKETS: usize = enip_firmware::SOCKETS + if cfg!(feature = "tls") { 1 } else { 0 };
 
 static NET_RESOURCES: ConstStaticCell<StackResources<SOCKETS>> =
     ConstStaticCell::new(enip_firmware::stack_resources());
@@ -159,13 +161,15 @@ pub async fn run<D: Device>(
     log::info!(
         "enip-qemu-mps2: MAC {a:02x}:{b:02x}:{c:02x}:{d:02x}:{e:02x}:{g:02x}, listening on {address}/{prefix_len}"
     );
-    enip_firmware::run(
+    let plaintext = enip_firmware::run(
         net,
         adapter,
         FIRMWARE_RESOURCES.init_with(Resources::new),
         on_reset,
-    )
-    .await
+    );
+    #[cfg(feature = "tls")]
+    let plaintext = tls::beside(net, adapter, seed.rotate_left(17), plaintext);
+    plaintext.await
 }
 
 /// `adapter` with the RAM store attached (settings kept until power-off), told to skip

@@ -1,0 +1,143 @@
+//! [`serve`]: the TLS listener on 2221 feeding one encapsulation session slot of the adapter
+//! with decrypted bytes, as the plaintext socket on 44818 feeds its own, and encrypting the
+//! replies.
+
+use embassy_net::tcp::TcpSocket;
+use embassy_net::{IpAddress, IpEndpoint, Stack};
+use embassy_time::{with_timeout, Duration, Timer};
+use enip_firmware::{with_adapter, SharedAdapter};
+use enip_stack::device::CloseReason;
+use enip_stack::{Device, Instant, SocketId};
+
+use crate::session::TlsSession;
+
+/// EtherNet/IP over TLS: TCP port 2221.
+pub const TLS_PORT: u16 = 2221;
+/// Longest handshake; a client that takes longer is dropped.
+const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(10);
+/// Pause before listening again after the socket refused to listen.
+const RETRY: Duration = Duration::from_millis(100);
+/// Decrypted bytes handed to the adapter per read.
+const PLAIN_LEN: usize = 600;
+
+/// The buffers of one TLS session: the TCP socket's, and the adapter's reply.
+pub struct TlsBuffers<const F: usize> {
+    rx: [u8; 1024],
+    tx: [u8; 1024],
+    reply: [u8; F],
+}
+
+impl<const F: usize> TlsBuffers<F> {
+    /// Zeroed buffers (for a static).
+    pub const fn new() -> Self {
+        Self {
+            rx: [0; 1024],
+            tx: [0; 1024],
+            reply: [0; F],
+        }
+    }
+}
+
+impl<const F: usize> Default for TlsBuffers<F> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Serves TLS on 2221 forever, one connection after the other, as the adapter's session
+/// `id` over the shim's TLS slot `slot`; [`crate::setup`] must have succeeded.
+pub async fn serve<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    net: Stack<'_>,
+    adapter: &SharedAdapter<D, S, C, F, L>,
+    id: SocketId,
+    slot: usize,
+    bufs: &mut TlsBuffers<F>,
+    on_reset: &dyn Fn(u8),
+) -> ! {
+    let TlsBuffers { rx, tx, reply } = bufs;
+    let mut socket = TcpSocket::new(net, rx, tx);
+    loop {
+        if socket.accept(TLS_PORT).await.is_err() {
+            socket.abort();
+            Timer::after(RETRY).await;
+            continue;
+        }
+        let Some(peer) = socket.remote_endpoint().and_then(v4) else {
+            socket.abort();
+            continue;
+        };
+        if let Ok(mut tls) = TlsSession::new(slot, &mut socket) {
+            if let Ok(Ok(())) = with_timeout(HANDSHAKE_TIMEOUT, tls.handshake()).await {
+                with_adapter(adapter, |a| {
+                    a.tcp_accept(id, peer, now());
+                    a.set_session_secure(id, true);
+                });
+                converse(&mut tls, adapter, id, reply, on_reset).await;
+                with_adapter(adapter, |a| a.tcp_close(id, now()));
+                tls.close_notify().await;
+            }
+        }
+        socket.close();
+        let _ = with_timeout(Duration::from_secs(2), socket.flush()).await;
+        socket.abort();
+    }
+}
+
+/// Feeds decrypted bytes to the adapter and encrypts its replies until either side ends.
+async fn converse<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    tls: &mut TlsSession<'_, '_>,
+    adapter: &SharedAdapter<D, S, C, F, L>,
+    id: SocketId,
+    reply: &mut [u8],
+    on_reset: &dyn Fn(u8),
+) {
+    let mut plain = [0u8; PLAIN_LEN];
+    loop {
+        let read = match with_adapter(adapter, |a| a.tcp_deadline(id)) {
+            None => tls.read(&mut plain).await,
+            Some(at) => {
+                let at = embassy_time::Instant::from_micros(at.as_micros());
+                match embassy_time::with_deadline(at, tls.read(&mut plain)).await {
+                    Ok(read) => read,
+                    Err(_) => return,
+                }
+            }
+        };
+        let Ok(len) = read else { return };
+        if len == 0 {
+            return;
+        }
+        let mut rest = plain.get(..len).unwrap_or(&[]);
+        while !rest.is_empty() {
+            let outcome = with_adapter(adapter, |a| a.tcp_receive(id, rest, now(), reply));
+            rest = rest.get(outcome.consumed..).unwrap_or(&[]);
+            if outcome.reply_len > 0 {
+                let out = reply.get(..outcome.reply_len).unwrap_or(&[]);
+                if tls.write_all(out).await.is_err() {
+                    return;
+                }
+            }
+            if let Some(kind) = outcome.reset {
+                with_adapter(adapter, |a| a.close_all(CloseReason::Reset));
+                on_reset(kind);
+            }
+            if outcome.close || outcome.consumed == 0 {
+                return;
+            }
+        }
+    }
+}
+
+/// The current time as the stack counts it.
+fn now() -> Instant {
+    Instant::from_micros(embassy_time::Instant::now().as_micros())
+}
+
+/// An IPv4 endpoint as the stack's address.
+fn v4(ep: IpEndpoint) -> Option<core::net::SocketAddrV4> {
+    match ep.addr {
+        IpAddress::Ipv4(ip) => Some(core::net::SocketAddrV4::new(ip, ep.port)),
+        #[allow(unreachable_patterns)]
+        _ => None,
+    }
+}
