@@ -117,19 +117,26 @@ pub fn qemu_tls_image() -> Result<PathBuf> {
     Ok(elf)
 }
 
-/// Clippy on `board` as it is built (release, its Cortex-M target), warnings denied.
+/// Clippy on `board` as it is built (release, its Cortex-M target), warnings denied; the
+/// emulated board also with its `tls` feature.
 pub fn clippy(board: &str) -> Result {
-    run(util::cargo().args([
+    let args = [
         "clippy",
         "-p",
         board,
         "--release",
         "--target",
         target(board),
-        "--",
-        "-D",
-        "warnings",
-    ]))
+    ];
+    let deny = ["--", "-D", "warnings"];
+    run(util::cargo().args(args).args(deny))?;
+    if board == QEMU {
+        run(util::cargo()
+            .args(args)
+            .args(["--features", "tls"])
+            .args(deny))?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
