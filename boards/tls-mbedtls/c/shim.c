@@ -36,7 +36,13 @@ static mbedtls_pk_context own_key;
 static mbedtls_ssl_context slots[ENIP_TLS_SLOTS];
 static int ready;
 
+/* The suites offered: the CBC pair (the factory default), then the GCM pair if allowed. */
 static const int suites[] = {
+    MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_128_CBC_SHA256,
+    MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_256_CBC_SHA384,
+    0,
+};
+static const int suites_gcm[] = {
     MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_128_CBC_SHA256,
     MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_256_CBC_SHA384,
     MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_128_GCM_SHA256,
@@ -67,7 +73,7 @@ size_t enip_tls_slots(void)
 }
 
 int enip_tls_setup(const unsigned char *cert, size_t cert_len, const unsigned char *key,
-                   size_t key_len, const unsigned char *ca, size_t ca_len)
+                   size_t key_len, const unsigned char *ca, size_t ca_len, int allow_gcm)
 {
     static const unsigned char personal[] = "enip-tls";
     int ret;
@@ -105,7 +111,7 @@ int enip_tls_setup(const unsigned char *cert, size_t cert_len, const unsigned ch
     mbedtls_ssl_conf_rng(&conf, mbedtls_ctr_drbg_random, &drbg);
     mbedtls_ssl_conf_min_version(&conf, MBEDTLS_SSL_MAJOR_VERSION_3, MBEDTLS_SSL_MINOR_VERSION_3);
     mbedtls_ssl_conf_max_version(&conf, MBEDTLS_SSL_MAJOR_VERSION_3, MBEDTLS_SSL_MINOR_VERSION_3);
-    mbedtls_ssl_conf_ciphersuites(&conf, suites);
+    mbedtls_ssl_conf_ciphersuites(&conf, allow_gcm ? suites_gcm : suites);
     ret = mbedtls_ssl_conf_own_cert(&conf, &own_cert, &own_key);
     if (ret != 0) {
         return ret;

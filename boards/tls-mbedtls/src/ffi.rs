@@ -25,6 +25,7 @@ extern "C" {
         key_len: usize,
         ca: *const c_uchar,
         ca_len: usize,
+        allow_gcm: c_int,
     ) -> c_int;
     pub fn enip_tls_arena_bytes() -> usize;
     pub fn enip_tls_slots() -> usize;

@@ -9,6 +9,8 @@
 //! the replies. The crate is chip-independent; the board gives it the RNG and the socket.
 #![no_std]
 
+use core::ffi::c_int;
+
 mod ffi;
 mod io;
 mod serve;
@@ -28,8 +30,10 @@ pub enum Error {
 }
 
 /// Installs the board's RNG and the device's certificate and private key (DER), with the
-/// trusted CA (DER; empty: client certificates are not asked for). Once only.
-pub fn setup(rng: Rng, cert: &[u8], key: &[u8], ca: &[u8]) -> Result<(), Error> {
+/// trusted CA (DER; empty: client certificates are not asked for). The suites offered are
+/// ECDHE-ECDSA-AES128-CBC-SHA256 and AES256-CBC-SHA384 (the factory default), then the two
+/// AES-GCM ones if `allow_gcm`. Once only.
+pub fn setup(rng: Rng, cert: &[u8], key: &[u8], ca: &[u8], allow_gcm: bool) -> Result<(), Error> {
     critical_section::with(|cs| ffi::RNG.borrow(cs).set(Some(rng)));
     // SAFETY: the slices are valid for their lengths; mbedTLS copies what it keeps.
     let ret = unsafe {
@@ -40,6 +44,7 @@ pub fn setup(rng: Rng, cert: &[u8], key: &[u8], ca: &[u8]) -> Result<(), Error> 
             key.len(),
             ca.as_ptr(),
             ca.len(),
+            c_int::from(allow_gcm),
         )
     };
     if ret == 0 {
