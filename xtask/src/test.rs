@@ -179,6 +179,8 @@ fn tap_interop() -> Result<Outcome> {
     let built = boards::build_with(boards::QEMU, "ametek-pls", &settings)?;
     std::fs::copy(built, &moving)?;
     elves.push(("ENIP_QEMU_AMETEK_PLS_MOVING_ELF".to_string(), moving));
+    // EtherNet/IP over TLS through mbedTLS (issue 24).
+    elves.push(("ENIP_QEMU_TLS_ELF".to_string(), boards::qemu_tls_image()?));
     // The test image that faults on purpose (stack overflow, hang, panic) when asked over CIP.
     let faults = boards::faults_image()?;
     elves.push(("ENIP_QEMU_FAULTS_ELF".to_string(), faults.clone()));

@@ -35,6 +35,7 @@ mod chaos_faults;
 mod chaos_io;
 mod chaos_plan;
 mod cip_security;
+mod cip_security_qemu;
 mod class1;
 mod class3;
 mod common;
