@@ -35,8 +35,8 @@ static STATE: Mutex<Cell<u64>> = Mutex::new(Cell::new(0));
 const TLS_SESSION: SocketId = SocketId(enip_stack::config::MAX_SESSIONS as u8 - 1);
 
 /// Runs `plaintext` (the runtime on 44818) with TLS on 2221 beside it, or alone if mbedTLS
-/// refused its setup (certificate, key, CA, RNG seeded with `seed`; the factory default
-/// suites, AES-CBC only).
+/// refused its setup (certificate, key, CA, RNG seeded with `seed`); the suites offered are
+/// those EtherNet/IP Security allows when each session starts.
 pub async fn beside<D: Device, F: Future>(
     net: Stack<'static>,
     adapter: &'static SharedAdapter<Diagnosed<D>>,
@@ -44,7 +44,7 @@ pub async fn beside<D: Device, F: Future>(
     plaintext: F,
 ) -> F::Output {
     critical_section::with(|cs| STATE.borrow(cs).set(seed | 1));
-    if let Err(e) = enip_tls_mbedtls::setup(rng, CERT, KEY, CA, false) {
+    if let Err(e) = enip_tls_mbedtls::setup(rng, CERT, KEY, CA) {
         log::warn!("tls: mbedTLS setup failed: {e:?}");
         return plaintext.await;
     }

@@ -36,17 +36,18 @@ static mbedtls_pk_context own_key;
 static mbedtls_ssl_context slots[ENIP_TLS_SLOTS];
 static int ready;
 
-/* The suites offered: the CBC pair (the factory default), then the GCM pair if allowed. */
-static const int suites[] = {
-    MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_128_CBC_SHA256,
-    MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_256_CBC_SHA384,
-    0,
-};
-static const int suites_gcm[] = {
+/* The suites built in, in the order EtherNet/IP Security lists them. */
+static const int available[] = {
     MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_128_CBC_SHA256,
     MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_256_CBC_SHA384,
     MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_128_GCM_SHA256,
     MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_256_GCM_SHA384,
+};
+#define AVAILABLE (sizeof(available) / sizeof(available[0]))
+/* The suites offered to the next handshakes (zero-terminated): the CBC pair until told. */
+static int offered[AVAILABLE + 1] = {
+    MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_128_CBC_SHA256,
+    MBEDTLS_TLS_ECDHE_ECDSA_WITH_AES_256_CBC_SHA384,
     0,
 };
 
@@ -73,7 +74,7 @@ size_t enip_tls_slots(void)
 }
 
 int enip_tls_setup(const unsigned char *cert, size_t cert_len, const unsigned char *key,
-                   size_t key_len, const unsigned char *ca, size_t ca_len, int allow_gcm)
+                   size_t key_len, const unsigned char *ca, size_t ca_len)
 {
     static const unsigned char personal[] = "enip-tls";
     int ret;
@@ -111,7 +112,7 @@ int enip_tls_setup(const unsigned char *cert, size_t cert_len, const unsigned ch
     mbedtls_ssl_conf_rng(&conf, mbedtls_ctr_drbg_random, &drbg);
     mbedtls_ssl_conf_min_version(&conf, MBEDTLS_SSL_MAJOR_VERSION_3, MBEDTLS_SSL_MINOR_VERSION_3);
     mbedtls_ssl_conf_max_version(&conf, MBEDTLS_SSL_MAJOR_VERSION_3, MBEDTLS_SSL_MINOR_VERSION_3);
-    mbedtls_ssl_conf_ciphersuites(&conf, allow_gcm ? suites_gcm : suites);
+    mbedtls_ssl_conf_ciphersuites(&conf, offered);
     ret = mbedtls_ssl_conf_own_cert(&conf, &own_cert, &own_key);
     if (ret != 0) {
         return ret;
@@ -128,6 +129,32 @@ int enip_tls_setup(const unsigned char *cert, size_t cert_len, const unsigned ch
     }
     ready = 1;
     return 0;
+}
+
+/* Offers, from the next handshake on, those of the IANA suite numbers `ids` that are built in,
+ * in their order (none: every handshake fails); returns how many. The list is the
+ * configuration's, so sessions running their handshake meanwhile may see the change. */
+int enip_tls_offer(const unsigned short *ids, size_t n)
+{
+    size_t i, j, k = 0, m;
+    int seen;
+
+    for (i = 0; i < n && k < AVAILABLE; i++) {
+        for (j = 0; j < AVAILABLE; j++) {
+            if (available[j] != (int)ids[i]) {
+                continue;
+            }
+            seen = 0;
+            for (m = 0; m < k; m++) {
+                seen |= offered[m] == available[j];
+            }
+            if (!seen) {
+                offered[k++] = available[j];
+            }
+        }
+    }
+    offered[k] = 0;
+    return (int)k;
 }
 
 static mbedtls_ssl_context *slot(size_t index, void *io)

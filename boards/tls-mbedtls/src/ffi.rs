@@ -25,8 +25,8 @@ extern "C" {
         key_len: usize,
         ca: *const c_uchar,
         ca_len: usize,
-        allow_gcm: c_int,
     ) -> c_int;
+    pub fn enip_tls_offer(ids: *const u16, n: usize) -> c_int;
     pub fn enip_tls_arena_bytes() -> usize;
     pub fn enip_tls_slots() -> usize;
     pub fn enip_tls_open(index: usize) -> c_int;

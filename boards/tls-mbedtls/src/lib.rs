@@ -9,8 +9,6 @@
 //! the replies. The crate is chip-independent; the board gives it the RNG and the socket.
 #![no_std]
 
-use core::ffi::c_int;
-
 mod ffi;
 mod io;
 mod serve;
@@ -31,9 +29,9 @@ pub enum Error {
 
 /// Installs the board's RNG and the device's certificate and private key (DER), with the
 /// trusted CA (DER; empty: client certificates are not asked for). The suites offered are
-/// ECDHE-ECDSA-AES128-CBC-SHA256 and AES256-CBC-SHA384 (the factory default), then the two
-/// AES-GCM ones if `allow_gcm`. Once only.
-pub fn setup(rng: Rng, cert: &[u8], key: &[u8], ca: &[u8], allow_gcm: bool) -> Result<(), Error> {
+/// ECDHE-ECDSA-AES128-CBC-SHA256 and AES256-CBC-SHA384 (the factory default) until
+/// [`offer`] says otherwise. Once only.
+pub fn setup(rng: Rng, cert: &[u8], key: &[u8], ca: &[u8]) -> Result<(), Error> {
     critical_section::with(|cs| ffi::RNG.borrow(cs).set(Some(rng)));
     // SAFETY: the slices are valid for their lengths; mbedTLS copies what it keeps.
     let ret = unsafe {
@@ -44,7 +42,6 @@ pub fn setup(rng: Rng, cert: &[u8], key: &[u8], ca: &[u8], allow_gcm: bool) -> R
             key.len(),
             ca.as_ptr(),
             ca.len(),
-            c_int::from(allow_gcm),
         )
     };
     if ret == 0 {
@@ -52,6 +49,14 @@ pub fn setup(rng: Rng, cert: &[u8], key: &[u8], ca: &[u8], allow_gcm: bool) -> R
     } else {
         Err(Error::Tls(ret))
     }
+}
+
+/// Offers, from the next handshake on, those of `suites` (IANA numbers, EtherNet/IP Security
+/// attribute 4) that are built in, in their order; returns how many (0: handshakes fail).
+pub fn offer(suites: &[u16]) -> usize {
+    // SAFETY: the slice is valid for its length; the shim copies what it keeps.
+    let n = unsafe { ffi::enip_tls_offer(suites.as_ptr(), suites.len()) };
+    usize::try_from(n).unwrap_or(0)
 }
 
 /// Bytes of the static arena every mbedTLS allocation comes from.

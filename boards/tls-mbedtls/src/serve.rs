@@ -66,6 +66,10 @@ pub async fn serve<D: Device, const S: usize, const C: usize, const F: usize, co
             socket.abort();
             continue;
         };
+        // The suites EtherNet/IP Security allows now (a configuration applies to the next
+        // session).
+        let allowed = with_adapter(adapter, |a| a.security(now()).active.allowed.clone());
+        crate::offer(&allowed);
         if let Ok(mut tls) = TlsSession::new(slot, &mut socket) {
             if let Ok(Ok(())) = with_timeout(HANDSHAKE_TIMEOUT, tls.handshake()).await {
                 with_adapter(adapter, |a| {

@@ -5,7 +5,10 @@
 //! - `openssl s_client` completes TLS 1.2 handshakes on 2221 with ECDHE-ECDSA-AES128-SHA256
 //!   and AES256-SHA384, and is refused AES-GCM (not offered by default) and TLS 1.3;
 //! - pycomm3 over Python's `ssl`, trusting the certificate the board presented, reads
-//!   Identity over TLS unconnected and over a Class 3 connection.
+//!   Identity over TLS unconnected and over a Class 3 connection;
+//! - after the configuration sequence over 44818 (Begin_Config, allowed suites AES-128-GCM
+//!   and AES-128-CBC, Apply_Config, End_Config), a handshake with AES-128-GCM succeeds and one
+//!   with AES-256-CBC-SHA384 is refused.
 //!
 //! Skipped, loudly, without the ELF.
 
@@ -82,6 +85,35 @@ fn tls_on_2221_of_the_emulated_board_through_mbedtls() {
     assert_eq!(out[0]["version"], "TLSv1.2", "{out}");
     assert_eq!(out[0]["product_name"], common::NAME, "{out}");
     assert_eq!(out[0]["connected_name"], common::NAME, "{out}");
+
+    // The configuration sequence over 44818 allows AES-128-GCM and AES-128-CBC only: the
+    // next handshakes offer those.
+    let req = |service: u8, class: u16, attribute: Option<u8>, data: &str| {
+        let mut step = json!({"do": "request", "service": service, "class": class,
+            "instance": 1, "data": data});
+        if let Some(a) = attribute {
+            step["attribute"] = json!(a);
+        }
+        step
+    };
+    let steps = json!([
+        req(0x4B, 0x5D, None, ""),
+        req(0x4B, 0x5E, None, ""),
+        req(0x10, 0x5E, Some(4), "02c02bc023"),
+        req(0x4D, 0x5E, None, "00000000"),
+        req(0x4D, 0x5D, None, ""),
+    ]);
+    let input = json!({"host": BOARD_IP.to_string(), "steps": steps});
+    let out = peers::run(ns, "cip_security.py", &input, TIMEOUT)
+        .unwrap_or_else(|e| panic!("cip_security peer: {e}\nboard log:\n{}", log()));
+    for (i, reply) in out.as_array().expect("a list").iter().enumerate() {
+        assert_eq!(reply["status"], 0, "step {i}: {out}");
+    }
+    let s = s_client(ns, &["-tls1_2", "-cipher", "ECDHE-ECDSA-AES128-GCM-SHA256"]);
+    assert!(s.contains("Cipher is ECDHE-ECDSA-AES128-GCM-SHA256"), "{s}");
+    let s = s_client(ns, &["-tls1_2", "-cipher", "ECDHE-ECDSA-AES256-SHA384"]);
+    assert!(s.contains("Cipher is (NONE)"), "{s}");
+
     let log = rig.board_log();
     assert!(log.contains("tls: mbedTLS listening on 2221"), "{log}");
     assert!(!log.contains("PANIC"), "the board panicked:\n{log}");
