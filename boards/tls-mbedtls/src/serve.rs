@@ -66,6 +66,14 @@ pub async fn serve<D: Device, const S: usize, const C: usize, const F: usize, co
             socket.abort();
             continue;
         };
+        // The session slot may be shared with a plaintext socket (the board's choice): a TLS
+        // client is refused while the slot serves one (seen by its inactivity deadline, so
+        // not when the timeout is off).
+        if with_adapter(adapter, |a| a.tcp_deadline(id)).is_some() {
+            socket.abort();
+            let _ = with_timeout(Duration::from_millis(100), socket.flush()).await;
+            continue;
+        }
         // The suites EtherNet/IP Security allows now (a configuration applies to the next
         // session).
         let allowed = with_adapter(adapter, |a| a.security(now()).active.allowed.clone());
