@@ -15,6 +15,8 @@ use crate::session::TlsSession;
 pub const TLS_PORT: u16 = 2221;
 /// Longest handshake; a client that takes longer is dropped.
 const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(10);
+/// Longest wait for a reply to be taken by the peer (the plaintext sockets' bound).
+const WRITE_TIMEOUT: Duration = enip_firmware::tcp::WRITE_TIMEOUT;
 /// Pause before listening again after the socket refused to listen.
 const RETRY: Duration = Duration::from_millis(100);
 /// Decrypted bytes handed to the adapter per read.
@@ -86,7 +88,7 @@ pub async fn serve<D: Device, const S: usize, const C: usize, const F: usize, co
                 });
                 converse(&mut tls, adapter, id, reply, on_reset).await;
                 with_adapter(adapter, |a| a.tcp_close(id, now()));
-                tls.close_notify().await;
+                let _ = with_timeout(WRITE_TIMEOUT, tls.close_notify()).await;
             }
         }
         socket.close();
@@ -125,7 +127,10 @@ async fn converse<D: Device, const S: usize, const C: usize, const F: usize, con
             rest = rest.get(outcome.consumed..).unwrap_or(&[]);
             if outcome.reply_len > 0 {
                 let out = reply.get(..outcome.reply_len).unwrap_or(&[]);
-                if tls.write_all(out).await.is_err() {
+                if !matches!(
+                    with_timeout(WRITE_TIMEOUT, tls.write_all(out)).await,
+                    Ok(Ok(()))
+                ) {
                     return;
                 }
             }

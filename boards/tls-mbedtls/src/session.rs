@@ -80,8 +80,8 @@ impl<'a, 's> TlsSession<'a, 's> {
 
     /// Makes `call` until it stops wanting I/O, reading and writing the socket between calls.
     async fn drive(&mut self, mut call: impl FnMut(*mut c_void) -> c_int) -> Result<usize, Error> {
-        // mbedTLS wants I/O at most a few times per record; the bound ends a peer that keeps
-        // a call waiting on one-byte segments forever only with the socket's own timeouts.
+        // Each turn reads or writes the socket or ends: a peer that stalls is bounded by the
+        // caller's timeouts (`serve`'s handshake, write and inactivity deadlines).
         loop {
             let ret = call(core::ptr::from_mut(&mut self.io).cast());
             self.flush().await?;
