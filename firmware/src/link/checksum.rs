@@ -28,6 +28,9 @@ impl Sum {
         for word in words {
             sum = sum.wrapping_add(u64::from(u32::from_ne_bytes(*word)));
         }
+        if rest.is_empty() {
+            return Sum(sum);
+        }
         let mut last = [0u8; 4];
         for (to, from) in last.iter_mut().zip(rest) {
             *to = *from;
