@@ -219,13 +219,10 @@ impl Pump {
             self.guard.receive(frame, io, at);
         }
         let seen = frame::inspect(frame, me.ip, &self.sums);
-        if let Some((ip, mac)) = seen.sender {
-            self.neighbors.learn(ip, mac);
-        }
         let o_t = seen
             .o_t
             .and_then(|(from, range)| Some((from, frame.get(range)?)));
-        match o_t {
+        let passed = match o_t {
             Some((from, data)) => {
                 consume(io, from, data, at);
                 false
@@ -236,7 +233,13 @@ impl Pump {
                 let _ = frames.rx.push(frame.len(), |room| copy(room, frame));
                 true
             }
+        };
+        // Learned once the O->T data reached the device, not on its way there; before any
+        // T->O datagram of this wake-up goes out.
+        if let Some((ip, mac)) = seen.sender {
+            self.neighbors.learn(ip, mac);
         }
+        passed
     }
 
     /// Asks for the LLDP deadline again and sends the LLDPDU due at `at` (`lldp::service`).
