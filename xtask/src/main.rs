@@ -23,6 +23,8 @@ mod bench_fleet;
 mod bench_fleet_opener;
 mod bench_host;
 mod bench_qemu;
+mod bench_qemu_paths;
+mod bench_qemu_trace;
 mod bench_scale;
 mod boards;
 mod chaos;
