@@ -43,7 +43,7 @@ const ELF_VAR: &str = "ENIP_QEMU_BENCH_ELF";
 pub const MARKER: &str = "enip_firmware::link::pump::consume";
 /// The traced runs: connections and RPI. The log slows the emulation many-fold, so the
 /// 10-connection run uses a 20 ms RPI (at a shorter one more datagrams share a wake-up).
-const TRACED: [(u32, u32); 2] = [(1, 10_000), (10, 20_000)];
+pub(crate) const TRACED: [(u32, u32); 2] = [(1, 10_000), (10, 20_000)];
 /// The scanner's watchdog multiplier code for the traced runs: 7 is x512, as the traced
 /// board may stall for long.
 const TRACED_MULTIPLIER: &str = "7";
@@ -73,22 +73,17 @@ pub fn run_all(scale: Scale) -> Result<serde_json::Value> {
     let dir = scale.dir().join("qemu");
     let (runs, warmup, cycles) = scale.qemu_traced();
     fs::create_dir_all(&dir)?;
-    let symbols = Symbols::read(&elf)?;
     let mut traced = Vec::new();
-    for (connections, rpi_us) in TRACED {
-        let counted = (warmup, cycles);
-        let mut runs = (0..runs)
-            .map(|_| traced_run(&elf, &symbols, &dir, (connections, rpi_us), counted))
-            .collect::<Result<Vec<Cost>>>()?;
-        runs.sort_by(|a, b| a.per_cycle(a.total()).total_cmp(&b.per_cycle(b.total())));
-        let all: Vec<f64> = runs.iter().map(|c| c.per_cycle(c.total())).collect();
-        let median = &runs[runs.len() / 2];
-        print_cost(connections, rpi_us, median);
-        println!("  runs: {all:?}");
-        let mut json = median.to_json(connections, rpi_us);
-        json["runs"] = all.into();
-        traced.push(json);
+    for config in TRACED {
+        traced.push(traced_median(
+            M4,
+            &elf,
+            &dir,
+            config,
+            (runs, warmup, cycles),
+        )?);
     }
+    let cores = crate::qemu_cores::bench(scale, &dir, &traced)?;
     let mut timing = Vec::new();
     for rpi_us in TIMING_RPIS_US {
         let seconds = scale.qemu_timing_seconds();
@@ -99,7 +94,39 @@ pub fn run_all(scale: Scale) -> Result<serde_json::Value> {
         );
         timing.push(report);
     }
-    Ok(serde_json::json!({ "instructions_per_cycle": traced, "timing": timing }))
+    Ok(serde_json::json!({ "instructions_per_cycle": traced, "timing": timing, "cores": cores }))
+}
+
+/// The machine of the main measurements (the Cortex-M4).
+const M4: &str = "mps2-an386";
+
+/// The traced runs of `elf` on QEMU's `machine` with `connections` at `rpi_us`:
+/// `counting.0` runs, each counting `counting.2` O->T datagrams per connection after
+/// `counting.1`; prints the median and returns its JSON with every run's figure. Files go
+/// to `dir`.
+pub(crate) fn traced_median(
+    machine: &str,
+    elf: &Path,
+    dir: &Path,
+    (connections, rpi_us): (u32, u32),
+    (runs, warmup, cycles): (usize, u64, u64),
+) -> Result<serde_json::Value> {
+    let symbols = Symbols::read(elf)?;
+    let mut runs = (0..runs)
+        .map(|_| {
+            let config = (connections, rpi_us);
+            traced_run(machine, elf, &symbols, dir, config, (warmup, cycles))
+        })
+        .collect::<Result<Vec<Cost>>>()?;
+    runs.sort_by(|a, b| a.per_cycle(a.total()).total_cmp(&b.per_cycle(b.total())));
+    let all: Vec<f64> = runs.iter().map(|c| c.per_cycle(c.total())).collect();
+    let median = &runs[runs.len() / 2];
+    println!("\n{machine}:");
+    print_cost(connections, rpi_us, median);
+    println!("  runs: {all:?}");
+    let mut json = median.to_json(connections, rpi_us);
+    json["runs"] = all.into();
+    Ok(json)
 }
 
 /// `cargo xtask bench --qemu`: this part alone, written to `target/bench/qemu.json`.
@@ -279,9 +306,10 @@ fn print_cost(connections: u32, rpi_us: u32, cost: &Cost) {
     }
 }
 
-/// Boots the board traced, runs the scanner with `connections` at `rpi_us`, and counts
-/// the O->T datagrams per connection `counted.1` after the first `counted.0`.
+/// Boots the board traced on `machine`, runs the scanner with `connections` at `rpi_us`,
+/// and counts the O->T datagrams per connection `counted.1` after the first `counted.0`.
 fn traced_run(
+    machine: &str,
     elf: &Path,
     symbols: &Symbols,
     dir: &Path,
@@ -303,7 +331,12 @@ fn traced_run(
         let fifo_arg = fifo.to_string_lossy();
         let log = dir.join(format!("board-traced-{connections}.log"));
         let trace = ["-d", "in_asm,exec,nochain", "-D", &fifo_arg];
-        let board = Rig::launch(Board::Qemu { elf, extra: &trace }, &options(&log));
+        let board = Board::QemuMachine {
+            machine,
+            elf,
+            extra: &trace,
+        };
+        let board = Rig::launch(board, &options(&log));
         if board.is_err() {
             // Unblock the reader if QEMU never opened the log.
             let _ = fs::OpenOptions::new().write(true).open(&fifo);

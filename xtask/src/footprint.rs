@@ -10,8 +10,8 @@ use std::process::Command;
 use enip_stack::config::{MAX_CONNECTIONS, MAX_SESSIONS};
 use serde_json::{json, Value};
 
-use crate::boards;
 use crate::util::{self, err, output, Result};
+use crate::{boards, qemu_cores};
 
 /// The F767 image budget (issue 15's goal for the generic image): flash bytes.
 pub const NUCLEO_FLASH_BUDGET: u64 = 96 * 1024;
@@ -52,6 +52,9 @@ pub fn footprint() -> Result {
         let elf = boards::build(board, boards::DEFAULT_PROFILE)?;
         images.insert(board, measure(&elf.to_string_lossy())?);
     }
+    for core in qemu_cores::CORES {
+        images.insert(core.label, measure(&core.build(&[])?.to_string_lossy())?);
+    }
     let dir = util::target_dir().join("bench");
     fs::create_dir_all(&dir)?;
     let path = dir.join("footprint.json");
@@ -82,6 +85,25 @@ pub fn footprint() -> Result {
         kib(NUCLEO_FLASH_BUDGET),
         kib(NUCLEO_RAM_BUDGET)
     );
+    for core in qemu_cores::CORES {
+        println!(
+            "budget {}: flash {} / RAM {}",
+            core.label,
+            kib(core.flash_budget),
+            kib(core.ram_budget)
+        );
+        let image = &images[core.label];
+        if image.flash() > core.flash_budget || image.ram() > core.ram_budget {
+            return err(format!(
+                "{} is over budget: flash {} (max {}), RAM {} (max {})",
+                core.label,
+                kib(image.flash()),
+                kib(core.flash_budget),
+                kib(image.ram()),
+                kib(core.ram_budget)
+            ));
+        }
+    }
     println!("report: {}", path.display());
     let nucleo = &images[boards::NUCLEO];
     if nucleo.flash() > NUCLEO_FLASH_BUDGET || nucleo.ram() > NUCLEO_RAM_BUDGET {
@@ -205,6 +227,7 @@ fn report(images: &BTreeMap<&str, Image>) -> Value {
         "tcp_sessions": MAX_SESSIONS,
         "connections": MAX_CONNECTIONS,
         "budget": {"board": boards::NUCLEO, "flash": NUCLEO_FLASH_BUDGET, "ram": NUCLEO_RAM_BUDGET},
+        "core_budgets": qemu_cores::CORES.map(|c| json!({"board": c.label, "flash": c.flash_budget, "ram": c.ram_budget})),
         "boards": boards,
     })
 }

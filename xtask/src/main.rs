@@ -34,6 +34,7 @@ mod json;
 mod module_graph;
 mod own_device;
 mod qemu;
+mod qemu_cores;
 mod setup;
 mod smoke;
 mod stack;

@@ -72,16 +72,20 @@ fn probe_ok(probe: &[&str]) -> bool {
     have(prog) && run_quiet(Command::new(prog).args(args)).is_ok()
 }
 
-/// Adds the Cortex-M target to the active toolchain if it is missing, and the linker the
+/// Adds the Cortex-M targets to the active toolchain if they are missing, and the linker the
 /// embedded boards link with ([`flip_link`]).
 pub fn rust_target() -> Result {
     flip_link()?;
     let installed =
         output(Command::new("rustup").args(["target", "list", "--installed"])).unwrap_or_default();
-    if installed.lines().any(|l| l.trim() == THUMB_TARGET) {
-        return Ok(());
+    // The emulated cores' targets too (Cortex-M3, Cortex-M33).
+    let targets = [THUMB_TARGET].into_iter().chain(crate::qemu_cores::TARGETS);
+    for target in targets {
+        if !installed.lines().any(|l| l.trim() == target) {
+            run(Command::new("rustup").args(["target", "add", target]))?;
+        }
     }
-    run(Command::new("rustup").args(["target", "add", THUMB_TARGET]))
+    Ok(())
 }
 
 /// Installs `flip-link` from crates.io if it is missing: `.cargo/config.toml` names it as the
