@@ -34,7 +34,7 @@ use enip_lab::scanner::{self as scanner_run, ScannerRun};
 use crate::bench_scale::Scale;
 use crate::boards;
 use crate::qemu;
-use crate::util::{self, err, output, run, Result};
+use crate::util::{self, err, loud, output, run, Result};
 
 /// Names an `enip-qemu-mps2` ELF to measure instead of building one (e.g. an older
 /// commit's, for a before/after comparison).
@@ -54,8 +54,7 @@ const TIMING_RPIS_US: [u32; 2] = [1_000, 2_000];
 const TIMING_CONNECTIONS: u32 = 10;
 /// Their watchdog: code 3 is x32, as in the host board's TAP benchmark.
 const TIMING_MULTIPLIER: &str = "3";
-/// The namespace and TAP the board runs in.
-const NAMESPACE: &str = "enip-mcu-bench";
+/// The TAP the board runs on.
 const TAP: &str = "enipmcub0";
 
 /// Runs the traced and the timing runs at `scale`; returns their JSON for the bench report.
@@ -83,7 +82,6 @@ pub fn run_all(scale: Scale) -> Result<serde_json::Value> {
             (runs, warmup, cycles),
         )?);
     }
-    let cores = crate::qemu_cores::bench(scale, &dir, &traced)?;
     let mut timing = Vec::new();
     for rpi_us in TIMING_RPIS_US {
         let seconds = scale.qemu_timing_seconds();
@@ -94,6 +92,7 @@ pub fn run_all(scale: Scale) -> Result<serde_json::Value> {
         );
         timing.push(report);
     }
+    let cores = crate::qemu_cores::bench(scale, &dir, &traced)?;
     Ok(serde_json::json!({ "instructions_per_cycle": traced, "timing": timing, "cores": cores }))
 }
 
@@ -115,7 +114,13 @@ pub(crate) fn traced_median(
     let mut runs = (0..runs)
         .map(|_| {
             let config = (connections, rpi_us);
-            traced_run(machine, elf, &symbols, dir, config, (warmup, cycles))
+            let counting = (warmup, cycles);
+            // The trace stalls the emulation whenever its reader falls behind (a busy
+            // host): a stall past the board's watchdog (2 s) resets it. One retry.
+            traced_run(machine, elf, &symbols, dir, config, counting).or_else(|e| {
+                loud(&format!("{machine}: traced run failed ({e}); once more"));
+                traced_run(machine, elf, &symbols, dir, config, counting)
+            })
         })
         .collect::<Result<Vec<Cost>>>()?;
     runs.sort_by(|a, b| a.per_cycle(a.total()).total_cmp(&b.per_cycle(b.total())));
@@ -400,9 +405,15 @@ fn timing_run(elf: &Path, dir: &Path, rpi_us: u32, seconds: u32) -> Result<serde
     Ok(report)
 }
 
-/// Where the board runs, its output copied to `log`.
+/// Where the board runs, its output copied to `log`: a namespace with a name of its own, so
+/// that two benchmarks on one machine (two checkouts) do not replace each other's.
 fn options(log: &Path) -> Options<'_> {
-    Options::named(NAMESPACE, TAP, log)
+    Options {
+        namespace: None,
+        tap: Some(TAP),
+        capture: None,
+        log_file: Some(log),
+    }
 }
 
 /// The project's scanner (release build) in `ns`: `connections` at `rpi_us` for `seconds`
