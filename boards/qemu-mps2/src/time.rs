@@ -2,7 +2,7 @@
 //! (25 MHz, 20 MHz on mps2-an505), giving a 1 MHz time base (one tick = 25 or 20 timer
 //! counts).
 //!
-//! - Timer 0 counts down from [`PERIOD_COUNTS`] - 1 forever: a period is exactly 2^27 µs
+//! - Timer 0 counts down from `PERIOD_COUNTS` - 1 forever: a period is exactly 2^27 µs
 //!   (134.2 s), so the time is the period count shifted left plus a 32-bit division of the
 //!   counts into the period (a multiplication: no 64-bit division on every `now`). Its wrap
 //!   interrupt counts periods, which extends it to 64 bits.
