@@ -1,6 +1,7 @@
 //! Footprint of the embedded boards: release ELF sizes (flash = vector table + text +
 //! rodata + data, static RAM = data + bss + uninit), what the stack, the firmware, the
-//! profile and embassy-net take of them (from the symbols), and the NUCLEO-F767ZI budget. Written to
+//! profile and embassy-net take of them (from the symbols), and the NUCLEO-F767ZI budget and
+//! the emulated cores' ([`crate::qemu_cores::CORES`]). Written to
 //! `target/bench/footprint.json` and printed as a table.
 
 use std::collections::BTreeMap;
@@ -44,8 +45,9 @@ impl Image {
     }
 }
 
-/// Builds both boards, writes `target/bench/footprint.json`, prints the table, and fails if
-/// the NUCLEO-F767ZI image is over its budget.
+/// Builds the boards (the emulated board for each core too), writes
+/// `target/bench/footprint.json`, prints the table, and fails if the NUCLEO-F767ZI image or
+/// an emulated core's is over its budget.
 pub fn footprint() -> Result {
     let mut images = BTreeMap::new();
     for board in [boards::NUCLEO, boards::QEMU, boards::EXAMPLE_NUCLEO] {
