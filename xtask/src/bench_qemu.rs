@@ -33,7 +33,7 @@ use crate::bench_qemu_trace::{count, Cost, Marks, Symbols};
 use crate::bench_scale::Scale;
 use crate::boards;
 use crate::qemu;
-use crate::util::{self, err, run, Result};
+use crate::util::{self, err, loud, run, Result};
 
 /// Names an `enip-qemu-mps2` ELF to measure instead of building one (e.g. an older
 /// commit's, for a before/after comparison).
@@ -52,7 +52,7 @@ const WRITE_ASSEMBLY: &str = "as enip_stack::device::Device>::write_assembly";
 const PUSH_FRAME: &str = "enip_qemu_mps2::lan9118::push_frame";
 /// The traced runs: connections and RPI. The log slows the emulation many-fold, so the
 /// 10-connection run uses a 20 ms RPI (at a shorter one more datagrams share a wake-up).
-const TRACED: [(u32, u32); 2] = [(1, 10_000), (10, 20_000)];
+pub(crate) const TRACED: [(u32, u32); 2] = [(1, 10_000), (10, 20_000)];
 /// The scanner's watchdog multiplier code for the traced runs: 7 is x512, as the traced
 /// board may stall for long.
 const TRACED_MULTIPLIER: &str = "7";
@@ -63,9 +63,10 @@ const TIMING_RPIS_US: [u32; 2] = [1_000, 2_000];
 const TIMING_CONNECTIONS: u32 = 10;
 /// Their watchdog: code 3 is x32, as in the host board's TAP benchmark.
 const TIMING_MULTIPLIER: &str = "3";
-/// The namespace and TAP the board runs in.
-const NAMESPACE: &str = "enip-mcu-bench";
+/// The TAP the board runs on (in a namespace of its own per run).
 const TAP: &str = "enipmcub0";
+/// The machine of the main measurements (the Cortex-M4).
+pub(crate) const M4: &str = "mps2-an386";
 
 /// Runs the traced and the timing runs at `scale`; returns their JSON for the bench report.
 /// The traced runs per configuration (three in the benchmark) give their median: how many
@@ -105,7 +106,7 @@ pub fn run_all(scale: Scale) -> Result<serde_json::Value> {
             rpi_us,
             trigger: "cyclic",
         };
-        let runs = traced_runs(&elf, &symbols, &dir, load, scale, quick)?;
+        let runs = traced_runs(M4, &elf, &symbols, &dir, load, scale, quick)?;
         let all: Vec<f64> = runs.iter().map(|c| c.per_cycle(c.total())).collect();
         let median = &runs[runs.len() / 2];
         print_cost(&load.title(), median);
@@ -131,11 +132,13 @@ pub fn run_all(scale: Scale) -> Result<serde_json::Value> {
         );
         timing.push(report);
     }
+    let cores = crate::qemu_cores::bench(scale, &dir, &traced)?;
     Ok(serde_json::json!({
         "instructions_per_cycle": traced,
         "latency": latency,
         "explicit": explicit,
         "timing": timing,
+        "cores": cores,
     }))
 }
 
@@ -193,8 +196,11 @@ impl Load {
     }
 }
 
-/// The traced runs of `load` at `scale` (one if `once`), the cheapest first.
+/// The traced runs of `load` on QEMU's `machine` at `scale` (one if `once`), the cheapest
+/// first. The trace stalls the emulation whenever its reader falls behind (a busy host): a
+/// stall past the board's watchdog (2 s) resets it, so a failed run is tried once more.
 pub fn traced_runs(
+    machine: &str,
     elf: &Path,
     symbols: &Symbols,
     dir: &Path,
@@ -205,10 +211,42 @@ pub fn traced_runs(
     let (runs, warmup, cycles) = scale.qemu_traced();
     let runs = if once { 1 } else { runs };
     let mut runs = (0..runs)
-        .map(|_| traced_run(elf, symbols, dir, load, (warmup, cycles)))
+        .map(|_| {
+            let counting = (warmup, cycles);
+            traced_run(machine, elf, symbols, dir, load, counting).or_else(|e| {
+                loud(&format!("{machine}: traced run failed ({e}); once more"));
+                traced_run(machine, elf, symbols, dir, load, counting)
+            })
+        })
         .collect::<Result<Vec<Cost>>>()?;
     runs.sort_by(|a, b| a.per_cycle(a.total()).total_cmp(&b.per_cycle(b.total())));
     Ok(runs)
+}
+
+/// The traced runs of `elf` on QEMU's `machine` with `connections` at `rpi_us` (cyclic) at
+/// `scale`; prints the median under the machine's name and returns its JSON with every
+/// run's figure. Files go to `dir`.
+pub(crate) fn traced_median(
+    machine: &str,
+    elf: &Path,
+    dir: &Path,
+    (connections, rpi_us): (u32, u32),
+    scale: Scale,
+) -> Result<serde_json::Value> {
+    let symbols = Symbols::read(elf)?;
+    let load = Load::Class1 {
+        connections,
+        rpi_us,
+        trigger: "cyclic",
+    };
+    let runs = traced_runs(machine, elf, &symbols, dir, load, scale, false)?;
+    let all: Vec<f64> = runs.iter().map(|c| c.per_cycle(c.total())).collect();
+    let median = &runs[runs.len() / 2];
+    print_cost(&format!("{machine}, {}", load.title()), median);
+    println!("  runs: {all:?}");
+    let mut json = median.to_json(connections, rpi_us);
+    json["runs"] = all.into();
+    Ok(json)
 }
 
 /// `cargo xtask bench --qemu`: this part alone, written to `target/bench/qemu.json`.
@@ -237,9 +275,11 @@ pub fn print_cost(title: &str, cost: &Cost) {
     }
 }
 
-/// Boots the board traced, gives it `load`, and counts the cycles (calls of the load's
-/// marker) `counted.1` after the first `counted.0` (per connection for Class 1).
+/// Boots the board traced on QEMU's `machine`, gives it `load`, and counts the cycles
+/// (calls of the load's marker) `counted.1` after the first `counted.0` (per connection for
+/// Class 1).
 fn traced_run(
+    machine: &str,
     elf: &Path,
     symbols: &Symbols,
     dir: &Path,
@@ -269,7 +309,12 @@ fn traced_run(
         let fifo_arg = fifo.to_string_lossy();
         let log = dir.join(format!("board-traced-{tag}.log"));
         let trace = ["-d", "in_asm,exec,nochain", "-D", &fifo_arg];
-        let board = Rig::launch(Board::Qemu { elf, extra: &trace }, &options(&log));
+        let board = Board::QemuMachine {
+            machine,
+            elf,
+            extra: &trace,
+        };
+        let board = Rig::launch(board, &options(&log));
         if board.is_err() {
             // Unblock the reader if QEMU never opened the log.
             let _ = fs::OpenOptions::new().write(true).open(&fifo);
@@ -349,9 +394,15 @@ fn timing_run(elf: &Path, dir: &Path, rpi_us: u32, seconds: u32) -> Result<serde
     Ok(report)
 }
 
-/// Where the board runs, its output copied to `log`.
+/// Where the board runs, its output copied to `log`: a namespace with a name of its own, so
+/// that two benchmarks on one machine (two checkouts) do not replace each other's.
 fn options(log: &Path) -> Options<'_> {
-    Options::named(NAMESPACE, TAP, log)
+    Options {
+        namespace: None,
+        tap: Some(TAP),
+        capture: None,
+        log_file: Some(log),
+    }
 }
 
 /// The project's scanner (release build) in `ns`: `connections` at `rpi_us` with their

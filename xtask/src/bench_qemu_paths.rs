@@ -17,7 +17,7 @@
 
 use serde_json::{json, Value};
 
-use crate::bench_qemu::{print_cost, traced_runs, Load};
+use crate::bench_qemu::{print_cost, traced_runs, Load, M4};
 use crate::bench_qemu_trace::{median, Cost, Symbols};
 use crate::bench_scale::Scale;
 use crate::util::Result;
@@ -52,7 +52,7 @@ pub fn latency(
             rpi_us: LATENCY_RPI_US,
             trigger,
         };
-        let runs = traced_runs(elf, symbols, dir, load, scale, false)?;
+        let runs = traced_runs(M4, elf, symbols, dir, load, scale, false)?;
         print_cost(&load.title(), &runs[runs.len() / 2]);
         let to_driver = figure(runs.iter().map(|c| median(&c.to_driver)));
         println!(
@@ -75,7 +75,7 @@ pub fn explicit(
     scale: Scale,
     once: bool,
 ) -> Result<Value> {
-    let runs = traced_runs(elf, symbols, dir, Load::Requests, scale, once)?;
+    let runs = traced_runs(M4, elf, symbols, dir, Load::Requests, scale, once)?;
     let median = &runs[runs.len() / 2];
     print_cost(&Load::Requests.title(), median);
     let all: Vec<f64> = runs.iter().map(|c| c.per_cycle(c.total())).collect();
