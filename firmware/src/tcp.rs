@@ -112,7 +112,9 @@ async fn converse<D: Device, const S: usize, const C: usize, const F: usize, con
     }
 }
 
-/// Hands received bytes to the adapter; returns the bytes consumed and what follows.
+/// Hands received bytes to the adapter; returns the bytes consumed and what follows. Never
+/// inlined: `cargo xtask bench --qemu` counts its calls as the explicit requests served.
+#[inline(never)]
 fn feed<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
     adapter: &SharedAdapter<D, S, C, F, L>,
     id: SocketId,

@@ -129,6 +129,16 @@ pub enum Board<'a> {
         /// More arguments for QEMU (e.g. its `-d` tracing).
         extra: &'a [&'a str],
     },
+    /// Like [`Board::Qemu`], on another of QEMU's machines with the LAN9118 (`mps2-an385`,
+    /// `mps2-an500`, `mps2-an505`): an `enip-qemu-mps2` ELF built for that machine.
+    QemuMachine {
+        /// QEMU's `-M`.
+        machine: &'a str,
+        /// The `enip-qemu-mps2` ELF built for it.
+        elf: &'a Path,
+        /// More arguments for QEMU.
+        extra: &'a [&'a str],
+    },
 }
 
 impl Board<'_> {
@@ -175,18 +185,12 @@ impl Board<'_> {
                 cmd.env("RUST_LOG", log_level);
                 cmd
             }
-            Board::Qemu { elf, extra } => {
-                let mut cmd = lab.command("qemu-system-arm");
-                cmd.args(["-M", "mps2-an386", "-nographic", "-kernel"])
-                    .arg(elf)
-                    .args(["-net", "nic,netdev=n0,model=lan9118", "-netdev"])
-                    .arg(format!(
-                        "tap,id=n0,ifname={},script=no,downscript=no",
-                        lab.tap
-                    ))
-                    .args(extra);
-                cmd
-            }
+            Board::Qemu { elf, extra } => qemu_command(lab, QEMU_MACHINE, elf, extra),
+            Board::QemuMachine {
+                machine,
+                elf,
+                extra,
+            } => qemu_command(lab, machine, elf, extra),
         })
     }
 
@@ -198,7 +202,7 @@ impl Board<'_> {
             // The devices open in the list's order; the loop serves once the last has.
             Board::HostFleet { .. } => ("enip-host --devices", FLEET_READY, BOARD_START),
             Board::Program { .. } => ("program", PROGRAM_READY, BOARD_START),
-            Board::Qemu { .. } => ("qemu", QEMU_READY, QEMU_BOOT),
+            Board::Qemu { .. } | Board::QemuMachine { .. } => ("qemu", QEMU_READY, QEMU_BOOT),
         }
     }
 
@@ -208,9 +212,28 @@ impl Board<'_> {
             Board::HostBind { .. }
             | Board::HostFleet { .. }
             | Board::Program { .. }
-            | Board::Qemu { .. } => BOARD_IP,
+            | Board::Qemu { .. }
+            | Board::QemuMachine { .. } => BOARD_IP,
         }
     }
+}
+
+/// The machine of [`Board::Qemu`].
+const QEMU_MACHINE: &str = "mps2-an386";
+
+/// `qemu-system-arm -M machine` inside `lab` booting `elf`, its LAN9118 on the lab's TAP,
+/// with `extra` arguments.
+fn qemu_command(lab: &Lab, machine: &str, elf: &Path, extra: &[&str]) -> Command {
+    let mut cmd = lab.command("qemu-system-arm");
+    cmd.args(["-M", machine, "-nographic", "-kernel"])
+        .arg(elf)
+        .args(["-net", "nic,netdev=n0,model=lan9118", "-netdev"])
+        .arg(format!(
+            "tap,id=n0,ifname={},script=no,downscript=no",
+            lab.tap
+        ))
+        .args(extra);
+    cmd
 }
 
 /// What a [`Board::HostFleet`] prints once its last device serves.
@@ -373,7 +396,7 @@ impl Rig {
         let mut child = LoggedChild::spawn_logged(name, board.command(&lab)?, options.log_file)?;
         child.wait_for_line(ready, bound)?;
         let qemu_elf = match board {
-            Board::Qemu { elf, .. } => Some(elf.to_path_buf()),
+            Board::Qemu { elf, .. } | Board::QemuMachine { elf, .. } => Some(elf.to_path_buf()),
             _ => None,
         };
         Ok(Rig {

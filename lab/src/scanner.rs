@@ -33,7 +33,17 @@ pub struct ScannerRun<'a> {
 /// Runs `run` inside `ns` against the board at [`BOARD_IP`]; returns the table the scanner
 /// printed and its report. Fails if the scanner fails or writes no report.
 pub fn run(ns: &Namespace, run: &ScannerRun<'_>) -> io::Result<(String, Value)> {
+    run_with(ns, run, &[])
+}
+
+/// [`run`] with `extra` arguments for the scanner, e.g. `["--trigger", "cos"]`.
+pub fn run_with(
+    ns: &Namespace,
+    run: &ScannerRun<'_>,
+    extra: &[&str],
+) -> io::Result<(String, Value)> {
     let mut cmd = ns.command(run.bin);
+    cmd.args(extra);
     cmd.args(["--target", &BOARD_IP.to_string()])
         .args(["--connections", &run.connections.to_string()])
         .args(["--rpi-us", &run.rpi_us.to_string()])

@@ -151,7 +151,7 @@ pub fn run_all(scale: Scale) -> Result {
 }
 
 /// The figures every report must hold, as JSON pointers.
-const FIGURES: [&str; 26] = [
+const FIGURES: [&str; 33] = [
     "/class1_cycle/instructions_per_cycle",
     "/class1_cycle/ns_per_cycle_median",
     "/class1_cycle_as_the_link_task_calls/instructions_per_cycle",
@@ -162,8 +162,15 @@ const FIGURES: [&str; 26] = [
     "/tap/timeouts",
     "/qemu/instructions_per_cycle/0/per_cycle",
     "/qemu/instructions_per_cycle/1/per_cycle",
+    "/qemu/latency/o_t_to_write_assembly/instructions",
+    "/qemu/latency/change_of_state_to_driver/instructions",
+    "/qemu/latency/application_triggered_to_driver/instructions",
+    "/qemu/explicit/instructions_per_request",
     "/qemu/timing/0/worst_p99_us",
     "/qemu/timing/1/worst_p99_us",
+    "/qemu/cores/mps2-an385/instructions_per_cycle/0/per_cycle",
+    "/qemu/cores/mps2-an500/instructions_per_cycle/0/per_cycle",
+    "/qemu/cores/mps2-an505/instructions_per_cycle/0/per_cycle",
     "/host_runtime/enip-host --tap/instructions_per_cycle",
     "/host_runtime/enip-host --tap/context_switches_per_cycle",
     "/host_runtime/enip-host --tap/requests_per_second_3_sessions",

@@ -1,7 +1,8 @@
 //! Footprint of the embedded boards: release ELF sizes (flash = vector table + text +
 //! rodata + data, static RAM = data + bss + uninit), what the stack, the firmware, the
 //! profile and embassy-net take of them (from the symbols), and each board's budget
-//! ([`BUDGETS`]). Written to `target/bench/footprint.json` and printed as a table.
+//! ([`BUDGETS`], the emulated cores' in [`crate::qemu_cores::CORES`]). Written to
+//! `target/bench/footprint.json` and printed as a table.
 
 use std::collections::BTreeMap;
 use std::fs;
@@ -10,8 +11,8 @@ use std::process::Command;
 use enip_stack::config::{MAX_CONNECTIONS, MAX_SESSIONS};
 use serde_json::{json, Value};
 
-use crate::boards;
 use crate::util::{self, err, output, Result};
+use crate::{boards, qemu_cores};
 
 /// The F767 image budget (issue 15's goal for the generic image): flash bytes.
 pub const NUCLEO_FLASH_BUDGET: u64 = 96 * 1024;
@@ -61,8 +62,9 @@ impl Image {
     }
 }
 
-/// Builds the boards, writes `target/bench/footprint.json`, prints the table, and fails if
-/// an image with a budget ([`BUDGETS`]) is over it.
+/// Builds the boards (the emulated board for each core too), writes
+/// `target/bench/footprint.json`, prints the table, and fails if an image with a budget
+/// ([`BUDGETS`], [`crate::qemu_cores::CORES`]) is over it.
 pub fn footprint() -> Result {
     let mut images = BTreeMap::new();
     let budgeted = BUDGETS.iter().map(|(board, _, _)| *board);
@@ -73,6 +75,9 @@ pub fn footprint() -> Result {
     for board in unbudgeted.into_iter().chain(budgeted) {
         let elf = boards::build(board, boards::DEFAULT_PROFILE)?;
         images.insert(board, measure(&elf.to_string_lossy())?);
+    }
+    for core in qemu_cores::CORES {
+        images.insert(core.label, measure(&core.build(&[])?.to_string_lossy())?);
     }
     let dir = util::target_dir().join("bench");
     fs::create_dir_all(&dir)?;
@@ -98,19 +103,23 @@ pub fn footprint() -> Result {
             println!("  {owner:<24} {:>10} {:>10}", kib(f), kib(r));
         }
     }
-    for (board, flash, ram) in BUDGETS {
+    let cores = qemu_cores::CORES
+        .iter()
+        .map(|c| (c.label, c.flash_budget, c.ram_budget));
+    let budgets: Vec<(&str, u64, u64)> = BUDGETS.iter().copied().chain(cores).collect();
+    for (board, flash, ram) in &budgets {
         println!("budget {board}: flash {} / RAM {}", kib(*flash), kib(*ram));
     }
     println!("report: {}", path.display());
-    for (board, flash, ram) in BUDGETS {
+    for (board, flash, ram) in budgets {
         let image = &images[board];
-        if image.flash() > *flash || image.ram() > *ram {
+        if image.flash() > flash || image.ram() > ram {
             return err(format!(
                 "{board} is over budget: flash {} (max {}), RAM {} (max {})",
                 kib(image.flash()),
-                kib(*flash),
+                kib(flash),
                 kib(image.ram()),
-                kib(*ram)
+                kib(ram)
             ));
         }
     }
@@ -265,6 +274,7 @@ fn report(images: &BTreeMap<&str, Image>) -> Value {
             .iter()
             .map(|(board, flash, ram)| json!({"board": board, "flash": flash, "ram": ram}))
             .collect::<Vec<_>>(),
+        "core_budgets": qemu_cores::CORES.map(|c| json!({"board": c.label, "flash": c.flash_budget, "ram": c.ram_budget})),
         "boards": boards,
     })
 }

@@ -5,7 +5,8 @@
 //! - `test`: the whole suite, stopping at the first failure, with a summary.
 //! - `fuzz [--seconds N]`: every fuzz target for N seconds (default 60); `fuzz --campaign
 //!   MINUTES`: a long run that merges new coverage into the seeds.
-//! - `qemu [--profile NAME]`: the emulated board (QEMU mps2-an386) in a network namespace.
+//! - `qemu [--profile NAME] [--machine NAME]`: the emulated board (QEMU mps2-an386, or
+//!   another core's machine) in a network namespace.
 //! - `demo [--host]`: the emulated board (or the host board) read by scanners: identity and
 //!   a live Class 1 view.
 //! - `bench`: benchmarks, written to `target/bench/report.json`, and the boards' footprint,
@@ -23,6 +24,8 @@ mod bench_fleet;
 mod bench_fleet_opener;
 mod bench_host;
 mod bench_qemu;
+mod bench_qemu_paths;
+mod bench_qemu_trace;
 mod bench_scale;
 mod boards;
 mod chaos;
@@ -34,6 +37,7 @@ mod json;
 mod module_graph;
 mod own_device;
 mod qemu;
+mod qemu_cores;
 mod setup;
 mod smoke;
 mod stack;
@@ -54,8 +58,9 @@ commands:
   fuzz --campaign MINUTES
                       every target in turn for a share of MINUTES; merge new coverage into
                       the committed seeds; report in target/fuzz-logs/campaign.md
-  qemu [--profile NAME]
-                      boot the emulated board (QEMU mps2-an386) in netns enip-qemu until Ctrl-C
+  qemu [--profile NAME] [--machine an385|an500|an505]
+                      boot the emulated board (QEMU mps2-an386, or the M3, M7 or M33 machine)
+                      in netns enip-qemu until Ctrl-C
   demo [--host]       boot the emulated board (--host: the Linux host board) in netns
                       enip-demo; show its identity and a live Class 1 connection
   bench [--qemu | --host | --check | --fleet [--seconds S] [--devices N]]
@@ -108,17 +113,31 @@ enum BenchPart {
 enum Command {
     Setup,
     Test,
-    Fuzz { seconds: u64 },
-    Campaign { minutes: u64 },
-    Qemu { profile: String },
-    Demo { board: demo::Board },
-    Bench { part: BenchPart },
+    Fuzz {
+        seconds: u64,
+    },
+    Campaign {
+        minutes: u64,
+    },
+    Qemu {
+        profile: String,
+        machine: Option<String>,
+    },
+    Demo {
+        board: demo::Board,
+    },
+    Bench {
+        part: BenchPart,
+    },
     Footprint,
     Modules,
     Smoke,
     Faults,
     Stack,
-    Chaos { minutes: u64, seed: Option<u64> },
+    Chaos {
+        minutes: u64,
+        seed: Option<u64>,
+    },
     Eds,
     OwnDevice,
     Help,
@@ -143,7 +162,7 @@ fn main() -> ExitCode {
         }
         Command::Fuzz { seconds } => fuzz::run_all(seconds).map(|_| ()),
         Command::Campaign { minutes } => fuzz::campaign(minutes),
-        Command::Qemu { profile } => qemu::run_interactive(&profile),
+        Command::Qemu { profile, machine } => qemu::run_interactive(&profile, machine.as_deref()),
         Command::Demo { board } => demo::run_demo(board),
         Command::Bench {
             part: BenchPart::All,
@@ -209,6 +228,7 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
         },
         "qemu" => Command::Qemu {
             profile: boards::DEFAULT_PROFILE.to_string(),
+            machine: None,
         },
         "demo" => Command::Demo {
             board: demo::Board::Qemu,
@@ -251,7 +271,12 @@ fn parse(args: impl IntoIterator<Item = impl Into<OsString>>) -> Result<Command,
                 };
             }
             (Command::Chaos { seed, .. }, Long("seed")) => *seed = Some(parser.value()?.parse()?),
-            (Command::Qemu { profile }, Long("profile")) => *profile = parser.value()?.string()?,
+            (Command::Qemu { profile, .. }, Long("profile")) => {
+                *profile = parser.value()?.string()?
+            }
+            (Command::Qemu { machine, .. }, Long("machine")) => {
+                *machine = Some(parser.value()?.string()?)
+            }
             (Command::Demo { board }, Long("host")) => *board = demo::Board::Host,
             (Command::Bench { part }, Long("qemu")) => *part = BenchPart::Qemu,
             (Command::Bench { part }, Long("host")) => *part = BenchPart::Host,
@@ -308,7 +333,15 @@ mod tests {
         assert_eq!(
             p(&["qemu", "--profile", "parker-ipa"]).unwrap(),
             Command::Qemu {
-                profile: "parker-ipa".into()
+                profile: "parker-ipa".into(),
+                machine: None,
+            }
+        );
+        assert_eq!(
+            p(&["qemu", "--machine", "an505"]).unwrap(),
+            Command::Qemu {
+                profile: boards::DEFAULT_PROFILE.into(),
+                machine: Some("an505".into()),
             }
         );
         assert_eq!(

@@ -46,19 +46,35 @@ pub fn print_log_tail(rig: &Rig, log: &std::path::Path, n: usize) {
     }
 }
 
-/// `cargo xtask qemu [--profile NAME]`: builds the board, boots it in namespace `enip-qemu`
-/// (TAP `enipqemu0`, the board at 198.18.0.2/24) and keeps it running until Ctrl-C.
-pub fn run_interactive(profile: &str) -> Result {
+/// `cargo xtask qemu [--profile NAME] [--machine NAME]`: builds the board (for `machine`, one
+/// of [`crate::qemu_cores::CORES`] by feature or QEMU name, else mps2-an386), boots it in
+/// namespace `enip-qemu` (TAP `enipqemu0`, the board at 198.18.0.2/24) and keeps it running
+/// until Ctrl-C.
+pub fn run_interactive(profile: &str, machine: Option<&str>) -> Result {
     require_root("qemu")?;
     util::catch_interrupts();
     setup::rust_target()?;
     ensure_installed()?;
-    let elf = boards::build(boards::QEMU, profile)?;
+    let (machine, elf) = match machine {
+        None => ("mps2-an386", boards::build(boards::QEMU, profile)?),
+        Some(name) => {
+            let core = crate::qemu_cores::CORES
+                .into_iter()
+                .find(|c| c.feature == name || c.machine == name)
+                .ok_or_else(|| util::Error(format!("--machine {name}: not an385, an500, an505")))?;
+            (core.machine, core.build_with(profile, &[])?)
+        }
+    };
     let dir = util::target_dir().join("qemu");
     fs::create_dir_all(&dir)?;
     let log = dir.join("board.log");
-    println!("qemu: booting {} (log: {})", elf.display(), log.display());
-    let board = Board::Qemu {
+    println!(
+        "qemu: booting {} on {machine} (log: {})",
+        elf.display(),
+        log.display()
+    );
+    let board = Board::QemuMachine {
+        machine,
         elf: &elf,
         extra: &[],
     };

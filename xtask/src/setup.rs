@@ -12,7 +12,9 @@ pub const THUMB_TARGET: &str = "thumbv7em-none-eabihf";
 /// The Cortex-M33 target (NUCLEO-H563ZI).
 pub const V8M_TARGET: &str = "thumbv8m.main-none-eabihf";
 /// Every cross target a board builds for.
-pub const CROSS_TARGETS: [&str; 3] = [THUMB_TARGET, V8M_TARGET, THUMBV6M_TARGET];
+pub const CROSS_TARGETS: [&str; 4] = [THUMB_TARGET, V8M_TARGET, THUMBV6M_TARGET, V7M_TARGET];
+/// The Cortex-M3 target (the emulated mps2-an385).
+pub const V7M_TARGET: &str = "thumbv7m-none-eabi";
 /// The Cortex-M0+ target of the W5500-EVB-Pico (RP2040).
 pub const THUMBV6M_TARGET: &str = "thumbv6m-none-eabi";
 /// The toolchain `cargo fuzz` needs.

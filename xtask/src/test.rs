@@ -121,6 +121,17 @@ pub fn run_all() -> bool {
                 Ok(Outcome::Passed)
             });
     }
+    for core in crate::qemu_cores::CORES {
+        ok = ok
+            && steps.run(
+                &format!("board: {} (release build, clippy)", core.label),
+                || {
+                    core.build(&[])?;
+                    core.clippy()?;
+                    Ok(Outcome::Passed)
+                },
+            );
+    }
     let _all_passed =
         ok && steps.run("footprint and the F767 budget", || {
             footprint::footprint().map(|()| Outcome::Passed)
@@ -132,6 +143,10 @@ pub fn run_all() -> bool {
                 fleet_interop,
             )
             && steps.run("QEMU smoke run", smoke::run_smoke)
+            && steps.run(
+                "QEMU cores M3, M7, M33: pycomm3, ethernetip owner at 10 ms",
+                crate::qemu_cores::run_tests,
+            )
             && steps.run("the benchmark runs (bench --check)", || {
                 crate::bench::check().map(|()| Outcome::Passed)
             });

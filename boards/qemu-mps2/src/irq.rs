@@ -6,21 +6,29 @@
 use cortex_m::interrupt::InterruptNumber;
 use cortex_m::peripheral::NVIC;
 
-/// External interrupts of mps2-an386 that the board uses.
+use crate::machine::THIS;
+
+/// External interrupts of the machine that the board uses (their numbers are the
+/// machine's, [`crate::machine::THIS`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Irq {
     /// CMSDK APB timer 0 (the free-running clock).
-    Timer0 = 8,
+    Timer0,
     /// CMSDK APB timer 1 (the alarm).
-    Timer1 = 9,
+    Timer1,
     /// LAN9118 Ethernet controller.
-    Ethernet = 13,
+    Ethernet,
 }
 
-// SAFETY: the numbers are valid external interrupts of the machine (it has 32).
+// SAFETY: the numbers are valid external interrupts of the machine (the mps2 machines have
+// 32, mps2-an505 has 32 + 92).
 unsafe impl InterruptNumber for Irq {
     fn number(self) -> u16 {
-        self as u16
+        match self {
+            Irq::Timer0 => THIS.timer0.1,
+            Irq::Timer1 => THIS.timer1.1,
+            Irq::Ethernet => THIS.lan9118.1,
+        }
     }
 }
 
@@ -33,10 +41,14 @@ pub fn enable(irq: Irq) {
 
 #[cortex_m_rt::exception]
 unsafe fn DefaultHandler(irqn: i16) {
-    match irqn {
-        n if n == Irq::Timer0 as i16 => crate::time::on_wrap_interrupt(),
-        n if n == Irq::Timer1 as i16 => crate::time::on_alarm_interrupt(),
-        n if n == Irq::Ethernet as i16 => crate::lan9118::on_interrupt(),
-        n => panic!("unexpected exception or interrupt {n}"),
+    let line = u16::try_from(irqn).ok();
+    if line == Some(THIS.timer0.1) {
+        crate::time::on_wrap_interrupt()
+    } else if line == Some(THIS.timer1.1) {
+        crate::time::on_alarm_interrupt()
+    } else if line == Some(THIS.lan9118.1) {
+        crate::lan9118::on_interrupt()
+    } else {
+        panic!("unexpected exception or interrupt {irqn}")
     }
 }

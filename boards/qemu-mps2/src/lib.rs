@@ -1,6 +1,8 @@
 //! `enip_qemu_mps2`: any [`enip_stack::Device`] as an EtherNet/IP adapter on QEMU's
 //! `mps2-an386` machine (Cortex-M4 at 25 MHz, LAN9118 Ethernet at 0x4020_0000 on IRQ 13),
-//! with one call from the firmware's `main`:
+//! or with a cargo feature on `mps2-an385` (Cortex-M3), `mps2-an500` (Cortex-M7) or
+//! `mps2-an505` (Cortex-M33, Secure state) ([`machine`]), with one call from the firmware's
+//! `main`:
 //!
 //! ```ignore
 //! #[embassy_executor::main]
@@ -30,6 +32,7 @@ pub mod faults;
 mod guard;
 mod irq;
 pub mod lan9118;
+pub mod machine;
 mod mmio;
 #[path = "../../shared/stack.rs"]
 pub mod stack;
@@ -113,7 +116,12 @@ pub async fn run<D: Device>(
     guard::install();
     time::init();
     uart::init(log::LevelFilter::Info);
-    log::info!("enip-qemu-mps2: booting (profile {name})");
+    let machine = machine::THIS;
+    log::info!(
+        "enip-qemu-mps2: booting on {} ({}), profile {name}",
+        machine.name,
+        machine.core
+    );
     let driver = match Lan9118::new() {
         Ok(d) => d,
         Err(e) => panic!("LAN9118: {e:?}"),

@@ -1,7 +1,8 @@
-//! The embassy-time driver of the machine: two CMSDK APB timers clocked at 25 MHz, giving
-//! a 1 MHz time base (one tick = 25 timer counts).
+//! The embassy-time driver of the machine: two CMSDK APB timers clocked at the system clock
+//! (25 MHz, 20 MHz on mps2-an505), giving a 1 MHz time base (one tick = 25 or 20 timer
+//! counts).
 //!
-//! - Timer 0 counts down from [`PERIOD_COUNTS`] - 1 forever: a period is exactly 2^27 µs
+//! - Timer 0 counts down from `PERIOD_COUNTS` - 1 forever: a period is exactly 2^27 µs
 //!   (134.2 s), so the time is the period count shifted left plus a 32-bit division of the
 //!   counts into the period (a multiplication: no 64-bit division on every `now`). Its wrap
 //!   interrupt counts periods, which extends it to 64 bits.
@@ -18,11 +19,11 @@ use embassy_time_queue_utils::Queue;
 use crate::irq::{self, Irq};
 use crate::mmio::Block;
 
-/// Timer counts per microsecond (the timers run at the 25 MHz system clock).
-const COUNTS_PER_US: u64 = 25;
+/// Timer counts per microsecond (the timers run at the system clock).
+const COUNTS_PER_US: u64 = crate::machine::COUNTS_PER_US as u64;
 /// Microseconds of one period of the free-running timer, as a power of two.
 const PERIOD_US_LOG2: u32 = 27;
-/// Timer counts of one period: 2^27 µs (fits in the 32-bit counter).
+/// Timer counts of one period: 2^27 µs (fits in the 32-bit counter up to 31 MHz).
 const PERIOD_COUNTS: u32 = (COUNTS_PER_US << PERIOD_US_LOG2) as u32;
 
 /// CMSDK APB timer registers.
@@ -40,9 +41,9 @@ mod reg {
 }
 
 /// The free-running timer.
-const CLOCK: Block = Block::at(0x4000_0000);
+const CLOCK: Block = Block::at(crate::machine::THIS.timer0.0);
 /// The alarm timer.
-const ALARM: Block = Block::at(0x4000_1000);
+const ALARM: Block = Block::at(crate::machine::THIS.timer1.0);
 
 /// The time driver: wrap count, timer queue and the tick the alarm is armed for, shared
 /// with the interrupt handlers.

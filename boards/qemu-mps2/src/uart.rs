@@ -1,4 +1,5 @@
-//! Logs over CMSDK APB UART0 (0x4000_4000), which QEMU connects to its first serial port
+//! Logs over CMSDK APB UART0 (0x4000_4000; 0x5020_0000 on mps2-an505), which QEMU connects
+//! to its first serial port
 //! (standard output with `-nographic`), through the `log` facade.
 
 use core::fmt::Write;
@@ -7,7 +8,7 @@ use log::{LevelFilter, Log, Metadata, Record};
 
 use crate::mmio::Block;
 
-const UART0: Block = Block::at(0x4000_4000);
+const UART0: Block = Block::at(crate::machine::THIS.uart0);
 const DATA: usize = 0x00;
 const STATE: usize = 0x04;
 const CTRL: usize = 0x08;
@@ -16,8 +17,8 @@ const BAUDDIV: usize = 0x10;
 const TX_FULL: u32 = 1 << 0;
 /// CTRL: transmitter enabled.
 const TX_EN: u32 = 1 << 0;
-/// 25 MHz / 115200 baud.
-const DIVISOR: u32 = 217;
+/// The system clock / 115200 baud.
+const DIVISOR: u32 = crate::machine::THIS.clock_hz / 115_200;
 /// How long to wait for room in the transmit buffer before dropping a byte.
 const TX_SPINS: u32 = 100_000;
 

@@ -1,12 +1,12 @@
-//! The machine's CMSDK APB watchdog (0x4000_8000, clocked at 25 MHz; its interrupt is the
-//! NMI). Loaded with [`STAGE`]: unfed for one stage it raises the NMI, which logs that the
+//! The machine's CMSDK APB watchdog (0x4000_8000, clocked at 25 MHz; on mps2-an505 the
+//! Secure watchdog at 0x5008_1000, 20 MHz; its interrupt is the NMI). Loaded with [`STAGE`]: unfed for one stage it raises the NMI, which logs that the
 //! firmware stopped making progress and waits; unfed for a second stage it resets the
 //! machine (QEMU's watchdog action: reset). [`feed`] is called by the firmware's
 //! `watchdog::keep_fed` task only.
 
 use crate::mmio::Block;
 
-const WDOG: Block = Block::at(0x4000_8000);
+const WDOG: Block = Block::at(crate::machine::THIS.watchdog);
 const LOAD: usize = 0x000;
 const CTRL: usize = 0x008;
 const INTCLR: usize = 0x00C;
@@ -17,8 +17,8 @@ const INTEN: u32 = 1 << 0;
 const RESEN: u32 = 1 << 1;
 /// LOCK: the key that allows writes to the other registers; anything else locks them.
 const UNLOCK: u32 = 0x1ACC_E551;
-/// Counts of one stage: 2 s at 25 MHz (NMI after 2 s unfed, reset after 4 s).
-pub const STAGE: u32 = 2 * 25_000_000;
+/// Counts of one stage: 2 s at the system clock (NMI after 2 s unfed, reset after 4 s).
+pub const STAGE: u32 = 2 * crate::machine::THIS.clock_hz;
 /// Milliseconds of one stage, for the log.
 pub const STAGE_MS: u32 = 2_000;
 

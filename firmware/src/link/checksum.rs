@@ -28,6 +28,9 @@ impl Sum {
         for word in words {
             sum = sum.wrapping_add(u64::from(u32::from_ne_bytes(*word)));
         }
+        if rest.is_empty() {
+            return Sum(sum);
+        }
         let mut last = [0u8; 4];
         for (to, from) in last.iter_mut().zip(rest) {
             *to = *from;
@@ -50,11 +53,13 @@ impl Sum {
 
     /// The sum folded to 16 bits, as its two bytes in memory order.
     pub fn folded(self) -> [u8; 2] {
-        let mut s = self.0;
-        // Each fold at least halves what is above 16 bits; four reach 16 bits from 64.
-        for _ in 0..4 {
-            s = (s & 0xFFFF).wrapping_add(s >> 16);
-        }
+        // 64 to 32 bits with the end-around carry (an add and an add-with-carry on a
+        // Cortex-M), then 32 to 16 bits twice: at most 0x1_FFFE after the first, 0xFFFF after
+        // the second.
+        let (low, carry) = (self.0 as u32).overflowing_add((self.0 >> 32) as u32);
+        let s = low.wrapping_add(u32::from(carry));
+        let s = (s & 0xFFFF).wrapping_add(s >> 16);
+        let s = (s & 0xFFFF).wrapping_add(s >> 16);
         (s as u16).to_ne_bytes()
     }
 
@@ -100,6 +105,19 @@ mod tests {
                 "{len} bytes"
             );
         }
+    }
+
+    #[test]
+    fn wide_sums_fold_like_the_reference() {
+        // Many all-ones words: the 64-bit accumulator carries far past 32 bits.
+        let data = [0xFFu8; 4096];
+        for len in [2, 4, 6, 1024, 4094, 4096] {
+            let folded = Sum::default().add(&data[..len]).folded();
+            assert_eq!(u16::from_be_bytes(folded), reference(&data[..len]), "{len}");
+        }
+        let data: [u8; 4096] = core::array::from_fn(|i| (i as u8).wrapping_mul(151) | 0x80);
+        let folded = Sum::default().add(&data).folded();
+        assert_eq!(u16::from_be_bytes(folded), reference(&data));
     }
 
     #[test]

@@ -72,7 +72,8 @@ impl<D: Driver> Driver for Counted<'_, D> {
     }
 }
 
-/// A received frame, counted when read.
+/// A received frame, counted once read (after its O->T data reached the device: counting is
+/// not on the way there).
 pub(crate) struct Rx<'a, T> {
     rx: T,
     mac: &'a [u8; 6],
@@ -83,8 +84,9 @@ impl<T: RxToken> RxToken for Rx<'_, T> {
     fn consume<R, F: FnOnce(&mut [u8]) -> R>(self, f: F) -> R {
         let Rx { rx, mac, counts } = self;
         rx.consume(|frame| {
+            let r = f(frame);
             counts.borrow_mut().received(frame, mac);
-            f(frame)
+            r
         })
     }
 }

@@ -170,13 +170,14 @@ pub(crate) fn multicast_mac(group: Ipv4Addr) -> [u8; 6] {
     [0x01, 0x00, 0x5E, b & 0x7F, c, d]
 }
 
-/// The addresses of one T->O datagram.
+/// The addresses of one T->O datagram (the MAC addresses borrowed: no byte copies to make
+/// one).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Route {
+pub(crate) struct Route<'a> {
     /// This adapter's MAC and IPv4 addresses.
-    pub from: ([u8; 6], Ipv4Addr),
+    pub from: (&'a [u8; 6], Ipv4Addr),
     /// The next hop's MAC address and the datagram's destination.
-    pub to: ([u8; 6], SocketAddrV4),
+    pub to: (&'a [u8; 6], SocketAddrV4),
     /// IPv4 time to live.
     pub ttl: u8,
     /// DSCP of the IPv4 header (the connection's, from the QoS object).
@@ -190,7 +191,7 @@ pub(crate) struct Route {
 #[inline(never)]
 pub(crate) fn write_t_o_headers(
     frame: &mut [u8],
-    route: &Route,
+    route: &Route<'_>,
     payload_len: usize,
     fill: &ChecksumCapabilities,
 ) -> bool {
@@ -206,8 +207,8 @@ pub(crate) fn write_t_o_headers(
     let Some(headers) = frame.first_chunk_mut::<HEADERS_LEN>() else {
         return false;
     };
-    let ([d0, d1, d2, d3, d4, d5], to) = route.to;
-    let ([s0, s1, s2, s3, s4, s5], src) = route.from;
+    let (&[d0, d1, d2, d3, d4, d5], to) = route.to;
+    let (&[s0, s1, s2, s3, s4, s5], src) = route.from;
     let dst = *to.ip();
     let [a0, a1, a2, a3] = src.octets();
     let [b0, b1, b2, b3] = dst.octets();
@@ -307,8 +308,8 @@ mod tests {
         let mut frame = std::vec![0u8; HEADERS_LEN + payload.len()];
         frame[HEADERS_LEN..].copy_from_slice(payload);
         let route = Route {
-            from: (PEER_MAC, PEER),
-            to: (MY_MAC, SocketAddrV4::new(to, IO_PORT)),
+            from: (&PEER_MAC, PEER),
+            to: (&MY_MAC, SocketAddrV4::new(to, IO_PORT)),
             ttl: 64,
             dscp: 0,
         };
@@ -435,8 +436,8 @@ mod tests {
         let payload = b"0123456789a";
         let to = SocketAddrV4::new(PEER, 40_000);
         let route = Route {
-            from: (MY_MAC, ME),
-            to: (PEER_MAC, to),
+            from: (&MY_MAC, ME),
+            to: (&PEER_MAC, to),
             ttl: 64,
             dscp: 43,
         };
@@ -490,8 +491,8 @@ mod tests {
         let mut frame = std::vec![0u8; HEADERS_LEN + payload.len() + 4];
         frame[HEADERS_LEN..HEADERS_LEN + payload.len()].copy_from_slice(payload);
         let route = Route {
-            from: (MY_MAC, ME),
-            to: (multicast_mac(group), SocketAddrV4::new(group, 2222)),
+            from: (&MY_MAC, ME),
+            to: (&multicast_mac(group), SocketAddrV4::new(group, 2222)),
             ttl: 7,
             dscp: 47,
         };

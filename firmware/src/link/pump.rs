@@ -199,7 +199,9 @@ impl Pump {
         whole_burst
     }
 
-    /// One received frame: O->T data to the adapter, anything else to the stack (true).
+    /// One received frame: O->T data to the adapter, anything else to the stack (true). Out
+    /// of line: the frame's temporaries are set up only when a frame came, not in every pass.
+    #[inline(never)]
     fn ingest(
         &mut self,
         frame: &[u8],
@@ -217,13 +219,10 @@ impl Pump {
             self.guard.receive(frame, io, at);
         }
         let seen = frame::inspect(frame, me.ip, &self.sums);
-        if let Some((ip, mac)) = seen.sender {
-            self.neighbors.learn(ip, mac);
-        }
         let o_t = seen
             .o_t
             .and_then(|(from, range)| Some((from, frame.get(range)?)));
-        match o_t {
+        let passed = match o_t {
             Some((from, data)) => {
                 consume(io, from, data, at);
                 false
@@ -234,7 +233,13 @@ impl Pump {
                 let _ = frames.rx.push(frame.len(), |room| copy(room, frame));
                 true
             }
+        };
+        // Learned once the O->T data reached the device, not on its way there; before any
+        // T->O datagram of this wake-up goes out.
+        if let Some((ip, mac)) = seen.sender {
+            self.neighbors.learn(ip, mac);
         }
+        passed
     }
 
     /// Asks for the LLDP deadline again and sends the LLDPDU due at `at` (`lldp::service`).
@@ -324,51 +329,77 @@ impl Pump {
                 // Nothing more due: the answer says when the next is.
                 Err(next) => return next,
             };
-            if !usable {
-                // Not from an address that may be in conflict: dropped.
-                io.write(due, at, None);
-                continue;
-            }
-            let Some(tx) = driver.transmit(cx) else {
+            if !self.send_due(cx, driver, io, (me, usable), due, at) {
                 self.blocked = true;
                 break;
-            };
-            let to = *due.to.ip();
-            let hop = next_hop(to, me.ip, me.netmask, me.gateway);
-            let mac = if to.is_multicast() {
-                Some(frame::multicast_mac(to))
-            } else {
-                self.neighbors.get(to).or_else(|| self.neighbors.get(hop))
-            };
-            let Some(mac) = mac else {
-                // Nobody to send it to yet: dropped, and the next hop asked for by ARP.
-                io.write(due, at, None);
-                if self.neighbors.may_ask(at) {
-                    let mut request = [0u8; ARP_REQUEST_LEN];
-                    frame::write_arp_request(&mut request, (self.mac, me.ip), hop);
-                    send_copy(tx, &request);
-                }
-                continue;
-            };
-            let route = Route {
-                from: (self.mac, me.ip),
-                to: (mac, due.to),
-                ttl: if to.is_multicast() {
-                    io.multicast_ttl()
-                } else {
-                    UNICAST_TTL
-                },
-                dscp: due.dscp,
-            };
-            let len = HEADERS_LEN.saturating_add(due.max_len);
-            tx.consume(len, |buf| self.write_t_o(buf, io, due, &route, at));
+            }
         }
         // The driver had no room, or the bound was reached: asked apart.
         io.deadline()
     }
 
+    /// Sends (or drops) the T->O datagram `due` at `at` from the interface `me` (its address
+    /// usable or not); false if the driver had no room. Out of line: the datagram's
+    /// temporaries are set up only when one is due, not in every pass.
+    #[inline(never)]
+    fn send_due<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        io: &dyn IoPort,
+        (me, usable): (&NetworkConfig, bool),
+        due: IoDue,
+        at: Instant,
+    ) -> bool {
+        if !usable {
+            // Not from an address that may be in conflict: dropped.
+            io.write(due, at, None);
+            return true;
+        }
+        let Some(tx) = driver.transmit(cx) else {
+            return false;
+        };
+        let to = *due.to.ip();
+        let hop = next_hop(to, me.ip, me.netmask, me.gateway);
+        let mac = if to.is_multicast() {
+            Some(frame::multicast_mac(to))
+        } else {
+            self.neighbors.get(to).or_else(|| self.neighbors.get(hop))
+        };
+        let Some(mac) = mac else {
+            // Nobody to send it to yet: dropped, and the next hop asked for by ARP.
+            io.write(due, at, None);
+            if self.neighbors.may_ask(at) {
+                let mut request = [0u8; ARP_REQUEST_LEN];
+                frame::write_arp_request(&mut request, (self.mac, me.ip), hop);
+                send_copy(tx, &request);
+            }
+            return true;
+        };
+        let route = Route {
+            from: (&self.mac, me.ip),
+            to: (&mac, due.to),
+            ttl: if to.is_multicast() {
+                io.multicast_ttl()
+            } else {
+                UNICAST_TTL
+            },
+            dscp: due.dscp,
+        };
+        let len = HEADERS_LEN.saturating_add(due.max_len);
+        tx.consume(len, |buf| self.write_t_o(buf, io, due, &route, at));
+        true
+    }
+
     /// Writes the T->O datagram `due` into `buf`: the adapter's payload, then the headers.
-    fn write_t_o(&self, buf: &mut [u8], io: &dyn IoPort, due: IoDue, route: &Route, at: Instant) {
+    fn write_t_o(
+        &self,
+        buf: &mut [u8],
+        io: &dyn IoPort,
+        due: IoDue,
+        route: &Route<'_>,
+        at: Instant,
+    ) {
         let Some(payload) = buf.get_mut(HEADERS_LEN..) else {
             io.write(due, at, None);
             return;
@@ -379,7 +410,7 @@ impl Pump {
             io.write(due, at, None);
         }
         // The device may fill less than the connection's size: the rest is padding.
-        if let Some(rest) = payload.get_mut(len..) {
+        if let Some(rest) = payload.get_mut(len..).filter(|rest| !rest.is_empty()) {
             rest.fill(0);
         }
         frame::write_t_o_headers(buf, route, len, &self.sums);

@@ -5,7 +5,7 @@ use std::net::Ipv4Addr;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use host_tests::scanner::{exchange, open_generic, Session};
+use host_tests::scanner::{exchange, open_generic_triggered, Session};
 
 struct Args {
     target: Ipv4Addr,
@@ -13,6 +13,8 @@ struct Args {
     rpi_us: u32,
     seconds: u64,
     multiplier: u8,
+    /// Transport class and trigger byte of the Forward_Opens (0x01: cyclic).
+    transport: u8,
     json: Option<String>,
 }
 
@@ -23,6 +25,7 @@ fn parse() -> Result<Args, String> {
         rpi_us: 10_000,
         seconds: 5,
         multiplier: 2,
+        transport: 0x01,
         json: None,
     };
     let mut it = std::env::args().skip(1);
@@ -34,9 +37,17 @@ fn parse() -> Result<Args, String> {
             "--rpi-us" => a.rpi_us = value()?.parse().map_err(|e| format!("--rpi-us: {e}"))?,
             "--seconds" => a.seconds = value()?.parse().map_err(|e| format!("--seconds: {e}"))?,
             "--multiplier" => a.multiplier = value()?.parse().map_err(|e| format!("--multiplier: {e}"))?,
+            "--trigger" => {
+                a.transport = match value()?.as_str() {
+                    "cyclic" => 0x01,
+                    "cos" => 0x11,
+                    "app" => 0x21,
+                    other => return Err(format!("--trigger: {other} is not cyclic, cos or app")),
+                }
+            }
             "--json" => a.json = Some(value()?),
             "-h" | "--help" => {
-                return Err("usage: scanner [--target IP] [--connections N] [--rpi-us US] [--seconds S] [--multiplier CODE] [--json PATH]".into())
+                return Err("usage: scanner [--target IP] [--connections N] [--rpi-us US] [--seconds S] [--multiplier CODE] [--trigger cyclic|cos|app] [--json PATH]".into())
             }
             other => return Err(format!("unknown argument {other}")),
         }
@@ -47,8 +58,14 @@ fn parse() -> Result<Args, String> {
 fn run(a: &Args) -> Result<(), String> {
     let mut session =
         Session::connect(a.target, Duration::from_secs(3)).map_err(|e| format!("connect: {e}"))?;
-    let opened = open_generic(&mut session, a.connections, a.rpi_us, a.multiplier)
-        .map_err(|e| e.to_string())?;
+    let opened = open_generic_triggered(
+        &mut session,
+        a.connections,
+        a.rpi_us,
+        a.multiplier,
+        a.transport,
+    )
+    .map_err(|e| e.to_string())?;
     eprintln!(
         "scanner: {} connections open at {} us",
         opened.len(),

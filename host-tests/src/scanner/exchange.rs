@@ -76,6 +76,18 @@ pub fn open_generic(
     rpi_us: u32,
     multiplier: u8,
 ) -> io::Result<Vec<Opened>> {
+    open_generic_triggered(session, n, rpi_us, multiplier, 0x01)
+}
+
+/// [`open_generic`] with the transport class and trigger byte `transport` (0x01 cyclic,
+/// 0x11 change of state, 0x21 application triggered; class 1, no inhibit time).
+pub fn open_generic_triggered(
+    session: &mut Session,
+    n: usize,
+    rpi_us: u32,
+    multiplier: u8,
+    transport: u8,
+) -> io::Result<Vec<Opened>> {
     let mut opened = Vec::new();
     for i in 0..n {
         let owner = i == 0;
@@ -90,7 +102,8 @@ pub fn open_generic(
             originator_serial: std::process::id(),
         };
         let t_o_id = 0x5C00_0000 + i as u32;
-        let fo = generic_forward_open(triad, t_o_id, path, o_t_size, multiplier, rpi_us);
+        let mut fo = generic_forward_open(triad, t_o_id, path, o_t_size, multiplier, rpi_us);
+        fo.transport = transport;
         match session.forward_open(&fo)? {
             Ok(r) => opened.push(Opened {
                 o_t_id: r.o_t_connection_id,

@@ -13,13 +13,16 @@
 //! After each, the board boots again and answers ListIdentity and pycomm3. A second test
 //! reads the high-water mark after 10 Class 1 connections at 1 ms (the rig reads it again
 //! when it stops the board, as it does for every test on the emulated board).
+//!
+//! `ENIP_QEMU_FAULTS_MACHINE` boots the image on another of QEMU's machines (`mps2-an385`,
+//! `mps2-an500`, `mps2-an505`: a test image built for it), `mps2-an386` by default.
 
 use std::time::{Duration, Instant};
 
 use host_tests::enip::{mr_request, Client};
 use host_tests::netns::Namespace;
 use host_tests::peers;
-use host_tests::rig::{Rig, BOARD_IP};
+use host_tests::rig::{Board, Options, Rig, BOARD_IP};
 use host_tests::scanner::{exchange, open_generic, Session};
 use serde_json::{json, Value};
 
@@ -95,6 +98,18 @@ fn stack_figures(d: &Value) -> (u64, u64, u64) {
     (size, painted, deepest)
 }
 
+/// Boots the test image `elf` on the machine `ENIP_QEMU_FAULTS_MACHINE` names (mps2-an386
+/// by default).
+fn boot(elf: &std::path::Path) -> Rig {
+    let machine = std::env::var("ENIP_QEMU_FAULTS_MACHINE").unwrap_or("mps2-an386".into());
+    let board = Board::QemuMachine {
+        machine: &machine,
+        elf,
+        extra: &[],
+    };
+    Rig::launch(board, &Options::default()).expect("boot the test image")
+}
+
 #[test]
 #[ignore]
 fn qemu_overflow_hang_and_panic_each_end_in_a_reset() {
@@ -102,7 +117,7 @@ fn qemu_overflow_hang_and_panic_each_end_in_a_reset() {
         eprintln!("SKIPPED: set {ELF_VAR} to an enip-qemu-mps2 ELF built with ENIP_TEST_FAULTS=on");
         return;
     };
-    let rig = Rig::start_qemu(std::path::Path::new(&elf), None).expect("boot the test image");
+    let rig = boot(std::path::Path::new(&elf));
     let (size, painted, deepest) = stack_figures(&diagnostics(rig.ns(), 10));
     println!("stack at boot: {deepest} of {painted} painted bytes, region {size}");
     let cases: [(u8, &str, &str); 3] = [
@@ -138,7 +153,7 @@ fn qemu_stack_mark_after_ten_connections_at_1_ms() {
         eprintln!("SKIPPED: set {ELF_VAR} to an enip-qemu-mps2 ELF built with ENIP_TEST_FAULTS=on");
         return;
     };
-    let mut rig = Rig::start_qemu(std::path::Path::new(&elf), None).expect("boot the test image");
+    let mut rig = boot(std::path::Path::new(&elf));
     let (_, _, at_boot) = stack_figures(&diagnostics(rig.ns(), 10));
     let record = rig
         .ns()

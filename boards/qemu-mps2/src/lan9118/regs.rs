@@ -3,8 +3,8 @@
 
 use crate::mmio::Block;
 
-/// The controller on mps2-an386.
-pub const LAN: Block = Block::at(0x4020_0000);
+/// The controller, at the machine's address.
+pub const LAN: Block = Block::at(crate::machine::THIS.lan9118.0);
 
 /// Receive data FIFO port.
 pub const RX_DATA: usize = 0x00;
