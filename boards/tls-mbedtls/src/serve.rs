@@ -2,7 +2,7 @@
 //! with decrypted bytes, as the plaintext socket on 44818 feeds its own, and encrypting the
 //! replies.
 
-use embassy_net::tcp::TcpSocket;
+use embassy_net::tcp::{State, TcpSocket};
 use embassy_net::{IpAddress, IpEndpoint, Stack};
 use embassy_time::{with_timeout, Duration, Timer};
 use enip_firmware::{with_adapter, SharedAdapter};
@@ -17,6 +17,8 @@ pub const TLS_PORT: u16 = 2221;
 const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(10);
 /// Longest wait for a reply to be taken by the peer (the plaintext sockets' bound).
 const WRITE_TIMEOUT: Duration = enip_firmware::tcp::WRITE_TIMEOUT;
+/// Longest wait for the peer's FIN when closing (the plaintext sockets' bound).
+const LINGER: Duration = enip_firmware::tcp::LINGER;
 /// Pause before listening again after the socket refused to listen.
 const RETRY: Duration = Duration::from_millis(100);
 /// Decrypted bytes handed to the adapter per read.
@@ -86,25 +88,44 @@ pub async fn serve<D: Device, const S: usize, const C: usize, const F: usize, co
                     a.tcp_accept(id, peer, now());
                     a.set_session_secure(id, true);
                 });
-                converse(&mut tls, adapter, id, reply, on_reset).await;
+                let peer_listens = converse(&mut tls, adapter, id, reply, on_reset).await;
                 with_adapter(adapter, |a| a.tcp_close(id, now()));
-                let _ = with_timeout(WRITE_TIMEOUT, tls.close_notify()).await;
+                if peer_listens {
+                    let _ = with_timeout(WRITE_TIMEOUT, tls.close_notify()).await;
+                }
             }
         }
-        socket.close();
-        let _ = with_timeout(Duration::from_secs(2), socket.flush()).await;
-        socket.abort();
+        shut_down(&mut socket).await;
     }
 }
 
-/// Feeds decrypted bytes to the adapter and encrypts its replies until either side ends.
+/// Closes gracefully if the peer cooperates within [`LINGER`] (as the plaintext sockets do),
+/// otherwise resets; either way the socket is ready to listen again.
+async fn shut_down(socket: &mut TcpSocket<'_>) {
+    socket.close();
+    let linger = async {
+        let _ = socket.flush().await;
+        // Discard anything still arriving until the peer's FIN (or RST) ends the stream.
+        while socket.read_with(|data| (data.len(), ())).await.is_ok() {}
+    };
+    let _ = with_timeout(LINGER, linger).await;
+    if !matches!(socket.state(), State::Closed | State::TimeWait) {
+        socket.abort();
+        let _ = with_timeout(Duration::from_millis(100), socket.flush()).await;
+    }
+}
+
+/// Feeds decrypted bytes to the adapter and encrypts its replies until either side ends;
+/// true if this side ended it on its own (inactivity, a reset), when the peer may still take
+/// a close_notify. A peer that unregistered its session closes the connection itself, and a
+/// close_notify racing its FIN would only draw a reset.
 async fn converse<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
     tls: &mut TlsSession<'_, '_>,
     adapter: &SharedAdapter<D, S, C, F, L>,
     id: SocketId,
     reply: &mut [u8],
     on_reset: &dyn Fn(u8),
-) {
+) -> bool {
     let mut plain = [0u8; PLAIN_LEN];
     loop {
         let read = match with_adapter(adapter, |a| a.tcp_deadline(id)) {
@@ -113,13 +134,14 @@ async fn converse<D: Device, const S: usize, const C: usize, const F: usize, con
                 let at = embassy_time::Instant::from_micros(at.as_micros());
                 match embassy_time::with_deadline(at, tls.read(&mut plain)).await {
                     Ok(read) => read,
-                    Err(_) => return,
+                    Err(_) => return true,
                 }
             }
         };
-        let Ok(len) = read else { return };
+        // An error or a close_notify: the peer is gone.
+        let Ok(len) = read else { return false };
         if len == 0 {
-            return;
+            return false;
         }
         let mut rest = plain.get(..len).unwrap_or(&[]);
         while !rest.is_empty() {
@@ -131,7 +153,7 @@ async fn converse<D: Device, const S: usize, const C: usize, const F: usize, con
                     with_timeout(WRITE_TIMEOUT, tls.write_all(out)).await,
                     Ok(Ok(()))
                 ) {
-                    return;
+                    return false;
                 }
             }
             if let Some(kind) = outcome.reset {
@@ -139,7 +161,7 @@ async fn converse<D: Device, const S: usize, const C: usize, const F: usize, con
                 on_reset(kind);
             }
             if outcome.close || outcome.consumed == 0 {
-                return;
+                return outcome.reset.is_some();
             }
         }
     }

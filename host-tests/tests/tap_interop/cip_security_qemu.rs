@@ -10,7 +10,8 @@
 //!   and AES-128-CBC, Apply_Config, End_Config), a handshake with AES-128-GCM succeeds and one
 //!   with AES-256-CBC-SHA384 is refused.
 //!
-//! Skipped, loudly, without the ELF.
+//! The capture (the TLS records undecrypted, the configuration in plaintext) is checked like
+//! every other. Skipped, loudly, without the ELF.
 
 use std::path::Path;
 use std::time::Duration;
@@ -27,18 +28,30 @@ use crate::common;
 const ELF_VAR: &str = "ENIP_QEMU_TLS_ELF";
 /// How long a peer or a command may take.
 const TIMEOUT: Duration = Duration::from_secs(60);
+/// Connection attempts of one `s_client` run.
+const CONNECT_TRIES: usize = 10;
 
-/// `openssl s_client` to the board's 2221 with `args`: its output.
+/// `openssl s_client` to the board's 2221 with `args`: its output. The image has one TLS
+/// socket, which listens again only once the previous connection has closed: a refused
+/// connect is tried again (up to [`CONNECT_TRIES`] times).
 fn s_client(ns: &Namespace, args: &[&str]) -> String {
-    let mut cmd = ns.command("openssl");
-    cmd.args(["s_client", "-connect", &format!("{BOARD_IP}:2221")])
-        .args(args);
-    let out = run_bounded(cmd, Some(b"Q\n"), TIMEOUT).expect("s_client runs");
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    )
+    let mut out = String::new();
+    for _ in 0..CONNECT_TRIES {
+        let mut cmd = ns.command("openssl");
+        cmd.args(["s_client", "-connect", &format!("{BOARD_IP}:2221")])
+            .args(args);
+        let run = run_bounded(cmd, Some(b"Q\n"), TIMEOUT).expect("s_client runs");
+        out = format!(
+            "{}{}",
+            String::from_utf8_lossy(&run.stdout),
+            String::from_utf8_lossy(&run.stderr)
+        );
+        if !out.contains("Connection refused") {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(300));
+    }
+    out
 }
 
 /// The PEM certificate in `s_client`'s output.
@@ -56,7 +69,8 @@ fn tls_on_2221_of_the_emulated_board_through_mbedtls() {
         eprintln!("SKIPPED: set {ELF_VAR} to enip-qemu-mps2 built with --features tls");
         return;
     };
-    let rig = Rig::start_qemu(Path::new(&elf), None).unwrap_or_else(|e| panic!("{e}"));
+    let pcap = common::scratch("cip_security_qemu.pcapng");
+    let rig = Rig::start_qemu(Path::new(&elf), Some(&pcap)).unwrap_or_else(|e| panic!("{e}"));
     let ns = rig.ns();
     let log = || rig.board_log_tail(30);
 
@@ -117,4 +131,5 @@ fn tls_on_2221_of_the_emulated_board_through_mbedtls() {
     let log = rig.board_log();
     assert!(log.contains("tls: mbedTLS listening on 2221"), "{log}");
     assert!(!log.contains("PANIC"), "the board panicked:\n{log}");
+    common::finish(rig);
 }
