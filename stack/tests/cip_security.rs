@@ -170,7 +170,7 @@ fn get_attributes_all_of_each_object_in_factory_state() {
     assert_eq!((g, ports[0]), (0, 4));
     let tls = b"\x0fEtherNet/IP TLS\xad\x08\x06\x01\x00";
     assert!(ports.windows(tls.len()).any(|w| w == tls), "{ports:x?}");
-    // Create_CSR is not offered; the Message Router lists the three classes.
+    // Create_CSR is not offered without the runtime's signer; the Message Router lists the three classes.
     assert_eq!(call(&mut h, 0x4B, 0x5F, 1, &[]).0, 0x08);
     let (g, list) = get_class(&mut h, 0x02, 1, 1);
     assert_eq!(g, 0);

@@ -10,6 +10,9 @@
 //!   a plaintext RegisterSession on 2221 gets no EtherNet/IP reply; two plaintext sessions
 //!   and one over TLS take the 3 sessions, and a fourth is refused on either port;
 //! - pycomm3's own ListIdentity parses the reply that carries the CIP Security item;
+//! - Certificate Management Create_CSR on a created instance: the CSR uploaded from the File
+//!   object instance the reply names verifies with `openssl req -verify`, carries the subject
+//!   asked for and the device certificate's public key;
 //! - the configuration sequence over 44818 (Begin_Config, allowed suites with AES-GCM,
 //!   client verification with expiry checked against the plant CA, Apply_Config,
 //!   End_Config), after which Begin_Config over plaintext is refused (0x0F); then the scanner's certificate is let in with AES-GCM, and no certificate,
@@ -257,6 +260,97 @@ fn tshark(pcap: &Path, keylog: &Path, filter: &str) -> Vec<String> {
         .collect()
 }
 
+/// A raw request step to `instance`.
+fn req_at(service: u8, class: u16, instance: u8, data: &str) -> Value {
+    json!({"do": "request", "service": service, "class": class, "instance": instance,
+        "data": data})
+}
+
+/// Certificate Management Create_CSR over 44818 on a created instance, the CSR uploaded
+/// from the File object instance the reply names (Initiate_Upload, Upload_Transfer): it
+/// verifies with `openssl req -verify`, carries the subject asked for and the public key of
+/// the device certificate the TLS server presents.
+fn csr_through_the_service(ns: &Namespace, host: &LoggedChild, dir: &Path) {
+    let field = |s: &str| format!("{:02x}{}", s.len(), hex(s.as_bytes()));
+    let subject: String = ["dev-7", "Plant", "Line 2", "", "", "DE", "", "7"]
+        .iter()
+        .map(|f| field(f))
+        .collect();
+    let mut steps = vec![
+        req_at(0x08, 0x5F, 0, &field("csr")),
+        req_at(0x4B, 0x5F, 1, &subject),
+        req_at(0x4B, 0x5F, 2, &subject),
+        req_at(0x4B, 0x37, 0xC8, "f0"),
+    ];
+    steps.extend((0..4).map(|n| req_at(0x4F, 0x37, 0xC8, &format!("{n:02x}"))));
+    let out = peer(ns, host, Value::Array(steps));
+    let statuses: Vec<&Value> = out.iter().map(|o| &o["status"]).collect();
+    assert_eq!(statuses[..4], [0, 0x0C, 0, 0], "{out:?}");
+    assert_eq!(out[0]["data"], "0200", "the created instance: {out:?}");
+    assert_eq!(out[2]["data"], "02203724c8", "{out:?}");
+    let size = unhex(out[3]["data"].as_str().unwrap());
+    let size = u32::from_le_bytes(size[..4].try_into().unwrap()) as usize;
+    let mut csr = Vec::new();
+    for o in &out[4..] {
+        let d = unhex(o["data"].as_str().unwrap_or(""));
+        assert_eq!(o["status"], 0, "{out:?}");
+        if matches!(d[1], 2 | 4) {
+            csr.extend_from_slice(&d[2..d.len() - 2]);
+            break;
+        }
+        csr.extend_from_slice(&d[2..]);
+    }
+    assert_eq!(csr.len(), size, "{out:?}");
+    std::fs::write(dir.join("device.csr"), &csr).expect("write the CSR");
+    let text = |args: &[&str]| {
+        let out = Command::new("openssl")
+            .args(args)
+            .current_dir(dir)
+            .output()
+            .expect("openssl runs");
+        assert!(out.status.success(), "{args:?}: {out:?}");
+        format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        )
+    };
+    let verified = text(&["req", "-in", "device.csr", "-verify", "-noout", "-subject"]);
+    assert!(
+        verified.contains("verify OK") || verified.contains("verification OK"),
+        "{verified}"
+    );
+    assert!(
+        verified.contains("CN = dev-7") || verified.contains("CN=dev-7"),
+        "{verified}"
+    );
+    assert!(
+        verified.contains("C = DE") || verified.contains("C=DE"),
+        "{verified}"
+    );
+    let csr_key = text(&["req", "-in", "device.csr", "-pubkey", "-noout"]);
+    let cert = dir.join("../cip_security.nv.device-cert.pem");
+    let cert_key = text(&[
+        "x509",
+        "-in",
+        &cert.display().to_string(),
+        "-pubkey",
+        "-noout",
+    ]);
+    assert!(csr_key.contains("BEGIN PUBLIC KEY"), "{csr_key}");
+    assert_eq!(csr_key, cert_key, "the CSR carries the device's public key");
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+fn unhex(s: &str) -> Vec<u8> {
+    (0..s.len() / 2)
+        .map(|i| u8::from_str_radix(&s[2 * i..2 * i + 2], 16).expect("hex"))
+        .collect()
+}
+
 #[test]
 #[ignore = "needs root, the Python peers, openssl and tshark"]
 fn tls_on_2221_and_the_security_objects_with_independent_peers() {
@@ -296,6 +390,7 @@ fn tls_on_2221_and_the_security_objects_with_independent_peers() {
     assert_eq!(out[4]["enip_reply"], false, "{out:?}");
     assert_eq!(out[5]["product_name"], common::NAME, "{out:?}");
     assert_eq!(out[6]["status"], 0, "TCP/IP attribute 14: {out:?}");
+    csr_through_the_service(&ns, &host, &dir);
 
     // TLS: pycomm3 over Python's ssl, and openssl s_client.
     let out = peer(

@@ -91,6 +91,9 @@ pub(crate) struct Inner<D: Device, const C: usize, const L: usize> {
     pub(crate) rng: Rng,
     /// Where the TCP/IP settings are saved (none: they last until power-off).
     pub(crate) store: Option<&'static mut dyn NvStore>,
+    /// Makes CSRs with the device key (Certificate Management Create_CSR).
+    #[cfg(feature = "cip-security")]
+    pub(crate) csr: Option<&'static mut dyn crate::objects::security::CsrSigner>,
 }
 
 impl<D: Device> Adapter<D> {
@@ -146,6 +149,8 @@ impl<
                 connections: ConnectionTable::new(id_seed),
                 rng,
                 store: None,
+                #[cfg(feature = "cip-security")]
+                csr: None,
             },
             sessions: Sessions::new(handle_seed),
         }
@@ -195,6 +200,16 @@ impl<
         let st = &mut self.inner.objects.security;
         st.enabled = true;
         st.tls_port_open = tls_port_open;
+    }
+
+    /// Makes Certificate Management's Create_CSR work: `signer` makes the requests with the
+    /// device key, and the File object (0x37) instance the reply names serves them.
+    #[cfg(feature = "cip-security")]
+    pub fn attach_csr_signer(
+        &mut self,
+        signer: &'static mut dyn crate::objects::security::CsrSigner,
+    ) {
+        self.inner.csr = Some(signer);
     }
 
     /// The CIP Security objects' state: the TLS settings in use (what a new TLS session is
@@ -538,6 +553,8 @@ impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
             reply_t_o_sockaddr: None,
             request,
             store: self.store.as_deref_mut(),
+            #[cfg(feature = "cip-security")]
+            csr: self.csr.as_deref_mut(),
         }
     }
 

@@ -98,6 +98,9 @@ pub(crate) struct Ctx<'a, D: Device, const C: usize> {
     pub request: RequestContext,
     /// Where settings that survive a power cycle go (none: they last until power-off).
     pub store: Option<&'a mut (dyn NvStore + 'static)>,
+    /// Makes CSRs with the device key (Create_CSR), if the runtime gave one.
+    #[cfg(feature = "cip-security")]
+    pub csr: Option<&'a mut (dyn security::CsrSigner + 'static)>,
 }
 
 impl<D: Device, const C: usize> Ctx<'_, D, C> {

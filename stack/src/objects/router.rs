@@ -126,6 +126,10 @@ pub(crate) fn dispatch<D: Device, const C: usize>(
         Some(class_id::QOS) => qos::handle(ctx, req, w),
         #[cfg(feature = "cip-security")]
         Some(c @ 0x5D..=0x5F) if ctx.state.security.enabled => security_handle(ctx, c, req, w),
+        #[cfg(feature = "cip-security")]
+        Some(super::security::FILE_CLASS) if ctx.state.security.enabled && ctx.csr.is_some() => {
+            super::security::csr::handle(ctx, req, w)
+        }
         _ => vendor::handle(ctx, class, req, w),
     }
 }

@@ -10,6 +10,8 @@
 //! Files: [`tcp`] (sessions on 44818), [`udp`] (UDP 44818), [`io`] (Class 1 on 2222),
 //! [`netif`] (the interface's configuration).
 
+#[cfg(feature = "tls")]
+mod csr;
 mod fleet;
 mod io;
 mod link;

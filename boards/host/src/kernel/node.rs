@@ -109,6 +109,8 @@ impl<D: Device> Node<D> {
         if let Some(t) = tcp.tls() {
             adapter.enable_security(true);
             t.material().report(&mut adapter);
+            let signer = t.material().csr_signer();
+            adapter.attach_csr_signer(Box::leak(Box::new(signer)));
         }
         #[cfg(feature = "tls")]
         let closed =

@@ -95,6 +95,11 @@ impl Material {
         })
     }
 
+    /// A maker of CSRs with the device key, for Certificate Management Create_CSR.
+    pub fn csr_signer(&self) -> super::csr::Signer {
+        super::csr::Signer::new(self.cert.clone(), self.key.clone())
+    }
+
     /// Tells the adapter what was found: instance 1's device certificate (and its CA).
     pub fn report<D: Device>(&self, adapter: &mut Adapter<D>) {
         let matches = self.cert.public_key().is_ok_and(|k| k.public_eq(&self.key));

@@ -6,8 +6,9 @@
 //! The certificates' bytes live with the runtime (on the host, files; the factory device
 //! certificate generated at first start): the attributes report each certificate's status as
 //! the runtime found it ([`crate::Adapter::set_certificate_status`]) and an empty path, the
-//! stack having no File object (0x37) to name. Create_CSR needs a key pair and a signature,
-//! which the stack does not have: it answers 0x08 (service not supported).
+//! stack having no File object (0x37) to name. Create_CSR (0x4B) needs a key pair and a
+//! signature, which the stack does not have: the runtime's signer makes the request
+//! ([`super::csr`]), and without one the service answers 0x08 (service not supported).
 
 use super::super::serve::{serve, Object};
 use super::super::Ctx;
@@ -59,6 +60,8 @@ pub struct CertInstance {
     pub device: CertStatus,
     /// Attribute 4's status: the CA certificate.
     pub ca: CertStatus,
+    /// A CSR was made for it (Create_CSR): attribute 2 says Configuring until verified.
+    pub configuring: bool,
 }
 
 impl CertInstance {
@@ -70,6 +73,7 @@ impl CertInstance {
             encoding: 0,
             device: CertStatus::NotVerified,
             ca: CertStatus::NotVerified,
+            configuring: false,
         }
     }
     /// A created instance named `name` (at most [`MAX_CERT_NAME`] bytes).
@@ -81,9 +85,11 @@ impl CertInstance {
             ..Self::none()
         })
     }
-    /// Attribute 2: 1 Created, 3 Verified (its device certificate checked), 4 Invalid.
+    /// Attribute 2: 1 Created, 2 Configuring (a CSR made), 3 Verified (its device
+    /// certificate checked), 4 Invalid.
     pub fn state(&self) -> u8 {
         match self.device {
+            CertStatus::NotVerified if self.configuring => 2,
             CertStatus::NotVerified => 1,
             CertStatus::Verified => 3,
             CertStatus::Invalid => 4,
@@ -304,6 +310,9 @@ impl<D: Device, const C: usize> Object for CertMgmt<'_, '_, D, C> {
             (0, CREATE) => Some(self.create(req.data, w)),
             (0, _) => None,
             (_, DELETE) => Some(self.delete(instance, req.data)),
+            (_, super::csr::CREATE_CSR) => {
+                Some(super::csr::create_csr(self.0, instance, req.data, w))
+            }
             (_, VERIFY_CERTIFICATE) => Some(self.verify(instance, req.data)),
             _ => None,
         }

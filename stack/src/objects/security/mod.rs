@@ -13,6 +13,7 @@
 
 pub(crate) mod cert_mgmt;
 pub(crate) mod cip_security;
+pub(crate) mod csr;
 pub(crate) mod eip_security;
 mod port_admin;
 mod record;
@@ -22,6 +23,7 @@ use core::net::Ipv4Addr;
 use crate::time::{Duration, Instant};
 
 pub use cert_mgmt::{CertInstance, CertStatus, MAX_CERTS, MAX_CERT_NAME};
+pub use csr::{CsrSigner, CsrSubject, CSR_FILE_INSTANCE, FILE_CLASS};
 
 /// Class code of the CIP Security object.
 pub const CIP_SECURITY_CLASS: u16 = 0x5D;
@@ -153,6 +155,8 @@ pub struct SecurityState {
     /// The sockets whose session runs over TLS, one bit per socket index
     /// ([`crate::Adapter::set_session_secure`]).
     secure_sockets: u64,
+    /// The CSR's upload through the File object.
+    pub(crate) upload: csr::Upload,
 }
 
 impl SecurityState {
@@ -172,6 +176,7 @@ impl SecurityState {
             generation: 0,
             plain_tcp_closed: false,
             secure_sockets: 0,
+            upload: csr::Upload::default(),
         }
     }
 
