@@ -1,12 +1,16 @@
 //! Certificate Management Create_CSR (feature `cip-security`): the subject the request
 //! carries reaches the runtime's signer, the reply names the File object instance holding
-//! the CSR, and a tool uploads it whole (Initiate_Upload, Upload_Transfer) with its checksum.
+//! the CSR, and a tool uploads it whole (Initiate_Upload, Upload_Transfer) with its checksum;
+//! the device certificate the runtime uses is named by Certificate Management instance 1's
+//! attribute 3 and uploaded the same way.
 #![cfg(feature = "cip-security")]
 
 mod common;
 
 use common::*;
-use enip_stack::objects::security::{CsrSigner, CsrSubject, CSR_FILE_INSTANCE, FILE_CLASS};
+use enip_stack::objects::security::{
+    CertStatus, CsrSigner, CsrSubject, CSR_FILE_INSTANCE, DEVICE_CERT_FILE, FILE_CLASS,
+};
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
 use std::sync::{Arc, Mutex};
 
@@ -33,6 +37,12 @@ impl CsrSigner for Fake {
     fn csr(&self) -> &[u8] {
         &self.csr
     }
+    fn certificate(&self, instance: u8, ca: bool) -> &[u8] {
+        match (instance, ca) {
+            (1, false) => b"-----BEGIN CERTIFICATE----- device",
+            _ => &[],
+        }
+    }
 }
 
 fn call(h: &mut Harness, service: u8, class: u32, instance: u32, data: &[u8]) -> (u8, Vec<u8>) {
@@ -53,9 +63,9 @@ fn subject(fields: [&str; 8]) -> Vec<u8> {
     v
 }
 
-/// Uploads the File instance in transfers of `size` bytes: the bytes and the packet types.
-fn upload(h: &mut Harness, size: u8) -> (Vec<u8>, Vec<u8>) {
-    let file = u32::from(CSR_FILE_INSTANCE);
+/// Uploads File instance `file` in transfers of `size` bytes: the bytes and the packet
+/// types.
+fn upload_file(h: &mut Harness, file: u32, size: u8) -> (Vec<u8>, Vec<u8>) {
     let (g, d) = call(h, 0x4B, u32::from(FILE_CLASS), file, &[size]);
     assert_eq!((g, d.len()), (0, 5));
     let total = u32::from_le_bytes(d[..4].try_into().unwrap()) as usize;
@@ -81,6 +91,21 @@ fn upload(h: &mut Harness, size: u8) -> (Vec<u8>, Vec<u8>) {
     }
     assert_eq!(bytes.len(), total);
     (bytes, kinds)
+}
+
+/// Uploads the CSR.
+fn upload(h: &mut Harness, size: u8) -> (Vec<u8>, Vec<u8>) {
+    upload_file(h, u32::from(CSR_FILE_INSTANCE), size)
+}
+
+fn get(h: &mut Harness, class: u32, instance: u32, attribute: u32) -> (u8, Vec<u8>) {
+    let path = [
+        SegmentRepr::Logical(LogicalType::Class, class),
+        SegmentRepr::Logical(LogicalType::Instance, instance),
+        SegmentRepr::Logical(LogicalType::Attribute, attribute),
+    ];
+    let (g, _, d) = status(&h.request(0x0E, &path, &[]));
+    (g, d)
 }
 
 #[test]
@@ -123,12 +148,7 @@ fn create_csr_reaches_the_signer_and_the_file_instance_serves_it() {
         &[(2, "CN=dev1 O=Plant C=DE serial=42".to_string())]
     );
     // Instance 2 is Configuring (2).
-    let attr = [
-        SegmentRepr::Logical(LogicalType::Class, 0x5F),
-        SegmentRepr::Logical(LogicalType::Instance, 2),
-        SegmentRepr::Logical(LogicalType::Attribute, 2),
-    ];
-    assert_eq!(status(&h.request(0x0E, &attr, &[])).2, [2]);
+    assert_eq!(get(&mut h, 0x5F, 2, 2), (0, vec![2]));
     // Upload: 700 bytes in 4 transfers of 200, then in 3 of 255.
     let (bytes, kinds) = upload(&mut h, 200);
     assert_eq!(kinds, [0, 1, 1, 2]);
@@ -145,4 +165,47 @@ fn create_csr_reaches_the_signer_and_the_file_instance_serves_it() {
     // A signer that fails: 0x0C.
     let empty_cn = subject(["", "", "", "", "", "", "", ""]);
     assert_eq!(call(&mut h, 0x4B, 0x5F, 2, &empty_cn).0, 0x0C);
+}
+
+#[test]
+fn the_certificates_in_use_are_named_by_path_and_uploaded() {
+    let mut h = Harness::new();
+    h.adapter.enable_security(true);
+    h.adapter
+        .set_certificate_status(1, CertStatus::Verified, CertStatus::NotVerified);
+    call(&mut h, 0x08, 0x5F, 0, &[1, b'x']);
+    // Without the runtime's certificates: status and an empty path.
+    assert_eq!(get(&mut h, 0x5F, 1, 3), (0, vec![1, 0]));
+    let fake = Fake {
+        seen: Arc::default(),
+        csr: Vec::new(),
+        len: 0,
+    };
+    h.adapter.attach_csr_signer(Box::leak(Box::new(fake)));
+    // Instance 1's device certificate is in File instance 0xC9; it has no CA certificate.
+    assert_eq!(
+        get(&mut h, 0x5F, 1, 3),
+        (0, vec![1, 2, 0x20, 0x37, 0x24, DEVICE_CERT_FILE])
+    );
+    assert_eq!(get(&mut h, 0x5F, 1, 4), (0, vec![0, 0]));
+    assert_eq!(get(&mut h, 0x5F, 2, 3), (0, vec![0, 0]));
+    let (all_g, all) = call(&mut h, 0x01, 0x5F, 1, &[]);
+    assert_eq!(all_g, 0);
+    assert!(
+        all.windows(6).any(|w| w == [1, 2, 0x20, 0x37, 0x24, 0xC9]),
+        "{all:x?}"
+    );
+    let (bytes, kinds) = upload_file(&mut h, u32::from(DEVICE_CERT_FILE), 16);
+    assert_eq!(bytes, b"-----BEGIN CERTIFICATE----- device");
+    assert_eq!(kinds, [0, 1, 2]);
+    // File state: loaded (2) for the certificate, empty (1) for the CA and the CSR.
+    let file = u32::from(FILE_CLASS);
+    assert_eq!(get(&mut h, file, 0xC9, 1), (0, vec![2]));
+    assert_eq!(get(&mut h, file, 0xCA, 1), (0, vec![1]));
+    assert_eq!(get(&mut h, file, 0xC8, 1), (0, vec![1]));
+    assert_eq!(call(&mut h, 0x4B, file, 0xCA, &[16]).0, 0x0C);
+    // A transfer from another file than the one initiated: 0x0C.
+    assert_eq!(call(&mut h, 0x4B, file, 0xC9, &[16]).0, 0);
+    assert_eq!(call(&mut h, 0x4F, file, 0xC8, &[0]).0, 0x0C);
+    assert_eq!(call(&mut h, 0x4F, file, 0xC9, &[0]).0, 0);
 }

@@ -12,7 +12,9 @@
 //! - pycomm3's own ListIdentity parses the reply that carries the CIP Security item;
 //! - Certificate Management Create_CSR on a created instance: the CSR uploaded from the File
 //!   object instance the reply names verifies with `openssl req -verify`, carries the subject
-//!   asked for and the device certificate's public key;
+//!   asked for and the device certificate's public key; instance 1's attributes 3 and 4
+//!   name the File instances holding the device certificate in use and the `--tls-ca` CA,
+//!   whose uploads have those certificates' fingerprints;
 //! - the configuration sequence over 44818 (Begin_Config, allowed suites with AES-GCM,
 //!   client verification with expiry checked against the plant CA, Apply_Config,
 //!   End_Config), after which Begin_Config over plaintext is refused (0x0F); then the scanner's certificate is let in with AES-GCM, and no certificate,
@@ -276,31 +278,17 @@ fn csr_through_the_service(ns: &Namespace, host: &LoggedChild, dir: &Path) {
         .iter()
         .map(|f| field(f))
         .collect();
-    let mut steps = vec![
+    let steps = vec![
         req_at(0x08, 0x5F, 0, &field("csr")),
         req_at(0x4B, 0x5F, 1, &subject),
         req_at(0x4B, 0x5F, 2, &subject),
-        req_at(0x4B, 0x37, 0xC8, "f0"),
     ];
-    steps.extend((0..4).map(|n| req_at(0x4F, 0x37, 0xC8, &format!("{n:02x}"))));
     let out = peer(ns, host, Value::Array(steps));
     let statuses: Vec<&Value> = out.iter().map(|o| &o["status"]).collect();
-    assert_eq!(statuses[..4], [0, 0x0C, 0, 0], "{out:?}");
+    assert_eq!(statuses, [0, 0x0C, 0], "{out:?}");
     assert_eq!(out[0]["data"], "0200", "the created instance: {out:?}");
     assert_eq!(out[2]["data"], "02203724c8", "{out:?}");
-    let size = unhex(out[3]["data"].as_str().unwrap());
-    let size = u32::from_le_bytes(size[..4].try_into().unwrap()) as usize;
-    let mut csr = Vec::new();
-    for o in &out[4..] {
-        let d = unhex(o["data"].as_str().unwrap_or(""));
-        assert_eq!(o["status"], 0, "{out:?}");
-        if matches!(d[1], 2 | 4) {
-            csr.extend_from_slice(&d[2..d.len() - 2]);
-            break;
-        }
-        csr.extend_from_slice(&d[2..]);
-    }
-    assert_eq!(csr.len(), size, "{out:?}");
+    let csr = upload(ns, host, 0xC8);
     std::fs::write(dir.join("device.csr"), &csr).expect("write the CSR");
     let text = |args: &[&str]| {
         let out = Command::new("openssl")
@@ -339,6 +327,61 @@ fn csr_through_the_service(ns: &Namespace, host: &LoggedChild, dir: &Path) {
     ]);
     assert!(csr_key.contains("BEGIN PUBLIC KEY"), "{csr_key}");
     assert_eq!(csr_key, cert_key, "the CSR carries the device's public key");
+}
+
+/// The bytes of File object instance `file`, uploaded over 44818 in transfers of 240.
+fn upload(ns: &Namespace, host: &LoggedChild, file: u8) -> Vec<u8> {
+    let mut steps = vec![req_at(0x4B, 0x37, file, "f0")];
+    steps.extend((0..8).map(|n| req_at(0x4F, 0x37, file, &format!("{n:02x}"))));
+    let out = peer(ns, host, Value::Array(steps));
+    assert_eq!(out[0]["status"], 0, "Initiate_Upload: {out:?}");
+    let size = unhex(out[0]["data"].as_str().unwrap());
+    let size = u32::from_le_bytes(size[..4].try_into().unwrap()) as usize;
+    let mut bytes = Vec::new();
+    for o in &out[1..] {
+        let d = unhex(o["data"].as_str().unwrap_or(""));
+        assert_eq!(o["status"], 0, "{out:?}");
+        if matches!(d[1], 2 | 4) {
+            bytes.extend_from_slice(&d[2..d.len() - 2]);
+            break;
+        }
+        bytes.extend_from_slice(&d[2..]);
+    }
+    assert_eq!(bytes.len(), size, "{out:?}");
+    bytes
+}
+
+/// Certificate Management instance 1's attributes 3 and 4 name the File instances that
+/// hold the device certificate the TLS server presents and the CA `--tls-ca` gave, status
+/// verified; uploaded, they are those certificates.
+fn certificates_through_the_objects(ns: &Namespace, host: &LoggedChild, dir: &Path) {
+    let out = peer(ns, host, json!([req_at(0x01, 0x5F, 1, "")]));
+    assert_eq!(out[0]["status"], 0, "{out:?}");
+    let all = out[0]["data"].as_str().expect("Get_Attributes_All");
+    // Name, state 3 (verified), device certificate: status 1 and the path to 0xC9; CA
+    // certificate: status 1 and the path to 0xCA; encoding 0.
+    assert!(all.ends_with("030102203724c90102203724ca00"), "{all}");
+    let fingerprint = |file: &Path| {
+        let out = Command::new("openssl")
+            .args(["x509", "-noout", "-fingerprint", "-sha256", "-in"])
+            .arg(file)
+            .output()
+            .expect("openssl runs");
+        assert!(out.status.success(), "{out:?}");
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    for (file, name, want) in [
+        (
+            0xC9,
+            "device-cert-upload.pem",
+            dir.join("../cip_security.nv.device-cert.pem"),
+        ),
+        (0xCA, "ca-cert-upload.pem", dir.join("plant-ca.pem")),
+    ] {
+        let pem = upload(ns, host, file);
+        std::fs::write(dir.join(name), &pem).expect("write the certificate");
+        assert_eq!(fingerprint(&dir.join(name)), fingerprint(&want), "{name}");
+    }
 }
 
 fn hex(bytes: &[u8]) -> String {
@@ -391,6 +434,7 @@ fn tls_on_2221_and_the_security_objects_with_independent_peers() {
     assert_eq!(out[5]["product_name"], common::NAME, "{out:?}");
     assert_eq!(out[6]["status"], 0, "TCP/IP attribute 14: {out:?}");
     csr_through_the_service(&ns, &host, &dir);
+    certificates_through_the_objects(&ns, &host, &dir);
 
     // TLS: pycomm3 over Python's ssl, and openssl s_client.
     let out = peer(

@@ -8,12 +8,17 @@ use openssl::nid::Nid;
 use openssl::pkey::{PKey, Private};
 use openssl::x509::{X509NameBuilder, X509Req, X509};
 
-/// Makes CSRs with the device key; fields a request leaves empty come from the device
-/// certificate's subject.
+/// Makes CSRs with the device key (fields a request leaves empty come from the device
+/// certificate's subject), and holds the certificates in use as Certificate Management
+/// instance 1's, for the File object instances its attributes 3 and 4 name.
 pub struct Signer {
     key: PKey<Private>,
     cert: X509,
     csr: Vec<u8>,
+    /// The device certificate (PEM).
+    device_pem: Vec<u8>,
+    /// The trusted CA certificates (PEM, concatenated; empty without `--tls-ca`).
+    ca_pem: Vec<u8>,
 }
 
 /// The subject's fields in the request's order, with their OIDs.
@@ -29,13 +34,21 @@ const FIELDS: [Nid; 8] = [
 ];
 
 impl Signer {
-    /// A signer with the device certificate `cert` and its key `key`.
-    pub fn new(cert: X509, key: PKey<Private>) -> Self {
-        Signer {
+    /// A signer with the device certificate `cert`, its key `key` and the trusted CA
+    /// certificates `ca`.
+    pub fn new(cert: X509, key: PKey<Private>, ca: &[X509]) -> Result<Self, String> {
+        let pem = |c: &X509| c.to_pem().map_err(|e| e.to_string());
+        let mut ca_pem = Vec::new();
+        for c in ca {
+            ca_pem.extend(pem(c)?);
+        }
+        Ok(Signer {
             key,
+            device_pem: pem(&cert)?,
             cert,
             csr: Vec::new(),
-        }
+            ca_pem,
+        })
     }
 
     /// The PEM request for `subject`.
@@ -90,6 +103,13 @@ impl CsrSigner for Signer {
     fn csr(&self) -> &[u8] {
         &self.csr
     }
+    fn certificate(&self, instance: u8, ca: bool) -> &[u8] {
+        match (instance, ca) {
+            (1, false) => &self.device_pem,
+            (1, true) => &self.ca_pem,
+            _ => &[],
+        }
+    }
 }
 
 #[cfg(test)]
@@ -117,7 +137,9 @@ mod tests {
     #[test]
     fn the_request_carries_the_subject_and_the_device_key_and_verifies() {
         let (cert, key) = device();
-        let mut s = Signer::new(cert, key.clone());
+        let mut s = Signer::new(cert.clone(), key.clone(), &[]).unwrap();
+        assert_eq!(s.certificate(1, false), cert.to_pem().unwrap());
+        assert!(s.certificate(1, true).is_empty() && s.certificate(2, false).is_empty());
         let subject = CsrSubject {
             common_name: b"dev1",
             country: b"DE",

@@ -109,8 +109,10 @@ impl<D: Device> Node<D> {
         if let Some(t) = tcp.tls() {
             adapter.enable_security(true);
             t.material().report(&mut adapter);
-            let signer = t.material().csr_signer();
-            adapter.attach_csr_signer(Box::leak(Box::new(signer)));
+            match t.material().csr_signer() {
+                Ok(signer) => adapter.attach_csr_signer(Box::leak(Box::new(signer))),
+                Err(e) => log::error!("certificates for Create_CSR and the File object: {e}"),
+            }
         }
         #[cfg(feature = "tls")]
         let closed =

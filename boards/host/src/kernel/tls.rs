@@ -95,9 +95,10 @@ impl Material {
         })
     }
 
-    /// A maker of CSRs with the device key, for Certificate Management Create_CSR.
-    pub fn csr_signer(&self) -> super::csr::Signer {
-        super::csr::Signer::new(self.cert.clone(), self.key.clone())
+    /// A maker of CSRs with the device key, for Certificate Management Create_CSR, holding
+    /// the certificates in use for the File instances instance 1's attributes 3 and 4 name.
+    pub fn csr_signer(&self) -> Result<super::csr::Signer, String> {
+        super::csr::Signer::new(self.cert.clone(), self.key.clone(), &self.ca)
     }
 
     /// Tells the adapter what was found: instance 1's device certificate (and its CA).

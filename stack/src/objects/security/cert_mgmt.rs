@@ -5,8 +5,9 @@
 //!
 //! The certificates' bytes live with the runtime (on the host, files; the factory device
 //! certificate generated at first start): the attributes report each certificate's status as
-//! the runtime found it ([`crate::Adapter::set_certificate_status`]) and an empty path, the
-//! stack having no File object (0x37) to name. Create_CSR (0x4B) needs a key pair and a
+//! the runtime found it ([`crate::Adapter::set_certificate_status`]) and a path to the File
+//! object (0x37) instance that serves the certificate the runtime uses (instance 1 only,
+//! through the runtime's [`super::CsrSigner`]; an empty path otherwise). Create_CSR (0x4B) needs a key pair and a
 //! signature, which the stack does not have: the runtime's signer makes the request
 //! ([`super::csr`]), and without one the service answers 0x08 (service not supported).
 
@@ -292,9 +293,17 @@ impl<D: Device, const C: usize> Object for CertMgmt<'_, '_, D, C> {
         match attr.id {
             1 => short_string(w, &cert.name)?,
             2 => w.u8(cert.state())?,
-            // Status, then an empty padded EPATH: no File object holds the bytes.
-            3 => w.bytes(&[cert.device as u8, 0])?,
-            4 => w.bytes(&[cert.ca as u8, 0])?,
+            // Status, then a padded EPATH with its size to the File instance holding the
+            // certificate the runtime uses (empty if it has none).
+            3 | 4 => {
+                let ca = attr.id == 4;
+                let status = if ca { cert.ca } else { cert.device };
+                w.u8(status as u8)?;
+                match super::csr::certificate_file(self.0.csr.as_deref(), instance, ca) {
+                    Some(file) => emit_path(w, super::FILE_CLASS as u8, file)?,
+                    None => w.u8(0)?,
+                }
+            }
             _ => w.u8(cert.encoding)?,
         }
         Ok(())

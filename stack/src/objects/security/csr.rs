@@ -1,7 +1,9 @@
 //! Certificate signing requests: the Certificate Management object's Create_CSR service
 //! (0x4B at an instance), the runtime hook that makes the CSR ([`CsrSigner`]: the stack has
 //! no key and no signature), and the File object instance (class 0x37) the reply's path
-//! names, from which a tool uploads the CSR (Initiate_Upload, Upload_Transfer).
+//! names, from which a tool uploads the CSR (Initiate_Upload, Upload_Transfer). Two more
+//! File instances hold the certificates the runtime uses as Certificate Management instance
+//! 1's device certificate and CA certificate, which its attributes 3 and 4 name.
 //!
 //! Create_CSR's request is eight SHORT_STRINGs, the subject's Common Name, Organization,
 //! Organizational Unit, City/Locality, State, Country, Email and Serial Number (a ninth,
@@ -20,6 +22,11 @@ use crate::wire::{Reader, Writer};
 pub const FILE_CLASS: u16 = 0x37;
 /// The File object instance that holds the last CSR made.
 pub const CSR_FILE_INSTANCE: u8 = 0xC8;
+/// The File object instance that holds Certificate Management instance 1's device
+/// certificate.
+pub const DEVICE_CERT_FILE: u8 = 0xC9;
+/// The File object instance that holds Certificate Management instance 1's CA certificate.
+pub const CA_CERT_FILE: u8 = 0xCA;
 /// Service code of Create_CSR (Certificate Management instances).
 pub(crate) const CREATE_CSR: u8 = 0x4B;
 /// Service codes of the File object's upload.
@@ -66,11 +73,29 @@ pub trait CsrSigner {
     fn create_csr(&mut self, instance: u8, subject: &CsrSubject<'_>) -> bool;
     /// The last request made (PEM), empty if none.
     fn csr(&self) -> &[u8];
+    /// The certificate (PEM) the runtime uses as Certificate Management instance
+    /// `instance`'s device certificate, or with `ca` its CA certificate; empty if none.
+    fn certificate(&self, _instance: u8, _ca: bool) -> &[u8] {
+        &[]
+    }
 }
 
-/// The File object's upload in progress: its transfer size and the next transfer.
+/// The File instance holding instance `instance`'s device (or `ca`: CA) certificate, if
+/// the runtime has one.
+pub(crate) fn certificate_file(
+    signer: Option<&(dyn CsrSigner + 'static)>,
+    instance: u32,
+    ca: bool,
+) -> Option<u8> {
+    let present = signer.is_some_and(|s| !s.certificate(1, ca).is_empty());
+    (instance == 1 && present).then_some(if ca { CA_CERT_FILE } else { DEVICE_CERT_FILE })
+}
+
+/// The File object's upload in progress: its file, transfer size and next transfer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) struct Upload {
+    /// The File instance uploaded.
+    file: u8,
     /// The transfer size agreed by Initiate_Upload (0: no upload).
     size: u8,
     /// The transfers sent so far.
@@ -134,12 +159,13 @@ pub(crate) fn create_csr<D: Device, const C: usize>(
     super::cert_mgmt::emit_path(w, FILE_CLASS as u8, CSR_FILE_INSTANCE)
 }
 
-/// The File class as far as the CSR needs it: instance [`CSR_FILE_INSTANCE`], read only.
+/// The File class as far as the certificates need it: instances [`CSR_FILE_INSTANCE`],
+/// [`DEVICE_CERT_FILE`] and [`CA_CERT_FILE`], read only.
 pub const CLASS: ClassDef = ClassDef {
     id: FILE_CLASS,
     name: "File",
     revision: 1,
-    max_instance: CSR_FILE_INSTANCE as u32,
+    max_instance: CA_CERT_FILE as u32,
     attributes: &[
         AttributeDef::get(1, DataType::Usint, "State"),
         AttributeDef::get(6, DataType::Udint, "File Size"),
@@ -161,13 +187,26 @@ fn checksum(bytes: &[u8]) -> i16 {
 struct File<'c, 'a, D: Device, const C: usize>(&'c mut Ctx<'a, D, C>);
 
 impl<D: Device, const C: usize> File<'_, '_, D, C> {
-    fn bytes(&self) -> &[u8] {
-        self.0.csr.as_deref().map_or(&[], |s| s.csr())
+    fn bytes(&self, instance: u32) -> &[u8] {
+        let Some(s) = self.0.csr.as_deref() else {
+            return &[];
+        };
+        match u8::try_from(instance) {
+            Ok(CSR_FILE_INSTANCE) => s.csr(),
+            Ok(DEVICE_CERT_FILE) => s.certificate(1, false),
+            Ok(CA_CERT_FILE) => s.certificate(1, true),
+            _ => &[],
+        }
     }
 
-    fn state(&self) -> u8 {
+    fn state(&self, instance: u32) -> u8 {
         let up = self.0.state.security.upload;
-        match (self.bytes().is_empty(), up.size, up.sent) {
+        let size = if u32::from(up.file) == instance {
+            up.size
+        } else {
+            0
+        };
+        match (self.bytes(instance).is_empty(), size, up.sent) {
             (true, _, _) => EMPTY,
             (false, 0, _) => LOADED,
             (false, _, 0) => UPLOAD_INITIATED,
@@ -177,20 +216,24 @@ impl<D: Device, const C: usize> File<'_, '_, D, C> {
 
     /// Initiate_Upload: the largest transfer the client takes (USINT); replies the file
     /// size (UDINT) and the transfer size (USINT). 0x0C with no CSR.
-    fn initiate(&mut self, data: &[u8], w: &mut Writer<'_>) -> CipResult {
+    fn initiate(&mut self, instance: u32, data: &[u8], w: &mut Writer<'_>) -> CipResult {
         let max = match *data {
             [m] => m,
             [] => return Err(General::NotEnoughData.into()),
             _ => return Err(General::TooMuchData.into()),
         };
-        let len = self.bytes().len();
+        let len = self.bytes(instance).len();
         if len == 0 {
             return Err(General::ObjectStateConflict.into());
         }
         if max == 0 {
             return Err(General::InvalidParameter.into());
         }
-        self.0.state.security.upload = Upload { size: max, sent: 0 };
+        self.0.state.security.upload = Upload {
+            file: instance as u8,
+            size: max,
+            sent: 0,
+        };
         w.u32(len as u32)?;
         w.u8(max)?;
         Ok(())
@@ -199,14 +242,14 @@ impl<D: Device, const C: usize> File<'_, '_, D, C> {
     /// Upload_Transfer: the transfer number (USINT, the next one, or the last again to
     /// resend it); replies the number, the packet type, the bytes and, with the last, the
     /// file checksum (INT). 0x0C without an upload initiated, 0x20 for another number.
-    fn transfer(&mut self, data: &[u8], w: &mut Writer<'_>) -> CipResult {
+    fn transfer(&mut self, instance: u32, data: &[u8], w: &mut Writer<'_>) -> CipResult {
         let number = match *data {
             [n] => n,
             [] => return Err(General::NotEnoughData.into()),
             _ => return Err(General::TooMuchData.into()),
         };
         let up = self.0.state.security.upload;
-        if up.size == 0 {
+        if up.size == 0 || u32::from(up.file) != instance {
             return Err(General::ObjectStateConflict.into());
         }
         let index = if number == up.sent as u8 {
@@ -216,7 +259,7 @@ impl<D: Device, const C: usize> File<'_, '_, D, C> {
         } else {
             return Err(General::InvalidParameter.into());
         };
-        let bytes = self.bytes();
+        let bytes = self.bytes(instance);
         let size = usize::from(up.size);
         let start = (index as usize).saturating_mul(size);
         let Some(rest) = bytes.get(start..) else {
@@ -251,16 +294,16 @@ impl<D: Device, const C: usize> Object for File<'_, '_, D, C> {
         &CLASS
     }
     fn has_instance(&self, instance: u32) -> bool {
-        instance == u32::from(CSR_FILE_INSTANCE)
+        (u32::from(CSR_FILE_INSTANCE)..=u32::from(CA_CERT_FILE)).contains(&instance)
     }
     fn instance_count(&self) -> u32 {
-        1
+        3
     }
-    fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
+    fn get(&mut self, instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         match attr.id {
-            1 => w.u8(self.state())?,
-            6 => w.u32(self.bytes().len() as u32)?,
-            7 => w.i16(checksum(self.bytes()))?,
+            1 => w.u8(self.state(instance))?,
+            6 => w.u32(self.bytes(instance).len() as u32)?,
+            7 => w.i16(checksum(self.bytes(instance)))?,
             // 1: read only.
             _ => w.u8(1)?,
         }
@@ -274,14 +317,14 @@ impl<D: Device, const C: usize> Object for File<'_, '_, D, C> {
     ) -> Option<CipResult> {
         match (instance, req.service) {
             (0, _) => None,
-            (_, INITIATE_UPLOAD) => Some(self.initiate(req.data, w)),
-            (_, UPLOAD_TRANSFER) => Some(self.transfer(req.data, w)),
+            (_, INITIATE_UPLOAD) => Some(self.initiate(instance, req.data, w)),
+            (_, UPLOAD_TRANSFER) => Some(self.transfer(instance, req.data, w)),
             _ => None,
         }
     }
 }
 
-/// Handles a request to the File class or its CSR instance.
+/// Handles a request to the File class or its instances.
 pub(crate) fn handle<D: Device, const C: usize>(
     ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,

@@ -23,7 +23,9 @@ use core::net::Ipv4Addr;
 use crate::time::{Duration, Instant};
 
 pub use cert_mgmt::{CertInstance, CertStatus, MAX_CERTS, MAX_CERT_NAME};
-pub use csr::{CsrSigner, CsrSubject, CSR_FILE_INSTANCE, FILE_CLASS};
+pub use csr::{
+    CsrSigner, CsrSubject, CA_CERT_FILE, CSR_FILE_INSTANCE, DEVICE_CERT_FILE, FILE_CLASS,
+};
 
 /// Class code of the CIP Security object.
 pub const CIP_SECURITY_CLASS: u16 = 0x5D;
