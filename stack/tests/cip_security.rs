@@ -217,7 +217,8 @@ fn configuration_sequence_with_its_statuses_survives_a_restart() {
     assert_eq!(set(&mut h, 0x5E, 4, &[0]).0, 0);
     assert_eq!(call(&mut h, 0x4D, 0x5E, 1, &[]).1, vec![0x0004]);
     assert_eq!(set(&mut h, 0x5E, 4, &[2, 0xC0, 0x2B, 0xC0, 0x23]).0, 0);
-    assert_eq!(set(&mut h, 0x5E, 5, &[1, 1, b'a', 1, b'k']).0, 0x09);
+    // A pre-shared key without its usage byte.
+    assert_eq!(set(&mut h, 0x5E, 5, &[1, 1, b'a', 1, b'k']).0, 0x13);
     assert_eq!(set(&mut h, 0x5E, 9, &[2]).0, 0x09);
     assert_eq!(set(&mut h, 0x5E, 9, &[1]).0, 0);
     // Client verification with no trusted CA cannot be applied.
@@ -327,4 +328,80 @@ fn a_store_that_cannot_save_changes_nothing() {
     *store.1.borrow_mut() = false;
     assert_eq!(call(&mut h, 0x4D, 0x5E, 1, &[]).0, 0);
     assert_eq!(&h.adapter.security(h.now).active.allowed[..], &[0xC02C]);
+}
+
+/// EtherNet/IP Security attribute 5 as a Set carries it: one key.
+fn psk(identity: &[u8], key: &[u8], usage: u8) -> Vec<u8> {
+    let mut v = vec![1, identity.len() as u8];
+    v.extend_from_slice(identity);
+    v.push(key.len() as u8);
+    v.extend_from_slice(key);
+    v.push(usage);
+    v
+}
+
+#[test]
+fn a_pre_shared_key_is_written_stored_and_never_read_out() {
+    let store = shared();
+    let mut h = start(&store);
+    assert_eq!(get(&mut h, 0x5E, 5), (0, vec![0]));
+    assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0);
+    let key = [0x5A; 32];
+    // More than one key, an empty or too long identity or key, a short value: refused.
+    let mut two = psk(b"a", &key, 4);
+    two[0] = 2;
+    assert_eq!(set(&mut h, 0x5E, 5, &two).0, 0x09);
+    assert_eq!(set(&mut h, 0x5E, 5, &psk(b"", &key, 4)).0, 0x09);
+    assert_eq!(set(&mut h, 0x5E, 5, &psk(b"a", &[], 4)).0, 0x09);
+    assert_eq!(set(&mut h, 0x5E, 5, &psk(&[b'i'; 33], &key, 4)).0, 0x09);
+    assert_eq!(set(&mut h, 0x5E, 5, &psk(b"a", &[1; 33], 4)).0, 0x09);
+    let good = psk(b"plant-1", &key, 4);
+    assert_eq!(set(&mut h, 0x5E, 5, &good[..good.len() - 1]).0, 0x13);
+    assert_eq!(set(&mut h, 0x5E, 5, &good).0, 0);
+    // A Get shows the identity and the usage, a key size of 0 and no key bytes.
+    let shown = [&[1, 7][..], b"plant-1", &[0, 4]].concat();
+    assert_eq!(get(&mut h, 0x5E, 5), (0, shown.clone()));
+    assert_eq!(call(&mut h, 0x4D, 0x5E, 1, &[]).0, 0);
+    let (g, _, all) = call(&mut h, 0x01, 0x5E, 1, &[]);
+    assert_eq!(g, 0);
+    assert!(
+        !all.windows(4).any(|w| w == [0x5A; 4]),
+        "the key leaks: {all:x?}"
+    );
+    let stored = |h: &mut Harness| h.adapter.security(h.now).active.psk.clone();
+    assert_eq!(stored(&mut h).unwrap().key.as_slice(), key);
+    // A restart finds it.
+    let mut h = start(&store);
+    assert_eq!(get(&mut h, 0x5E, 5), (0, shown.clone()));
+    assert_eq!(stored(&mut h).unwrap().key.as_slice(), key);
+    // The store's record has a fixed room (156 bytes; 84 with the factory suites and two
+    // created instances with 32-byte names): beside this key (42 bytes), a third instance
+    // with the longest name does not fit (0x19, not created); a short name does.
+    for c in [b'x', b'y'] {
+        let name = [&[32][..], &[c; 32]].concat();
+        assert_eq!(call(&mut h, 0x08, 0x5F, 0, &name).0, 0);
+    }
+    let long = [&[32][..], &[b'z'; 32]].concat();
+    assert_eq!(call(&mut h, 0x08, 0x5F, 0, &long).0, 0x19);
+    assert_eq!(
+        call(&mut h, 0x08, 0x5F, 0, b"\x03zzz"),
+        (0, vec![], vec![4, 0])
+    );
+    // Configured: reconfigured over TLS only.
+    assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0x0F);
+    h.adapter.set_session_secure(SocketId(0), true);
+    assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0);
+    // A 67-byte key does not fit beside them: Apply_Config answers 0x19, the key in use
+    // stays.
+    assert_eq!(set(&mut h, 0x5E, 5, &psk(&[b'i'; 32], &key, 4)).0, 0);
+    assert_eq!(call(&mut h, 0x4D, 0x5E, 1, &[]).0, 0x19);
+    assert_eq!(stored(&mut h).unwrap().identity.as_slice(), b"plant-1");
+    assert_eq!(set(&mut h, 0x5E, 5, &psk(b"line-2", &[7; 24], 4)).0, 0);
+    assert_eq!(call(&mut h, 0x4D, 0x5E, 1, &[]).0, 0);
+    let mut h = start(&store);
+    assert_eq!(stored(&mut h).unwrap().key.as_slice(), [7; 24]);
+    // Reset: no key.
+    h.adapter.set_session_secure(SocketId(0), true);
+    assert_eq!(call(&mut h, 0x05, 0x5E, 1, &[]).0, 0);
+    assert_eq!(get(&mut h, 0x5E, 5), (0, vec![0]));
 }

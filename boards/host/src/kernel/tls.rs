@@ -195,6 +195,9 @@ pub fn context(st: &SecurityState, m: &Material) -> Result<SslContext, String> {
             a.active_cert
         ));
     }
+    if a.psk.is_some() {
+        log::warn!("a pre-shared key is configured (EtherNet/IP Security attribute 5): stored, not used (no PSK cipher suite is offered)");
+    }
     let e = |e: openssl::error::ErrorStack| e.to_string();
     let mut b = SslContextBuilder::new(SslMethod::tls_server()).map_err(e)?;
     b.set_min_proto_version(Some(SslVersion::TLS1_2))

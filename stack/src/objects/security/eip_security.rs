@@ -9,15 +9,15 @@
 //! 0x0002 without a device certificate, 0x0004 without an allowed suite; 0x0C if client
 //! verification is on with no trusted CA), saves them (0x19 if the store fails, changing
 //! nothing) and puts them in use for the next TLS session; Abort_Config or a lapsed session
-//! drops them. Pre-shared keys: this device supports none (a Set of 0 keys is accepted, any
-//! other 0x09) and a Get never shows a key. Reset (0x05) returns the factory default
+//! drops them. Pre-shared keys (attribute 5): at most one, stored with the settings; a Get
+//! shows its identity and usage with a key size of 0, never the key. Reset (0x05) returns the factory default
 //! settings; Reset and Begin_Config of a configured object come over TLS or are refused
 //! (0x0F), as the open reference stack's development branch checks for Reset.
 
 use super::super::serve::{serve, Object};
 use super::super::Ctx;
 use super::cert_mgmt::{emit_path, read_path};
-use super::{begin, owned, requester, ObjectMode, TlsSettings, AVAILABLE_SUITES};
+use super::{begin, owned, requester, ObjectMode, Psk, TlsSettings, AVAILABLE_SUITES};
 use super::{CERT_MGMT_CLASS, EIP_SECURITY_CLASS};
 use crate::cip::object::{AttributeDef, ClassDef, DataType};
 use crate::cip::status::{CipError, CipResult, General};
@@ -79,6 +79,45 @@ fn emit_instances(w: &mut Writer<'_>, instance: Option<u8>) -> CipResult {
         }
         None => Ok(w.u8(0)?),
     }
+}
+
+/// Attribute 5 as a Get shows it: the count, then the identity, a key size of 0 and no key
+/// bytes (a key is never read out), and the usage.
+fn emit_psk(w: &mut Writer<'_>, psk: Option<&Psk>) -> CipResult {
+    let Some(k) = psk else {
+        return Ok(w.u8(0)?);
+    };
+    w.u8(1)?;
+    w.u8(k.identity.len() as u8)?;
+    w.bytes(&k.identity)?;
+    w.u8(0)?;
+    w.u8(k.usage)?;
+    Ok(())
+}
+
+/// Attribute 5 as a Set carries it: a count (0 or 1: at most one key), then the identity
+/// size and identity, the key size and key, and the usage. 0x09 for more than one key, an
+/// empty or too long identity or key.
+fn read_psk(r: &mut Reader<'_>) -> CipResult<Option<Psk>> {
+    let bad = || CipError::new(General::InvalidAttributeValue);
+    match r.u8()? {
+        0 => return Ok(None),
+        1 => {}
+        _ => return Err(bad()),
+    }
+    let n = usize::from(r.u8()?);
+    let identity = r.take(n)?;
+    let n = usize::from(r.u8()?);
+    let key = r.take(n)?;
+    let usage = r.u8()?;
+    if identity.is_empty() || key.is_empty() {
+        return Err(bad());
+    }
+    Ok(Some(Psk {
+        identity: heapless::Vec::from_slice(identity).map_err(|_| bad())?,
+        key: heapless::Vec::from_slice(key).map_err(|_| bad())?,
+        usage,
+    }))
 }
 
 /// A Set value that must be read whole: 0x13 if short, 0x15 if bytes remain.
@@ -212,10 +251,11 @@ impl<D: Device, const C: usize> Object for EipSecurity<'_, '_, D, C> {
             2 => w.u32(0)?,
             3 => emit_suites(w, &AVAILABLE_SUITES)?,
             4 => emit_suites(w, &s.allowed)?,
+            5 => emit_psk(w, s.psk.as_ref())?,
             6 => emit_instances(w, s.active_cert)?,
             7 => emit_instances(w, s.trusted_ca)?,
-            // No pre-shared keys, no revocation list.
-            5 | 8 => w.u8(0)?,
+            // No revocation list.
+            8 => w.u8(0)?,
             9 => w.u8(u8::from(s.verify_client))?,
             10 => w.u8(u8::from(s.send_chain))?,
             _ => w.u8(u8::from(s.check_expiration))?,
@@ -253,10 +293,7 @@ impl<D: Device, const C: usize> Object for EipSecurity<'_, '_, D, C> {
                     Ok(allowed)
                 })?
             }
-            5 => whole(value, |r| match r.u8()? {
-                0 => Ok(()),
-                _ => Err(General::InvalidAttributeValue.into()),
-            })?,
+            5 => p.psk = whole(value, read_psk)?,
             6 | 7 => {
                 let chosen = whole(value, |r| match r.u8()? {
                     0 => Ok(None),

@@ -85,6 +85,32 @@ pub enum ObjectMode {
     Incomplete = 3,
 }
 
+/// Most bytes of a pre-shared key's identity.
+pub const MAX_PSK_IDENTITY: usize = 32;
+/// Most bytes of a pre-shared key (256 bits).
+pub const MAX_PSK: usize = 32;
+
+/// A pre-shared key (EtherNet/IP Security attribute 5): written, stored, never shown.
+#[derive(Clone, PartialEq, Eq)]
+pub struct Psk {
+    /// Its identity (1 to [`MAX_PSK_IDENTITY`] bytes).
+    pub identity: heapless::Vec<u8, MAX_PSK_IDENTITY>,
+    /// The key (1 to [`MAX_PSK`] bytes).
+    pub key: heapless::Vec<u8, MAX_PSK>,
+    /// Its usage (USINT, as written).
+    pub usage: u8,
+}
+
+impl core::fmt::Debug for Psk {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Psk")
+            .field("identity", &self.identity)
+            .field("key", &"<hidden>")
+            .field("usage", &self.usage)
+            .finish()
+    }
+}
+
 /// The EtherNet/IP Security object's settable attributes: what TLS sessions use.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TlsSettings {
@@ -100,6 +126,8 @@ pub struct TlsSettings {
     pub send_chain: bool,
     /// Attribute 11: refuse expired certificates.
     pub check_expiration: bool,
+    /// Attribute 5: the pre-shared key, if one is configured (at most one).
+    pub psk: Option<Psk>,
 }
 
 impl TlsSettings {
@@ -113,6 +141,7 @@ impl TlsSettings {
             verify_client: false,
             send_chain: false,
             check_expiration: false,
+            psk: None,
         }
     }
 }

@@ -10,10 +10,15 @@ use crate::wire::{Reader, Writer};
 
 /// Layout version of the record.
 const VERSION: u8 = 1;
-/// The longest record: header, flags, instances, suites, and every created instance.
-pub(crate) const RECORD_MAX: usize =
+/// The longest record without a pre-shared key: header, flags, instances, suites, and every
+/// created instance with the longest name; it always fits.
+const RECORD_MAX_NO_PSK: usize =
     9 + 2 * AVAILABLE_SUITES.len() + 1 + (MAX_CERTS - 1) * (3 + MAX_CERT_NAME);
-const _: () = assert!(RECORD_MAX <= crate::nv::SECURITY_RECORD_ROOM);
+const _: () = assert!(RECORD_MAX_NO_PSK <= crate::nv::SECURITY_RECORD_ROOM);
+/// The longest record stored: with a pre-shared key (3 bytes and its identity and key) it
+/// may not fit beside three created instances with long names, and then is not saved
+/// (the store's room is fixed, [`crate::nv::IMAGE_SIZE`]).
+pub(crate) const RECORD_MAX: usize = crate::nv::SECURITY_RECORD_ROOM;
 
 /// Attribute 9, 10 and 11 as bits of one byte.
 const VERIFY_CLIENT: u8 = 1 << 0;
@@ -21,6 +26,8 @@ const SEND_CHAIN: u8 = 1 << 1;
 const CHECK_EXPIRATION: u8 = 1 << 2;
 /// TCP/IP attribute 14: 44818/tcp closed.
 const PLAIN_TCP_CLOSED: u8 = 1 << 3;
+/// A pre-shared key follows the instances.
+const PSK_FOLLOWS: u8 = 1 << 4;
 
 /// Loads the stored settings into `st` (in use at once); false if there are none or they are
 /// unreadable (the factory defaults hold).
@@ -67,7 +74,8 @@ fn encode(st: &SecurityState, w: &mut Writer<'_>) -> crate::wire::Result<()> {
     let flags = bit(a.verify_client, VERIFY_CLIENT)
         | bit(a.send_chain, SEND_CHAIN)
         | bit(a.check_expiration, CHECK_EXPIRATION)
-        | bit(st.plain_tcp_closed, PLAIN_TCP_CLOSED);
+        | bit(st.plain_tcp_closed, PLAIN_TCP_CLOSED)
+        | bit(a.psk.is_some(), PSK_FOLLOWS);
     w.u8(flags)?;
     w.u8(a.active_cert.unwrap_or(0))?;
     w.u8(a.trusted_ca.unwrap_or(0))?;
@@ -87,6 +95,13 @@ fn encode(st: &SecurityState, w: &mut Writer<'_>) -> crate::wire::Result<()> {
         w.u8(c.encoding)?;
         w.u8(c.name.len() as u8)?;
         w.bytes(&c.name)?;
+    }
+    if let Some(k) = &a.psk {
+        w.u8(k.identity.len() as u8)?;
+        w.bytes(&k.identity)?;
+        w.u8(k.key.len() as u8)?;
+        w.bytes(&k.key)?;
+        w.u8(k.usage)?;
     }
     Ok(())
 }
@@ -136,6 +151,7 @@ fn decode(bytes: &[u8]) -> Option<Stored> {
         verify_client: flags & VERIFY_CLIENT != 0,
         send_chain: flags & SEND_CHAIN != 0,
         check_expiration: flags & CHECK_EXPIRATION != 0,
+        psk: None,
     };
     for _ in 0..r.u8().ok()? {
         let s = r.u16().ok()?;
@@ -154,6 +170,18 @@ fn decode(bytes: &[u8]) -> Option<Stored> {
         let name = r.take(len).ok()?;
         let c = certs.get_mut(i)?;
         *c = CertInstance::created(name, encoding)?;
+    }
+    if flags & PSK_FOLLOWS != 0 {
+        let n = usize::from(r.u8().ok()?);
+        let identity = heapless::Vec::from_slice(r.take(n).ok()?).ok()?;
+        let n = usize::from(r.u8().ok()?);
+        let key = heapless::Vec::from_slice(r.take(n).ok()?).ok()?;
+        let usage = r.u8().ok()?;
+        active.psk = Some(super::Psk {
+            identity,
+            key,
+            usage,
+        });
     }
     if r.remaining() != 0 {
         return None;
@@ -181,6 +209,11 @@ mod tests {
         st.certs[2] = CertInstance::created(&[b'x'; MAX_CERT_NAME], 0).unwrap();
         st.active.trusted_ca = Some(3);
         st.plain_tcp_closed = true;
+        st.active.psk = Some(super::super::Psk {
+            identity: heapless::Vec::from_slice(b"plant-1").unwrap(),
+            key: heapless::Vec::from_slice(&[0x5A; 32]).unwrap(),
+            usage: 4,
+        });
         save(&st, &mut store).unwrap();
         let mut store = AbStore::mount(store.into_flash());
         let mut back = SecurityState::new();
