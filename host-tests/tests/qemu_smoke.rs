@@ -68,7 +68,7 @@ fn qemu_smoke() {
         elf: &elf,
         extra: &[],
     };
-    let mut rig = Rig::launch(board, &Options::named("enip-smoke", "enipsmoke0", &log))
+    let mut rig = Rig::launch(board, &Options::logged("enipsmoke0", &log))
         .unwrap_or_else(|e| panic!("boot {}: {e}", elf.display()));
     if let Err(e) = checks(&mut rig, &dir) {
         panic!(

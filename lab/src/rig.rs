@@ -499,6 +499,18 @@ impl<'a> Options<'a> {
         }
     }
 
+    /// A namespace with a name of its own (two runs on one machine, e.g. two checkouts'
+    /// tests or benchmarks, do not replace each other's) with the TAP `tap`, the board's
+    /// output copied to `log`.
+    pub fn logged(tap: &'a str, log: &'a Path) -> Self {
+        Options {
+            namespace: None,
+            tap: Some(tap),
+            capture: None,
+            log_file: Some(log),
+        }
+    }
+
     /// The fixed namespace `namespace` with the TAP `tap`, the board's output copied to `log`
     /// (what a command run by hand uses, so its names are known and its log kept).
     pub fn named(namespace: &'a str, tap: &'a str, log: &'a Path) -> Self {

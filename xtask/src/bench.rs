@@ -284,7 +284,7 @@ fn tap_run(bin: &std::path::Path, dir: &std::path::Path, seconds: u32) -> Result
         extra: &[],
         answers_at: BOARD_IP,
     };
-    let mut rig = Rig::launch(board, &Options::named("enip-bench", "enipbench0", &log))?;
+    let mut rig = Rig::launch(board, &Options::logged("enipbench0", &log))?;
     let json = dir.join("tap.json");
     let run = ScannerRun {
         bin: &bin.join("scanner"),

@@ -394,15 +394,9 @@ fn timing_run(elf: &Path, dir: &Path, rpi_us: u32, seconds: u32) -> Result<serde
     Ok(report)
 }
 
-/// Where the board runs, its output copied to `log`: a namespace with a name of its own, so
-/// that two benchmarks on one machine (two checkouts) do not replace each other's.
+/// Where the board runs, its output copied to `log`.
 fn options(log: &Path) -> Options<'_> {
-    Options {
-        namespace: None,
-        tap: Some(TAP),
-        capture: None,
-        log_file: Some(log),
-    }
+    Options::logged(TAP, log)
 }
 
 /// The project's scanner (release build) in `ns`: `connections` at `rpi_us` with their
