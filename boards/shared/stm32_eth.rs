@@ -3,10 +3,10 @@
 //! link task, the non-volatile store attached to the adapter, the watchdog task, the fault
 //! and reset handlers and the one `run` future. The including crate provides its chip's
 //! pieces at its root: `Driver` (the MAC with its PHY), `Watchdog` (the IWDG), `BOARD` (its
-//! name for the logs), `freeze_watchdog_when_halted`, `nv_flash::OnChipFlash` and `stack`.
+//! name for the logs), `freeze_watchdog_when_halted`, `nv_flash::OnChipFlash`, `stack` and
+//! `net_config` (`boards/shared/net_config.rs`).
 
 use core::cell::RefCell;
-use core::net::Ipv4Addr;
 use core::pin::pin;
 
 use defmt::{info, panic, warn};
@@ -19,10 +19,10 @@ use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
 use enip_firmware::watchdog::{beating, keep_fed, Heartbeat};
 use enip_firmware::{Diagnosed, Resources};
 use enip_stack::nv::{AbStore, SharedStore};
-use enip_stack::objects::TcpIpState;
 use enip_stack::{Adapter, Device};
 use static_cell::{ConstStaticCell, StaticCell};
 
+use crate::net_config::{is_dhcp, stored_network, with_store};
 use crate::nv_flash::OnChipFlash;
 use crate::{Driver, Watchdog};
 
@@ -71,25 +71,6 @@ pub struct Hardware<L: Leds> {
 /// store's RAM image is never part of the `run` future.
 pub fn mount(store: AbStore<OnChipFlash>) -> SharedStore {
     SharedStore::new(NV_STORE.init(RefCell::new(store)))
-}
-
-/// A static IPv4 configuration: address, prefix length, optional gateway.
-pub fn static_ipv4(
-    address: [u8; 4],
-    prefix_len: u8,
-    gateway: Option<[u8; 4]>,
-) -> embassy_net::Config {
-    embassy_net::Config::ipv4_static(embassy_net::StaticConfigV4 {
-        address: embassy_net::Ipv4Cidr::new(Ipv4Addr::from(address), prefix_len),
-        gateway: gateway.map(Ipv4Addr::from),
-        dns_servers: Default::default(),
-    })
-}
-
-/// An address from DHCP (the `dhcp` feature).
-#[cfg(feature = "dhcp")]
-pub fn dhcp() -> embassy_net::Config {
-    embassy_net::Config::dhcpv4(Default::default())
 }
 
 /// Runs the device `device` builds from the store in `hw`, shared in `home`, with the
@@ -151,66 +132,6 @@ pub async fn run<D: Device, L: Leds>(
     )
     .await;
     never
-}
-
-/// `adapter` with the flash store attached (its TCP/IP settings loaded from it).
-fn with_store<D: Device>(
-    mut adapter: Adapter<Diagnosed<D>>,
-    store: &'static mut SharedStore,
-) -> Adapter<Diagnosed<D>> {
-    match adapter.attach_store(store) {
-        Ok(true) => info!("TCP/IP settings loaded from flash"),
-        Ok(false) => info!("no TCP/IP settings in flash: factory defaults"),
-        Err(e) => warn!("flash store unreadable ({}): factory defaults", e),
-    }
-    adapter
-}
-
-/// The static interface configuration stored in flash (TCP/IP attribute 5, set by a
-/// scanner and applied here, at the next boot), if configuration control says static.
-fn stored_network(store: &mut SharedStore) -> Option<embassy_net::Config> {
-    let stored = match TcpIpState::stored(store) {
-        Ok(s) => s?,
-        Err(e) => {
-            warn!("flash store unreadable ({}): built-in network settings", e);
-            return None;
-        }
-    };
-    let Some(i) = stored.static_interface() else {
-        info!("no static interface configuration stored: built-in network settings");
-        return None;
-    };
-    let prefix = u32::from(i.netmask).count_ones() as u8;
-    info!(
-        "interface {=[u8]}/{} from the stored TCP/IP configuration",
-        i.ip.octets(),
-        prefix
-    );
-    let gateway = (!i.gateway.is_unspecified()).then_some(i.gateway.octets());
-    Some(static_ipv4(i.ip.octets(), prefix, gateway))
-}
-
-/// True if `network` asks for DHCP.
-fn is_dhcp(network: &embassy_net::Config) -> bool {
-    #[cfg(feature = "dhcp")]
-    {
-        matches!(network.ipv4, embassy_net::ConfigV4::Dhcp(_))
-    }
-    #[cfg(not(feature = "dhcp"))]
-    {
-        let _ = network;
-        false
-    }
-}
-
-/// A locally administered unicast MAC address (02:xx:xx:xx:xx:xx) from the 96-bit unique
-/// ID: its FNV-1a hash, so boards of one wafer lot still differ in the five bytes kept.
-pub fn mac_from_uid(uid: [u8; 12]) -> [u8; 6] {
-    let hash = uid.iter().fold(0xCBF2_9CE4_8422_2325u64, |h, b| {
-        (h ^ u64::from(*b)).wrapping_mul(0x0000_0100_0000_01B3)
-    });
-    let h = hash.to_le_bytes();
-    [0x02, h[0], h[1], h[2], h[3], h[4]]
 }
 
 /// Moves frames between the Ethernet MAC and the network stack.

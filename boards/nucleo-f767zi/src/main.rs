@@ -6,39 +6,5 @@
 #![no_std]
 #![no_main]
 
-/// The device profile chosen by the `profile-NAME` feature.
-mod profile {
-    include!(concat!(env!("OUT_DIR"), "/profile.rs"));
-}
-
-/// The build-time network settings.
-#[cfg(not(feature = "dhcp"))]
-mod network {
-    include!(concat!(env!("OUT_DIR"), "/network.rs"));
-}
-
-use embassy_executor::Spawner;
-use enip_nucleo_f767zi::AdapterCell;
-use enip_profiles::PoweredUp;
-
-/// The adapter over the chosen profile, for the whole run.
-static ADAPTER: AdapterCell<profile::Chosen> = AdapterCell::new();
-
-#[embassy_executor::main]
-async fn main(spawner: Spawner) {
-    defmt::info!("enip-nucleo-f767zi: booting (profile {})", profile::NAME);
-    let device = profile::Chosen::powered_up;
-    enip_nucleo_f767zi::run(spawner, &ADAPTER, device, net_config()).await
-}
-
-/// The interface configuration: DHCP with the `dhcp` feature, else the build-time address.
-fn net_config() -> embassy_net::Config {
-    #[cfg(feature = "dhcp")]
-    {
-        enip_nucleo_f767zi::dhcp()
-    }
-    #[cfg(not(feature = "dhcp"))]
-    {
-        enip_nucleo_f767zi::static_ipv4(network::ADDRESS, network::PREFIX_LEN, network::GATEWAY)
-    }
-}
+include!("../../shared/profile_main.rs");
+profile_main!(enip_nucleo_f767zi, "enip-nucleo-f767zi");

@@ -38,6 +38,8 @@ mod common;
 mod fault;
 #[path = "../../shared/nucleo_leds.rs"]
 pub mod leds;
+#[path = "../../shared/net_config.rs"]
+mod net_config;
 pub mod nv_flash;
 #[path = "../../shared/stack.rs"]
 pub mod stack;
@@ -54,10 +56,11 @@ use enip_stack::Device;
 use static_cell::ConstStaticCell;
 use {defmt_rtt as _, panic_probe as _};
 
-#[cfg(feature = "dhcp")]
-pub use common::dhcp;
 use common::hard_fault;
-pub use common::{static_ipv4, AdapterCell};
+pub use common::AdapterCell;
+#[cfg(feature = "dhcp")]
+pub use net_config::dhcp;
+pub use net_config::static_ipv4;
 
 bind_interrupts!(struct Irqs {
     ETH => eth::InterruptHandler;
@@ -98,7 +101,7 @@ pub async fn run<D: Device>(
         ld3_red: Output::new(p.PG4, Level::Low, Speed::Low),
     };
     let seed = Rng::new(p.RNG, Irqs).next_u64();
-    let mac = common::mac_from_uid(uid::uid());
+    let mac = net_config::mac_from_uid(uid::uid());
     let phy = GenericPhy::new(Sma::new(p.ETH_SMA, p.PA2, p.PC1), 0);
     let driver = Ethernet::new_with_phy(
         PACKETS.take(),
