@@ -3,7 +3,14 @@
 
 /// The current time as the stack counts it.
 pub(crate) fn now() -> enip_stack::Instant {
-    to_stack(embassy_time::Instant::now())
+    to_stack(instant_now())
+}
+
+/// The current embassy-time instant. Never inlined: one copy of the time driver's read for
+/// its dozen callers.
+#[inline(never)]
+pub(crate) fn instant_now() -> embassy_time::Instant {
+    embassy_time::Instant::now()
 }
 
 /// An embassy-time instant as a stack instant.

@@ -33,9 +33,31 @@ pub const UDP_BUFFER_LEN: usize = 1536;
 
 /// Buffers of one encapsulation TCP socket, replies of up to `F` bytes.
 pub(crate) struct TcpBuffers<const F: usize> {
-    pub rx: [u8; TCP_RX_LEN],
-    pub tx: [u8; TCP_TX_LEN],
-    pub reply: [u8; F],
+    pub rx: Aligned<TCP_RX_LEN>,
+    pub tx: Aligned<TCP_TX_LEN>,
+    pub reply: Aligned<F>,
+}
+
+/// `N` bytes starting 2 bytes past a multiple of 4, as a TCP payload does in a frame that
+/// starts word-aligned (behind 14 + 20 + 20 bytes of Ethernet, IPv4 and TCP headers): the
+/// copies between frames and the socket buffers (smoltcp's), and from the reply into the
+/// transmit buffer, then run a word at a time rather than shifting every word (a request
+/// whose length is a multiple of 4 keeps the receive buffer's next one in step too).
+#[repr(C, align(4))]
+pub(crate) struct Aligned<const N: usize> {
+    _lead: [u8; 2],
+    /// The bytes.
+    pub bytes: [u8; N],
+}
+
+impl<const N: usize> Aligned<N> {
+    /// Zeroed bytes.
+    const fn new() -> Self {
+        Aligned {
+            _lead: [0; 2],
+            bytes: [0; N],
+        }
+    }
 }
 
 /// Buffers of the UDP 44818 socket, replies of up to `F` bytes.
@@ -74,9 +96,9 @@ impl<const SESSIONS: usize, const FRAME: usize> Resources<SESSIONS, FRAME> {
         Resources {
             tcp: [const {
                 TcpBuffers {
-                    rx: [0; TCP_RX_LEN],
-                    tx: [0; TCP_TX_LEN],
-                    reply: [0; FRAME],
+                    rx: Aligned::new(),
+                    tx: Aligned::new(),
+                    reply: Aligned::new(),
                 }
             }; SESSIONS],
             udp: UdpBuffers {

@@ -172,9 +172,12 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
         with_adapter_quiet(self, |a| *a.network())
     }
 
-    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant) {
-        // A discarded datagram is counted by the adapter; nothing to answer.
-        let _ = with_adapter_quiet(self, |a| a.io_receive(from, data, now));
+    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant) -> Option<Instant> {
+        with_adapter_quiet(self, |a| {
+            // A discarded datagram is counted by the adapter; nothing to answer.
+            let _ = a.io_receive(from, data, now);
+            a.io_deadline()
+        })
     }
 
     fn due(&self, now: Instant) -> Result<IoDue, Option<Instant>> {
@@ -211,11 +214,13 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
     }
 
     fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()> {
-        if self.io_moved.replace(false) {
-            return Poll::Ready(());
-        }
+        // Registered either way: the wake-up that set the flag took the waker.
         self.io_waker.borrow_mut().register(cx.waker());
-        Poll::Pending
+        if self.io_moved.replace(false) {
+            Poll::Ready(())
+        } else {
+            Poll::Pending
+        }
     }
 }
 

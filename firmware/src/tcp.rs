@@ -5,6 +5,8 @@
 //! The session timeouts here ([`WRITE_TIMEOUT`], [`LINGER`]) are every runtime's: the host's
 //! kernel-socket runtime (`enip-host --bind`) uses them too.
 
+use core::task::Poll;
+use embassy_futures::poll_once;
 use embassy_net::tcp::{State, TcpSocket};
 use embassy_net::Stack;
 use embassy_time::{with_deadline, with_timeout, Duration, Timer};
@@ -14,7 +16,7 @@ use enip_stack::{Device, SocketId, TcpOutcome};
 use crate::clock::{now, to_embassy};
 use crate::netif::v4_endpoint;
 use crate::resources::TcpBuffers;
-use crate::shared::{with_adapter, SharedAdapter};
+use crate::shared::{with_adapter, with_adapter_quiet, SharedAdapter};
 use crate::tcp_accept::accept;
 
 /// Longest wait for a reply to fit in the transmit buffer (or be acknowledged before a reset);
@@ -43,7 +45,10 @@ pub(crate) async fn serve<
     on_reset: &dyn Fn(u8),
 ) -> ! {
     let TcpBuffers { rx, tx, reply } = bufs;
-    let mut socket = TcpSocket::new(net, rx, tx);
+    let (reply, mut socket) = (
+        &mut reply.bytes,
+        TcpSocket::new(net, &mut rx.bytes, &mut tx.bytes),
+    );
     loop {
         if let Err(e) = accept(&mut socket).await {
             warn!("tcp socket {}: listen failed: {:?}", id.0, e);
@@ -74,7 +79,8 @@ async fn converse<D: Device, const S: usize, const C: usize, const F: usize, con
     on_reset: &dyn Fn(u8),
 ) {
     loop {
-        let deadline = with_adapter(adapter, |a| a.tcp_deadline(id));
+        // Read-only: cannot bring the link task's deadline forward, so no watch/notice.
+        let deadline = with_adapter_quiet(adapter, |a| a.tcp_deadline(id));
         let read = socket.read_with(|data| feed(adapter, id, data, reply));
         let outcome = match deadline {
             None => read.await,
@@ -125,18 +131,29 @@ fn feed<D: Device, const S: usize, const C: usize, const F: usize, const L: usiz
     (outcome.consumed.min(data.len()), outcome)
 }
 
-/// True if the connection on `id` has been idle past the inactivity timeout.
+/// True if the connection on `id` has been idle past the inactivity timeout (read-only, so
+/// without [`with_adapter`]'s wake-ups).
 fn idle<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
     adapter: &SharedAdapter<D, S, C, F, L>,
     id: SocketId,
 ) -> bool {
-    with_adapter(adapter, |a| a.tcp_deadline(id)).is_some_and(|at| at <= now())
+    with_adapter_quiet(adapter, |a| a.tcp_deadline(id)).is_some_and(|at| at <= now())
 }
 
 /// Queues all of `data` for sending, or fails if the peer does not make room in time.
 async fn write_all(socket: &mut TcpSocket<'_>, data: &[u8]) -> Result<(), ()> {
+    let mut rest = data;
+    // The usual case: the reply fits the free send buffer and is queued in one step, without
+    // arming a timer (which reads the clock). Anything left waits under WRITE_TIMEOUT.
+    if socket.send_capacity().saturating_sub(socket.send_queue()) >= data.len() {
+        match poll_once(socket.write(data)) {
+            Poll::Ready(Ok(n)) if n >= data.len() => return Ok(()),
+            Poll::Ready(Ok(n)) => rest = data.get(n..).unwrap_or(&[]),
+            Poll::Ready(Err(_)) => return Err(()),
+            Poll::Pending => {}
+        }
+    }
     let write = async {
-        let mut rest = data;
         while !rest.is_empty() {
             match socket.write(rest).await {
                 Ok(n) if n > 0 => rest = rest.get(n..).unwrap_or(&[]),

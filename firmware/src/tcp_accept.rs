@@ -16,6 +16,8 @@ use embassy_net::IpEndpoint;
 use embassy_time::{with_timeout, Duration, Instant};
 use enip_stack::config::ENCAP_PORT;
 
+use crate::clock::instant_now;
+
 /// Longest a connection may stay half-open (SYN received, waiting for the handshake's ACK)
 /// before its socket listens again. A peer on the LAN answers in well under a millisecond.
 pub const HALF_OPEN: Duration = Duration::from_millis(300);
@@ -42,12 +44,12 @@ pub(crate) async fn accept(socket: &mut TcpSocket<'_>) -> Result<(), AcceptError
                 let peer = socket.remote_endpoint();
                 let since = match half_open {
                     Some((p, at)) if p == peer => at,
-                    _ => Instant::now(),
+                    _ => instant_now(),
                 };
                 half_open = Some((peer, since));
                 let left = since
                     .checked_add(HALF_OPEN)
-                    .and_then(|end| end.checked_duration_since(Instant::now()));
+                    .and_then(|end| end.checked_duration_since(instant_now()));
                 match left.filter(|l| *l > Duration::from_ticks(0)) {
                     Some(left) => {
                         let _ = with_timeout(left, next_event(socket)).await;

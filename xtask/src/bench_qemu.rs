@@ -99,8 +99,13 @@ pub fn run_all(scale: Scale) -> Result<serde_json::Value> {
         let explicit = crate::bench_qemu_paths::explicit(&elf, &symbols, &dir, scale, true)?;
         return Ok(serde_json::json!({ "explicit": explicit }));
     }
+    // `=10` (a number of connections): that traced run alone.
+    let only = quick.as_deref().and_then(|q| q.parse::<u32>().ok());
     let quick = quick.is_some();
     for (connections, rpi_us) in TRACED {
+        if only.is_some_and(|n| n != connections) {
+            continue;
+        }
         let load = Load::Class1 {
             connections,
             rpi_us,

@@ -13,7 +13,7 @@ use embassy_executor::Spawner;
 use embassy_futures::select::{select, Either};
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
 use embassy_time::{with_timeout, Duration};
-use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
+use enip_firmware::link::{IoPort, LinkChecksums, LinkFrames, NetDriver};
 use enip_firmware::Resources;
 use enip_host_runtime::Readable;
 use enip_stack::nv::SharedStore;
@@ -155,6 +155,8 @@ struct LinkShare {
     tap: TapDevice,
     frames: &'static LinkFrames,
     io: &'static dyn IoPort,
+    /// The stack was told the link task does its checksums (the TAP does none).
+    checksums: LinkChecksums,
     stop: Option<UnixStream>,
 }
 
@@ -175,7 +177,8 @@ fn start<D: Device + 'static>(
     let resources: &'static mut StackResources<SOCKETS> =
         Box::leak(Box::new(enip_firmware::stack_resources()));
     let frames: &'static LinkFrames = Box::leak(Box::new(LinkFrames::new()));
-    let (net, runner) = embassy_net::new(NetDriver::new(frames, &tap), config, resources, seed);
+    let (driver, checksums) = NetDriver::with_link_checksums(frames, &tap);
+    let (net, runner) = embassy_net::new(driver, config, resources, seed);
     let name = device.identity().product_name;
     let mut adapter = Adapter::new(
         device,
@@ -215,6 +218,7 @@ fn start<D: Device + 'static>(
             tap,
             frames,
             io: adapter,
+            checksums,
             stop,
         },
         adapter: Pin::static_mut(run),
@@ -292,9 +296,10 @@ async fn link_task(link: LinkShare) -> ! {
         mut tap,
         frames,
         io,
+        checksums,
         stop,
     } = link;
-    let running = enip_firmware::link::run(&mut tap, frames, io);
+    let running = enip_firmware::link::run_with_link_checksums(&mut tap, frames, io, checksums);
     if let Either::First(never) = select(running, stop_requested(stop.as_ref())).await {
         match never {}
     }

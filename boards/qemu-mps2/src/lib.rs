@@ -55,7 +55,7 @@ use embassy_executor::Spawner;
 use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
 use embassy_time::Duration;
 use enip_firmware::diagnostics::Platform;
-use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
+use enip_firmware::link::{IoPort, LinkChecksums, LinkFrames, NetDriver};
 use enip_firmware::watchdog::{beating, keep_fed, Heartbeat};
 use enip_firmware::{Diagnosed, Resources};
 use enip_stack::nv::{AbStore, RamFlash, SharedStore, IMAGE_SIZE, MAX_WRITE_SIZE};
@@ -135,7 +135,7 @@ pub async fn run<D: Device>(
     });
     let seed = seed(mac);
     let frames: &'static LinkFrames = LINK_FRAMES.take();
-    let net_driver = NetDriver::new(frames, &driver);
+    let (net_driver, link_checksums) = NetDriver::with_link_checksums(frames, &driver);
     let (net, runner) = embassy_net::new(net_driver, config, NET_RESOURCES.take(), seed);
     let store = SharedStore::new(NV_STORE.init(RefCell::new(AbStore::mount(RamFlash::new()))));
     let adapter = with_store(
@@ -153,7 +153,7 @@ pub async fn run<D: Device>(
     let heart: &'static Heartbeat = HEARTBEAT.init(Heartbeat::new());
     match (
         net_task(runner),
-        link_task(driver, frames, adapter, heart),
+        link_task(driver, frames, adapter, heart, link_checksums),
         watchdog_task(heart),
     ) {
         (Ok(net), Ok(link), Ok(dog)) => {
@@ -221,12 +221,12 @@ async fn link_task(
     frames: &'static LinkFrames,
     adapter: &'static dyn IoPort,
     heart: &'static Heartbeat,
+    checksums: LinkChecksums,
 ) -> ! {
-    beating(
-        heart,
-        pin!(enip_firmware::link::run(driver, frames, adapter)),
-    )
-    .await
+    // The stack's checksums too (`NetDriver::with_link_checksums`): the image has the
+    // flash to spare.
+    let link = enip_firmware::link::run_with_link_checksums(driver, frames, adapter, checksums);
+    beating(heart, pin!(link)).await
 }
 
 /// Starts the watchdog and feeds it while the executor runs and the link task is polled.

@@ -25,6 +25,9 @@ const COUNTS_PER_US: u64 = crate::machine::COUNTS_PER_US as u64;
 const PERIOD_US_LOG2: u32 = 27;
 /// Timer counts of one period: 2^27 µs (fits in the 32-bit counter up to 31 MHz).
 const PERIOD_COUNTS: u32 = (COUNTS_PER_US << PERIOD_US_LOG2) as u32;
+/// The longest alarm in µs the 32-bit counter holds; a later deadline fires this early,
+/// and the queue re-arms for the rest.
+const MAX_ALARM_US: u32 = u32::MAX / COUNTS_PER_US as u32;
 
 /// CMSDK APB timer registers.
 mod reg {
@@ -91,6 +94,12 @@ impl Mps2Time {
 
     /// Arms the alarm for tick `at`; false if `at` is already due (nothing armed).
     fn arm(&self, cs: CriticalSection<'_>, at: u64) -> bool {
+        self.arm_from(cs, at, || self.now_in(cs))
+    }
+
+    /// [`Self::arm`] with the time read by `now` (once, after the alarm is stopped: it is
+    /// counted from then).
+    fn arm_from(&self, cs: CriticalSection<'_>, at: u64, now: impl FnOnce() -> u64) -> bool {
         ALARM.write(reg::CTRL, 0);
         ALARM.write(reg::INTSTATUS, reg::IRQ);
         let armed = self.armed.borrow(cs);
@@ -98,17 +107,15 @@ impl Mps2Time {
         if at == u64::MAX {
             return true;
         }
-        let now = self.now_in(cs);
+        let now = now();
         if at <= now {
             return false;
         }
-        // A far deadline fires early, and the queue re-arms for the rest.
-        let counts = (at - now)
-            .saturating_mul(COUNTS_PER_US)
-            .min(u64::from(u32::MAX));
-        ALARM.write(reg::RELOAD, counts as u32);
+        // 32-bit arithmetic: the delay clamped to what the counter holds.
+        let us = (at - now).min(u64::from(MAX_ALARM_US)) as u32;
+        ALARM.write(reg::RELOAD, us * COUNTS_PER_US as u32);
         ALARM.write(reg::CTRL, reg::EN | reg::IRQEN);
-        armed.set(now + counts / COUNTS_PER_US);
+        armed.set(now + u64::from(us));
         true
     }
 
@@ -135,8 +142,10 @@ impl Driver for Mps2Time {
             if changed && at < armed {
                 // Every other timer is due at `armed` or later, so `at` is the earliest: the
                 // alarm is armed for it without walking the queue, unless the alarm is due
-                // already or so is `at` (then the walk wakes what expired).
-                if armed <= self.now_in(cs) || !self.arm(cs, at) {
+                // already or so is `at` (then the walk wakes what expired). One look at the
+                // clock serves both.
+                let now = self.now_in(cs);
+                if armed <= now || !self.arm_from(cs, at, || now) {
                     self.dispatch(cs);
                 }
             }

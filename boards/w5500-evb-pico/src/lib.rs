@@ -62,7 +62,7 @@ use embassy_rp::watchdog::Watchdog;
 use embassy_time::{Delay, Duration};
 use embedded_hal_bus::spi::ExclusiveDevice;
 use enip_firmware::diagnostics::Platform;
-use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
+use enip_firmware::link::{IoPort, LinkChecksums, LinkFrames, NetDriver};
 use enip_firmware::watchdog::{beating, keep_fed, Heartbeat};
 use enip_firmware::{Diagnosed, Resources, RpiFloor};
 use enip_stack::nv::{AbStore, SharedStore};
@@ -173,7 +173,9 @@ pub async fn run<D: Device>(
     let device = RpiFloor::new(device(store), limits::rpi_floor_us);
     let dhcp = is_dhcp(&network);
     let frames: &'static LinkFrames = LINK_FRAMES.take();
-    let net_driver = NetDriver::new(frames, &driver);
+    // The W5500 in MACRAW mode computes no checksums: the link task does the stack's, 16
+    // bytes a step rather than smoltcp's 2 (`NetDriver::with_link_checksums`).
+    let (net_driver, checksums) = NetDriver::with_link_checksums(frames, &driver);
     let (net, runner) = embassy_net::new(net_driver, network, NET_RESOURCES.take(), seed);
     let mut interface = enip_firmware::network_config(net);
     interface.dhcp = dhcp;
@@ -194,7 +196,7 @@ pub async fn run<D: Device>(
     match (
         wiznet_task(wiznet),
         net_task(runner),
-        link_task(driver, frames, adapter, heart),
+        link_task(driver, frames, adapter, heart, checksums),
         watchdog_task(dog, heart),
     ) {
         (Ok(wiznet), Ok(net), Ok(link), Ok(dog)) => {
@@ -234,12 +236,10 @@ async fn link_task(
     frames: &'static LinkFrames,
     adapter: &'static dyn IoPort,
     heart: &'static Heartbeat,
+    checksums: LinkChecksums,
 ) -> ! {
-    beating(
-        heart,
-        pin!(enip_firmware::link::run(driver, frames, adapter)),
-    )
-    .await
+    let link = enip_firmware::link::run_with_link_checksums(driver, frames, adapter, checksums);
+    beating(heart, pin!(link)).await
 }
 
 /// Starts the watchdog and feeds it while the executor runs and the link task is polled.

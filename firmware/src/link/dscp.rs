@@ -71,62 +71,26 @@ pub(crate) fn mark_explicit(frame: &mut [u8], dscp: u8, fill: &ChecksumCapabilit
 mod tests {
     extern crate std;
     use super::*;
+    use crate::link::test_frames::{ipv4_frame, ipv4_mut, tcp_segment, ME, PEER};
     use smoltcp::phy::Checksum;
-    use smoltcp::wire::{
-        EthernetAddress, EthernetFrame, EthernetProtocol, EthernetRepr, IpAddress, IpProtocol,
-        Ipv4Address, Ipv4Packet, Ipv4Repr, TcpPacket, TcpRepr, TcpSeqNumber, UdpPacket, UdpRepr,
-    };
+    use smoltcp::wire::{IpAddress, IpProtocol, Ipv4Packet, TcpPacket, UdpPacket, UdpRepr};
     use std::vec::Vec;
 
     /// The highest DSCP.
     const MAX: u8 = 63;
-    const ME: Ipv4Address = Ipv4Address::new(198, 18, 0, 2);
-    const PEER: Ipv4Address = Ipv4Address::new(198, 18, 0, 1);
 
     /// A frame from `ME`:`src_port` to the peer, TCP or UDP, as smoltcp sends it, with the
     /// ECN bits set to 0b01.
     fn frame(tcp: bool, src_port: u16, payload: &[u8]) -> Vec<u8> {
         let sums = ChecksumCapabilities::default();
-        let tcp_repr = TcpRepr {
-            src_port,
-            dst_port: 50000,
-            control: smoltcp::wire::TcpControl::Psh,
-            seq_number: TcpSeqNumber(7),
-            ack_number: Some(TcpSeqNumber(9)),
-            window_len: 4096,
-            window_scale: None,
-            max_seg_size: None,
-            sack_permitted: false,
-            sack_ranges: [None; 3],
-            timestamp: None,
-            payload,
-        };
-        let len = if tcp {
-            tcp_repr.buffer_len()
+        let tcp_repr = tcp_segment(src_port, payload);
+        let (len, protocol) = if tcp {
+            (tcp_repr.buffer_len(), IpProtocol::Tcp)
         } else {
-            8 + payload.len()
+            (8 + payload.len(), IpProtocol::Udp)
         };
-        let mut f = std::vec![0u8; ETHERNET_HEADER_LEN + 20 + len];
-        let mut eth = EthernetFrame::new_unchecked(&mut f[..]);
-        EthernetRepr {
-            src_addr: EthernetAddress([2, 0, 0, 0, 0, 2]),
-            dst_addr: EthernetAddress([2, 0, 0, 0, 0, 1]),
-            ethertype: EthernetProtocol::Ipv4,
-        }
-        .emit(&mut eth);
-        let mut ip = Ipv4Packet::new_unchecked(eth.payload_mut());
-        Ipv4Repr {
-            src_addr: ME,
-            dst_addr: PEER,
-            next_header: if tcp {
-                IpProtocol::Tcp
-            } else {
-                IpProtocol::Udp
-            },
-            payload_len: len,
-            hop_limit: 64,
-        }
-        .emit(&mut ip, &sums);
+        let mut f = ipv4_frame(protocol, len, 0, &sums);
+        let mut ip = ipv4_mut(&mut f);
         ip.set_ecn(1);
         ip.fill_checksum();
         let (src, dst) = (IpAddress::Ipv4(ME), IpAddress::Ipv4(PEER));

@@ -294,10 +294,7 @@ mod tests {
     use smoltcp::wire::{IpAddress, Ipv4Packet, UdpPacket};
     use std::vec::Vec;
 
-    const ME: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
-    const MY_MAC: [u8; 6] = [2, 0, 0, 0, 0, 2];
-    const PEER: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
-    const PEER_MAC: [u8; 6] = [2, 0, 0, 0, 0, 1];
+    use crate::link::test_frames::{ME, MY_MAC, PEER, PEER_MAC};
 
     fn software() -> ChecksumCapabilities {
         ChecksumCapabilities::default()
@@ -432,7 +429,8 @@ mod tests {
 
     #[test]
     fn t_o_headers_are_the_ones_smoltcp_writes() {
-        use smoltcp::wire::{EthernetProtocol, IpProtocol, Ipv4Repr, UdpRepr};
+        use crate::link::test_frames::{ipv4_frame, ipv4_mut};
+        use smoltcp::wire::{IpProtocol, UdpRepr};
         let payload = b"0123456789a";
         let to = SocketAddrV4::new(PEER, 40_000);
         let route = Route {
@@ -443,29 +441,15 @@ mod tests {
         };
         let mut ours = std::vec![0u8; HEADERS_LEN + payload.len()];
         ours[HEADERS_LEN..].copy_from_slice(payload);
-        let mut theirs = ours.clone();
         assert!(write_t_o_headers(
             &mut ours,
             &route,
             payload.len(),
             &software()
         ));
-        let mut eth = EthernetFrame::new_unchecked(&mut theirs[..]);
-        EthernetRepr {
-            src_addr: EthernetAddress(MY_MAC),
-            dst_addr: EthernetAddress(PEER_MAC),
-            ethertype: EthernetProtocol::Ipv4,
-        }
-        .emit(&mut eth);
-        let mut ip = Ipv4Packet::new_unchecked(eth.payload_mut());
-        Ipv4Repr {
-            src_addr: ME,
-            dst_addr: PEER,
-            next_header: IpProtocol::Udp,
-            payload_len: 8 + payload.len(),
-            hop_limit: 64,
-        }
-        .emit(&mut ip, &software());
+        let mut theirs = ipv4_frame(IpProtocol::Udp, 8 + payload.len(), 0, &software());
+        theirs[HEADERS_LEN..].copy_from_slice(payload);
+        let mut ip = ipv4_mut(&mut theirs);
         ip.set_dscp(43);
         ip.fill_checksum();
         let (src, dst) = (IpAddress::Ipv4(ME), IpAddress::Ipv4(PEER));

@@ -96,6 +96,11 @@ impl<const N: usize> Queue<N> {
         self.len.set(self.len.get().saturating_sub(1));
         Ok(r)
     }
+
+    /// Removes the frame pushed last.
+    pub fn drop_last(&self) {
+        self.len.set(self.len.get().saturating_sub(1));
+    }
 }
 
 /// The frames between the link task and the network stack; create one with
@@ -106,10 +111,10 @@ pub struct LinkFrames {
     pub(crate) rx: Queue<RX_FRAMES>,
     /// The network stack's frames to send.
     pub(crate) tx: Queue<TX_FRAMES>,
-    /// Wakes the network stack's runner: a frame came, room to send appeared, the link
-    /// state changed.
+    /// Wakes the network stack's runner: a frame came, room to send appeared in a queue the
+    /// runner had found full, the link state changed.
     stack: RefCell<WakerRegistration>,
-    /// Wakes the link task: the stack queued a frame or took one.
+    /// Wakes the link task: the stack queued a frame, or took one from a full queue.
     link: RefCell<WakerRegistration>,
     link_state: Cell<LinkState>,
 }
@@ -139,6 +144,17 @@ impl LinkFrames {
     /// The link task waits for [`Self::wake_link`].
     pub(crate) fn register_link(&self, waker: &Waker) {
         self.link.borrow_mut().register(waker);
+    }
+
+    /// The stack took a received frame: wakes the link task if the queue had been full (one
+    /// slot free now), the only time the link task waits for the stack to take one
+    /// (`Pump::receive`); a queue with room left never stopped it. Out of line: the stack
+    /// inlines its receive tokens at each of their uses.
+    #[inline(never)]
+    pub(crate) fn stack_took(&self) {
+        if self.rx.len.get() == RX_FRAMES.saturating_sub(1) {
+            self.wake_link();
+        }
     }
 
     /// Wakes the link task.
@@ -183,6 +199,18 @@ mod tests {
         assert_eq!(q.push(FRAME_LEN + 10, |f| f.len()).ok(), Some(FRAME_LEN));
         assert_eq!(q.pop(|f| f.to_vec()).ok(), Some(vec![4, 5]));
         assert_eq!(q.pop(|f| f.len()).ok(), Some(FRAME_LEN));
+        assert!(q.is_empty());
+    }
+
+    #[test]
+    fn the_frame_pushed_last_can_be_dropped() {
+        let q: Queue<2> = Queue::new();
+        assert!(q.push(1, |f| f.copy_from_slice(&[1])).is_ok());
+        assert!(q.push(1, |f| f.copy_from_slice(&[2])).is_ok());
+        q.drop_last();
+        assert!(q.push(1, |f| f.copy_from_slice(&[3])).is_ok());
+        assert_eq!(q.pop(|f| f.to_vec()).ok(), Some(vec![1]));
+        assert_eq!(q.pop(|f| f.to_vec()).ok(), Some(vec![3]));
         assert!(q.is_empty());
     }
 }

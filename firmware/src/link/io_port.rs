@@ -17,8 +17,10 @@ pub trait IoPort: LldpPort + AcdPort {
     /// The interface configuration now (`Adapter::network`): the addresses T->O datagrams
     /// go out with.
     fn interface(&self) -> NetworkConfig;
-    /// Feeds one O->T datagram from `from` (`Adapter::io_receive`).
-    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant);
+    /// Feeds one O->T datagram from `from` (`Adapter::io_receive`); returns the next
+    /// production or watchdog expiry after it (`Adapter::io_deadline`, asked under the same
+    /// lock: the data may have triggered a production).
+    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant) -> Option<Instant>;
     /// Closes expired connections, then names the most overdue T->O datagram
     /// (`Adapter::io_due`), or if none is due the next production or watchdog expiry
     /// (`Adapter::io_deadline`, asked under the same lock).
@@ -34,7 +36,7 @@ pub trait IoPort: LldpPort + AcdPort {
     /// Adds the frames the link task counted to the Ethernet Link object's counters
     /// (`Adapter::add_link_counters`).
     fn add_link_counters(&self, counted: &LinkCounters);
-    /// Ready (once) when another task brought the deadline forward since the last call;
-    /// otherwise wakes `cx` when one does.
+    /// Ready (once) when another task brought the deadline forward since the last call; either
+    /// way wakes `cx` when one does next.
     fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()>;
 }

@@ -20,7 +20,8 @@
 //! port 44818 from a source that floods them, and ARP requests from hosts that do not talk
 //! IPv4 to the adapter past a few a second (`arp_guard.rs`).
 //! Every frame the driver receives or sends is counted for the Ethernet Link object
-//! (`counted`).
+//! (`counted`). On a board that asks for it, the link task verifies and fills the network
+//! stack's checksums in its place (`stack_sums.rs`).
 //!
 //! So a Class 1 cycle wakes one task and touches neither smoltcp nor the socket futures of
 //! the explicit-messaging side, and the TCP/IP stack keeps ARP, ICMP, IGMP, DHCP, TCP and
@@ -41,10 +42,14 @@ mod lldp;
 mod neighbors;
 mod net_driver;
 mod pump;
+mod stack_sums;
+#[cfg(test)]
+mod test_frames;
 
 pub use acd::AcdPort;
 pub use frames::{LinkFrames, FRAME_LEN, RX_FRAMES, TX_FRAMES};
 pub use io_port::IoPort;
 pub use lldp::{shutdown as lldp_shutdown, LldpPort};
 pub use net_driver::{NetDriver, Received, Send};
-pub use pump::run;
+pub use pump::{run, run_with_link_checksums};
+pub use stack_sums::LinkChecksums;

@@ -8,13 +8,11 @@
 //! announcement, a frame, or another task's wake-up.
 
 use core::convert::Infallible;
-use core::future::{poll_fn, Future};
+use core::future::poll_fn;
 use core::net::SocketAddrV4;
-use core::pin::Pin;
 use core::task::{Context, Poll};
 
 use embassy_net_driver::{Checksum, Driver, HardwareAddress, LinkState, RxToken, TxToken};
-use embassy_time::Timer;
 use enip_stack::acd::ARP_FRAME_LEN;
 use enip_stack::config::MAX_CONNECTIONS;
 use enip_stack::{Instant, IoDue, NetworkConfig};
@@ -29,6 +27,7 @@ use super::frames::{LinkFrames, TX_FRAMES};
 use super::io_port::IoPort;
 use super::lldp;
 use super::neighbors::{next_hop, Neighbors};
+use super::stack_sums::{self, LinkChecksums};
 use crate::clock::{earliest, now, to_embassy};
 
 /// Passes of receive, send and produce in one wake-up at most (then the task yields to the
@@ -37,32 +36,61 @@ const PASSES: usize = 4;
 /// Frames read from the driver in one round.
 const RX_BURST: usize = 8;
 
+/// [`run`]'s and [`run_with_link_checksums`]'s body: a `Pump` polled at every wake-up. A
+/// macro, not an async function both await: that one's future would hold the driver (the
+/// LAN9118's with its frame buffers) beside the caller's own copy of its argument.
+macro_rules! pump_forever {
+    ($stack_sums:literal, $driver:ident, $frames:ident, $io:ident) => {{
+        let mut pump = Pump::<$stack_sums>::new(&$driver);
+        let mut driver = Counted::new(&mut $driver, pump.mac);
+        let never: Infallible = poll_fn(|cx| {
+            pump.poll(cx, &mut driver, $frames, $io);
+            if !$frames.rx.is_empty() {
+                $io.add_link_counters(&driver.take());
+            }
+            Poll::Pending
+        })
+        .await;
+        match never {}
+    }};
+}
+
 /// Runs the link task forever: `driver` is the board's, `frames` the queues shared with the
 /// [`super::NetDriver`] given to embassy-net, `io` the adapter.
 pub async fn run<D: Driver>(mut driver: D, frames: &LinkFrames, io: &dyn IoPort) -> ! {
-    let mut pump = Pump::new(&driver);
-    let mut driver = Counted::new(&mut driver, pump.mac);
-    let never: Infallible = poll_fn(|cx| {
-        pump.poll(cx, &mut driver, frames, io);
-        if !frames.rx.is_empty() {
-            io.add_link_counters(&driver.take());
-        }
-        Poll::Pending
-    })
-    .await;
-    match never {}
+    pump_forever!(false, driver, frames, io)
 }
 
-/// The link task's state between wake-ups.
-struct Pump {
+/// Like [`run`], and the link task verifies and fills the network stack's checksums in its
+/// place (`stack_sums`); `proof` says the stack was told so
+/// ([`super::NetDriver::with_link_checksums`]). Its own `Pump` type: a board that does not
+/// ask compiles none of it.
+pub async fn run_with_link_checksums<D: Driver>(
+    mut driver: D,
+    frames: &LinkFrames,
+    io: &dyn IoPort,
+    proof: LinkChecksums,
+) -> ! {
+    let LinkChecksums(()) = proof;
+    pump_forever!(true, driver, frames, io)
+}
+
+/// The link task's state between wake-ups; it does the network stack's checksums if
+/// `STACK_SUMS`.
+struct Pump<const STACK_SUMS: bool> {
     mac: [u8; 6],
-    /// Checksums software verifies on receive and fills on send (what the driver leaves).
+    /// Checksums software verifies on receive and fills on send (what the driver leaves):
+    /// the Class 1 frames' and, if `STACK_SUMS`, the stack's.
     sums: ChecksumCapabilities,
     neighbors: Neighbors,
     /// Address Conflict Detection of the interface address.
     guard: Guard,
-    /// The timer of the adapter's next deadline, and that deadline.
-    timer: Option<(Instant, Timer)>,
+    /// The adapter's next production or watchdog expiry as last learned: until then (and
+    /// unless [`Self::io_stale`]) a pass does not ask the adapter what is due.
+    io_next: Option<Instant>,
+    /// Another task may have brought [`Self::io_next`] forward (`IoPort::poll_deadline_moved`):
+    /// the next pass asks the adapter.
+    io_stale: bool,
     /// A T->O datagram is due but the driver had no room: its wake-up comes from the driver.
     blocked: bool,
     /// The adapter's LLDP deadline as last asked (`lldp::service`).
@@ -73,12 +101,16 @@ struct Pump {
     flood_guard: FloodGuard,
 }
 
-impl Pump {
+impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
     fn new(driver: &impl Driver) -> Self {
         let caps = driver.capabilities();
         let mut sums = ChecksumCapabilities::default();
         sums.ipv4 = software(caps.checksum.ipv4);
         sums.udp = software(caps.checksum.udp);
+        if STACK_SUMS {
+            sums.tcp = software(caps.checksum.tcp);
+            sums.icmpv4 = software(caps.checksum.icmpv4);
+        }
         #[allow(unreachable_patterns)] // other media exist only with other driver features
         let mac = match driver.hardware_address() {
             HardwareAddress::Ethernet(mac) => mac,
@@ -93,7 +125,8 @@ impl Pump {
             sums,
             neighbors: Neighbors::default(),
             guard: Guard::new(mac, seed),
-            timer: None,
+            io_next: None,
+            io_stale: true,
             blocked: false,
             lldp_next: None,
             lldp_stale: true,
@@ -117,6 +150,11 @@ impl Pump {
             self.lldp_stale = true;
         }
         frames.set_link_state(link);
+        // Another task brought the deadline forward (a Forward_Open, a trigger): asked at once
+        // in this wake-up's first pass. Only other tasks move it, and none runs meanwhile.
+        if io.poll_deadline_moved(cx).is_ready() {
+            self.io_stale = true;
+        }
         let me = io.interface();
         let mut at = now();
         self.guard.follow(me.ip, io, at);
@@ -134,7 +172,7 @@ impl Pump {
             }
         }
         frames.register_link(cx.waker());
-        if io.poll_deadline_moved(cx).is_ready() || !settled {
+        if !settled {
             cx.waker().wake_by_ref();
         }
     }
@@ -155,9 +193,10 @@ impl Pump {
         let more_frames = self.receive(cx, driver, frames, io, me, at);
         // The rare work (ACD, the stack's frames, LLDP) is checked here and done out of
         // line: a Class 1 wake-up pays a comparison for each.
-        let acd = self.guard.deadline(at);
+        let mut acd = self.guard.deadline(at);
         if acd.is_some_and(|d| d <= at) {
             self.send_acd_frame(cx, driver, at);
+            acd = self.guard.deadline(at);
         }
         if !frames.tx.is_empty() {
             // The stack's frames may answer a request that moved the LLDP deadline.
@@ -168,7 +207,7 @@ impl Pump {
             self.send_lldp(cx, driver, io, at);
         }
         let lldp = self.lldp_next.filter(|_| up);
-        let deadline = earliest(earliest(io_next, lldp), self.guard.deadline(at));
+        let deadline = earliest(earliest(io_next, lldp), acd);
         !more_frames && self.sleep_until(deadline, at, cx)
     }
 
@@ -224,10 +263,12 @@ impl Pump {
             .and_then(|(from, range)| Some((from, frame.get(range)?)));
         let passed = match o_t {
             Some((from, data)) => {
-                consume(io, from, data, at);
+                // The data may have triggered a production: the deadline is learned anew.
+                self.io_next = consume(io, from, data, at);
                 false
             }
             None if !self.flood_guard.admit(frame, me.ip, at) => false,
+            None if STACK_SUMS => self.pass_checked(frame, frames),
             None => {
                 // A frame longer than a queue slot is cut short, and the stack drops it.
                 let _ = frames.rx.push(frame.len(), |room| copy(room, frame));
@@ -240,6 +281,22 @@ impl Pump {
             self.neighbors.learn(ip, mac);
         }
         passed
+    }
+
+    /// Passes `frame` to the stack (true) unless a checksum the stack would have found bad
+    /// drops it here, in its place (`STACK_SUMS`); checked in its queue slot.
+    fn pass_checked(&self, frame: &[u8], frames: &LinkFrames) -> bool {
+        let sums = &self.sums;
+        let pushed = frames.rx.push(frame.len(), |room| {
+            // A frame longer than a queue slot is cut short, and the stack drops it.
+            copy(room, frame);
+            stack_sums::each(room, sums, false)
+        });
+        let kept = !matches!(pushed, Ok(false));
+        if !kept {
+            frames.rx.drop_last();
+        }
+        kept
     }
 
     /// Asks for the LLDP deadline again and sends the LLDPDU due at `at` (`lldp::service`).
@@ -287,6 +344,11 @@ impl Pump {
         }
         let dscp = io.explicit_dscp();
         let sums = &self.sums;
+        // With the stack's checksums done here, every one is filled after the marking.
+        let none = ChecksumCapabilities::ignored();
+        let mark_sums = if STACK_SUMS { &none } else { sums };
+        // The stack waits for room only when it found the queue full (`NetDriver`).
+        let was_full = frames.tx.is_full();
         let mut sent = false;
         let usable = self.guard.usable();
         for _ in 0..TX_FRAMES {
@@ -298,20 +360,24 @@ impl Pump {
             };
             let _ = frames.tx.pop(|frame| {
                 if usable || passes_unaddressed(frame) {
-                    dscp::mark_explicit(frame, dscp, sums);
+                    dscp::mark_explicit(frame, dscp, mark_sums);
+                    if STACK_SUMS {
+                        stack_sums::each(frame, sums, true);
+                    }
                     send_copy(tx, frame);
                 }
             });
             sent = true;
         }
-        if sent {
+        if sent && was_full {
             frames.wake_stack();
         }
         sent
     }
 
     /// Sends (or drops) every T->O datagram due at `at`; returns the adapter's next deadline
-    /// (`IoPort::deadline`).
+    /// (`IoPort::deadline`). Asks the adapter only when the deadline last learned has come
+    /// or another task may have moved it: a wake-up for a received frame pays a comparison.
     fn produce<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -321,13 +387,20 @@ impl Pump {
         at: Instant,
     ) -> Option<Instant> {
         self.blocked = false;
+        if !self.io_stale && self.io_next.is_none_or(|next| next > at) {
+            return self.io_next;
+        }
+        self.io_stale = false;
         let usable = self.guard.usable();
         // Bounded: each round sends or drops one datagram, and each producer is due once.
         for _ in 0..MAX_CONNECTIONS.saturating_mul(2) {
             let due = match io.due(at) {
                 Ok(due) => due,
                 // Nothing more due: the answer says when the next is.
-                Err(next) => return next,
+                Err(next) => {
+                    self.io_next = next;
+                    return next;
+                }
             };
             if !self.send_due(cx, driver, io, (me, usable), due, at) {
                 self.blocked = true;
@@ -335,7 +408,8 @@ impl Pump {
             }
         }
         // The driver had no room, or the bound was reached: asked apart.
-        io.deadline()
+        self.io_next = io.deadline();
+        self.io_next
     }
 
     /// Sends (or drops) the T->O datagram `due` at `at` from the interface `me` (its address
@@ -416,10 +490,15 @@ impl Pump {
         frame::write_t_o_headers(buf, route, len, &self.sums);
     }
 
-    /// Arms the timer for `deadline`; false if it is due already at `at` (the pass's start)
-    /// and nothing blocks it (the caller then runs another pass). A deadline passed during
-    /// the pass is caught by its timer: one armed before fires and wakes the task, a new one
-    /// is found expired when polled.
+    /// Asks for a wake-up at `deadline`; false if it is due already at `at` (the pass's
+    /// start) and nothing blocks it (the caller then runs another pass).
+    ///
+    /// Asked at the end of every wake-up, not only when the deadline changed: embassy-time
+    /// keeps one expiry per task, the earliest asked for until it fires, so a later deadline
+    /// asked while an earlier one was pending (or firing, the alarm's interrupt not yet
+    /// served) would be lost once that one fired. Asking again costs the queue's comparison,
+    /// less than a `Timer`'s own look at the clock. A deadline passed meanwhile wakes the
+    /// task at once.
     fn sleep_until(
         &mut self,
         deadline: Option<Instant>,
@@ -427,7 +506,6 @@ impl Pump {
         cx: &mut Context<'_>,
     ) -> bool {
         let Some(deadline) = deadline else {
-            self.timer = None;
             return true;
         };
         if self.blocked {
@@ -437,22 +515,17 @@ impl Pump {
         if at >= deadline {
             return false;
         }
-        match &mut self.timer {
-            // Armed for this deadline already, and not yet fired: the wake-up stands.
-            Some((armed, _)) if *armed == deadline => true,
-            slot => {
-                let (_, timer) = slot.insert((deadline, Timer::at(to_embassy(deadline))));
-                Pin::new(timer).poll(cx).is_pending()
-            }
-        }
+        embassy_time_driver::schedule_wake(to_embassy(deadline).as_ticks(), cx.waker());
+        true
     }
 }
 
-/// Hands one O->T datagram to the adapter. Never inlined: `cargo xtask bench` counts its
-/// calls as the Class 1 cycles of the emulated board.
+/// Hands one O->T datagram to the adapter; returns the adapter's next deadline after it.
+/// Never inlined: `cargo xtask bench` counts its calls as the Class 1 cycles of the emulated
+/// board.
 #[inline(never)]
-fn consume(io: &dyn IoPort, from: SocketAddrV4, data: &[u8], at: Instant) {
-    io.receive(from, data, at);
+fn consume(io: &dyn IoPort, from: SocketAddrV4, data: &[u8], at: Instant) -> Option<Instant> {
+    io.receive(from, data, at)
 }
 
 /// What software does about a checksum the driver does `hardware` about.

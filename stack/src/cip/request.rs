@@ -28,6 +28,7 @@ impl<'a> Path<'a> {
     /// Decodes a padded request path; anything but an electronic key as the first segment
     /// and logical and symbolic segments after it, a repeated segment, or a path with
     /// neither class nor symbol is a path segment error (0x04).
+    #[inline]
     pub fn parse(raw: &'a [u8]) -> CipResult<Path<'a>> {
         let mut p = Path::default();
         let mut segments = Segments::new(raw);

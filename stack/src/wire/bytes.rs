@@ -139,32 +139,43 @@ impl<'a> Writer<'a> {
         self.reserve(b.len())?.copy_from_slice(b);
         Ok(())
     }
+    /// Appends the `N` bytes of `v` as one fixed-size store (no call to a copy loop, as a
+    /// slice of unknown length would take).
+    fn array<const N: usize>(&mut self, v: [u8; N]) -> Result<()> {
+        match self.reserve(N)?.first_chunk_mut::<N>() {
+            Some(d) => {
+                *d = v;
+                Ok(())
+            }
+            None => Err(Error::Exhausted),
+        }
+    }
     /// Appends one byte.
     #[cfg_attr(target_os = "none", inline(never))]
     pub fn u8(&mut self, v: u8) -> Result<()> {
-        self.bytes(&[v])
+        self.array([v])
     }
     /// Appends a little-endian `u16`.
     #[cfg_attr(target_os = "none", inline(never))]
     pub fn u16(&mut self, v: u16) -> Result<()> {
-        self.bytes(&v.to_le_bytes())
+        self.array(v.to_le_bytes())
     }
     /// Appends a little-endian `u32`.
     #[cfg_attr(target_os = "none", inline(never))]
     pub fn u32(&mut self, v: u32) -> Result<()> {
-        self.bytes(&v.to_le_bytes())
+        self.array(v.to_le_bytes())
     }
     /// Appends one signed byte (CIP SINT).
     pub fn i8(&mut self, v: i8) -> Result<()> {
-        self.bytes(&v.to_le_bytes())
+        self.u8(v as u8)
     }
     /// Appends a little-endian `i16` (CIP INT).
     pub fn i16(&mut self, v: i16) -> Result<()> {
-        self.bytes(&v.to_le_bytes())
+        self.u16(v as u16)
     }
     /// Appends a little-endian `i32` (CIP DINT).
     pub fn i32(&mut self, v: i32) -> Result<()> {
-        self.bytes(&v.to_le_bytes())
+        self.u32(v as u32)
     }
     /// Appends `n` zero bytes.
     pub fn zeros(&mut self, n: usize) -> Result<()> {

@@ -43,12 +43,15 @@ pub enum Error {
     ResetTimeout,
 }
 
-/// The LAN9118 of the machine, with one frame buffer in each direction.
+/// The LAN9118 of the machine, with one frame buffer in each direction. Both buffers start
+/// word-aligned (`RX_BUF` is a multiple of 4), as the link task's frame queues do: the
+/// copies between them run a word at a time.
+#[repr(C, align(4))]
 pub struct Lan9118 {
-    mac: [u8; 6],
-    link_up: bool,
     rx: [u8; RX_BUF],
     tx: [u8; MTU],
+    mac: [u8; 6],
+    link_up: bool,
 }
 
 impl Lan9118 {
