@@ -34,6 +34,11 @@ const ADAPTER_FRAMES: &str = "ip.src == 198.18.0.2 && (enip || udp)";
 /// Expert warnings Wireshark puts in a reply about the request it answers (a CIP response
 /// shows the request's path), so a hostile request is flagged again in the adapter's reply.
 const REQUEST_ECHOES: &[&str] = &["Unsupported Logical Segment Format"];
+/// Expert warnings of a correct TCP reacting to the peer's timing: a receiver reporting a
+/// segment it got twice (RFC 2883), after the peer retransmitted it (which Wireshark marks
+/// only as a note). On a loaded machine a client's tail-loss probe can resend its FIN before
+/// the board's process ran; the kernel's TCP under `--bind` then answers with a D-SACK.
+const PEER_TIMING: &[&str] = &["D-SACK Sequence"];
 
 /// The board binary: `ENIP_HOST_BIN` (relative to the workspace root unless absolute),
 /// else the workspace's debug build.
@@ -70,9 +75,10 @@ pub fn start(name: &str) -> Rig {
 }
 
 /// Stops the rig of a test with well-behaved peers and checks its capture: at least one
-/// encapsulation frame, and every frame free of malformed packets and expert warnings.
+/// encapsulation frame, and every frame free of malformed packets and expert warnings but
+/// [`PEER_TIMING`]'s.
 pub fn finish(rig: Rig) {
-    let _ = check_capture(rig, "", &[]);
+    let _ = check_capture(rig, "", PEER_TIMING);
 }
 
 /// Stops the rig of a hostile test and checks the adapter's own UDP and encapsulation
@@ -83,7 +89,7 @@ pub fn finish_hostile(rig: Rig) {
 
 /// Like [`finish`], and returns the capture for further counting.
 pub fn finish_keeping_capture(rig: Rig) -> PathBuf {
-    check_capture(rig, "", &[])
+    check_capture(rig, "", PEER_TIMING)
 }
 
 fn check_capture(rig: Rig, scope: &str, tolerated: &[&str]) -> PathBuf {

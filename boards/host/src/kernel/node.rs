@@ -4,7 +4,7 @@
 //! [`super::fleet`] drives any number of them, each only when something of its own happens.
 
 use std::net::Ipv4Addr;
-use std::os::fd::AsRawFd;
+use std::os::fd::{AsRawFd, RawFd};
 
 use enip_stack::config::MAX_SESSIONS;
 use enip_stack::nv::SharedStore;
@@ -65,6 +65,10 @@ pub struct Node<D: Device> {
     device_due: Option<Instant>,
     /// The listener or a session changed since the epoll set was last told.
     tcp_changed: bool,
+    /// What the epoll set was last told of each TCP slot's descriptor: its number and
+    /// whether for reading and for writing (a level-triggered set needs telling only of a
+    /// change).
+    watched: [Option<(RawFd, bool, bool)>; SLOTS as usize],
     /// The deadline the loop holds for this node, if any.
     pub queued: Option<Instant>,
     /// A socket of it is ready and it is on the loop's list to wake.
@@ -136,6 +140,7 @@ impl<D: Device> Node<D> {
             io,
             device_due: Some(Instant::from_micros(0)),
             tcp_changed: true,
+            watched: [None; SLOTS as usize],
             queued: None,
             woken: false,
             readable: 0,
@@ -266,22 +271,37 @@ impl<D: Device> Node<D> {
     }
 
     /// Puts the listener and the sessions, as they are now, in `epoll` (a closed one left by
-    /// itself).
+    /// itself): only what changed since the set was last told.
     fn watch_tcp(&mut self, epoll: &Epoll, base: u64) {
-        let watch = |slot: u32, fd, read, write| {
-            if let Err(e) = epoll.watch(fd, base + u64::from(slot), read, write) {
-                log::error!("tcp {}: cannot wait on a socket: {e}", self.ip);
+        if self.tcp.take_renewed() {
+            self.watched = [None; SLOTS as usize];
+        }
+        let interests = [
+            (LISTENER, self.tcp.listener_fd().map(|fd| (fd, true, false))),
+            (
+                TLS_LISTENER,
+                self.tcp.tls_listener_fd().map(|fd| (fd, true, false)),
+            ),
+        ]
+        .into_iter()
+        .chain((0..MAX_SESSIONS).zip(SESSIONS..).map(|(index, slot)| {
+            let i = self.tcp.interest(index);
+            (slot, i.map(|i| (i.fd, i.read, i.write)))
+        }));
+        for (slot, interest) in interests {
+            let Some(want @ (fd, read, write)) = interest else {
+                continue;
+            };
+            let Some(watched) = self.watched.get_mut(slot as usize) else {
+                continue;
+            };
+            if *watched == Some(want) {
+                continue;
             }
-        };
-        if let Some(fd) = self.tcp.listener_fd() {
-            watch(LISTENER, fd, true, false);
-        }
-        if let Some(fd) = self.tcp.tls_listener_fd() {
-            watch(TLS_LISTENER, fd, true, false);
-        }
-        for (index, slot) in (0..MAX_SESSIONS).zip(SESSIONS..) {
-            if let Some(i) = self.tcp.interest(index) {
-                watch(slot, i.fd, i.read, i.write);
+            *watched = None;
+            match epoll.watch(fd, base + u64::from(slot), read, write) {
+                Ok(()) => *watched = Some(want),
+                Err(e) => log::error!("tcp {}: cannot wait on a socket: {e}", self.ip),
             }
         }
         self.tcp_changed = false;

@@ -50,6 +50,9 @@ pub struct Tcp {
     /// 44818 is closed to explicit messaging (TCP/IP Set_Port_Admin_State): no listener
     /// there; the sessions already open go on.
     plain_closed: bool,
+    /// A descriptor was opened (a listener, a slot's connection) since
+    /// [`Self::take_renewed`]: one may reuse a closed one's number.
+    renewed: bool,
 }
 
 /// The TLS port's listener and what its sessions are set up with.
@@ -140,6 +143,7 @@ impl Tcp {
             #[cfg(feature = "tls")]
             tls,
             plain_closed: false,
+            renewed: true,
         })
     }
 
@@ -204,6 +208,12 @@ impl Tcp {
     /// The listener, while one listens.
     pub fn listener_fd(&self) -> Option<RawFd> {
         self.listener.as_ref().map(AsRawFd::as_raw_fd)
+    }
+
+    /// Whether a descriptor was opened since the last call: what the epoll set was told of
+    /// a descriptor number may now concern another one.
+    pub fn take_renewed(&mut self) -> bool {
+        core::mem::take(&mut self.renewed)
     }
 
     /// What the connection in slot `index` waits for, if there is one.
@@ -282,6 +292,7 @@ impl Tcp {
         now: Instant,
     ) {
         if let Some(slot) = self.slots.iter_mut().find(|s| s.is_free()) {
+            self.renewed = true;
             return slot.start(stream, peer, adapter, now);
         }
         match self.waiting.iter_mut().find(|w| w.is_none()) {
@@ -365,6 +376,7 @@ impl Tcp {
                 break;
             };
             slot.start(w.stream, w.peer, adapter, now);
+            self.renewed = true;
         }
         if self.slots.iter().all(|s| !s.is_free()) {
             return;
@@ -378,6 +390,7 @@ impl Tcp {
                         log::warn!("tcp {addr}: dscp {}: {e}", self.dscp);
                     }
                     t.listener = Some(l);
+                    self.renewed = true;
                 }
                 Err(e) => log::warn!("tcp {addr}: listen failed: {e}"),
             }
@@ -391,6 +404,7 @@ impl Tcp {
                     log::warn!("tcp {}: dscp {}: {e}", self.addr, self.dscp);
                 }
                 self.listener = Some(l);
+                self.renewed = true;
             }
             Err(e) => log::warn!("tcp {}: listen failed: {e}", self.addr),
         }
