@@ -97,8 +97,13 @@ impl Io {
     }
 
     /// Joins the T->O multicast group while multicast connections exist, leaves it after,
-    /// and keeps the socket's multicast TTL at the TCP/IP object's.
+    /// and keeps the socket's multicast TTL at the TCP/IP object's while it sends multicast.
     pub fn track_multicast<D: Device>(&mut self, adapter: &Adapter<D>) {
+        let want = adapter.multicast_group();
+        if want.is_none() && self.joined.is_none() {
+            // No multicast datagram goes out: the TTL is set once one will.
+            return;
+        }
         let s = SockRef::from(&self.socket);
         let ttl = adapter.multicast_ttl();
         if ttl != self.ttl {
@@ -107,7 +112,6 @@ impl Io {
                 Err(e) => log::warn!("multicast ttl {ttl}: {e}"),
             }
         }
-        let want = adapter.multicast_group();
         if want == self.joined {
             return;
         }

@@ -4,7 +4,7 @@
 //! [`super::fleet`] drives any number of them, each only when something of its own happens.
 
 use std::net::Ipv4Addr;
-use std::os::fd::{AsRawFd, RawFd};
+use std::os::fd::AsRawFd;
 
 use enip_stack::config::MAX_SESSIONS;
 use enip_stack::nv::SharedStore;
@@ -14,6 +14,7 @@ use enip_stack::{Adapter, Device, Instant};
 use super::io::Io;
 use super::netif::Interface;
 use super::poll::Epoll;
+use super::session::Interest;
 use super::tcp::Tcp;
 use super::udp::Udp;
 use crate::runner::{on_reset, seed};
@@ -65,10 +66,9 @@ pub struct Node<D: Device> {
     device_due: Option<Instant>,
     /// The listener or a session changed since the epoll set was last told.
     tcp_changed: bool,
-    /// What the epoll set was last told of each TCP slot's descriptor: its number and
-    /// whether for reading and for writing (a level-triggered set needs telling only of a
-    /// change).
-    watched: [Option<(RawFd, bool, bool)>; SLOTS as usize],
+    /// What the epoll set was last told of each TCP slot's descriptor (a level-triggered
+    /// set needs telling only of a change).
+    watched: [Option<Interest>; SLOTS as usize],
     /// The deadline the loop holds for this node, if any.
     pub queued: Option<Instant>,
     /// A socket of it is ready and it is on the loop's list to wake.
@@ -216,7 +216,7 @@ impl<D: Device> Node<D> {
         if settings_may_change {
             self.io.track_multicast(&self.adapter);
         }
-        if self.tcp_changed {
+        if self.tcp_changed || self.tcp.needs_watch() {
             self.watch_tcp(epoll, base);
         }
         next
@@ -273,23 +273,26 @@ impl<D: Device> Node<D> {
     /// Puts the listener and the sessions, as they are now, in `epoll` (a closed one left by
     /// itself): only what changed since the set was last told.
     fn watch_tcp(&mut self, epoll: &Epoll, base: u64) {
-        if self.tcp.take_renewed() {
+        if self.tcp.watched() {
             self.watched = [None; SLOTS as usize];
         }
+        let listening = |fd| Interest {
+            fd,
+            read: true,
+            write: false,
+        };
         let interests = [
-            (LISTENER, self.tcp.listener_fd().map(|fd| (fd, true, false))),
-            (
-                TLS_LISTENER,
-                self.tcp.tls_listener_fd().map(|fd| (fd, true, false)),
-            ),
+            (LISTENER, self.tcp.listener_fd().map(listening)),
+            (TLS_LISTENER, self.tcp.tls_listener_fd().map(listening)),
         ]
         .into_iter()
-        .chain((0..MAX_SESSIONS).zip(SESSIONS..).map(|(index, slot)| {
-            let i = self.tcp.interest(index);
-            (slot, i.map(|i| (i.fd, i.read, i.write)))
-        }));
+        .chain(
+            (0..MAX_SESSIONS)
+                .zip(SESSIONS..)
+                .map(|(index, slot)| (slot, self.tcp.interest(index))),
+        );
         for (slot, interest) in interests {
-            let Some(want @ (fd, read, write)) = interest else {
+            let Some(want) = interest else {
                 continue;
             };
             let Some(watched) = self.watched.get_mut(slot as usize) else {
@@ -299,7 +302,7 @@ impl<D: Device> Node<D> {
                 continue;
             }
             *watched = None;
-            match epoll.watch(fd, base + u64::from(slot), read, write) {
+            match epoll.watch(want.fd, base + u64::from(slot), want.read, want.write) {
                 Ok(()) => *watched = Some(want),
                 Err(e) => log::error!("tcp {}: cannot wait on a socket: {e}", self.ip),
             }
@@ -330,7 +333,6 @@ impl<D: Device> Node<D> {
         for (index, slot) in (0..MAX_SESSIONS).zip(SESSIONS..) {
             let (r, w) = (is(readable, slot), is(writable, slot));
             if r || w {
-                self.tcp_changed = true;
                 changed |= self
                     .tcp
                     .serve(index, r, w, &mut self.adapter, now, on_reset);

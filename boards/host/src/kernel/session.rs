@@ -73,6 +73,7 @@ enum Flush {
 }
 
 /// What the loop watches of one descriptor, and for what.
+#[derive(Clone, Copy, PartialEq, Eq)]
 pub struct Interest {
     /// The descriptor.
     pub fd: RawFd,
@@ -171,15 +172,21 @@ impl Slot {
 
     /// What the connection waits for: a read, or room for the rest of its reply.
     pub fn interest(&self) -> Option<Interest> {
+        let write = self.waits_to_write()?;
+        Some(Interest {
+            fd: self.conn.as_ref()?.stream.tcp().as_raw_fd(),
+            read: !write,
+            write,
+        })
+    }
+
+    /// Whether the connection waits for room to write (else to read); `None` if the slot is
+    /// free.
+    pub fn waits_to_write(&self) -> Option<bool> {
         let conn = self.conn.as_ref()?;
-        let pending = match conn.state {
+        Some(match conn.state {
             State::Handshake { write, .. } => write,
             _ => self.out_start < self.out_end,
-        };
-        Some(Interest {
-            fd: conn.stream.tcp().as_raw_fd(),
-            read: !pending,
-            write: pending,
         })
     }
 

@@ -50,9 +50,11 @@ pub struct Tcp {
     /// 44818 is closed to explicit messaging (TCP/IP Set_Port_Admin_State): no listener
     /// there; the sessions already open go on.
     plain_closed: bool,
-    /// A descriptor was opened (a listener, a slot's connection) since
-    /// [`Self::take_renewed`]: one may reuse a closed one's number.
+    /// A descriptor was opened (a listener, a slot's connection) since [`Self::watched`]:
+    /// one may reuse a closed one's number.
     renewed: bool,
+    /// A session's interest changed since [`Self::watched`].
+    rewatch: bool,
 }
 
 /// The TLS port's listener and what its sessions are set up with.
@@ -144,6 +146,7 @@ impl Tcp {
             tls,
             plain_closed: false,
             renewed: true,
+            rewatch: true,
         })
     }
 
@@ -210,9 +213,17 @@ impl Tcp {
         self.listener.as_ref().map(AsRawFd::as_raw_fd)
     }
 
-    /// Whether a descriptor was opened since the last call: what the epoll set was told of
-    /// a descriptor number may now concern another one.
-    pub fn take_renewed(&mut self) -> bool {
+    /// Whether the epoll set is to be told something: a descriptor was opened, or what a
+    /// session waits for changed, since [`Self::watched`].
+    pub fn needs_watch(&self) -> bool {
+        self.renewed || self.rewatch
+    }
+
+    /// Notes that the epoll set was told of every descriptor; returns whether one was opened
+    /// since the last call (what the set was told of a descriptor number may now concern
+    /// another one).
+    pub fn watched(&mut self) -> bool {
+        self.rewatch = false;
         core::mem::take(&mut self.renewed)
     }
 
@@ -322,7 +333,10 @@ impl Tcp {
             return false;
         };
         let timeout = adapter.objects().tcpip.inactivity_timeout_s;
+        let before = (slot.deadline(), slot.waits_to_write());
         let served = slot.serve(readable, writable, adapter, now, on_reset);
+        let after = (slot.deadline(), slot.waits_to_write());
+        self.rewatch |= after.1 != before.1;
         if served && adapter.objects().tcpip.inactivity_timeout_s != timeout {
             // A Set of TCP/IP attribute 13 moves every session's inactivity deadline. (Other
             // traffic only moves deadlines later: each slot's check is a lower bound, asked
@@ -330,6 +344,11 @@ impl Tcp {
             for s in &mut self.slots {
                 s.recheck_idle(adapter);
             }
+        } else if after == before {
+            // Only this slot changed, and neither its deadline nor whether it is free or
+            // waits to write: the next deadline stays, and no waiting connection or listener
+            // is concerned.
+            return served;
         }
         self.settle(adapter, now);
         served
