@@ -31,10 +31,25 @@ impl<'a> Path<'a> {
     #[inline]
     pub fn parse(raw: &'a [u8]) -> CipResult<Path<'a>> {
         let mut p = Path::default();
-        let mut segments = Segments::new(raw);
-        let mut first = true;
+        // Most paths are 8-bit class, instance, attribute (member, connection point)
+        // segments only: those are read straight from the bytes.
+        let mut rest = raw;
+        while let [b, v, ref tail @ ..] = *rest {
+            let slot = match b {
+                0x20 => &mut p.class,
+                0x24 => &mut p.instance,
+                0x28 => &mut p.member,
+                0x2C => &mut p.connection_point,
+                0x30 => &mut p.attribute,
+                _ => break,
+            };
+            set_once(slot, u32::from(v))?;
+            rest = tail;
+        }
+        let mut first = rest.len() == raw.len();
+        let mut segments = Segments::new(rest);
         loop {
-            // Most paths are 8-bit logical segments only: those skip the general decoder.
+            // 8-bit logical segments after a key skip the general decoder too.
             let seg = match segments.next_logical8() {
                 Some((kind, v)) => SegmentRepr::Logical(kind, v),
                 None => match segments.next() {
@@ -206,5 +221,28 @@ mod tests {
         assert_eq!(e(&[0x0E, 2, 0x20, 1, 0x01, 0]), 0x04); // port segment
         assert_eq!(e(&[0x0E, 5, 0x20, 1]), 0x26); // path longer than message
         assert_eq!(e(&[0x0E]), 0x13);
+    }
+
+    #[test]
+    fn eight_bit_segments_then_wider_ones_decode_as_one_path() {
+        // 8-bit class, 16-bit instance, 8-bit attribute, 8-bit member.
+        let raw = [0x0E, 5, 0x20, 0x04, 0x25, 0, 0x34, 0x12, 0x30, 3, 0x28, 9];
+        let p = Request::parse(&raw).unwrap().path;
+        assert_eq!(p.class, Some(4));
+        assert_eq!(p.instance, Some(0x1234));
+        assert_eq!(p.attribute, Some(3));
+        assert_eq!(p.member, Some(9));
+        assert_eq!(
+            Request::parse(&[0x0E, 2, 0x20, 4, 0x2C, 0x65])
+                .unwrap()
+                .path
+                .connection_point,
+            Some(0x65)
+        );
+        let e = |b: &[u8]| Request::parse(b).unwrap_err().1.general as u8;
+        // The same segment in two widths, a service ID segment, a symbol after a class.
+        assert_eq!(e(&[0x0E, 3, 0x20, 4, 0x21, 0, 4, 0]), 0x04);
+        assert_eq!(e(&[0x0E, 2, 0x20, 4, 0x38, 1]), 0x04);
+        assert_eq!(e(&[0x0E, 3, 0x20, 4, 0x91, 1, b'A', 0]), 0x04);
     }
 }
