@@ -2,7 +2,7 @@
 //! and sends for the Ethernet Link object (attributes 4 and 5). Counting at the driver catches
 //! every frame whoever in the link task reads or writes it (Class 1, the network stack's, ARP,
 //! the layer-2 services). Each frame costs a few additions and no lock: the link task hands
-//! the counts to the adapter ([`Counted::take`]) only at the end of a wake-up that leaves a
+//! the counts to the adapter ([`Counted::hand_over`]) only at the end of a wake-up that leaves a
 //! frame for the network stack. Any request that reads them comes in such a frame, so it
 //! finds every frame up to its own counted, and a Class 1 cycle (its frames never go to the
 //! network stack) pays nothing more.
@@ -32,9 +32,12 @@ impl<'d, D: Driver> Counted<'d, D> {
         }
     }
 
-    /// What was counted since the last call.
-    pub fn take(&self) -> LinkCounters {
-        core::mem::take(&mut *self.counts.borrow_mut())
+    /// Hands what was counted since the last call to `f`, where it lies (not copied out),
+    /// and counts anew from zero.
+    pub fn hand_over(&self, f: impl FnOnce(&LinkCounters)) {
+        let mut counts = self.counts.borrow_mut();
+        f(&counts);
+        *counts = LinkCounters::new();
     }
 }
 

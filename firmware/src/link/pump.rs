@@ -46,7 +46,7 @@ macro_rules! pump_forever {
         let never: Infallible = poll_fn(|cx| {
             pump.poll(cx, &mut driver, $frames, $io);
             if !$frames.rx.is_empty() {
-                $io.add_link_counters(&driver.take());
+                driver.hand_over(|counted| $io.add_link_counters(counted));
             }
             Poll::Pending
         })

@@ -31,6 +31,15 @@ impl<'a> Path<'a> {
     #[inline]
     pub fn parse(raw: &'a [u8]) -> CipResult<Path<'a>> {
         let mut p = Path::default();
+        p.decode(raw)?;
+        Ok(p)
+    }
+
+    /// [`Self::parse`] into this (default) path, where it lies: a request's path is decoded
+    /// in place rather than moved into it.
+    #[inline]
+    fn decode(&mut self, raw: &'a [u8]) -> CipResult {
+        let p = self;
         // Most paths are 8-bit class, instance, attribute (member, connection point)
         // segments only: those are read straight from the bytes.
         let mut rest = raw;
@@ -82,7 +91,7 @@ impl<'a> Path<'a> {
         if p.class.is_none() && p.symbol.is_none() {
             return Err(CipError::new(General::PathSegmentError));
         }
-        Ok(p)
+        Ok(())
     }
 
     /// The instance, or the connection point when only that was given.
@@ -100,7 +109,7 @@ fn set_once(slot: &mut Option<u32>, v: u32) -> CipResult {
 }
 
 /// A decoded Message Router request.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Request<'a> {
     /// Service code.
     pub service: u8,
@@ -117,6 +126,14 @@ impl<'a> Request<'a> {
     /// no path size byte is not enough data (0x13), a path size beyond the request path size
     /// invalid (0x26), a segment that cannot be decoded a path segment error (0x04).
     pub fn parse(buf: &'a [u8]) -> Result<Request<'a>, (u8, CipError)> {
+        let mut request = Request::default();
+        request.parse_from(buf)?;
+        Ok(request)
+    }
+
+    /// [`Self::parse`] into this (default) request, where it lies: the Message Router's
+    /// request is decoded in place rather than moved out of a result.
+    pub(crate) fn parse_from(&mut self, buf: &'a [u8]) -> Result<(), (u8, CipError)> {
         let service = buf.first().copied().unwrap_or(0);
         let packet = RequestPacket::new_checked(buf).map_err(|_| {
             let general = if buf.len() < 2 {
@@ -127,13 +144,10 @@ impl<'a> Request<'a> {
             (service, CipError::new(general))
         })?;
         let repr = RequestRepr::parse(&packet);
-        let path = Path::parse(repr.path).map_err(|e| (service, e))?;
-        Ok(Request {
-            service: repr.service,
-            path,
-            raw_path: repr.path,
-            data: repr.data,
-        })
+        self.service = repr.service;
+        self.raw_path = repr.path;
+        self.data = repr.data;
+        self.path.decode(repr.path).map_err(|e| (service, e))
     }
 }
 

@@ -24,8 +24,9 @@ pub(crate) fn respond<D: Device, const C: usize>(
     w: &mut Writer<'_>,
     depth: u8,
 ) -> wire::Result<()> {
-    match Request::parse(request) {
-        Ok(req) => respond_to(ctx, &req, w, depth),
+    let mut req = Request::default();
+    match req.parse_from(request) {
+        Ok(()) => respond_to(ctx, &req, w, depth),
         Err((service, e)) => finish(w, w.len(), service, Err(e)),
     }
 }
