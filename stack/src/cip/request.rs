@@ -45,11 +45,11 @@ impl<'a> Path<'a> {
         let mut rest = raw;
         while let [b, v, ref tail @ ..] = *rest {
             let slot = match b {
-                0x20 => &mut p.class,
-                0x24 => &mut p.instance,
-                0x28 => &mut p.member,
-                0x2C => &mut p.connection_point,
-                0x30 => &mut p.attribute,
+                CLASS8 => &mut p.class,
+                INSTANCE8 => &mut p.instance,
+                MEMBER8 => &mut p.member,
+                POINT8 => &mut p.connection_point,
+                ATTRIBUTE8 => &mut p.attribute,
                 _ => break,
             };
             set_once(slot, u32::from(v))?;
@@ -99,6 +99,13 @@ impl<'a> Path<'a> {
         self.instance.or(self.connection_point)
     }
 }
+
+/// The first bytes of the 8-bit logical segments [`Path::parse`] reads directly.
+const CLASS8: u8 = LogicalType::Class.segment8();
+const INSTANCE8: u8 = LogicalType::Instance.segment8();
+const MEMBER8: u8 = LogicalType::Member.segment8();
+const POINT8: u8 = LogicalType::ConnectionPoint.segment8();
+const ATTRIBUTE8: u8 = LogicalType::Attribute.segment8();
 
 fn set_once(slot: &mut Option<u32>, v: u32) -> CipResult {
     if slot.is_some() {

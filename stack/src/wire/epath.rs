@@ -22,6 +22,12 @@ pub enum LogicalType {
 }
 
 impl LogicalType {
+    /// The first byte of its 8-bit logical segment (also the head its 16- and 32-bit forms
+    /// add their format to).
+    pub(crate) const fn segment8(self) -> u8 {
+        0x20 | (self.code() << 2)
+    }
+
     const fn code(self) -> u8 {
         match self {
             LogicalType::Class => 0,
@@ -231,7 +237,7 @@ impl<'a> SegmentRepr<'a> {
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
         match *self {
             SegmentRepr::Logical(kind, v) => {
-                let head = 0x20 | (kind.code() << 2);
+                let head = kind.segment8();
                 if let Ok(v8) = u8::try_from(v) {
                     w.bytes(&[head, v8])
                 } else if let Ok(v16) = u16::try_from(v) {

@@ -64,8 +64,6 @@ pub struct Node<D: Device> {
     io: Io,
     /// When the device's own clock next wants to run.
     device_due: Option<Instant>,
-    /// The listener or a session changed since the epoll set was last told.
-    tcp_changed: bool,
     /// What the epoll set was last told of each TCP slot's descriptor (a level-triggered
     /// set needs telling only of a change).
     watched: [Option<Interest>; SLOTS as usize],
@@ -139,7 +137,6 @@ impl<D: Device> Node<D> {
             udp,
             io,
             device_due: Some(Instant::from_micros(0)),
-            tcp_changed: true,
             watched: [None; SLOTS as usize],
             queued: None,
             woken: false,
@@ -216,7 +213,7 @@ impl<D: Device> Node<D> {
         if settings_may_change {
             self.io.track_multicast(&self.adapter);
         }
-        if self.tcp_changed || self.tcp.needs_watch() {
+        if self.tcp.needs_watch() {
             self.watch_tcp(epoll, base);
         }
         next
@@ -253,7 +250,6 @@ impl<D: Device> Node<D> {
         let mut tcp = self.tcp.next_deadline();
         if due(tcp) {
             self.tcp.check_deadlines(&mut self.adapter, now);
-            self.tcp_changed = true;
             tcp = self.tcp.next_deadline();
         }
         [io, udp, self.device_due, tcp].into_iter().flatten().min()
@@ -267,7 +263,6 @@ impl<D: Device> Node<D> {
         }
         let closed = self.adapter.security(now).plain_tcp_closed;
         self.tcp.set_plain_closed(closed, &mut self.adapter, now);
-        self.tcp_changed = true;
     }
 
     /// Puts the listener and the sessions, as they are now, in `epoll` (a closed one left by
@@ -307,7 +302,6 @@ impl<D: Device> Node<D> {
                 Err(e) => log::error!("tcp {}: cannot wait on a socket: {e}", self.ip),
             }
         }
-        self.tcp_changed = false;
     }
 
     /// Serves every socket found ready; returns whether encapsulation frames were handled
@@ -341,7 +335,6 @@ impl<D: Device> Node<D> {
         for (key, tls) in [(LISTENER, false), (TLS_LISTENER, true)] {
             if is(readable, key) {
                 self.tcp.accept(&mut self.adapter, now, tls);
-                self.tcp_changed = true;
             }
         }
         changed

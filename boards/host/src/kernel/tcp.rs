@@ -53,7 +53,7 @@ pub struct Tcp {
     /// A descriptor was opened (a listener, a slot's connection) since [`Self::watched`]:
     /// one may reuse a closed one's number.
     renewed: bool,
-    /// A session's interest changed since [`Self::watched`].
+    /// The listener or what a session waits for may have changed since [`Self::watched`].
     rewatch: bool,
 }
 
@@ -170,6 +170,7 @@ impl Tcp {
         if closed {
             self.listener = None;
         }
+        self.rewatch = true;
         self.settle(adapter, now);
     }
 
@@ -270,6 +271,7 @@ impl Tcp {
                 t.listener = None;
             }
         }
+        self.rewatch = true;
         self.settle(adapter, now);
     }
 
@@ -366,6 +368,7 @@ impl Tcp {
                 reset(gone.stream.tcp());
             }
         }
+        self.rewatch = true;
         self.settle(adapter, now);
     }
 
