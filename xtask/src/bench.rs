@@ -151,7 +151,7 @@ pub fn run_all(scale: Scale) -> Result {
 }
 
 /// The figures every report must hold, as JSON pointers.
-const FIGURES: [&str; 33] = [
+const FIGURES: [&str; 34] = [
     "/class1_cycle/instructions_per_cycle",
     "/class1_cycle/ns_per_cycle_median",
     "/class1_cycle_as_the_link_task_calls/instructions_per_cycle",
@@ -179,6 +179,7 @@ const FIGURES: [&str; 33] = [
     "/host_runtime/enip-host --bind/requests_per_second_1_session",
     "/host_runtime/enip-host --bind/requests_per_second_3_sessions",
     "/host_runtime/enip-host --bind/cpu_us_per_request_3_sessions",
+    "/host_runtime/enip-host --bind/cpu_us_per_request_at_common_rate",
     "/host_runtime/enip-host --tap/instructions_per_request_3_sessions",
     "/host_runtime/enip-host --bind/instructions_per_request_3_sessions",
     "/fleet/runs/1/lost",

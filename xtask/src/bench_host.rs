@@ -12,9 +12,10 @@
 //! - explicit messaging: back-to-back Get_Attribute_Single on 1 and on 3 sessions for
 //!   3 s (`request_rate`), requests per second, the boards taking turns for
 //!   [`Scale::rate_rounds`] rounds and each board's median reported, with the board's CPU
-//!   time (user and system, `/proc/PID/stat`) per request on 3 sessions; and the
-//!   instructions per request on 3 sessions, under callgrind, from a 3 s and a 9 s run the
-//!   same way.
+//!   time (user and system, `/proc/PID/stat`) per request on 3 sessions; then the same CPU
+//!   time with every board at one common rate ([`common_rate`]: half the slowest board's
+//!   median, so each keeps up), the same number of rounds; and the instructions per request
+//!   on 3 sessions, under callgrind, from a 3 s and a 9 s run the same way.
 //!
 //! Needs root (namespaces), valgrind, and the release builds of `enip-host`, `scanner` and
 //! `request_rate`, which [`run_all`] makes.
@@ -156,14 +157,15 @@ pub fn measure(scale: Scale) -> Result<Value> {
     let _ = fs::create_dir_all(&bins.dir);
     let mut report = serde_json::Map::new();
     println!(
-        "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12} {:>12}",
+        "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12} {:>12} {:>16}",
         "board",
         "instr/cycle",
         "ctx sw/cycle",
         "1 sess rq/s",
         "3 sess rq/s",
         "instr/rq",
-        "CPU us/rq"
+        "CPU us/rq",
+        "CPU us/rq common"
     );
     let mut measured = Vec::new();
     for board in &boards {
@@ -172,36 +174,37 @@ pub fn measure(scale: Scale) -> Result<Value> {
     // The request rates are wall-clock figures on a shared machine: the boards take turns,
     // round after round (every other round in reverse order, so none always goes first),
     // and each board's median is reported.
-    let mut rounds: Vec<Vec<Rates>> = boards.iter().map(|_| Vec::new()).collect();
-    for round in 0..bins.rate_rounds {
-        for j in 0..boards.len() {
-            let i = if round % 2 == 1 {
-                boards.len() - 1 - j
-            } else {
-                j
-            };
-            rounds[i].push(rates(&boards[i], &bins)?);
-        }
-    }
-    for ((board, mut r), runs) in boards.iter().zip(measured).zip(rounds) {
-        let median = |pick: fn(&Rates) -> f64| {
-            let mut v: Vec<f64> = runs.iter().map(pick).collect();
-            v.sort_by(f64::total_cmp);
-            v.get(v.len() / 2).copied().unwrap_or(0.0)
-        };
-        r["requests_per_second_1_session"] = median(|r| r.one).into();
-        r["requests_per_second_3_sessions"] = median(|r| r.three).into();
-        r["cpu_us_per_request_3_sessions"] = median(|r| r.cpu_us_per_request).into();
+    let rounds = in_turns(boards.len(), bins.rate_rounds, |i| rates(&boards[i], &bins))?;
+    let threes: Vec<f64> = rounds
+        .iter()
+        .map(|runs| median(runs, |r| r.three))
+        .collect();
+    let common = common_rate(&threes);
+    let paced = in_turns(boards.len(), bins.rate_rounds, |i| {
+        paced(&boards[i], &bins, common)
+    })?;
+    for (((board, mut r), runs), at_common) in boards.iter().zip(measured).zip(rounds).zip(paced) {
+        r["requests_per_second_1_session"] = median(&runs, |r| r.one).into();
+        r["requests_per_second_3_sessions"] = median(&runs, |r| r.three).into();
+        r["cpu_us_per_request_3_sessions"] = median(&runs, |r| r.cpu_us_per_request).into();
         r["request_rate_rounds"] = json!(runs
             .iter()
             .map(|r| json!([r.one, r.three, r.cpu_us_per_request]))
+            .collect::<Vec<_>>());
+        r["common_rate_requests_per_second"] = common.into();
+        r["requests_per_second_at_common_rate"] = median(&at_common, |r| r.three).into();
+        r["cpu_us_per_request_at_common_rate"] =
+            median(&at_common, |r| r.cpu_us_per_request).into();
+        r["common_rate_rounds"] = json!(at_common
+            .iter()
+            .map(|r| json!([r.three, r.cpu_us_per_request]))
             .collect::<Vec<_>>());
         let cell = |k: &str, digits: usize| {
             r[k].as_f64()
                 .map_or("?".into(), |v| format!("{v:.digits$}"))
         };
         println!(
-            "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12} {:>12}",
+            "{:<18} {:>14} {:>14} {:>12} {:>12} {:>12} {:>12} {:>16}",
             board.name(),
             cell("instructions_per_cycle", 1),
             cell("context_switches_per_cycle", 1),
@@ -209,10 +212,52 @@ pub fn measure(scale: Scale) -> Result<Value> {
             cell("requests_per_second_3_sessions", 1),
             cell("instructions_per_request_3_sessions", 1),
             cell("cpu_us_per_request_3_sessions", 2),
+            cell("cpu_us_per_request_at_common_rate", 2),
         );
         report.insert(board.name().into(), r);
     }
+    println!("common rate: {common} requests/s on 3 sessions");
     Ok(Value::Object(report))
+}
+
+/// Runs `measure(board)` for `boards` boards in turns, `rounds` times (every other round in
+/// reverse order, so none always goes first); each board's results in round order.
+fn in_turns<T>(
+    boards: usize,
+    rounds: usize,
+    mut measure: impl FnMut(usize) -> Result<T>,
+) -> Result<Vec<Vec<T>>> {
+    let mut out: Vec<Vec<T>> = (0..boards).map(|_| Vec::new()).collect();
+    for round in 0..rounds {
+        for j in 0..boards {
+            let i = if round % 2 == 1 { boards - 1 - j } else { j };
+            out[i].push(measure(i)?);
+        }
+    }
+    Ok(out)
+}
+
+/// The median of `pick` over `runs` (0 for none).
+fn median(runs: &[Rates], pick: fn(&Rates) -> f64) -> f64 {
+    let mut v: Vec<f64> = runs.iter().map(pick).collect();
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(0.0)
+}
+
+/// The rate every board is measured at for the CPU time at one request rate: half the
+/// slowest board's median on 3 sessions (so every board keeps up with it), in whole
+/// thousands, at least 1 000.
+fn common_rate(three_session_medians: &[f64]) -> u32 {
+    let slowest = three_session_medians
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let half = if slowest.is_finite() {
+        slowest / 2.0
+    } else {
+        0.0
+    };
+    ((half / 1000.0).floor() as u32).max(1) * 1000
 }
 
 /// Every figure of one board.
@@ -386,6 +431,31 @@ fn rates(board: &Board, bins: &Bins) -> Result<Rates> {
     result
 }
 
+/// The board's CPU time per request on 3 sessions paced to `rate` requests per second in
+/// all (`three`: the rate reached; `one` unused).
+fn paced(board: &Board, bins: &Bins, rate: u32) -> Result<Rates> {
+    let lab = board.lab()?;
+    let mut child = start(board, &lab, bins, None)?;
+    let pid = child.id();
+    let cpu_ticks = || usage(pid).map_or(0, |u| u.cpu_ticks);
+    let before = cpu_ticks();
+    let report = request_rate_at(&lab, bins, 3, bins.seconds.2, rate);
+    let ticks = cpu_ticks().saturating_sub(before);
+    stop(&mut child);
+    let report = report?;
+    let number = |key: &str| {
+        report[key]
+            .as_f64()
+            .ok_or_else(|| Error(format!("request_rate printed {report}")))
+    };
+    let requests = number("requests")?;
+    Ok(Rates {
+        one: 0.0,
+        three: number("per_second")?,
+        cpu_us_per_request: ticks as f64 * 1e6 / ticks_per_second() as f64 / requests.max(1.0),
+    })
+}
+
 /// User-space instructions per Get_Attribute_Single on 3 sessions at once: the board under
 /// callgrind answering `request_rate` for a short and a long run, the difference of the
 /// totals over the difference of the requests answered (start-up and shut-down cancel out).
@@ -416,12 +486,25 @@ fn request_cost(board: &Board, bins: &Bins) -> Result<f64> {
 /// `request_rate` in `lab`: back-to-back Get_Attribute_Single on `sessions` sessions for
 /// `seconds`; its JSON report.
 fn request_rate(lab: &Lab, bins: &Bins, sessions: u32, seconds: u64) -> Result<Value> {
+    request_rate_at(lab, bins, sessions, seconds, 0)
+}
+
+/// [`request_rate`] paced to `rate` requests per second in all (0: back to back).
+fn request_rate_at(
+    lab: &Lab,
+    bins: &Bins,
+    sessions: u32,
+    seconds: u64,
+    rate: u32,
+) -> Result<Value> {
     let out = lab
         .command(&bins.request_rate)
         .args(["--target", BOARD_IP, "--sessions"])
         .arg(sessions.to_string())
         .arg("--seconds")
         .arg(seconds.to_string())
+        .arg("--rate")
+        .arg(rate.to_string())
         .output()
         .map_err(|e| Error(format!("request_rate: {e}")))?;
     serde_json::from_slice::<Value>(&out.stdout).map_err(|_| {
@@ -430,4 +513,29 @@ fn request_rate(lab: &Lab, bins: &Bins, sessions: u32, seconds: u64) -> Result<V
             String::from_utf8_lossy(&out.stderr)
         ))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_common_rate_is_half_the_slowest_in_thousands() {
+        assert_eq!(common_rate(&[76_917.0, 79_545.0, 72_921.0]), 36_000);
+        assert_eq!(common_rate(&[1_999.0]), 1_000);
+        assert_eq!(common_rate(&[0.0]), 1_000);
+        assert_eq!(common_rate(&[]), 1_000);
+    }
+
+    #[test]
+    fn boards_take_turns_every_other_round_reversed() {
+        let mut order = Vec::new();
+        let out = in_turns(3, 2, |i| {
+            order.push(i);
+            Ok(i * 10)
+        })
+        .unwrap();
+        assert_eq!(order, [0, 1, 2, 2, 1, 0]);
+        assert_eq!(out, [vec![0, 0], vec![10, 10], vec![20, 20]]);
+    }
 }

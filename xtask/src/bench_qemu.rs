@@ -50,6 +50,8 @@ const REQUEST_MARKER: &str = "enip_firmware::tcp::feed";
 const WRITE_ASSEMBLY: &str = "as enip_stack::device::Device>::write_assembly";
 /// The LAN9118 driver taking a whole frame into its transmit FIFO.
 const PUSH_FRAME: &str = "enip_qemu_mps2::lan9118::push_frame";
+/// One wake-up of the link task (its loop's body, never inlined).
+const LINK_WAKE_UP: &str = "enip_firmware::link::pump::Pump<_>::poll";
 /// The traced runs: connections and RPI. The log slows the emulation many-fold, so the
 /// 10-connection run uses a 20 ms RPI (at a shorter one more datagrams share a wake-up).
 pub(crate) const TRACED: [(u32, u32); 2] = [(1, 10_000), (10, 20_000)];
@@ -270,6 +272,10 @@ pub fn print_cost(title: &str, cost: &Cost) {
         cost.per_cycle(cost.total()),
         cost.cycles
     );
+    println!(
+        "  link task wake-ups                 {:>8.2}",
+        cost.wake_ups as f64 / cost.cycles.max(1) as f64
+    );
     for (part, n) in cost.by_part() {
         println!("  {part:<34} {:>8.1}", cost.per_cycle(n));
     }
@@ -348,7 +354,8 @@ fn traced_run(
         loaded.and(counted)
     });
     let _ = fs::remove_file(&fifo);
-    let cost = result?;
+    let mut cost = result?;
+    cost.wake_ups = cost.calls_into(&symbols.starts_ending(LINK_WAKE_UP));
     fs::write(dir.join(format!("blocks-{tag}.txt")), cost.blocks(symbols))?;
     if cost.cycles < wanted.1 {
         return err(format!(

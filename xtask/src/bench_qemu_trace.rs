@@ -90,6 +90,8 @@ pub struct Cost {
     /// Instructions from `write_assembly` (where the device marks its input changed) to the
     /// T->O frame handed to the driver in the same wake-up, per frame.
     pub to_driver: Vec<u64>,
+    /// Wake-ups of the link task over the cycles counted (calls of its loop's body).
+    pub wake_ups: u64,
 }
 
 impl Cost {
@@ -99,6 +101,15 @@ impl Cost {
 
     pub fn per_cycle(&self, n: u64) -> f64 {
         (n as f64 / self.cycles.max(1) as f64 * 10.0).round() / 10.0
+    }
+
+    /// Calls of the functions starting at `starts` over the cycles counted.
+    pub fn calls_into(&self, starts: &[u32]) -> u64 {
+        self.calls
+            .iter()
+            .filter(|((_, to), _)| starts.contains(to))
+            .map(|(_, n)| n)
+            .sum()
     }
 
     /// One line per translation block, the costliest first: its address, instructions per
@@ -150,6 +161,7 @@ impl Cost {
             "rpi_us": rpi_us,
             "cycles": self.cycles,
             "per_cycle": self.per_cycle(self.total()),
+            "link_wake_ups_per_cycle": (self.wake_ups as f64 / self.cycles.max(1) as f64 * 100.0).round() / 100.0,
             "by_part": parts,
             "top_functions": top,
             "o_t_to_write_assembly_median": median(&self.to_device),

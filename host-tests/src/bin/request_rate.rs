@@ -1,5 +1,6 @@
-//! `request_rate`: back-to-back Get_Attribute_Single requests (Identity vendor ID) on N
-//! sessions at once, one thread each, for a while; prints the requests answered as JSON.
+//! `request_rate`: Get_Attribute_Single requests (Identity vendor ID) on N sessions at once,
+//! one thread each, for a while: back to back, or paced to a total rate (`--rate`, requests
+//! per second over all sessions); prints the requests answered as JSON.
 
 use std::net::Ipv4Addr;
 use std::process::ExitCode;
@@ -15,8 +16,17 @@ const VENDOR: [SegmentRepr<'static>; 3] = [
     SegmentRepr::Logical(LogicalType::Attribute, 1),
 ];
 
-fn parse() -> Result<(Ipv4Addr, usize, u64), String> {
+/// What to run: the target, sessions, seconds and the total rate (0: back to back).
+struct Args {
+    target: Ipv4Addr,
+    sessions: usize,
+    seconds: u64,
+    rate: u32,
+}
+
+fn parse() -> Result<Args, String> {
     let (mut target, mut sessions, mut seconds) = (Ipv4Addr::new(198, 18, 0, 2), 1, 5);
+    let mut rate = 0;
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
         let value = it.next().ok_or_else(|| format!("{flag} needs a value"))?;
@@ -25,19 +35,44 @@ fn parse() -> Result<(Ipv4Addr, usize, u64), String> {
             "--target" => target = value.parse().map_err(|e| bad(&e))?,
             "--sessions" => sessions = value.parse().map_err(|e| bad(&e))?,
             "--seconds" => seconds = value.parse().map_err(|e| bad(&e))?,
+            "--rate" => rate = value.parse().map_err(|e| bad(&e))?,
             _ => {
-                return Err("usage: request_rate [--target IP] [--sessions N] [--seconds S]".into())
+                return Err(
+                    "usage: request_rate [--target IP] [--sessions N] [--seconds S] [--rate R]"
+                        .into(),
+                )
             }
         }
     }
-    Ok((target, sessions, seconds))
+    Ok(Args {
+        target,
+        sessions,
+        seconds,
+        rate,
+    })
 }
 
-/// Requests answered on one session until `end`.
-fn hammer(target: Ipv4Addr, end: Instant) -> Result<u64, String> {
+/// Requests answered on one session until `end`, one every `period` from `first` (none:
+/// back to back). A session that falls behind by a period starts counting anew from now
+/// (no burst to catch up).
+fn hammer(
+    target: Ipv4Addr,
+    end: Instant,
+    pace: Option<(Instant, Duration)>,
+) -> Result<u64, String> {
     let mut s = Session::connect(target, Duration::from_secs(3)).map_err(|e| e.to_string())?;
     let mut done = 0u64;
+    let mut next = pace.map(|(first, _)| first);
     while Instant::now() < end {
+        if let (Some(at), Some((_, period))) = (next.as_mut(), pace) {
+            let now = Instant::now();
+            match at.checked_duration_since(now) {
+                Some(wait) => std::thread::sleep(wait),
+                None if now.duration_since(*at) > period => *at = now,
+                None => {}
+            }
+            *at += period;
+        }
         let r = s
             .request(0x0E, &VENDOR, &[])
             .map_err(|e| format!("request: {e}"))?;
@@ -50,7 +85,12 @@ fn hammer(target: Ipv4Addr, end: Instant) -> Result<u64, String> {
 }
 
 fn main() -> ExitCode {
-    let (target, sessions, seconds) = match parse() {
+    let Args {
+        target,
+        sessions,
+        seconds,
+        rate,
+    } = match parse() {
         Ok(a) => a,
         Err(e) => {
             eprintln!("request_rate: {e}");
@@ -59,9 +99,14 @@ fn main() -> ExitCode {
     };
     let start = Instant::now();
     let end = start + Duration::from_secs(seconds);
+    // Each session sends every `sessions / rate` seconds, the sessions staggered evenly.
+    let period = (rate > 0).then(|| Duration::from_secs_f64(sessions as f64 / f64::from(rate)));
     let counts: Vec<Result<u64, String>> = std::thread::scope(|s| {
         let workers: Vec<_> = (0..sessions)
-            .map(|_| s.spawn(move || hammer(target, end)))
+            .map(|i| {
+                let pace = period.map(|p| (start + p.mul_f64(i as f64 / sessions as f64), p));
+                s.spawn(move || hammer(target, end, pace))
+            })
             .collect();
         workers
             .into_iter()
@@ -83,6 +128,7 @@ fn main() -> ExitCode {
         "{}",
         serde_json::json!({
             "sessions": sessions,
+            "rate": rate,
             "seconds": elapsed,
             "requests": total,
             "per_second": (total as f64 / elapsed).round(),
