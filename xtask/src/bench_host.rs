@@ -177,7 +177,7 @@ pub fn measure(scale: Scale) -> Result<Value> {
     let rounds = in_turns(boards.len(), bins.rate_rounds, |i| rates(&boards[i], &bins))?;
     let threes: Vec<f64> = rounds
         .iter()
-        .map(|runs| median(runs, |r| r.three))
+        .map(|runs| median(runs, |r| r.three.per_second))
         .collect();
     let common = common_rate(&threes);
     let paced = in_turns(boards.len(), bins.rate_rounds, |i| {
@@ -185,19 +185,19 @@ pub fn measure(scale: Scale) -> Result<Value> {
     })?;
     for (((board, mut r), runs), at_common) in boards.iter().zip(measured).zip(rounds).zip(paced) {
         r["requests_per_second_1_session"] = median(&runs, |r| r.one).into();
-        r["requests_per_second_3_sessions"] = median(&runs, |r| r.three).into();
-        r["cpu_us_per_request_3_sessions"] = median(&runs, |r| r.cpu_us_per_request).into();
+        r["requests_per_second_3_sessions"] = median(&runs, |r| r.three.per_second).into();
+        r["cpu_us_per_request_3_sessions"] = median(&runs, |r| r.three.cpu_us_per_request).into();
         r["request_rate_rounds"] = json!(runs
             .iter()
-            .map(|r| json!([r.one, r.three, r.cpu_us_per_request]))
+            .map(|r| json!([r.one, r.three.per_second, r.three.cpu_us_per_request]))
             .collect::<Vec<_>>());
         r["common_rate_requests_per_second"] = common.into();
-        r["requests_per_second_at_common_rate"] = median(&at_common, |r| r.three).into();
+        r["requests_per_second_at_common_rate"] = median(&at_common, |r| r.per_second).into();
         r["cpu_us_per_request_at_common_rate"] =
             median(&at_common, |r| r.cpu_us_per_request).into();
         r["common_rate_rounds"] = json!(at_common
             .iter()
-            .map(|r| json!([r.three, r.cpu_us_per_request]))
+            .map(|r| json!([r.per_second, r.cpu_us_per_request]))
             .collect::<Vec<_>>());
         let cell = |k: &str, digits: usize| {
             r[k].as_f64()
@@ -238,7 +238,7 @@ fn in_turns<T>(
 }
 
 /// The median of `pick` over `runs` (0 for none).
-fn median(runs: &[Rates], pick: fn(&Rates) -> f64) -> f64 {
+fn median<T>(runs: &[T], pick: fn(&T) -> f64) -> f64 {
     let mut v: Vec<f64> = runs.iter().map(pick).collect();
     v.sort_by(f64::total_cmp);
     v.get(v.len() / 2).copied().unwrap_or(0.0)
@@ -392,39 +392,29 @@ fn stop(child: &mut Child) {
 struct Rates {
     /// Requests per second on 1 session.
     one: f64,
-    /// Requests per second on 3 sessions at once.
-    three: f64,
-    /// The board's CPU time (user and system, every thread) per request on 3 sessions, in
-    /// microseconds: the work the adapter makes the machine do, which the rate shares with
-    /// the client.
+    /// Requests per second on 3 sessions at once, and the board's CPU time then.
+    three: Loaded,
+}
+
+/// One `request_rate` run on 3 sessions: requests per second and the board's CPU time.
+struct Loaded {
+    /// Requests per second reached.
+    per_second: f64,
+    /// The board's CPU time (user and system, every thread) per request, in microseconds:
+    /// the work the adapter makes the machine do, which the rate shares with the client.
     cpu_us_per_request: f64,
 }
 
-/// Requests per second answered on 1 and on 3 sessions at once, and the board's CPU time
-/// per request on 3.
+/// Requests per second answered on 1 and on 3 sessions at once, back to back, and the
+/// board's CPU time per request on 3.
 fn rates(board: &Board, bins: &Bins) -> Result<Rates> {
     let lab = board.lab()?;
     let mut child = start(board, &lab, bins, None)?;
     let pid = child.id();
-    let seconds = bins.seconds.2;
-    let measure = |sessions| -> Result<(f64, f64)> {
-        let report = request_rate(&lab, bins, sessions, seconds)?;
-        let number = |key: &str| {
-            report[key]
-                .as_f64()
-                .ok_or_else(|| Error(format!("request_rate printed {report}")))
-        };
-        Ok((number("per_second")?, number("requests")?))
-    };
-    let result = measure(1).and_then(|(one, _)| {
-        let cpu_ticks = || usage(pid).map_or(0, |u| u.cpu_ticks);
-        let before = cpu_ticks();
-        let (three, requests) = measure(3)?;
-        let ticks = cpu_ticks().saturating_sub(before);
+    let result = loaded(&lab, bins, pid, 1, 0).and_then(|one| {
         Ok(Rates {
-            one,
-            three,
-            cpu_us_per_request: ticks as f64 * 1e6 / ticks_per_second() as f64 / requests.max(1.0),
+            one: one.per_second,
+            three: loaded(&lab, bins, pid, 3, 0)?,
         })
     });
     stop(&mut child);
@@ -432,26 +422,30 @@ fn rates(board: &Board, bins: &Bins) -> Result<Rates> {
 }
 
 /// The board's CPU time per request on 3 sessions paced to `rate` requests per second in
-/// all (`three`: the rate reached; `one` unused).
-fn paced(board: &Board, bins: &Bins, rate: u32) -> Result<Rates> {
+/// all, and the rate reached.
+fn paced(board: &Board, bins: &Bins, rate: u32) -> Result<Loaded> {
     let lab = board.lab()?;
     let mut child = start(board, &lab, bins, None)?;
-    let pid = child.id();
+    let result = loaded(&lab, bins, child.id(), 3, rate);
+    stop(&mut child);
+    result
+}
+
+/// `request_rate` on `sessions` sessions at `rate` (0: back to back) against the board
+/// running as `pid`, with the board's CPU time meanwhile.
+fn loaded(lab: &Lab, bins: &Bins, pid: u32, sessions: u32, rate: u32) -> Result<Loaded> {
     let cpu_ticks = || usage(pid).map_or(0, |u| u.cpu_ticks);
     let before = cpu_ticks();
-    let report = request_rate_at(&lab, bins, 3, bins.seconds.2, rate);
+    let report = request_rate(lab, bins, sessions, bins.seconds.2, rate)?;
     let ticks = cpu_ticks().saturating_sub(before);
-    stop(&mut child);
-    let report = report?;
     let number = |key: &str| {
         report[key]
             .as_f64()
             .ok_or_else(|| Error(format!("request_rate printed {report}")))
     };
     let requests = number("requests")?;
-    Ok(Rates {
-        one: 0.0,
-        three: number("per_second")?,
+    Ok(Loaded {
+        per_second: number("per_second")?,
         cpu_us_per_request: ticks as f64 * 1e6 / ticks_per_second() as f64 / requests.max(1.0),
     })
 }
@@ -470,7 +464,7 @@ fn request_cost(board: &Board, bins: &Bins) -> Result<f64> {
         ));
         let _ = fs::remove_file(&out);
         let mut child = start(board, &lab, bins, Some(out.as_path()))?;
-        let report = request_rate(&lab, bins, 3, seconds);
+        let report = request_rate(&lab, bins, 3, seconds, 0);
         stop(&mut child);
         let requests = report?["requests"]
             .as_u64()
@@ -483,20 +477,9 @@ fn request_cost(board: &Board, bins: &Bins) -> Result<f64> {
     Ok(i1.saturating_sub(i0) as f64 / r1.saturating_sub(r0).max(1) as f64)
 }
 
-/// `request_rate` in `lab`: back-to-back Get_Attribute_Single on `sessions` sessions for
-/// `seconds`; its JSON report.
-fn request_rate(lab: &Lab, bins: &Bins, sessions: u32, seconds: u64) -> Result<Value> {
-    request_rate_at(lab, bins, sessions, seconds, 0)
-}
-
-/// [`request_rate`] paced to `rate` requests per second in all (0: back to back).
-fn request_rate_at(
-    lab: &Lab,
-    bins: &Bins,
-    sessions: u32,
-    seconds: u64,
-    rate: u32,
-) -> Result<Value> {
+/// `request_rate` in `lab`: Get_Attribute_Single on `sessions` sessions for `seconds`,
+/// paced to `rate` requests per second in all (0: back to back); its JSON report.
+fn request_rate(lab: &Lab, bins: &Bins, sessions: u32, seconds: u64, rate: u32) -> Result<Value> {
     let out = lab
         .command(&bins.request_rate)
         .args(["--target", BOARD_IP, "--sessions"])

@@ -273,8 +273,9 @@ pub fn print_cost(title: &str, cost: &Cost) {
         cost.cycles
     );
     println!(
-        "  link task wake-ups                 {:>8.2}",
-        cost.wake_ups as f64 / cost.cycles.max(1) as f64
+        "  {:<34} {:>8.2}",
+        "link task wake-ups",
+        cost.wake_ups_per_cycle()
     );
     for (part, n) in cost.by_part() {
         println!("  {part:<34} {:>8.1}", cost.per_cycle(n));

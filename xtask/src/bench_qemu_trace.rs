@@ -103,6 +103,11 @@ impl Cost {
         (n as f64 / self.cycles.max(1) as f64 * 10.0).round() / 10.0
     }
 
+    /// Link task wake-ups per cycle, to two decimals.
+    pub fn wake_ups_per_cycle(&self) -> f64 {
+        (self.wake_ups as f64 / self.cycles.max(1) as f64 * 100.0).round() / 100.0
+    }
+
     /// Calls of the functions starting at `starts` over the cycles counted.
     pub fn calls_into(&self, starts: &[u32]) -> u64 {
         self.calls
@@ -161,7 +166,7 @@ impl Cost {
             "rpi_us": rpi_us,
             "cycles": self.cycles,
             "per_cycle": self.per_cycle(self.total()),
-            "link_wake_ups_per_cycle": (self.wake_ups as f64 / self.cycles.max(1) as f64 * 100.0).round() / 100.0,
+            "link_wake_ups_per_cycle": self.wake_ups_per_cycle(),
             "by_part": parts,
             "top_functions": top,
             "o_t_to_write_assembly_median": median(&self.to_device),
