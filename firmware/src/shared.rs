@@ -4,12 +4,11 @@
 
 use core::cell::{Cell, RefCell};
 use core::net::SocketAddrV4;
-use core::task::{Context, Poll};
+use core::task::Waker;
 
 use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::signal::Signal;
-use embassy_sync::waitqueue::WakerRegistration;
 use enip_stack::config::{
     MAX_CONNECTIONS, MAX_ENCAP_FRAME, MAX_PENDING_LIST_IDENTITY, MAX_SESSIONS,
 };
@@ -18,6 +17,7 @@ use enip_stack::{Adapter, Device, Instant, IoDue, NetworkConfig};
 use static_cell::StaticCell;
 
 use crate::clock::earliest;
+use crate::link::kept_waker::KeptWaker;
 use crate::link::{IoPort, LldpPort};
 
 /// An [`Adapter`] shared by the runtime's futures and the link task; never borrowed across
@@ -32,7 +32,7 @@ pub struct SharedAdapter<
     adapter: Mutex<NoopRawMutex, RefCell<Adapter<D, S, C, F, L>>>,
     /// Set when a call brought the I/O deadline forward; the link task's waker.
     io_moved: Cell<bool>,
-    io_waker: RefCell<WakerRegistration>,
+    io_waker: KeptWaker,
     /// Signalled when the multicast group T->O data goes to may have changed.
     membership: Signal<NoopRawMutex, ()>,
 }
@@ -44,7 +44,7 @@ pub const fn share<D: Device, const S: usize, const C: usize, const F: usize, co
     SharedAdapter {
         adapter: Mutex::new(RefCell::new(adapter)),
         io_moved: Cell::new(false),
-        io_waker: RefCell::new(WakerRegistration::new()),
+        io_waker: KeptWaker::new(),
         membership: Signal::new(),
     }
 }
@@ -129,7 +129,7 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>
         let (deadline, group) = self.watch();
         if earlier(deadline, before.0) {
             self.io_moved.set(true);
-            self.io_waker.borrow_mut().wake();
+            self.io_waker.wake();
         }
         if group != before.1 {
             self.membership.signal(());
@@ -213,14 +213,12 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
         with_adapter_quiet(self, |a| a.add_link_counters(counted))
     }
 
-    fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()> {
-        // Registered either way: the wake-up that set the flag took the waker.
-        self.io_waker.borrow_mut().register(cx.waker());
-        if self.io_moved.replace(false) {
-            Poll::Ready(())
-        } else {
-            Poll::Pending
-        }
+    fn watch_deadline(&self, waker: &Waker) {
+        self.io_waker.register(waker);
+    }
+
+    fn deadline_moved(&self) -> bool {
+        self.io_moved.replace(false)
     }
 }
 

@@ -11,6 +11,8 @@ use core::task::Waker;
 use embassy_net_driver::LinkState;
 use embassy_sync::waitqueue::WakerRegistration;
 
+use super::kept_waker::KeptWaker;
+
 /// The largest Ethernet frame without its CRC: 1 500 bytes of payload and the header.
 pub const FRAME_LEN: usize = 1514;
 /// Received frames waiting for the network stack.
@@ -115,7 +117,7 @@ pub struct LinkFrames {
     /// runner had found full, the link state changed.
     stack: RefCell<WakerRegistration>,
     /// Wakes the link task: the stack queued a frame, or took one from a full queue.
-    link: RefCell<WakerRegistration>,
+    link: KeptWaker,
     link_state: Cell<LinkState>,
 }
 
@@ -126,7 +128,7 @@ impl LinkFrames {
             rx: Queue::new(),
             tx: Queue::new(),
             stack: RefCell::new(WakerRegistration::new()),
-            link: RefCell::new(WakerRegistration::new()),
+            link: KeptWaker::new(),
             link_state: Cell::new(LinkState::Down),
         }
     }
@@ -141,9 +143,9 @@ impl LinkFrames {
         self.stack.borrow_mut().wake();
     }
 
-    /// The link task waits for [`Self::wake_link`].
+    /// The link task waits for [`Self::wake_link`] (registered once: it is kept).
     pub(crate) fn register_link(&self, waker: &Waker) {
-        self.link.borrow_mut().register(waker);
+        self.link.register(waker);
     }
 
     /// The stack took a received frame: wakes the link task if the queue had been full (one
@@ -159,7 +161,7 @@ impl LinkFrames {
 
     /// Wakes the link task.
     pub(crate) fn wake_link(&self) {
-        self.link.borrow_mut().wake();
+        self.link.wake();
     }
 
     /// The link state the driver last reported.

@@ -2,7 +2,7 @@
 //! type (the link task is one non-generic task of the board).
 
 use core::net::SocketAddrV4;
-use core::task::{Context, Poll};
+use core::task::Waker;
 
 use enip_stack::objects::LinkCounters;
 use enip_stack::{Instant, IoDue, NetworkConfig};
@@ -36,7 +36,9 @@ pub trait IoPort: LldpPort + AcdPort {
     /// Adds the frames the link task counted to the Ethernet Link object's counters
     /// (`Adapter::add_link_counters`).
     fn add_link_counters(&self, counted: &LinkCounters);
-    /// Ready (once) when another task brought the deadline forward since the last call; either
-    /// way wakes `cx` when one does next.
-    fn poll_deadline_moved(&self, cx: &mut Context<'_>) -> Poll<()>;
+    /// Keeps `waker` (the link task's) to wake whenever another task brings the deadline
+    /// forward; kept across wake-ups, so registered once.
+    fn watch_deadline(&self, waker: &Waker);
+    /// True (once) if another task brought the deadline forward since the last call.
+    fn deadline_moved(&self) -> bool;
 }

@@ -38,6 +38,7 @@ mod frames;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 mod io_port;
+pub(crate) mod kept_waker;
 mod lldp;
 mod neighbors;
 mod net_driver;

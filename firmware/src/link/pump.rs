@@ -10,7 +10,7 @@
 use core::convert::Infallible;
 use core::future::poll_fn;
 use core::net::SocketAddrV4;
-use core::task::{Context, Poll};
+use core::task::{Context, Poll, Waker};
 
 use embassy_net_driver::{Checksum, Driver, HardwareAddress, LinkState, RxToken, TxToken};
 use enip_stack::acd::ARP_FRAME_LEN;
@@ -88,7 +88,7 @@ struct Pump<const STACK_SUMS: bool> {
     /// The adapter's next production or watchdog expiry as last learned: until then (and
     /// unless [`Self::io_stale`]) a pass does not ask the adapter what is due.
     io_next: Option<Instant>,
-    /// Another task may have brought [`Self::io_next`] forward (`IoPort::poll_deadline_moved`):
+    /// Another task may have brought [`Self::io_next`] forward (`IoPort::deadline_moved`):
     /// the next pass asks the adapter.
     io_stale: bool,
     /// A T->O datagram is due but the driver had no room: its wake-up comes from the driver.
@@ -99,6 +99,12 @@ struct Pump<const STACK_SUMS: bool> {
     lldp_stale: bool,
     /// Drops flood frames on their way to the stack.
     flood_guard: FloodGuard,
+    /// The wake-up last asked of embassy-time ([`Self::sleep_until`]); while it is still
+    /// ahead, the task's timer-queue entry holds it.
+    asked: Option<Instant>,
+    /// The task's waker as given to the wake-ups kept across polls (the stack's frames, the
+    /// adapter's deadline); given again only if it changed.
+    waker: Option<Waker>,
 }
 
 impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
@@ -131,6 +137,8 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
             lldp_next: None,
             lldp_stale: true,
             flood_guard: FloodGuard::default(),
+            asked: None,
+            waker: None,
         }
     }
 
@@ -150,9 +158,12 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
             self.lldp_stale = true;
         }
         frames.set_link_state(link);
+        if !self.waker.as_ref().is_some_and(|w| w.will_wake(cx.waker())) {
+            self.keep_waker(cx.waker(), frames, io);
+        }
         // Another task brought the deadline forward (a Forward_Open, a trigger): asked at once
         // in this wake-up's first pass. Only other tasks move it, and none runs meanwhile.
-        if io.poll_deadline_moved(cx).is_ready() {
+        if io.deadline_moved() {
             self.io_stale = true;
         }
         let me = io.interface();
@@ -171,10 +182,18 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
                 break;
             }
         }
-        frames.register_link(cx.waker());
         if !settled {
             cx.waker().wake_by_ref();
         }
+    }
+
+    /// Gives `waker` to the stack's frame queues and the adapter, which keep it: they wake
+    /// the task when the stack queues a frame or another task brings the deadline forward.
+    #[inline(never)]
+    fn keep_waker(&mut self, waker: &Waker, frames: &LinkFrames, io: &dyn IoPort) {
+        frames.register_link(waker);
+        io.watch_deadline(waker);
+        self.waker = Some(waker.clone());
     }
 
     /// One pass at `at` for the interface `me` (its link up or not): receives, sends and
@@ -493,12 +512,13 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
     /// Asks for a wake-up at `deadline`; false if it is due already at `at` (the pass's
     /// start) and nothing blocks it (the caller then runs another pass).
     ///
-    /// Asked at the end of every wake-up, not only when the deadline changed: embassy-time
-    /// keeps one expiry per task, the earliest asked for until it fires, so a later deadline
-    /// asked while an earlier one was pending (or firing, the alarm's interrupt not yet
-    /// served) would be lost once that one fired. Asking again costs the queue's comparison,
-    /// less than a `Timer`'s own look at the clock. A deadline passed meanwhile wakes the
-    /// task at once.
+    /// embassy-time keeps one expiry per task, the earliest asked for until it fires, so a
+    /// later deadline asked while an earlier one was pending (or firing, the alarm's interrupt
+    /// not yet served) would be lost once that one fired. So the task asks again unless the
+    /// wake-up it last asked for is still ahead of `at` and no later than `deadline` (the
+    /// queue then holds it, and asking would change nothing): a wake-up for a received frame
+    /// whose production deadline stayed skips the time queue. A deadline passed meanwhile
+    /// wakes the task at once.
     fn sleep_until(
         &mut self,
         deadline: Option<Instant>,
@@ -515,7 +535,10 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
         if at >= deadline {
             return false;
         }
-        embassy_time_driver::schedule_wake(to_embassy(deadline).as_ticks(), cx.waker());
+        if must_ask(self.asked, at, deadline) {
+            embassy_time_driver::schedule_wake(to_embassy(deadline).as_ticks(), cx.waker());
+            self.asked = Some(deadline);
+        }
         true
     }
 }
@@ -528,6 +551,13 @@ fn consume(io: &dyn IoPort, from: SocketAddrV4, data: &[u8], at: Instant) -> Opt
     io.receive(from, data, at)
 }
 
+/// True if a task whose last asked wake-up was `asked` must ask again for `deadline` at
+/// `at`: unless `asked` is still ahead (so it is in the time queue, which keeps the earliest
+/// asked until it fires) and no later than `deadline`.
+fn must_ask(asked: Option<Instant>, at: Instant, deadline: Instant) -> bool {
+    !asked.is_some_and(|asked| at < asked && asked <= deadline)
+}
+
 /// What software does about a checksum the driver does `hardware` about.
 fn software(hardware: Checksum) -> Sums {
     match hardware {
@@ -536,5 +566,25 @@ fn software(hardware: Checksum) -> Sums {
         Checksum::Tx => Sums::Tx,
         Checksum::Rx => Sums::Rx,
         Checksum::Both => Sums::Both,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::must_ask;
+    use enip_stack::Instant;
+
+    #[test]
+    fn asks_again_unless_the_pending_wake_up_serves() {
+        let (at, deadline) = (Instant(1_000), Instant(2_000));
+        // Nothing asked yet, or the wake-up asked has come (it fired, or is firing).
+        assert!(must_ask(None, at, deadline));
+        assert!(must_ask(Some(Instant(900)), at, deadline));
+        assert!(must_ask(Some(at), at, deadline));
+        // A later wake-up pending: the earlier deadline must be asked for.
+        assert!(must_ask(Some(Instant(2_001)), at, deadline));
+        // The same or an earlier one pending: it wakes the task in time.
+        assert!(!must_ask(Some(deadline), at, deadline));
+        assert!(!must_ask(Some(Instant(1_500)), at, deadline));
     }
 }

@@ -10,7 +10,7 @@
 mod regs;
 
 use core::sync::atomic::{AtomicBool, Ordering};
-use core::task::Context;
+use core::task::{Context, Waker};
 
 use embassy_net_driver::{Capabilities, Driver, HardwareAddress, LinkState, RxToken, TxToken};
 use embassy_sync::waitqueue::AtomicWaker;
@@ -52,6 +52,9 @@ pub struct Lan9118 {
     tx: [u8; MTU],
     mac: [u8; 6],
     link_up: bool,
+    /// The waker last registered in [`WAKER`]: [`AtomicWaker::wake`] keeps it, so the same
+    /// task's waker is not registered again (a critical section saved per call).
+    registered: Option<Waker>,
 }
 
 impl Lan9118 {
@@ -85,6 +88,7 @@ impl Lan9118 {
         Ok(Lan9118 {
             mac,
             link_up: false,
+            registered: None,
             rx: [0; RX_BUF],
             tx: [0; MTU],
         })
@@ -178,6 +182,24 @@ pub fn on_interrupt() {
     WAKER.wake();
 }
 
+impl Lan9118 {
+    /// Registers `waker` for the next interrupt, unless it is registered already (inline:
+    /// the usual case is two comparisons).
+    #[inline(always)]
+    fn register(&mut self, waker: &Waker) {
+        if !self.registered.as_ref().is_some_and(|w| w.will_wake(waker)) {
+            self.register_anew(waker);
+        }
+    }
+
+    /// [`Self::register`]'s rare case, out of line.
+    #[inline(never)]
+    fn register_anew(&mut self, waker: &Waker) {
+        WAKER.register(waker);
+        self.registered = Some(waker.clone());
+    }
+}
+
 impl Driver for Lan9118 {
     type RxToken<'a> = Rx<'a>;
     type TxToken<'a> = Tx<'a>;
@@ -187,7 +209,7 @@ impl Driver for Lan9118 {
         // waker is registered only when there is nothing to return, before looking again:
         // a frame (or transmit room) that comes in between still wakes the task.
         if !frame_waiting() {
-            WAKER.register(cx.waker());
+            self.register(cx.waker());
             if !frame_waiting() {
                 return None;
             }
@@ -195,7 +217,7 @@ impl Driver for Lan9118 {
         let len = match self.tx_ready().then(|| self.pop_frame()).flatten() {
             Some(len) => len,
             None => {
-                WAKER.register(cx.waker());
+                self.register(cx.waker());
                 self.tx_ready().then(|| self.pop_frame()).flatten()?
             }
         };
@@ -209,7 +231,7 @@ impl Driver for Lan9118 {
 
     fn transmit(&mut self, cx: &mut Context<'_>) -> Option<Tx<'_>> {
         if !self.tx_ready() {
-            WAKER.register(cx.waker());
+            self.register(cx.waker());
             if !self.tx_ready() {
                 return None;
             }
@@ -218,7 +240,7 @@ impl Driver for Lan9118 {
     }
 
     fn link_state(&mut self, cx: &mut Context<'_>) -> LinkState {
-        WAKER.register(cx.waker());
+        self.register(cx.waker());
         if LINK_EVENT.swap(false, Ordering::Acquire) {
             phy_read(PHY_INT_SOURCE);
             self.link_up = phy_read(PHY_BMSR) & BMSR_LINK != 0;
