@@ -54,7 +54,7 @@ use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, uid};
 use embassy_time::Duration;
 use enip_firmware::diagnostics::Platform;
-use enip_firmware::link::{IoPort, LinkFrames, NetDriver};
+use enip_firmware::link::{IoPort, LinkFrames, NetDriver, PolledLink, PHY_READ_PERIOD};
 use enip_firmware::watchdog::{beating, keep_fed, Heartbeat};
 use enip_firmware::{Diagnosed, Resources};
 use enip_stack::nv::{AbStore, SharedStore};
@@ -73,8 +73,9 @@ bind_interrupts!(struct Irqs {
     RNG => rng::InterruptHandler<RNG>;
 });
 
-/// The Ethernet driver: on-chip MAC, LAN8742A through the generic PHY driver.
-type Driver = Ethernet<'static, ETH, GenericPhy<Sma<'static, ETH_SMA>>>;
+/// The Ethernet driver: on-chip MAC, LAN8742A through the generic PHY driver, its link state
+/// read once a period (`PolledLink`).
+type Driver = PolledLink<Ethernet<'static, ETH, GenericPhy<Sma<'static, ETH_SMA>>>>;
 
 /// A `static` home for the adapter over a device `D`, with the board's diagnostics object in
 /// front of it: `static ADAPTER: AdapterCell<MyDevice> = AdapterCell::new();`.
@@ -130,7 +131,7 @@ pub async fn run<D: Device>(
     let seed = Rng::new(p.RNG, Irqs).next_u64();
     let mac = mac_from_uid(uid::uid());
     let phy = GenericPhy::new(Sma::new(p.ETH_SMA, p.PA2, p.PC1), 0);
-    let driver = Ethernet::new_with_phy(
+    let ethernet = Ethernet::new_with_phy(
         PACKETS.take(),
         p.ETH,
         Irqs,
@@ -144,6 +145,8 @@ pub async fn run<D: Device>(
         mac,
         phy,
     );
+    // The link state read over MDIO once every 100 ms, not at every link task wake-up.
+    let driver = PolledLink::new(ethernet, PHY_READ_PERIOD);
     let mut store = SharedStore::new(NV_STORE.init(RefCell::new(nv_flash::store(p.FLASH))));
     let network = stored_network(&mut store).unwrap_or(network);
     let device = device(store);

@@ -50,6 +50,7 @@ use embassy_stm32::peripherals::{ETH, ETH_SMA, IWDG1, RNG};
 use embassy_stm32::rng::{self, Rng};
 use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, uid};
+use enip_firmware::link::{PolledLink, PHY_READ_PERIOD};
 use enip_stack::nv::SharedStore;
 use enip_stack::Device;
 use static_cell::ConstStaticCell;
@@ -66,8 +67,9 @@ bind_interrupts!(struct Irqs {
     RNG => rng::InterruptHandler<RNG>;
 });
 
-/// The Ethernet driver: on-chip MAC, LAN8742A through the generic PHY driver.
-type Driver = Ethernet<'static, ETH, GenericPhy<Sma<'static, ETH_SMA>>>;
+/// The Ethernet driver: on-chip MAC, LAN8742A through the generic PHY driver, its link state
+/// read once a period (`PolledLink`).
+type Driver = PolledLink<Ethernet<'static, ETH, GenericPhy<Sma<'static, ETH_SMA>>>>;
 /// The independent watchdog.
 type Watchdog = IndependentWatchdog<'static, IWDG1>;
 /// The board's name in the logs.
@@ -103,7 +105,7 @@ pub async fn run<D: Device>(
     let seed = Rng::new(p.RNG, Irqs).next_u64();
     let mac = net_config::mac_from_uid(uid::uid());
     let phy = GenericPhy::new(Sma::new(p.ETH_SMA, p.PA2, p.PC1), 0);
-    let driver = Ethernet::new_with_phy(
+    let ethernet = Ethernet::new_with_phy(
         PACKETS.take(),
         p.ETH,
         Irqs,
@@ -117,6 +119,8 @@ pub async fn run<D: Device>(
         mac,
         phy,
     );
+    // The link state read over MDIO once every 100 ms, not at every link task wake-up.
+    let driver = PolledLink::new(ethernet, PHY_READ_PERIOD);
     let hw = common::Hardware {
         driver,
         mac,

@@ -21,7 +21,9 @@
 //! IPv4 to the adapter past a few a second (`arp_guard.rs`).
 //! Every frame the driver receives or sends is counted for the Ethernet Link object
 //! (`counted`). On a board that asks for it, the link task verifies and fills the network
-//! stack's checksums in its place (`stack_sums.rs`).
+//! stack's checksums in its place (`stack_sums.rs`). A driver that reads its PHY over MDIO
+//! for the link state is wrapped in [`PolledLink`], which reads it once a period, not at
+//! every wake-up.
 //!
 //! So a Class 1 cycle wakes one task and touches neither smoltcp nor the socket futures of
 //! the explicit-messaging side, and the TCP/IP stack keeps ARP, ICMP, IGMP, DHCP, TCP and
@@ -42,6 +44,7 @@ pub(crate) mod kept_waker;
 mod lldp;
 mod neighbors;
 mod net_driver;
+mod polled_link;
 mod pump;
 mod stack_sums;
 #[cfg(test)]
@@ -52,5 +55,6 @@ pub use frames::{LinkFrames, FRAME_LEN, RX_FRAMES, TX_FRAMES};
 pub use io_port::IoPort;
 pub use lldp::{shutdown as lldp_shutdown, LldpPort};
 pub use net_driver::{NetDriver, Received, Send};
+pub use polled_link::{PolledLink, PHY_READ_PERIOD};
 pub use pump::{run, run_with_link_checksums};
 pub use stack_sums::LinkChecksums;

@@ -99,9 +99,6 @@ struct Pump<const STACK_SUMS: bool> {
     lldp_stale: bool,
     /// Drops flood frames on their way to the stack.
     flood_guard: FloodGuard,
-    /// The wake-up last asked of embassy-time ([`Self::sleep_until`]); while it is still
-    /// ahead, the task's timer-queue entry holds it.
-    asked: Option<Instant>,
     /// The task's waker as given to the wake-ups kept across polls (the stack's frames, the
     /// adapter's deadline); given again only if it changed.
     waker: Option<Waker>,
@@ -137,7 +134,6 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
             lldp_next: None,
             lldp_stale: true,
             flood_guard: FloodGuard::default(),
-            asked: None,
             waker: None,
         }
     }
@@ -512,13 +508,13 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
     /// Asks for a wake-up at `deadline`; false if it is due already at `at` (the pass's
     /// start) and nothing blocks it (the caller then runs another pass).
     ///
-    /// embassy-time keeps one expiry per task, the earliest asked for until it fires, so a
-    /// later deadline asked while an earlier one was pending (or firing, the alarm's interrupt
-    /// not yet served) would be lost once that one fired. So the task asks again unless the
-    /// wake-up it last asked for is still ahead of `at` and no later than `deadline` (the
-    /// queue then holds it, and asking would change nothing): a wake-up for a received frame
-    /// whose production deadline stayed skips the time queue. A deadline passed meanwhile
-    /// wakes the task at once.
+    /// Asked at every pass that sleeps, even if the deadline stayed: embassy-time keeps one
+    /// expiry per task, the earliest asked since it last fired, and the driver may ask for
+    /// wake-ups of its own on this task (`PolledLink`'s next read, the TAP's read retry).
+    /// One of those firing first takes the task out of the queue, the link task's deadline
+    /// with it: a deadline asked once and then skipped could be missed (the fifth step of
+    /// issue 23 skipped it, and was taken back for this). A deadline passed meanwhile wakes
+    /// the task at once.
     fn sleep_until(
         &mut self,
         deadline: Option<Instant>,
@@ -535,10 +531,7 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
         if at >= deadline {
             return false;
         }
-        if must_ask(self.asked, at, deadline) {
-            embassy_time_driver::schedule_wake(to_embassy(deadline).as_ticks(), cx.waker());
-            self.asked = Some(deadline);
-        }
+        embassy_time_driver::schedule_wake(to_embassy(deadline).as_ticks(), cx.waker());
         true
     }
 }
@@ -551,13 +544,6 @@ fn consume(io: &dyn IoPort, from: SocketAddrV4, data: &[u8], at: Instant) -> Opt
     io.receive(from, data, at)
 }
 
-/// True if a task whose last asked wake-up was `asked` must ask again for `deadline` at
-/// `at`: unless `asked` is still ahead (so it is in the time queue, which keeps the earliest
-/// asked until it fires) and no later than `deadline`.
-fn must_ask(asked: Option<Instant>, at: Instant, deadline: Instant) -> bool {
-    !asked.is_some_and(|asked| at < asked && asked <= deadline)
-}
-
 /// What software does about a checksum the driver does `hardware` about.
 fn software(hardware: Checksum) -> Sums {
     match hardware {
@@ -566,25 +552,5 @@ fn software(hardware: Checksum) -> Sums {
         Checksum::Tx => Sums::Tx,
         Checksum::Rx => Sums::Rx,
         Checksum::Both => Sums::Both,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::must_ask;
-    use enip_stack::Instant;
-
-    #[test]
-    fn asks_again_unless_the_pending_wake_up_serves() {
-        let (at, deadline) = (Instant(1_000), Instant(2_000));
-        // Nothing asked yet, or the wake-up asked has come (it fired, or is firing).
-        assert!(must_ask(None, at, deadline));
-        assert!(must_ask(Some(Instant(900)), at, deadline));
-        assert!(must_ask(Some(at), at, deadline));
-        // A later wake-up pending: the earlier deadline must be asked for.
-        assert!(must_ask(Some(Instant(2_001)), at, deadline));
-        // The same or an earlier one pending: it wakes the task in time.
-        assert!(!must_ask(Some(deadline), at, deadline));
-        assert!(!must_ask(Some(Instant(1_500)), at, deadline));
     }
 }
