@@ -18,7 +18,9 @@
 //! frames until the address has been probed.
 //! During a flood the link task keeps work from the stack (`flood_guard.rs`): TCP SYNs to
 //! port 44818 from a source that floods them, and ARP requests from hosts that do not talk
-//! IPv4 to the adapter past a few a second (`arp_guard.rs`).
+//! IPv4 to the adapter past a few a second (`arp_guard.rs`); and it waits only a
+//! millisecond for a stack that is behind before it reads on, dropping the stack's frames so
+//! that the O->T data behind them is not held up (`stack_hold.rs`).
 //! Every frame the driver receives or sends is counted for the Ethernet Link object
 //! (`counted`). On a board that asks for it, the link task verifies and fills the network
 //! stack's checksums in its place (`stack_sums.rs`). A driver that reads its PHY over MDIO
@@ -46,6 +48,7 @@ mod neighbors;
 mod net_driver;
 mod polled_link;
 mod pump;
+mod stack_hold;
 mod stack_sums;
 #[cfg(test)]
 mod test_frames;

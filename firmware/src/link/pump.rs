@@ -27,6 +27,7 @@ use super::frames::{LinkFrames, TX_FRAMES};
 use super::io_port::IoPort;
 use super::lldp;
 use super::neighbors::{next_hop, Neighbors};
+use super::stack_hold::StackHold;
 use super::stack_sums::{self, LinkChecksums};
 use crate::clock::{earliest, now, to_embassy};
 
@@ -102,6 +103,8 @@ struct Pump<const STACK_SUMS: bool> {
     /// The task's waker as given to the wake-ups kept across polls (the stack's frames, the
     /// adapter's deadline); given again only if it changed.
     waker: Option<Waker>,
+    /// How long the task waits for the stack to take a frame from its full queue.
+    stack_hold: StackHold,
 }
 
 impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
@@ -135,6 +138,7 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
             lldp_stale: true,
             flood_guard: FloodGuard::default(),
             waker: None,
+            stack_hold: StackHold::default(),
         }
     }
 
@@ -222,7 +226,10 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
             self.send_lldp(cx, driver, io, at);
         }
         let lldp = self.lldp_next.filter(|_| up);
-        let deadline = earliest(earliest(io_next, lldp), acd);
+        let deadline = earliest(
+            earliest(io_next, lldp),
+            earliest(acd, self.stack_hold.until(frames.rx.is_full(), at)),
+        );
         !more_frames && self.sleep_until(deadline, at, cx)
     }
 
@@ -239,8 +246,13 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
         let mut passed = false;
         let mut whole_burst = true;
         for _ in 0..RX_BURST {
-            // A full queue waits for the stack, which wakes this task when it takes a frame.
-            let frame = (!frames.rx.is_full()).then(|| driver.receive(cx)).flatten();
+            // A full queue waits for the stack, which wakes this task when it takes a frame,
+            // for a while at most (`StackHold`).
+            let frame = self
+                .stack_hold
+                .may_read(frames.rx.is_full(), at)
+                .then(|| driver.receive(cx))
+                .flatten();
             let Some((rx, _)) = frame else {
                 whole_burst = false;
                 break;
