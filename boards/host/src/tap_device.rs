@@ -29,11 +29,6 @@ const IFREQ_LEN: usize = 40;
 /// How long after a failed read the TAP is watched again (a persistent error is retried,
 /// not spun on).
 const READ_RETRY: Duration = Duration::from_millis(100);
-/// Frames the kernel holds for the board to read (the TAP's queue length, 500 or 1000 by
-/// default): a receive ring of a MAC's size. A storm past what the board reads is dropped
-/// there, as a MAC's ring drops it, instead of queuing for tens of milliseconds ahead of the
-/// O->T data behind it (whose connections would time out).
-const RX_RING: libc::c_int = 64;
 
 /// An open TAP interface.
 pub struct TapDevice {
@@ -92,10 +87,6 @@ impl TapDevice {
         }
         // SAFETY: `fd` is a socket this function just opened and nothing else owns.
         let control = unsafe { OwnedFd::from_raw_fd(fd) };
-        if let Err(e) = set_queue_length(&control, &padded, RX_RING) {
-            // Not allowed without CAP_NET_ADMIN: the TAP keeps its own queue length.
-            log::warn!("tap: receive queue of {RX_RING} frames not set: {e}");
-        }
         // Subscribed before the flags are first read, so no change after that goes unseen.
         let watch = Watch::open()?;
         let mut tap = TapDevice {
@@ -147,27 +138,6 @@ impl TapDevice {
         } else {
             LinkState::Down
         })
-    }
-}
-
-/// Sets the queue length of interface `name` to `frames` (`SIOCSIFTXQLEN` on `control`): for
-/// a TAP, the frames the kernel holds for the reader.
-fn set_queue_length(
-    control: &OwnedFd,
-    name: &[u8; libc::IF_NAMESIZE],
-    frames: libc::c_int,
-) -> io::Result<()> {
-    let mut ifreq = request(name);
-    if let Some(dst) = ifreq.get_mut(libc::IF_NAMESIZE..libc::IF_NAMESIZE + 4) {
-        dst.copy_from_slice(&frames.to_ne_bytes());
-    }
-    // SAFETY: SIOCSIFTXQLEN reads a `struct ifreq` (the name, then the length as an int),
-    // which `ifreq` is sized and laid out as; it outlives the call.
-    let r = unsafe { libc::ioctl(control.as_raw_fd(), libc::SIOCSIFTXQLEN, ifreq.as_mut_ptr()) };
-    if r < 0 {
-        Err(io::Error::last_os_error())
-    } else {
-        Ok(())
     }
 }
 
