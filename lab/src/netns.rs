@@ -148,6 +148,8 @@ pub struct Lab {
 
 /// The board's end of the veth pair, in its own namespace.
 pub const BOARD_VETH: &str = "enipb0";
+/// The TAP's queue length toward the board, in frames: a MAC's receive ring.
+const TAP_RING: &str = "64";
 
 impl Lab {
     /// Creates the namespace `name` (replacing a stale one) with the TAP `tap`.
@@ -163,6 +165,10 @@ impl Lab {
 
     fn with_tap(ns: Namespace, tap: &str) -> io::Result<Self> {
         ns.exec_checked("ip", &["tuntap", "add", "dev", tap, "mode", "tap"])?;
+        // The frames the kernel holds for the board: a MAC's receive ring (64), not the
+        // TAP's default 500, so a flood past what the board reads is dropped there, as on
+        // hardware, instead of queuing for tens of milliseconds ahead of the O->T data.
+        ns.exec_checked("ip", &["link", "set", tap, "txqueuelen", TAP_RING])?;
         let host = format!("{HOST_IP}/{PREFIX}");
         ns.exec_checked("ip", &["addr", "add", &host, "dev", tap])?;
         ns.exec_checked("ip", &["link", "set", tap, "up"])?;
