@@ -527,12 +527,7 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
     /// with it: a deadline asked once and then skipped could be missed (the fifth step of
     /// issue 23 skipped it, and was taken back for this). A deadline passed meanwhile wakes
     /// the task at once.
-    fn sleep_until(
-        &mut self,
-        deadline: Option<Instant>,
-        at: Instant,
-        cx: &mut Context<'_>,
-    ) -> bool {
+    fn sleep_until(&self, deadline: Option<Instant>, at: Instant, cx: &mut Context<'_>) -> bool {
         let Some(deadline) = deadline else {
             return true;
         };
