@@ -1,5 +1,28 @@
 //! Memory-mapped register blocks: the only raw pointer access of the board.
 
+use core::arch::asm;
+
+/// `$n` bursts in one `asm!` loop: eight words loaded from `$src` (`ldm $load`), then stored
+/// to `$dst` (`stm $store`); the memory side's pointer is written back (`!`), the FIFO
+/// port's is not. Registers r6, r7 and r9 are left alone (LLVM's own).
+macro_rules! burst_loop {
+    ($load:literal, $store:literal, $src:expr, $dst:expr, $n:expr) => {
+        asm!(
+            "2:",
+            concat!("ldm ", $load, ", {{r0, r1, r2, r3, r4, r5, r8, r12}}"),
+            concat!("stm ", $store, ", {{r0, r1, r2, r3, r4, r5, r8, r12}}"),
+            "subs {n}, {n}, #1",
+            "bne 2b",
+            src = inout(reg) $src as usize => _,
+            dst = inout(reg) $dst as usize => _,
+            n = inout(reg) $n => _,
+            out("r0") _, out("r1") _, out("r2") _, out("r3") _,
+            out("r4") _, out("r5") _, out("r8") _, out("r12") _,
+            options(nostack),
+        )
+    };
+}
+
 /// A block of 32-bit device registers at a fixed address.
 #[derive(Debug, Clone, Copy)]
 pub struct Block {
@@ -24,4 +47,43 @@ impl Block {
         // SAFETY: as for `read`.
         unsafe { core::ptr::write_volatile((self.base + offset) as *mut u32, value) }
     }
+
+    /// Reads `dst.len() / 32` bursts of eight words from the eight aliases of one FIFO port
+    /// at `window`..`window + 32` into `dst` (one `ldm` and one `stm` a burst); false, and
+    /// nothing read, unless `dst` is word-aligned and a whole number of bursts long.
+    pub fn read_bursts(self, window: usize, dst: &mut [u8]) -> bool {
+        let Some(n) = bursts(dst) else {
+            return false;
+        };
+        // SAFETY: `window` is the first of eight aliased registers of one FIFO port (the
+        // LAN9118's receive data port; reading any of them pops the next word, in address
+        // order for `ldm`). `dst` is a writable, word-aligned buffer of `n` x 32 bytes,
+        // checked above; the registers named are declared clobbered.
+        unsafe { burst_loop!("{src}", "{dst}!", self.base + window, dst.as_mut_ptr(), n) }
+        true
+    }
+
+    /// Writes `src` as bursts of eight words to the eight aliases of one FIFO port at
+    /// `window`..`window + 32` (one `ldm` and one `stm` a burst); false, and nothing written,
+    /// unless `src` is word-aligned and a whole number of bursts long.
+    pub fn write_bursts(self, window: usize, src: &[u8]) -> bool {
+        let Some(n) = bursts(src) else {
+            return false;
+        };
+        // SAFETY: `window` is the first of eight aliased registers of one FIFO port (the
+        // LAN9118's transmit data port; writing any of them pushes a word, in address order
+        // for `stm`). `src` is a readable, word-aligned buffer of `n` x 32 bytes, checked
+        // above; the registers named are declared clobbered.
+        unsafe { burst_loop!("{src}!", "{dst}", src.as_ptr(), self.base + window, n) }
+        true
+    }
+}
+
+/// Bytes of one burst: eight 32-bit words, as many as a FIFO port has aliases.
+pub const BURST: usize = 32;
+
+/// How many bursts `buf` holds, if it is word-aligned and a whole number of them long.
+fn bursts(buf: &[u8]) -> Option<usize> {
+    let whole = buf.len().is_multiple_of(BURST) && (buf.as_ptr() as usize).is_multiple_of(4);
+    Some(buf.len() / BURST).filter(|n| whole && *n > 0)
 }

@@ -16,6 +16,7 @@ use embassy_net_driver::{Capabilities, Driver, HardwareAddress, LinkState, RxTok
 use embassy_sync::waitqueue::AtomicWaker;
 
 use crate::irq::{self, Irq};
+use crate::mmio::BURST;
 use regs::*;
 
 /// Largest Ethernet frame handled (no VLAN tag), without the CRC.
@@ -23,7 +24,10 @@ const MTU: usize = 1514;
 /// Receive buffer: a frame with its CRC, rounded up to whole FIFO words.
 const RX_BUF: usize = (MTU + 4 + 3) & !3;
 /// Transmit FIFO room needed for one frame: two command words and the data words.
-const TX_ROOM: usize = 8 + ((MTU + 3) & !3);
+const TX_ROOM: usize = 8 + TX_BUF;
+/// Transmit buffer: a frame rounded up to whole FIFO words (the bytes past its end in the
+/// last word are sent to the controller, which leaves them out).
+const TX_BUF: usize = (MTU + 3) & !3;
 /// Polls of PMT_CTRL after a soft reset before giving up.
 const RESET_SPINS: u32 = 100_000;
 /// The address used when the controller's EEPROM holds none (locally administered).
@@ -49,7 +53,7 @@ pub enum Error {
 #[repr(C, align(4))]
 pub struct Lan9118 {
     rx: [u8; RX_BUF],
-    tx: [u8; MTU],
+    tx: [u8; TX_BUF],
     mac: [u8; 6],
     link_up: bool,
     /// The waker last registered in [`WAKER`]: [`AtomicWaker::wake`] keeps it, so the same
@@ -90,7 +94,7 @@ impl Lan9118 {
             link_up: false,
             registered: None,
             rx: [0; RX_BUF],
-            tx: [0; MTU],
+            tx: [0; TX_BUF],
         })
     }
 
@@ -117,16 +121,14 @@ impl Lan9118 {
                 }
                 continue;
             }
-            // Four words a step (one loop test per 16 bytes), then the rest a word at a time.
-            let (quads, rest) = self.rx[..words * 4].as_chunks_mut::<16>();
-            for quad in quads {
-                let [a0, a1, a2, a3] = LAN.read(RX_DATA).to_le_bytes();
-                let [b0, b1, b2, b3] = LAN.read(RX_DATA).to_le_bytes();
-                let [c0, c1, c2, c3] = LAN.read(RX_DATA).to_le_bytes();
-                let [d0, d1, d2, d3] = LAN.read(RX_DATA).to_le_bytes();
-                *quad = [
-                    a0, a1, a2, a3, b0, b1, b2, b3, c0, c1, c2, c3, d0, d1, d2, d3,
-                ];
+            // Whole bursts of eight words through the port's aliases, then the rest a word
+            // at a time.
+            let whole = &mut self.rx[..words * 4];
+            let (bursts, rest) = whole.split_at_mut(whole.len() / BURST * BURST);
+            if !LAN.read_bursts(RX_DATA, bursts) {
+                for word in bursts.as_chunks_mut::<4>().0 {
+                    *word = LAN.read(RX_DATA).to_le_bytes();
+                }
             }
             for word in rest.as_chunks_mut::<4>().0 {
                 *word = LAN.read(RX_DATA).to_le_bytes();
@@ -277,46 +279,35 @@ impl RxToken for Rx<'_> {
 
 /// Room for one frame, written into the transmit FIFO when consumed.
 pub struct Tx<'a> {
-    buf: &'a mut [u8; MTU],
+    buf: &'a mut [u8; TX_BUF],
 }
 
 impl TxToken for Tx<'_> {
     fn consume<R, F: FnOnce(&mut [u8]) -> R>(self, len: usize, f: F) -> R {
         let len = len.min(MTU);
-        let frame = &mut self.buf[..len];
-        let result = f(frame);
-        push_frame(frame);
+        let result = f(&mut self.buf[..len]);
+        push_frame(self.buf, len);
         result
     }
 }
 
-/// Writes `frame` into the transmit FIFO behind its two command words: the frame is handed
-/// to the controller. Never inlined: `cargo xtask bench --qemu` takes its entry as the
-/// moment a T->O frame reaches the driver.
+/// Writes the first `len` bytes of `buf` into the transmit FIFO behind its two command
+/// words: the frame is handed to the controller. Never inlined: `cargo xtask bench --qemu`
+/// takes its entry as the moment a T->O frame reaches the driver.
 #[inline(never)]
-fn push_frame(frame: &[u8]) {
-    let len = frame.len();
+fn push_frame(buf: &[u8; TX_BUF], len: usize) {
     LAN.write(TX_DATA, tx_command_a(len));
     LAN.write(TX_DATA, tx_command_b(len));
-    // Whole words, four a step, then the last one padded (no variable-length copy per
-    // word).
-    let (quads, rest) = frame.as_chunks::<16>();
-    for quad in quads {
-        let [a0, a1, a2, a3, b0, b1, b2, b3, c0, c1, c2, c3, d0, d1, d2, d3] = *quad;
-        LAN.write(TX_DATA, u32::from_le_bytes([a0, a1, a2, a3]));
-        LAN.write(TX_DATA, u32::from_le_bytes([b0, b1, b2, b3]));
-        LAN.write(TX_DATA, u32::from_le_bytes([c0, c1, c2, c3]));
-        LAN.write(TX_DATA, u32::from_le_bytes([d0, d1, d2, d3]));
-    }
-    let (words, rest) = rest.as_chunks::<4>();
-    for word in words {
-        LAN.write(TX_DATA, u32::from_le_bytes(*word));
-    }
-    if !rest.is_empty() {
-        let mut last = [0u8; 4];
-        for (to, from) in last.iter_mut().zip(rest) {
-            *to = *from;
+    // Whole words (the last one's bytes past `len` are left out by the controller): bursts
+    // of eight through the port's aliases, then the rest a word at a time.
+    let words = &buf[..len.div_ceil(4) * 4];
+    let (bursts, rest) = words.split_at(words.len() / BURST * BURST);
+    if !LAN.write_bursts(TX_DATA, bursts) {
+        for word in bursts.as_chunks::<4>().0 {
+            LAN.write(TX_DATA, u32::from_le_bytes(*word));
         }
-        LAN.write(TX_DATA, u32::from_le_bytes(last));
+    }
+    for word in rest.as_chunks::<4>().0 {
+        LAN.write(TX_DATA, u32::from_le_bytes(*word));
     }
 }

@@ -6,9 +6,11 @@ use crate::mmio::Block;
 /// The controller, at the machine's address.
 pub const LAN: Block = Block::at(crate::machine::THIS.lan9118.0);
 
-/// Receive data FIFO port.
+/// Receive data FIFO port, the first of eight aliases (0x00-0x1C): reading any pops the
+/// next word, so one `ldm` reads eight.
 pub const RX_DATA: usize = 0x00;
-/// Transmit data FIFO port.
+/// Transmit data FIFO port, the first of eight aliases (0x20-0x3C): writing any pushes a
+/// word, so one `stm` writes eight.
 pub const TX_DATA: usize = 0x20;
 /// Receive status FIFO port (pops one status).
 pub const RX_STATUS: usize = 0x40;
