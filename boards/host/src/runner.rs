@@ -299,7 +299,13 @@ async fn link_task(link: LinkShare) -> ! {
         checksums,
         stop,
     } = link;
-    let running = enip_firmware::link::run_with_link_checksums(&mut tap, frames, io, checksums);
+    let running = enip_firmware::link::run_with_link_checksums(
+        &mut tap,
+        frames,
+        io,
+        checksums,
+        &enip_firmware::link::TimeQueue,
+    );
     if let Either::First(never) = select(running, stop_requested(stop.as_ref())).await {
         match never {}
     }

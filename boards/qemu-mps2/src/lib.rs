@@ -225,7 +225,14 @@ async fn link_task(
 ) -> ! {
     // The stack's checksums too (`NetDriver::with_link_checksums`): the image has the
     // flash to spare.
-    let link = enip_firmware::link::run_with_link_checksums(driver, frames, adapter, checksums);
+    // Its deadlines from the time driver's slot for it, not the queue (`time::LinkSlot`).
+    let link = enip_firmware::link::run_with_link_checksums(
+        driver,
+        frames,
+        adapter,
+        checksums,
+        &time::LinkSlot,
+    );
     beating(heart, pin!(link)).await
 }
 

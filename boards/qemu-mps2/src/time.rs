@@ -6,8 +6,12 @@
 //!   (134.2 s), so the time is the period count shifted left plus a 32-bit division of the
 //!   counts into the period (a multiplication: no 64-bit division on every `now`). Its wrap
 //!   interrupt counts periods, which extends it to 64 bits.
-//! - Timer 1 is the alarm: loaded with the counts until the earliest timer of the queue, it
-//!   interrupts once and is stopped.
+//! - Timer 1 is the alarm: loaded with the counts until the earliest timer of the queue or
+//!   the link task's deadline, it interrupts once and is stopped.
+//!
+//! The link task's deadline has a slot of its own beside the queue ([`LinkSlot`], the
+//! task's `enip_firmware::link::LinkAlarm`): asking for it finds no queue entry, and the
+//! alarm firing for it walks the queue only if the queue has a timer due too.
 
 use core::cell::{Cell, RefCell};
 use core::task::Waker;
@@ -15,6 +19,7 @@ use core::task::Waker;
 use critical_section::{CriticalSection, Mutex};
 use embassy_time_driver::Driver;
 use embassy_time_queue_utils::Queue;
+use enip_firmware::link::LinkAlarm;
 
 use crate::irq::{self, Irq};
 use crate::mmio::Block;
@@ -48,11 +53,16 @@ const CLOCK: Block = Block::at(crate::machine::THIS.timer0.0);
 /// The alarm timer.
 const ALARM: Block = Block::at(crate::machine::THIS.timer1.0);
 
-/// The time driver: wrap count, timer queue and the tick the alarm is armed for, shared
-/// with the interrupt handlers.
+/// The time driver: wrap count, timer queue, the link task's slot and the tick the alarm is
+/// armed for, shared with the interrupt handlers.
 struct Mps2Time {
     periods: Mutex<Cell<u64>>,
     queue: Mutex<RefCell<Queue>>,
+    /// The queue's earliest expiry as last learned, or an earlier tick (`u64::MAX`: none):
+    /// an alarm before it leaves the queue alone.
+    queue_next: Mutex<Cell<u64>>,
+    /// The link task's deadline (`u64::MAX`: none) and its waker.
+    link: Mutex<RefCell<(u64, Option<Waker>)>>,
     /// The alarm fires at this tick (`u64::MAX`: not armed); a timer due later needs no
     /// re-arming, as the queue is walked again when the alarm fires.
     armed: Mutex<Cell<u64>>,
@@ -61,8 +71,29 @@ struct Mps2Time {
 embassy_time_driver::time_driver_impl!(static DRIVER: Mps2Time = Mps2Time {
     periods: Mutex::new(Cell::new(0)),
     queue: Mutex::new(RefCell::new(Queue::new())),
+    queue_next: Mutex::new(Cell::new(u64::MAX)),
+    link: Mutex::new(RefCell::new((u64::MAX, None))),
     armed: Mutex::new(Cell::new(u64::MAX)),
 });
+
+/// The link task's alarm: a slot of the time driver beside its queue, holding the one
+/// deadline last asked.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LinkSlot;
+
+impl LinkAlarm for LinkSlot {
+    fn wake_at(&self, at: u64, waker: &Waker) {
+        critical_section::with(|cs| {
+            let mut link = DRIVER.link.borrow_ref_mut(cs);
+            if !link.1.as_ref().is_some_and(|w| w.will_wake(waker)) {
+                link.1 = Some(waker.clone());
+            }
+            link.0 = at;
+            drop(link);
+            DRIVER.arm_earlier(cs, at);
+        })
+    }
+}
 
 /// Starts the clock and enables both timer interrupts; call once, first thing in `main`.
 pub fn init() {
@@ -121,11 +152,41 @@ impl Mps2Time {
 
     /// Wakes every expired timer and arms the alarm for the next one.
     fn dispatch(&self, cs: CriticalSection<'_>) {
-        let mut queue = self.queue.borrow_ref_mut(cs);
         // Bounded: each round wakes the timers that expired, and time moves forward.
-        let mut next = queue.next_expiration(self.now_in(cs));
+        let mut next = self.expire(cs, self.now_in(cs));
         while !self.arm(cs, next) {
-            next = queue.next_expiration(self.now_in(cs));
+            next = self.expire(cs, self.now_in(cs));
+        }
+    }
+
+    /// Wakes the link task if its deadline has come at `now`, and the queue's timers that
+    /// expired if one may have; returns the earliest deadline left.
+    fn expire(&self, cs: CriticalSection<'_>, now: u64) -> u64 {
+        let mut link = self.link.borrow_ref_mut(cs);
+        if link.0 <= now {
+            link.0 = u64::MAX;
+            if let Some(waker) = &link.1 {
+                waker.wake_by_ref();
+            }
+        }
+        let queue_next = self.queue_next.borrow(cs);
+        if queue_next.get() <= now {
+            queue_next.set(self.queue.borrow_ref_mut(cs).next_expiration(now));
+        }
+        link.0.min(queue_next.get())
+    }
+
+    /// Arms the alarm for `at` if it comes before the one armed (then `at` is the earliest
+    /// deadline: every other is due at `armed` or later, so no walk is needed), unless the
+    /// alarm is due already or so is `at` (then [`Self::dispatch`] wakes what expired). One
+    /// look at the clock serves both.
+    fn arm_earlier(&self, cs: CriticalSection<'_>, at: u64) {
+        let armed = self.armed.borrow(cs).get();
+        if at < armed {
+            let now = self.now_in(cs);
+            if armed <= now || !self.arm_from(cs, at, || now) {
+                self.dispatch(cs);
+            }
         }
     }
 }
@@ -137,17 +198,10 @@ impl Driver for Mps2Time {
 
     fn schedule_wake(&self, at: u64, waker: &Waker) {
         critical_section::with(|cs| {
-            let changed = self.queue.borrow_ref_mut(cs).schedule_wake(at, waker);
-            let armed = self.armed.borrow(cs).get();
-            if changed && at < armed {
-                // Every other timer is due at `armed` or later, so `at` is the earliest: the
-                // alarm is armed for it without walking the queue, unless the alarm is due
-                // already or so is `at` (then the walk wakes what expired). One look at the
-                // clock serves both.
-                let now = self.now_in(cs);
-                if armed <= now || !self.arm_from(cs, at, || now) {
-                    self.dispatch(cs);
-                }
+            if self.queue.borrow_ref_mut(cs).schedule_wake(at, waker) {
+                let queue_next = self.queue_next.borrow(cs);
+                queue_next.set(queue_next.get().min(at));
+                self.arm_earlier(cs, at);
             }
         })
     }

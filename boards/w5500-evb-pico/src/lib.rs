@@ -238,7 +238,13 @@ async fn link_task(
     heart: &'static Heartbeat,
     checksums: LinkChecksums,
 ) -> ! {
-    let link = enip_firmware::link::run_with_link_checksums(driver, frames, adapter, checksums);
+    let link = enip_firmware::link::run_with_link_checksums(
+        driver,
+        frames,
+        adapter,
+        checksums,
+        &enip_firmware::link::TimeQueue,
+    );
     beating(heart, pin!(link)).await
 }
 

@@ -27,11 +27,15 @@
 //! for the link state is wrapped in [`PolledLink`], which reads it once a period, not at
 //! every wake-up.
 //!
+//! The task sleeps until its next deadline through a [`LinkAlarm`]: embassy-time's queue
+//! ([`TimeQueue`]), or a board's own slot for it.
+//!
 //! So a Class 1 cycle wakes one task and touches neither smoltcp nor the socket futures of
 //! the explicit-messaging side, and the TCP/IP stack keeps ARP, ICMP, IGMP, DHCP, TCP and
 //! UDP 44818 as before.
 
 mod acd;
+mod alarm;
 mod arp_guard;
 mod checksum;
 mod counted;
@@ -54,6 +58,7 @@ mod stack_sums;
 mod test_frames;
 
 pub use acd::AcdPort;
+pub use alarm::{LinkAlarm, TimeQueue};
 pub use frames::{LinkFrames, FRAME_LEN, RX_FRAMES, TX_FRAMES};
 pub use io_port::IoPort;
 pub use lldp::{shutdown as lldp_shutdown, LldpPort};

@@ -19,6 +19,7 @@ use enip_stack::{Instant, IoDue, NetworkConfig};
 use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 
 use super::acd::{passes_unaddressed, Guard};
+use super::alarm::{LinkAlarm, TimeQueue};
 use super::counted::Counted;
 use super::dscp;
 use super::flood_guard::FloodGuard;
@@ -41,8 +42,8 @@ const RX_BURST: usize = 8;
 /// macro, not an async function both await: that one's future would hold the driver (the
 /// LAN9118's with its frame buffers) beside the caller's own copy of its argument.
 macro_rules! pump_forever {
-    ($stack_sums:literal, $driver:ident, $frames:ident, $io:ident) => {{
-        let mut pump = Pump::<$stack_sums>::new(&$driver);
+    ($stack_sums:literal, $driver:ident, $frames:ident, $io:ident, $alarm:expr) => {{
+        let mut pump = Pump::<$stack_sums>::new(&$driver, $alarm);
         let mut driver = Counted::new(&mut $driver, pump.mac);
         let never: Infallible = poll_fn(|cx| {
             pump.poll(cx, &mut driver, $frames, $io);
@@ -58,27 +59,30 @@ macro_rules! pump_forever {
 
 /// Runs the link task forever: `driver` is the board's, `frames` the queues shared with the
 /// [`super::NetDriver`] given to embassy-net, `io` the adapter.
+/// The link task wakes at its deadlines through embassy-time ([`TimeQueue`]).
 pub async fn run<D: Driver>(mut driver: D, frames: &LinkFrames, io: &dyn IoPort) -> ! {
-    pump_forever!(false, driver, frames, io)
+    pump_forever!(false, driver, frames, io, &TimeQueue)
 }
 
 /// Like [`run`], and the link task verifies and fills the network stack's checksums in its
 /// place (`stack_sums`); `proof` says the stack was told so
 /// ([`super::NetDriver::with_link_checksums`]). Its own `Pump` type: a board that does not
-/// ask compiles none of it.
+/// ask compiles none of it. The task wakes at its deadlines through `alarm` (the board's own,
+/// or [`TimeQueue`]).
 pub async fn run_with_link_checksums<D: Driver>(
     mut driver: D,
     frames: &LinkFrames,
     io: &dyn IoPort,
     proof: LinkChecksums,
+    alarm: &dyn LinkAlarm,
 ) -> ! {
     let LinkChecksums(()) = proof;
-    pump_forever!(true, driver, frames, io)
+    pump_forever!(true, driver, frames, io, alarm)
 }
 
 /// The link task's state between wake-ups; it does the network stack's checksums if
 /// `STACK_SUMS`.
-struct Pump<const STACK_SUMS: bool> {
+struct Pump<'a, const STACK_SUMS: bool> {
     mac: [u8; 6],
     /// Checksums software verifies on receive and fills on send (what the driver leaves):
     /// the Class 1 frames' and, if `STACK_SUMS`, the stack's.
@@ -105,10 +109,12 @@ struct Pump<const STACK_SUMS: bool> {
     waker: Option<Waker>,
     /// How long the task waits for the stack to take a frame from its full queue.
     stack_hold: StackHold,
+    /// Wakes the task at its next deadline.
+    alarm: &'a dyn LinkAlarm,
 }
 
-impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
-    fn new(driver: &impl Driver) -> Self {
+impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
+    fn new(driver: &impl Driver, alarm: &'a dyn LinkAlarm) -> Self {
         let caps = driver.capabilities();
         let mut sums = ChecksumCapabilities::default();
         sums.ipv4 = software(caps.checksum.ipv4);
@@ -139,6 +145,7 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
             flood_guard: FloodGuard::default(),
             waker: None,
             stack_hold: StackHold::default(),
+            alarm,
         }
     }
 
@@ -520,13 +527,13 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
     /// Asks for a wake-up at `deadline`; false if it is due already at `at` (the pass's
     /// start) and nothing blocks it (the caller then runs another pass).
     ///
-    /// Asked at every pass that sleeps, even if the deadline stayed: embassy-time keeps one
-    /// expiry per task, the earliest asked since it last fired, and the driver may ask for
-    /// wake-ups of its own on this task (`PolledLink`'s next read, the TAP's read retry).
-    /// One of those firing first takes the task out of the queue, the link task's deadline
-    /// with it: a deadline asked once and then skipped could be missed (the fifth step of
-    /// issue 23 skipped it, and was taken back for this). A deadline passed meanwhile wakes
-    /// the task at once.
+    /// Asked at every pass that sleeps, even if the deadline stayed: embassy-time
+    /// ([`TimeQueue`]) keeps one expiry per task, the earliest asked since it last fired,
+    /// and the driver may ask for wake-ups of its own on this task (`PolledLink`'s next
+    /// read, the TAP's read retry). One of those firing first takes the task out of the
+    /// queue, the link task's deadline with it: a deadline asked once and then skipped could
+    /// be missed (the fifth step of issue 23 skipped it, and was taken back for this). A
+    /// deadline passed meanwhile wakes the task at once.
     fn sleep_until(&self, deadline: Option<Instant>, at: Instant, cx: &mut Context<'_>) -> bool {
         let Some(deadline) = deadline else {
             return true;
@@ -538,7 +545,8 @@ impl<const STACK_SUMS: bool> Pump<STACK_SUMS> {
         if at >= deadline {
             return false;
         }
-        embassy_time_driver::schedule_wake(to_embassy(deadline).as_ticks(), cx.waker());
+        self.alarm
+            .wake_at(to_embassy(deadline).as_ticks(), cx.waker());
         true
     }
 }
