@@ -7,5 +7,6 @@ pub mod cycle;
 pub mod enip;
 pub mod faults;
 pub mod scanner;
+pub mod stop_file;
 
 pub use enip_lab::{capture, netns, paths, peers, process, rig, usage};

@@ -310,6 +310,9 @@ fn traced_run(
     let fifo = dir.join("trace.fifo");
     let _ = fs::remove_file(&fifo);
     run(Command::new("mkfifo").arg(&fifo))?;
+    // Created by the trace reader once it has counted its cycles: the load ends there.
+    let stop = dir.join("trace.stop");
+    let _ = fs::remove_file(&stop);
     let per = match load {
         Load::Class1 { connections, .. } => u64::from(connections),
         Load::Requests => 1,
@@ -317,7 +320,7 @@ fn traced_run(
     let wanted = (counted.0 * per, counted.1 * per);
     let tag = load.tag();
     let result = thread::scope(|s| {
-        let counter = s.spawn(|| count(&fifo, symbols, &marks, wanted));
+        let counter = s.spawn(|| count(&fifo, symbols, &marks, wanted, &stop));
         let fifo_arg = fifo.to_string_lossy();
         let log = dir.join(format!("board-traced-{tag}.log"));
         let trace = ["-d", "in_asm,exec,nochain", "-D", &fifo_arg];
@@ -341,9 +344,18 @@ fn traced_run(
                     let json = dir.join(format!("scanner-traced-{tag}.json"));
                     let seconds = scanner_seconds(connections, rpi_us, wanted.0 + wanted.1);
                     let class1 = (connections, rpi_us, trigger);
-                    scan(rig.ns(), class1, seconds, TRACED_MULTIPLIER, &json).map(|_| ())
+                    let stopping = Some(stop.as_path());
+                    scan(
+                        rig.ns(),
+                        class1,
+                        seconds,
+                        TRACED_MULTIPLIER,
+                        &json,
+                        stopping,
+                    )
+                    .map(|_| ())
                 }
-                Load::Requests => requests(rig.ns(), dir),
+                Load::Requests => requests(rig.ns(), dir, &stop),
             };
             rig.check_alive()?;
             r
@@ -355,6 +367,7 @@ fn traced_run(
         loaded.and(counted)
     });
     let _ = fs::remove_file(&fifo);
+    let _ = fs::remove_file(&stop);
     let mut cost = result?;
     cost.wake_ups = cost.calls_into(&symbols.starts_ending(LINK_WAKE_UP));
     fs::write(dir.join(format!("blocks-{tag}.txt")), cost.blocks(symbols))?;
@@ -367,16 +380,19 @@ fn traced_run(
     Ok(cost)
 }
 
-/// Seconds of `request_rate` against the traced board: enough for the counted requests at
-/// the slowest rate seen under tracing (tens per second).
+/// Seconds of `request_rate` against the traced board at most: enough for the counted
+/// requests at the slowest rate seen under tracing (tens per second).
 const REQUEST_SECONDS: &str = "20";
 
-/// `request_rate` with one session in `ns` for [`REQUEST_SECONDS`].
-fn requests(ns: &Namespace, dir: &Path) -> Result {
+/// `request_rate` with one session in `ns` for [`REQUEST_SECONDS`], or until the file `stop`
+/// exists.
+fn requests(ns: &Namespace, dir: &Path, stop: &Path) -> Result {
     let bin = util::target_dir().join("release/request_rate");
     let mut cmd = ns.command(&bin);
     cmd.args(["--target", &enip_lab::netns::BOARD_IP.to_string()])
-        .args(["--sessions", "1", "--seconds", REQUEST_SECONDS]);
+        .args(["--sessions", "1", "--seconds", REQUEST_SECONDS])
+        .arg("--stop-file")
+        .arg(stop);
     let out = cmd.output()?;
     fs::write(dir.join("request_rate.json"), &out.stdout)?;
     if !out.status.success() {
@@ -390,7 +406,8 @@ fn requests(ns: &Namespace, dir: &Path) -> Result {
 }
 
 /// Seconds of scanner run that bring `datagrams` O->T datagrams under tracing, which slows
-/// the board many-fold: three times their time at the RPI, and twenty seconds more.
+/// the board many-fold: three times their time at the RPI, and twenty seconds more (at most:
+/// the run ends once the trace reader has counted them).
 fn scanner_seconds(connections: u32, rpi_us: u32, datagrams: u64) -> u32 {
     let nominal = datagrams * u64::from(rpi_us) / u64::from(connections) / 1_000_000;
     (3 * nominal as u32 + 20).min(TRACED_SECONDS)
@@ -402,7 +419,7 @@ fn timing_run(elf: &Path, dir: &Path, rpi_us: u32, seconds: u32) -> Result<serde
     let mut rig = Rig::launch(Board::Qemu { elf, extra: &[] }, &options(&log))?;
     let json = dir.join(format!("scanner-{rpi_us}us.json"));
     let class1 = (TIMING_CONNECTIONS, rpi_us, "cyclic");
-    let report = scan(rig.ns(), class1, seconds, TIMING_MULTIPLIER, &json)?;
+    let report = scan(rig.ns(), class1, seconds, TIMING_MULTIPLIER, &json, None)?;
     rig.check_alive()?;
     Ok(report)
 }
@@ -413,14 +430,15 @@ fn options(log: &Path) -> Options<'_> {
 }
 
 /// The project's scanner (release build) in `ns`: `connections` at `rpi_us` with their
-/// `trigger`, for `seconds` with watchdog `multiplier`; prints its table and returns its
-/// report, written to `json`.
+/// `trigger`, for `seconds` (or until the file `stop` exists) with watchdog `multiplier`;
+/// prints its table and returns its report, written to `json`.
 fn scan(
     ns: &Namespace,
     (connections, rpi_us, trigger): (u32, u32, &str),
     seconds: u32,
     multiplier: &str,
     json: &Path,
+    stop: Option<&Path>,
 ) -> Result<serde_json::Value> {
     let bin = util::target_dir().join("release/scanner");
     let run = ScannerRun {
@@ -431,7 +449,12 @@ fn scan(
         multiplier,
         json,
     };
-    let (table, report) = scanner_run::run_with(ns, &run, &["--trigger", trigger])?;
+    let stop = stop.map(|p| p.to_string_lossy().into_owned());
+    let mut extra = vec!["--trigger", trigger];
+    if let Some(stop) = &stop {
+        extra.extend(["--stop-file", stop.as_str()]);
+    }
+    let (table, report) = scanner_run::run_with(ns, &run, &extra)?;
     print!("{table}");
     Ok(report)
 }

@@ -224,8 +224,15 @@ pub struct Marks {
 
 /// Reads QEMU's log from `fifo` until QEMU stops; counts the instructions of the `wanted.1`
 /// calls of the marker after the first `wanted.0` (idle loop excluded), and the latencies
-/// (`Cost::to_device`, `Cost::to_driver`) within them.
-pub fn count(fifo: &Path, symbols: &Symbols, marks: &Marks, wanted: (u64, u64)) -> Result<Cost> {
+/// (`Cost::to_device`, `Cost::to_driver`) within them. Once the marker is called after the
+/// last counted call (its cycle is whole), creates the file `stop`: the load may end.
+pub fn count(
+    fifo: &Path,
+    symbols: &Symbols,
+    marks: &Marks,
+    wanted: (u64, u64),
+    stop: &Path,
+) -> Result<Cost> {
     let file = fs::File::open(fifo)?;
     let mut reader = BufReader::with_capacity(1 << 20, file);
     let mut blocks: HashMap<u32, Block> = HashMap::new();
@@ -253,6 +260,9 @@ pub fn count(fifo: &Path, symbols: &Symbols, marks: &Marks, wanted: (u64, u64)) 
             };
             if pc == marks.marker {
                 markers += 1;
+                if markers == wanted.0 + wanted.1 + 1 {
+                    fs::write(stop, b"")?;
+                }
             }
             let counting = markers > wanted.0 && markers <= wanted.0 + wanted.1;
             if block.wfe {

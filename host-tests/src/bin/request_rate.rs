@@ -1,13 +1,16 @@
 //! `request_rate`: Get_Attribute_Single requests (Identity vendor ID) on N sessions at once,
 //! one thread each, for a while: back to back, or paced to a total rate (`--rate`, requests
-//! per second over all sessions); prints the requests answered as JSON.
+//! per second over all sessions), ending early once the file `--stop-file` names exists;
+//! prints the requests answered as JSON.
 
 use std::net::Ipv4Addr;
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
 use host_tests::scanner::Session;
+use host_tests::stop_file::StopFile;
 
 /// Identity object, instance 1, attribute 1 (vendor ID).
 const VENDOR: [SegmentRepr<'static>; 3] = [
@@ -16,17 +19,19 @@ const VENDOR: [SegmentRepr<'static>; 3] = [
     SegmentRepr::Logical(LogicalType::Attribute, 1),
 ];
 
-/// What to run: the target, sessions, seconds and the total rate (0: back to back).
+/// What to run: the target, sessions, seconds, the total rate (0: back to back) and the
+/// file that ends the run early.
 struct Args {
     target: Ipv4Addr,
     sessions: usize,
     seconds: u64,
     rate: u32,
+    stop_file: Option<PathBuf>,
 }
 
 fn parse() -> Result<Args, String> {
     let (mut target, mut sessions, mut seconds) = (Ipv4Addr::new(198, 18, 0, 2), 1, 5);
-    let mut rate = 0;
+    let (mut rate, mut stop_file) = (0, None);
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
         let value = it.next().ok_or_else(|| format!("{flag} needs a value"))?;
@@ -36,9 +41,11 @@ fn parse() -> Result<Args, String> {
             "--sessions" => sessions = value.parse().map_err(|e| bad(&e))?,
             "--seconds" => seconds = value.parse().map_err(|e| bad(&e))?,
             "--rate" => rate = value.parse().map_err(|e| bad(&e))?,
+            "--stop-file" => stop_file = Some(value.into()),
             _ => {
                 return Err(
-                    "usage: request_rate [--target IP] [--sessions N] [--seconds S] [--rate R]"
+                    "usage: request_rate [--target IP] [--sessions N] [--seconds S] \
+                     [--rate R] [--stop-file PATH]"
                         .into(),
                 )
             }
@@ -49,21 +56,23 @@ fn parse() -> Result<Args, String> {
         sessions,
         seconds,
         rate,
+        stop_file,
     })
 }
 
-/// Requests answered on one session until `end`, one every `period` from `first` (none:
-/// back to back). A session that falls behind by a period starts counting anew from now
-/// (no burst to catch up).
+/// Requests answered on one session until `end` (or `stop`), one every `period` from
+/// `first` (none: back to back). A session that falls behind by a period starts counting
+/// anew from now (no burst to catch up).
 fn hammer(
     target: Ipv4Addr,
     end: Instant,
     pace: Option<(Instant, Duration)>,
+    mut stop: StopFile,
 ) -> Result<u64, String> {
     let mut s = Session::connect(target, Duration::from_secs(3)).map_err(|e| e.to_string())?;
     let mut done = 0u64;
     let mut next = pace.map(|(first, _)| first);
-    while Instant::now() < end {
+    while Instant::now() < end && !stop.asked() {
         if let (Some(at), Some((_, period))) = (next.as_mut(), pace) {
             let now = Instant::now();
             match at.checked_duration_since(now) {
@@ -90,6 +99,7 @@ fn main() -> ExitCode {
         sessions,
         seconds,
         rate,
+        stop_file,
     } = match parse() {
         Ok(a) => a,
         Err(e) => {
@@ -105,7 +115,8 @@ fn main() -> ExitCode {
         let workers: Vec<_> = (0..sessions)
             .map(|i| {
                 let pace = period.map(|p| (start + p.mul_f64(i as f64 / sessions as f64), p));
-                s.spawn(move || hammer(target, end, pace))
+                let stop = StopFile::new(stop_file.clone());
+                s.spawn(move || hammer(target, end, pace, stop))
             })
             .collect();
         workers

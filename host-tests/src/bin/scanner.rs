@@ -1,11 +1,14 @@
 //! `scanner`: opens N connections on the generic profile at a given RPI, exchanges I/O for a
-//! while, closes them, and prints per-connection interval statistics (and JSON with --json).
+//! while (or until the file `--stop-file` names exists), closes them, and prints
+//! per-connection interval statistics (and JSON with --json).
 
 use std::net::Ipv4Addr;
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use host_tests::scanner::{exchange, open_generic_triggered, Session};
+use host_tests::scanner::{exchange_until, open_generic_triggered, Session};
+use host_tests::stop_file::StopFile;
 
 struct Args {
     target: Ipv4Addr,
@@ -16,6 +19,8 @@ struct Args {
     /// Transport class and trigger byte of the Forward_Opens (0x01: cyclic).
     transport: u8,
     json: Option<String>,
+    /// The run ends early once this file exists.
+    stop_file: Option<PathBuf>,
 }
 
 fn parse() -> Result<Args, String> {
@@ -27,6 +32,7 @@ fn parse() -> Result<Args, String> {
         multiplier: 2,
         transport: 0x01,
         json: None,
+        stop_file: None,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -46,8 +52,9 @@ fn parse() -> Result<Args, String> {
                 }
             }
             "--json" => a.json = Some(value()?),
+            "--stop-file" => a.stop_file = Some(value()?.into()),
             "-h" | "--help" => {
-                return Err("usage: scanner [--target IP] [--connections N] [--rpi-us US] [--seconds S] [--multiplier CODE] [--trigger cyclic|cos|app] [--json PATH]".into())
+                return Err("usage: scanner [--target IP] [--connections N] [--rpi-us US] [--seconds S] [--multiplier CODE] [--trigger cyclic|cos|app] [--json PATH] [--stop-file PATH]".into())
             }
             other => return Err(format!("unknown argument {other}")),
         }
@@ -72,12 +79,13 @@ fn run(a: &Args) -> Result<(), String> {
         a.rpi_us
     );
     let duration = Duration::from_secs(a.seconds);
-    let record = exchange(
+    let record = exchange_until(
         a.target,
         &opened,
         Duration::from_micros(u64::from(a.rpi_us)),
         duration,
         |k| [k as u8; 32],
+        StopFile::new(a.stop_file.clone()),
     )
     .map_err(|e| format!("exchange: {e}"))?;
     for c in &opened {
@@ -91,7 +99,7 @@ fn run(a: &Args) -> Result<(), String> {
             );
         }
     }
-    let end = duration.as_micros() as u64;
+    let end = record.ended_us;
     let quiet = 16 * u64::from(a.rpi_us) * (4u64 << a.multiplier);
     let summary = record.summary(end, quiet);
     println!(

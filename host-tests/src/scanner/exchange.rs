@@ -4,6 +4,8 @@
 use std::collections::BTreeMap;
 use std::io;
 use std::net::{Ipv4Addr, SocketAddrV4, UdpSocket};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::thread;
 use std::time::{Duration, Instant};
 
@@ -14,6 +16,7 @@ use enip_stack::wire::io_datagram::Packet;
 
 use super::session::Session;
 use super::stats::{connection_stats, Summary};
+use crate::stop_file::StopFile;
 
 /// Data bytes of the generic profile's input and output assemblies.
 const DATA: u16 = 32;
@@ -130,6 +133,9 @@ pub struct Record {
     pub packets: BTreeMap<u32, Vec<(u64, u32, [u8; 4])>>,
     /// O->T datagrams sent.
     pub sent: u64,
+    /// Microseconds from the start to the end of the run (the whole duration unless it was
+    /// stopped early).
+    pub ended_us: u64,
 }
 
 impl Record {
@@ -167,6 +173,18 @@ pub fn exchange(
     duration: Duration,
     data: impl Fn(u32) -> [u8; 32] + Send + 'static,
 ) -> io::Result<Record> {
+    exchange_until(target, opened, rpi, duration, data, StopFile::new(None))
+}
+
+/// [`exchange`] that also ends once `stop` is asked.
+pub fn exchange_until(
+    target: Ipv4Addr,
+    opened: &[Opened],
+    rpi: Duration,
+    duration: Duration,
+    data: impl Fn(u32) -> [u8; 32] + Send + 'static,
+    mut stop: StopFile,
+) -> io::Result<Record> {
     let socket = UdpSocket::bind(SocketAddrV4::new(Ipv4Addr::UNSPECIFIED, IO_PORT))?;
     socket.set_read_timeout(Some(Duration::from_millis(5)))?;
     let sender = socket.try_clone()?;
@@ -174,6 +192,9 @@ pub fn exchange(
     let start = Instant::now();
     let end = start + duration;
     let conns = opened.to_vec();
+    // Set when the receiving loop ends early: the sender ends at its next tick.
+    let halted = Arc::new(AtomicBool::new(false));
+    let halt = Arc::clone(&halted);
     let send_thread = thread::spawn(move || -> io::Result<u64> {
         let mut sent = 0u64;
         let mut buf = [0u8; 128];
@@ -182,6 +203,9 @@ pub fn exchange(
             let at = start + rpi * k;
             if let Some(wait) = at.checked_duration_since(Instant::now()) {
                 thread::sleep(wait);
+            }
+            if halt.load(Ordering::Relaxed) {
+                break;
             }
             let payload = data(k);
             for c in &conns {
@@ -202,7 +226,7 @@ pub fn exchange(
     let mut record = Record::default();
     let mut buf = [0u8; 1500];
     // Bounded by time: every read times out after 5 ms.
-    while Instant::now() < end {
+    while Instant::now() < end && !stop.asked() {
         match socket.recv_from(&mut buf) {
             Ok((n, _)) => {
                 let at = start.elapsed().as_micros() as u64;
@@ -229,6 +253,8 @@ pub fn exchange(
             Err(e) => return Err(e),
         }
     }
+    record.ended_us = start.elapsed().as_micros() as u64;
+    halted.store(true, Ordering::Relaxed);
     record.sent = send_thread
         .join()
         .map_err(|_| io::Error::other("sender panicked"))??;

@@ -8,8 +8,8 @@ pub mod session;
 pub mod stats;
 
 pub use exchange::{
-    exchange, generic_forward_open, open_generic, open_generic_triggered, Opened, Record,
-    HEARTBEAT_O_T, INPUT_ONLY_PATH, OWNER_O_T, OWNER_PATH,
+    exchange, exchange_until, generic_forward_open, open_generic, open_generic_triggered, Opened,
+    Record, HEARTBEAT_O_T, INPUT_ONLY_PATH, OWNER_O_T, OWNER_PATH,
 };
 pub use session::{Response, Session};
 pub use stats::{ConnectionStats, Summary};
