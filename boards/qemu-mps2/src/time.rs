@@ -163,17 +163,23 @@ impl Mps2Time {
     /// expired if one may have; returns the earliest deadline left.
     fn expire(&self, cs: CriticalSection<'_>, now: u64) -> u64 {
         let mut link = self.link.borrow_ref_mut(cs);
-        if link.0 <= now {
+        let link_at = if link.0 <= now {
             link.0 = u64::MAX;
-            if let Some(waker) = &link.1 {
-                waker.wake_by_ref();
+            // Woken with the slot released: nothing a waker does can find it borrowed.
+            let waker = link.1.clone();
+            drop(link);
+            if let Some(waker) = waker {
+                waker.wake();
             }
-        }
+            u64::MAX
+        } else {
+            link.0
+        };
         let queue_next = self.queue_next.borrow(cs);
         if queue_next.get() <= now {
             queue_next.set(self.queue.borrow_ref_mut(cs).next_expiration(now));
         }
-        link.0.min(queue_next.get())
+        link_at.min(queue_next.get())
     }
 
     /// Arms the alarm for `at` if it comes before the one armed (then `at` is the earliest
