@@ -17,7 +17,7 @@ use enip_stack::{Adapter, Device, Instant, IoDue, NetworkConfig};
 use static_cell::StaticCell;
 
 use crate::clock::earliest;
-use crate::link::kept_waker::KeptWaker;
+use crate::link::KeptWaker;
 use crate::link::{IoPort, LldpPort};
 
 /// An [`Adapter`] shared by the runtime's futures and the link task; never borrowed across

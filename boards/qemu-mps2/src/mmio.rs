@@ -48,42 +48,46 @@ impl Block {
         unsafe { core::ptr::write_volatile((self.base + offset) as *mut u32, value) }
     }
 
-    /// Reads `dst.len() / 32` bursts of eight words from the eight aliases of one FIFO port
-    /// at `window`..`window + 32` into `dst` (one `ldm` and one `stm` a burst); false, and
-    /// nothing read, unless `dst` is word-aligned and a whole number of bursts long.
-    pub fn read_bursts(self, window: usize, dst: &mut [u8]) -> bool {
-        let Some(n) = bursts(dst) else {
-            return false;
-        };
-        // SAFETY: `window` is the first of eight aliased registers of one FIFO port (the
-        // LAN9118's receive data port; reading any of them pops the next word, in address
-        // order for `ldm`). `dst` is a writable, word-aligned buffer of `n` x 32 bytes,
-        // checked above; the registers named are declared clobbered.
-        unsafe { burst_loop!("{src}", "{dst}!", self.base + window, dst.as_mut_ptr(), n) }
-        true
+    /// Reads the whole bursts `dst` begins with (eight words each, one `ldm` and one `stm`)
+    /// from the eight aliases of one FIFO port at `window`..`window + 32`; returns the bytes
+    /// read (none unless `dst` is word-aligned): the caller reads the rest a word at a time.
+    pub fn read_bursts(self, window: usize, dst: &mut [u8]) -> usize {
+        let n = bursts(dst);
+        if n > 0 {
+            // SAFETY: `window` is the first of eight aliased registers of one FIFO port (the
+            // LAN9118's receive data port; reading any of them pops the next word, in
+            // address order for `ldm`). `dst` is writable and word-aligned and holds `n` x
+            // 32 bytes (`bursts`); the registers named are declared clobbered.
+            unsafe { burst_loop!("{src}", "{dst}!", self.base + window, dst.as_mut_ptr(), n) }
+        }
+        n * BURST
     }
 
-    /// Writes `src` as bursts of eight words to the eight aliases of one FIFO port at
-    /// `window`..`window + 32` (one `ldm` and one `stm` a burst); false, and nothing written,
-    /// unless `src` is word-aligned and a whole number of bursts long.
-    pub fn write_bursts(self, window: usize, src: &[u8]) -> bool {
-        let Some(n) = bursts(src) else {
-            return false;
-        };
-        // SAFETY: `window` is the first of eight aliased registers of one FIFO port (the
-        // LAN9118's transmit data port; writing any of them pushes a word, in address order
-        // for `stm`). `src` is a readable, word-aligned buffer of `n` x 32 bytes, checked
-        // above; the registers named are declared clobbered.
-        unsafe { burst_loop!("{src}!", "{dst}", src.as_ptr(), self.base + window, n) }
-        true
+    /// Writes the whole bursts `src` begins with (eight words each, one `ldm` and one `stm`)
+    /// to the eight aliases of one FIFO port at `window`..`window + 32`; returns the bytes
+    /// written (none unless `src` is word-aligned): the caller writes the rest a word at a
+    /// time.
+    pub fn write_bursts(self, window: usize, src: &[u8]) -> usize {
+        let n = bursts(src);
+        if n > 0 {
+            // SAFETY: `window` is the first of eight aliased registers of one FIFO port (the
+            // LAN9118's transmit data port; writing any of them pushes a word, in address
+            // order for `stm`). `src` is readable and word-aligned and holds `n` x 32 bytes
+            // (`bursts`); the registers named are declared clobbered.
+            unsafe { burst_loop!("{src}!", "{dst}", src.as_ptr(), self.base + window, n) }
+        }
+        n * BURST
     }
 }
 
 /// Bytes of one burst: eight 32-bit words, as many as a FIFO port has aliases.
 pub const BURST: usize = 32;
 
-/// How many bursts `buf` holds, if it is word-aligned and a whole number of them long.
-fn bursts(buf: &[u8]) -> Option<usize> {
-    let whole = buf.len().is_multiple_of(BURST) && (buf.as_ptr() as usize).is_multiple_of(4);
-    Some(buf.len() / BURST).filter(|n| whole && *n > 0)
+/// How many whole bursts `buf` begins with, if it is word-aligned (else none).
+fn bursts(buf: &[u8]) -> usize {
+    if (buf.as_ptr() as usize).is_multiple_of(4) {
+        buf.len() / BURST
+    } else {
+        0
+    }
 }

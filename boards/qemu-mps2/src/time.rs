@@ -19,7 +19,7 @@ use core::task::Waker;
 use critical_section::{CriticalSection, Mutex};
 use embassy_time_driver::Driver;
 use embassy_time_queue_utils::Queue;
-use enip_firmware::link::LinkAlarm;
+use enip_firmware::link::{KeptWaker, LinkAlarm};
 
 use crate::irq::{self, Irq};
 use crate::mmio::Block;
@@ -61,8 +61,10 @@ struct Mps2Time {
     /// The queue's earliest expiry as last learned, or an earlier tick (`u64::MAX`: none):
     /// an alarm before it leaves the queue alone.
     queue_next: Mutex<Cell<u64>>,
-    /// The link task's deadline (`u64::MAX`: none) and its waker.
-    link: Mutex<RefCell<(u64, Option<Waker>)>>,
+    /// The link task's deadline (`u64::MAX`: none).
+    link_at: Mutex<Cell<u64>>,
+    /// The link task's waker, kept across its wake-ups.
+    link_waker: Mutex<KeptWaker>,
     /// The alarm fires at this tick (`u64::MAX`: not armed); a timer due later needs no
     /// re-arming, as the queue is walked again when the alarm fires.
     armed: Mutex<Cell<u64>>,
@@ -72,7 +74,8 @@ embassy_time_driver::time_driver_impl!(static DRIVER: Mps2Time = Mps2Time {
     periods: Mutex::new(Cell::new(0)),
     queue: Mutex::new(RefCell::new(Queue::new())),
     queue_next: Mutex::new(Cell::new(u64::MAX)),
-    link: Mutex::new(RefCell::new((u64::MAX, None))),
+    link_at: Mutex::new(Cell::new(u64::MAX)),
+    link_waker: Mutex::new(KeptWaker::new()),
     armed: Mutex::new(Cell::new(u64::MAX)),
 });
 
@@ -84,12 +87,8 @@ pub struct LinkSlot;
 impl LinkAlarm for LinkSlot {
     fn wake_at(&self, at: u64, waker: &Waker) {
         critical_section::with(|cs| {
-            let mut link = DRIVER.link.borrow_ref_mut(cs);
-            if !link.1.as_ref().is_some_and(|w| w.will_wake(waker)) {
-                link.1 = Some(waker.clone());
-            }
-            link.0 = at;
-            drop(link);
+            DRIVER.link_waker.borrow(cs).register(waker);
+            DRIVER.link_at.borrow(cs).set(at);
             DRIVER.arm_earlier(cs, at);
         })
     }
@@ -162,24 +161,16 @@ impl Mps2Time {
     /// Wakes the link task if its deadline has come at `now`, and the queue's timers that
     /// expired if one may have; returns the earliest deadline left.
     fn expire(&self, cs: CriticalSection<'_>, now: u64) -> u64 {
-        let mut link = self.link.borrow_ref_mut(cs);
-        let link_at = if link.0 <= now {
-            link.0 = u64::MAX;
-            // Woken with the slot released: nothing a waker does can find it borrowed.
-            let waker = link.1.clone();
-            drop(link);
-            if let Some(waker) = waker {
-                waker.wake();
-            }
-            u64::MAX
-        } else {
-            link.0
-        };
+        let link_at = self.link_at.borrow(cs);
+        if link_at.get() <= now {
+            link_at.set(u64::MAX);
+            self.link_waker.borrow(cs).wake();
+        }
         let queue_next = self.queue_next.borrow(cs);
         if queue_next.get() <= now {
             queue_next.set(self.queue.borrow_ref_mut(cs).next_expiration(now));
         }
-        link_at.min(queue_next.get())
+        link_at.get().min(queue_next.get())
     }
 
     /// Arms the alarm for `at` if it comes before the one armed (then `at` is the earliest

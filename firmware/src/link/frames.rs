@@ -11,7 +11,7 @@ use core::task::Waker;
 use embassy_net_driver::LinkState;
 use embassy_sync::waitqueue::WakerRegistration;
 
-use super::kept_waker::KeptWaker;
+use super::KeptWaker;
 
 /// The largest Ethernet frame without its CRC: 1 500 bytes of payload and the header.
 pub const FRAME_LEN: usize = 1514;

@@ -3,19 +3,21 @@
 use core::cell::RefCell;
 use core::task::Waker;
 
-/// The waker of the one task that waits for something (the link task). Unlike embassy's
+/// The waker of the one task that waits for something (the link task; a board's alarm slot
+/// for it keeps one too). Unlike embassy's
 /// `WakerRegistration`, waking does not consume it: the task registers once and is woken
 /// every time after, so a wake-up of the link task pays no registration.
-pub(crate) struct KeptWaker(RefCell<Option<Waker>>);
+#[derive(Default)]
+pub struct KeptWaker(RefCell<Option<Waker>>);
 
 impl KeptWaker {
     /// No waker yet.
-    pub(crate) const fn new() -> Self {
+    pub const fn new() -> Self {
         KeptWaker(RefCell::new(None))
     }
 
     /// Keeps `waker` (instead of any other) for the wake-ups to come.
-    pub(crate) fn register(&self, waker: &Waker) {
+    pub fn register(&self, waker: &Waker) {
         let mut kept = self.0.borrow_mut();
         if !kept.as_ref().is_some_and(|w| w.will_wake(waker)) {
             *kept = Some(waker.clone());
@@ -23,7 +25,7 @@ impl KeptWaker {
     }
 
     /// Wakes the waker kept, if any, and keeps it.
-    pub(crate) fn wake(&self) {
+    pub fn wake(&self) {
         if let Some(waker) = self.0.borrow().as_ref() {
             waker.wake_by_ref();
         }

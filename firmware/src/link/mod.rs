@@ -46,7 +46,7 @@ mod frames;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 mod io_port;
-pub(crate) mod kept_waker;
+mod kept_waker;
 mod lldp;
 mod neighbors;
 mod net_driver;
@@ -61,6 +61,7 @@ pub use acd::AcdPort;
 pub use alarm::{LinkAlarm, TimeQueue};
 pub use frames::{LinkFrames, FRAME_LEN, RX_FRAMES, TX_FRAMES};
 pub use io_port::IoPort;
+pub use kept_waker::KeptWaker;
 pub use lldp::{shutdown as lldp_shutdown, LldpPort};
 pub use net_driver::{NetDriver, Received, Send};
 pub use polled_link::{PolledLink, PHY_READ_PERIOD};

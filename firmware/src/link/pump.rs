@@ -58,8 +58,8 @@ macro_rules! pump_forever {
 }
 
 /// Runs the link task forever: `driver` is the board's, `frames` the queues shared with the
-/// [`super::NetDriver`] given to embassy-net, `io` the adapter.
-/// The link task wakes at its deadlines through embassy-time ([`TimeQueue`]).
+/// [`super::NetDriver`] given to embassy-net, `io` the adapter. The task wakes at its
+/// deadlines through embassy-time ([`TimeQueue`]).
 pub async fn run<D: Driver>(mut driver: D, frames: &LinkFrames, io: &dyn IoPort) -> ! {
     pump_forever!(false, driver, frames, io, &TimeQueue)
 }

@@ -16,7 +16,6 @@ use embassy_net_driver::{Capabilities, Driver, HardwareAddress, LinkState, RxTok
 use embassy_sync::waitqueue::AtomicWaker;
 
 use crate::irq::{self, Irq};
-use crate::mmio::BURST;
 use regs::*;
 
 /// Largest Ethernet frame handled (no VLAN tag), without the CRC.
@@ -124,13 +123,8 @@ impl Lan9118 {
             // Whole bursts of eight words through the port's aliases, then the rest a word
             // at a time.
             let whole = &mut self.rx[..words * 4];
-            let (bursts, rest) = whole.split_at_mut(whole.len() / BURST * BURST);
-            if !LAN.read_bursts(RX_DATA, bursts) {
-                for word in bursts.as_chunks_mut::<4>().0 {
-                    *word = LAN.read(RX_DATA).to_le_bytes();
-                }
-            }
-            for word in rest.as_chunks_mut::<4>().0 {
+            let read = LAN.read_bursts(RX_DATA, whole);
+            for word in whole[read..].as_chunks_mut::<4>().0 {
                 *word = LAN.read(RX_DATA).to_le_bytes();
             }
             return Some(len - 4);
@@ -301,13 +295,8 @@ fn push_frame(buf: &[u8; TX_BUF], len: usize) {
     // Whole words (the last one's bytes past `len` are left out by the controller): bursts
     // of eight through the port's aliases, then the rest a word at a time.
     let words = &buf[..len.div_ceil(4) * 4];
-    let (bursts, rest) = words.split_at(words.len() / BURST * BURST);
-    if !LAN.write_bursts(TX_DATA, bursts) {
-        for word in bursts.as_chunks::<4>().0 {
-            LAN.write(TX_DATA, u32::from_le_bytes(*word));
-        }
-    }
-    for word in rest.as_chunks::<4>().0 {
+    let written = LAN.write_bursts(TX_DATA, words);
+    for word in words[written..].as_chunks::<4>().0 {
         LAN.write(TX_DATA, u32::from_le_bytes(*word));
     }
 }
