@@ -325,7 +325,7 @@ fn io_due_then_write_io_builds_in_place_and_skips_on_request() {
 
 /// Producers of different RPIs each keep their own grid, whichever comes first, and equal
 /// deadlines go in slot order; a closed producer leaves the others' grids as they were and a
-/// new one in its slot starts at once; `poll_io` with a buffer too short for the datagram
+/// new one in its slot starts at once, then moves onto the adapter's grid of its RPI; `poll_io` with a buffer too short for the datagram
 /// changes nothing.
 #[test]
 fn mixed_rpis_keep_their_grids_through_a_close_and_an_open() {
@@ -389,6 +389,10 @@ fn mixed_rpis_keep_their_grids_through_a_close_and_an_open() {
     h.now = Instant(21_000);
     assert_eq!(status(&h.request(0x4E, &cm_path(), &data[..n])).0, 0);
     live[1] = open(&mut h, 5, 2_000);
-    let start = [0, 21_000, 0, 0];
-    assert_eq!(run(&mut h, 50_000), expected(&live, &start, 21_000, 50_000));
+    // At once (in its slot's place among the others due at 21 ms), then on the adapter's
+    // 2 ms grid from one RPI on: 24 ms, not 23.
+    let mut want = expected(&live, &[0, 24_000, 0, 0], 21_000, 50_000);
+    let third = want.iter().position(|&e| e == (21_000, live[2].0)).unwrap();
+    want.insert(third, (21_000, live[1].0));
+    assert_eq!(run(&mut h, 50_000), want);
 }

@@ -1,6 +1,7 @@
 //! Class 1 production: sequence numbers per trigger, datagrams built straight into the
 //! caller's buffer. When a producer is due, and where its deadline moves (the exact grid
-//! `previous + RPI`), is the connection table's (its `due` and `produce`).
+//! `previous + RPI`; a cyclic producer's on the adapter's clock from its second production,
+//! `io/timing.rs`), is the connection table's (its `due` and `produce`).
 
 use core::net::SocketAddrV4;
 

@@ -6,7 +6,7 @@
 //! `next_production` and `next_deadline`.
 
 use super::connection::{Connection, Producer, Transport};
-use super::timing::Timing;
+use super::timing::{Produces, Timing};
 use crate::config::{MAX_CONNECTIONS, MAX_EXPLICIT_CONNECTED};
 use crate::device::Trigger;
 use crate::device::{CloseReason, ConnectionEvent, Device, Kind};
@@ -135,7 +135,8 @@ impl<const C: usize> ConnectionTable<C> {
         self.get(slot).map(|_| self.timing.last_activity(slot))
     }
     /// When the producer of the connection in `slot` is next due: on its grid
-    /// `previous + RPI`, or earlier once triggered (not before the inhibit time). `None`
+    /// `previous + RPI` (a cyclic one's on the adapter's clock after its first production),
+    /// or earlier once triggered (not before the inhibit time). `None`
     /// without a producer of its own.
     pub fn next_production(&self, slot: usize) -> Option<Instant> {
         self.get(slot)
@@ -149,11 +150,16 @@ impl<const C: usize> ConnectionTable<C> {
     /// Opens `conn` in a free slot at `now` and returns the slot; `None` (and `conn`
     /// dropped) if full. Its watchdog runs with the first-packet grace (its timeout, but at
     /// least [`crate::config::FIRST_PACKET_GRACE_US`]), and its producer, if it has its own,
-    /// is due at once.
+    /// is due at once (a cyclic one then moves onto the adapter's grid of its RPI at its
+    /// second production: `io/timing.rs`).
     pub fn open(&mut self, conn: Connection, now: Instant) -> Option<usize> {
         let slot = self.free_slot()?;
-        self.timing
-            .open(slot, now, conn.timeout, conn.producer().is_some());
+        let produces = match conn.producer().map(|p| p.trigger) {
+            None => Produces::Nothing,
+            Some(Trigger::Cyclic) => Produces::Cyclic,
+            Some(_) => Produces::OnTrigger,
+        };
+        self.timing.open(slot, now, conn.timeout, produces);
         if let Some(s) = self.slots.get_mut(slot) {
             *s = Some(conn);
         }

@@ -10,6 +10,14 @@
 //! (never later than the grid's), and a production that carried a trigger starts a new grid
 //! one RPI later. So the grid's own next point need not be kept beside it: while a trigger
 //! waits nothing reads it, and without one it is the deadline.
+//!
+//! A cyclic producer is due at once when it opens; its second production moves it onto the
+//! adapter's grid of its RPI, the multiples of the RPI on the adapter's clock, where it stays.
+//! Cyclic producers of one RPI (or of RPIs that are multiples of each other) then come due at
+//! the same instants, and the runtime serves them in one wake-up instead of one each. The
+//! interval between the first two productions is from one RPI up to two, never shorter; every
+//! later one is the RPI. Change-of-state and application-triggered producers keep their own
+//! grid: their RPI is a heartbeat, one RPI after each production at most.
 
 use super::schedule::Schedule;
 use crate::config::FIRST_PACKET_GRACE_US;
@@ -32,18 +40,42 @@ fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
     previous.add(Duration::from_micros(missed.saturating_mul(rpi)))
 }
 
+/// The first point of the adapter's grid of `rpi` (the multiples of `rpi` on its clock) that
+/// is at `from` or later and after `now`: where a cyclic producer moves at its second
+/// production. One division, once per connection.
+fn onto_clock_grid(from: Instant, rpi: u32, now: Instant) -> Instant {
+    let rpi = u64::from(rpi.max(1));
+    let earliest = from.as_micros().max(now.as_micros().saturating_add(1));
+    Instant(earliest.div_ceil(rpi).saturating_mul(rpi))
+}
+
+/// What an opened connection produces, for its timing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Produces {
+    /// Nothing of its own (no producer, or it listens to another's).
+    Nothing,
+    /// Cyclic data: at once, then on the adapter's grid of its RPI.
+    Cyclic,
+    /// Change-of-state or application-triggered data: at once, then at each trigger and one
+    /// RPI (its heartbeat) after each production at most.
+    OnTrigger,
+}
+
 /// A producer's trigger state: a change of state or application trigger waiting, and the
 /// end of the production inhibit time it waits for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Pending {
     triggered: bool,
     inhibit_until: Instant,
+    /// A cyclic producer not on the adapter's grid yet: its next production moves it there.
+    to_clock_grid: bool,
 }
 
 impl Pending {
     const NONE: Pending = Pending {
         triggered: false,
         inhibit_until: Instant(0),
+        to_clock_grid: false,
     };
 }
 
@@ -81,16 +113,27 @@ impl<const C: usize> Timing<C> {
 
     /// A connection opened in `slot` at `now`: its watchdog runs `timeout`, but at least the
     /// first-packet grace; if it `produces`, its producer is due at once.
-    pub(super) fn open(&mut self, slot: usize, now: Instant, timeout: Duration, produces: bool) {
+    pub(super) fn open(
+        &mut self,
+        slot: usize,
+        now: Instant,
+        timeout: Duration,
+        produces: Produces,
+    ) {
         let grace = Duration::from_micros(timeout.as_micros().max(FIRST_PACKET_GRACE_US));
         self.heard(slot, now, now.add(grace));
         if let Some(p) = self.pending.get_mut(slot) {
             *p = Pending {
                 triggered: false,
                 inhibit_until: now,
+                to_clock_grid: produces == Produces::Cyclic,
             };
         }
-        self.reschedule(slot, if produces { now } else { Instant::NEVER });
+        let first = match produces {
+            Produces::Nothing => Instant::NEVER,
+            Produces::Cyclic | Produces::OnTrigger => now,
+        };
+        self.reschedule(slot, first);
     }
 
     /// The connection in `slot` closed: it is never due and never expires.
@@ -143,20 +186,30 @@ impl<const C: usize> Timing<C> {
 
     /// The producer in `slot` produced at `now`: after a trigger, the next production is one
     /// `rpi` later and the next trigger waits out `inhibit`; otherwise the grid moves on to
-    /// its first point after `now`.
+    /// its first point after `now` (after a cyclic producer's first production, the first
+    /// point of the adapter's grid at least one `rpi` on).
     #[inline]
     pub(super) fn produced(&mut self, slot: usize, now: Instant, rpi: u32, inhibit: Duration) {
         let Some(p) = self.pending.get_mut(slot) else {
             return;
         };
+        let previous = self.schedule.at(slot);
         let next = if p.triggered {
             *p = Pending {
                 triggered: false,
                 inhibit_until: now.add(inhibit),
+                to_clock_grid: false,
             };
             now.add(Duration::from_micros(u64::from(rpi)))
+        } else if p.to_clock_grid {
+            p.to_clock_grid = false;
+            onto_clock_grid(
+                previous.add(Duration::from_micros(u64::from(rpi))),
+                rpi,
+                now,
+            )
         } else {
-            advance(self.schedule.at(slot), rpi, now)
+            advance(previous, rpi, now)
         };
         self.schedule.set(slot, next);
     }
@@ -272,7 +325,7 @@ mod tests {
     #[test]
     fn an_opened_producer_is_due_at_once_and_then_on_its_grid() {
         let mut t = Timing::new();
-        t.open(2, Instant(500), Duration(4_000), true);
+        t.open(2, Instant(500), Duration(4_000), Produces::OnTrigger);
         assert_eq!(t.due(Instant(499)), None);
         assert_eq!(t.due(Instant(500)), Some(2));
         t.produced(2, Instant(700), RPI, Duration(0));
@@ -291,9 +344,71 @@ mod tests {
     }
 
     #[test]
+    fn a_cyclic_producer_moves_onto_the_clock_grid_at_its_second_production() {
+        let mut t = Timing::new();
+        t.open(2, Instant(500), Duration(4_000), Produces::Cyclic);
+        assert_eq!(t.due(Instant(500)), Some(2), "at once");
+        t.produced(2, Instant(700), RPI, Duration(0));
+        assert_eq!(
+            t.next_production(2),
+            Instant(2_000),
+            "the clock's grid, at least one RPI after the first: 1 500 is not on it"
+        );
+        t.produced(2, Instant(2_000), RPI, Duration(0));
+        assert_eq!(t.next_production(2), Instant(3_000), "then the RPI");
+        t.produced(2, Instant(5_200), RPI, Duration(0));
+        assert_eq!(t.next_production(2), Instant(6_000), "late: still the grid");
+        t.assert_consistent();
+    }
+
+    #[test]
+    fn cyclic_producers_of_one_rpi_come_due_together() {
+        let mut t = Timing::new();
+        let rpi = 10_000;
+        // Opened at three different instants; the second starts late, the third on a point.
+        for (slot, open) in [(0, 1_234), (1, 7_777), (2, 20_000)] {
+            t.open(slot, Instant(open), Duration(40_000), Produces::Cyclic);
+            let late = if slot == 1 { 3_000 } else { 0 };
+            t.produced(slot, Instant(open + late), rpi, Duration(0));
+        }
+        assert_eq!(
+            [0, 1, 2].map(|s| t.next_production(s)),
+            [Instant(20_000), Instant(20_000), Instant(30_000)],
+            "never sooner than one RPI after the first production"
+        );
+        t.produced(0, Instant(20_000), rpi, Duration(0));
+        t.produced(1, Instant(20_010), rpi, Duration(0));
+        assert_eq!(
+            [0, 1, 2].map(|s| t.next_production(s)),
+            [Instant(30_000); 3]
+        );
+        // A producer of twice the RPI meets them at every other point.
+        t.open(3, Instant(25_000), Duration(80_000), Produces::Cyclic);
+        t.produced(3, Instant(25_000), 2 * rpi, Duration(0));
+        assert_eq!(t.next_production(3), Instant(60_000));
+        assert_eq!(
+            onto_clock_grid(Instant(u64::MAX - 5), rpi, Instant(0)),
+            Instant(u64::MAX)
+        );
+        t.assert_consistent();
+    }
+
+    #[test]
+    fn a_triggered_producer_keeps_its_own_heartbeat() {
+        let mut t = Timing::new();
+        t.open(4, Instant(1_234), Duration(40_000), Produces::OnTrigger);
+        t.produced(4, Instant(1_234), 10_000, Duration(0));
+        assert_eq!(
+            t.next_production(4),
+            Instant(11_234),
+            "one RPI on, off the clock's grid"
+        );
+    }
+
+    #[test]
     fn the_watchdog_starts_with_the_grace_and_runs_from_each_feed() {
         let mut t = Timing::new();
-        t.open(0, Instant(0), Duration(4_000), false);
+        t.open(0, Instant(0), Duration(4_000), Produces::Nothing);
         assert_eq!(t.expires(0), Instant(FIRST_PACKET_GRACE_US));
         assert_eq!(t.next_deadline(1), Some(Instant(FIRST_PACKET_GRACE_US)));
         t.feed(0, Instant(100), Duration(4_000));
@@ -313,7 +428,7 @@ mod tests {
     #[test]
     fn a_trigger_waits_out_the_inhibit_time_and_restarts_the_grid() {
         let mut t = Timing::new();
-        t.open(1, Instant(0), Duration(4_000), true);
+        t.open(1, Instant(0), Duration(4_000), Produces::OnTrigger);
         t.produced(1, Instant(0), 10_000, Duration(0));
         t.trigger(1);
         assert!(t.triggered(1));
@@ -343,7 +458,7 @@ mod tests {
     #[test]
     fn a_slot_without_a_producer_is_never_due_even_when_triggered() {
         let mut t = Timing::new();
-        t.open(3, Instant(0), Duration(4_000), false);
+        t.open(3, Instant(0), Duration(4_000), Produces::Nothing);
         t.trigger(3);
         assert!(!t.triggered(3));
         assert_eq!(t.next_production(3), Instant::NEVER);

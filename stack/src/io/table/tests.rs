@@ -96,6 +96,8 @@ struct ModelProducer {
     next: u64,
     inhibit_until: u64,
     triggered: bool,
+    /// Cyclic, before its first production: then it moves onto the clock's grid.
+    to_clock_grid: bool,
 }
 
 impl ModelProducer {
@@ -260,6 +262,7 @@ fn any_sequence_of_intents<const C: usize>() {
                             next: now,
                             inhibit_until: now,
                             triggered: false,
+                            to_clock_grid: p.trigger == Trigger::Cyclic,
                         }),
                     };
                     if let Some(slot) = table.open(conn, at) {
@@ -308,6 +311,10 @@ fn any_sequence_of_intents<const C: usize>() {
                         if p.triggered {
                             (p.triggered, p.inhibit_until) = (false, now + p.inhibit);
                             p.next = now + p.rpi;
+                        } else if p.to_clock_grid {
+                            // The first multiple of the RPI one RPI on, and after now.
+                            p.to_clock_grid = false;
+                            p.next = (p.next + p.rpi).max(now + 1).div_ceil(p.rpi) * p.rpi;
                         } else {
                             while p.next <= now {
                                 p.next += p.rpi;
