@@ -71,6 +71,16 @@ impl<const C: usize> Schedule<C> {
                 }
                 return;
             }
+            // The first going behind the last (producers of one RPI on the adapter's grid,
+            // taking turns): relinked at the back without a walk.
+            let last = self.prev(Self::END);
+            if p == Self::END && last != slot && self.before(last, slot) {
+                self.join(Self::END, n);
+                self.join(last, slot);
+                self.join(slot, Self::END);
+                self.first = (n, self.at(n));
+                return;
+            }
         }
         self.reorder(slot, listed);
     }
