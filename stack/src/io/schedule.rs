@@ -71,16 +71,6 @@ impl<const C: usize> Schedule<C> {
                 }
                 return;
             }
-            // The first going behind the last (producers of one RPI on the adapter's grid,
-            // taking turns): relinked at the back without a walk.
-            let last = self.prev(Self::END);
-            if p == Self::END && last != slot && self.before(last, slot) {
-                self.join(Self::END, n);
-                self.join(last, slot);
-                self.join(slot, Self::END);
-                self.first = (n, self.at(n));
-                return;
-            }
         }
         self.reorder(slot, listed);
     }
@@ -90,6 +80,17 @@ impl<const C: usize> Schedule<C> {
     /// first) never come here.
     #[inline(never)]
     fn reorder(&mut self, slot: usize, listed: bool) {
+        // The first going behind the last (producers of one RPI on the adapter's grid,
+        // taking turns): relinked at the back without a walk.
+        let (p, n, last) = (self.prev(slot), self.next(slot), self.prev(Self::END));
+        let moving = listed && self.at(slot) != Instant::NEVER;
+        if moving && p == Self::END && last != slot && self.before(last, slot) {
+            self.join(Self::END, n);
+            self.join(last, slot);
+            self.join(slot, Self::END);
+            self.first = (n, self.at(n));
+            return;
+        }
         if listed {
             self.join(self.prev(slot), self.next(slot));
         }
