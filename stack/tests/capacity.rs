@@ -155,11 +155,22 @@ fn every_connection_slot_produces_on_its_grid() {
         }
     }
     assert_eq!(seen.len(), CONNECTIONS, "every slot produced");
+    // At once, then on the adapter's grid from one RPI on: one grid for all of them.
+    let second = seen[&ids[0].1][1];
     for (_, t_o) in ids {
         let at = &seen[&t_o];
-        assert_eq!(at.len(), (END / RPI) as usize, "connection {t_o:#x}");
         assert!(
-            at.windows(2).all(|w| w[1] - w[0] == RPI),
+            (RPI..2 * RPI).contains(&(at[1] - at[0])),
+            "{t_o:#x}: onto the grid, never sooner than one RPI"
+        );
+        assert_eq!(at[1], second, "{t_o:#x} on the same grid as the others");
+        assert_eq!(
+            at.len(),
+            (2 + (END - 1 - second) / RPI) as usize,
+            "{t_o:#x}"
+        );
+        assert!(
+            at[1..].windows(2).all(|w| w[1] - w[0] == RPI),
             "{t_o:#x} on its grid"
         );
     }

@@ -80,15 +80,24 @@ fn ten_connections_at_one_millisecond_for_ten_seconds() {
         }
     }
     assert_eq!(seen.len(), usize::from(CONNECTIONS));
+    // At open, then on the adapter's grid of 1 ms from one RPI on, the same for all ten.
+    let second = seen[&ids[0].1][1].0;
+    assert!(
+        (RPI..2 * RPI).contains(&second),
+        "second production at {second}"
+    );
     for &(_, t_o) in &ids {
         let packets = &seen[&t_o];
-        assert_eq!(packets.len(), 10_000, "connection {t_o:#x}");
+        assert_eq!(packets[0].0, 0, "first production at open");
+        assert_eq!(packets[1].0, second, "{t_o:#x} on the shared grid");
+        assert_eq!(packets.len(), 10_000, "{t_o:#x}");
         for (i, w) in packets.windows(2).enumerate() {
-            assert_eq!(w[1].0 - w[0].0, RPI, "interval {i} of {t_o:#x}");
+            if i > 0 {
+                assert_eq!(w[1].0 - w[0].0, RPI, "interval {i} of {t_o:#x}");
+            }
             assert_eq!(w[1].1, w[0].1 + 1, "encapsulation sequence {i}");
             assert_eq!(w[1].2, w[0].2.wrapping_add(1), "CIP sequence {i}");
         }
-        assert_eq!(packets[0].0, 0, "first production at open");
     }
     // O->T data reached the outputs, and every input went out as the device holds it.
     assert_eq!(h.adapter.device().data[&110], vec![k as u8; 32]);
@@ -299,7 +308,7 @@ fn io_due_then_write_io_builds_in_place_and_skips_on_request() {
     // The same `due` again: the connection already moved on to its next deadline.
     let next = h.adapter.io_due(now).unwrap();
     assert_ne!(next, due);
-    // Dropping the remaining nine leaves nothing due until the next RPI.
+    // Dropping the remaining nine leaves nothing due until the grid's next point.
     let mut handled = 1;
     while let Some(d) = h.adapter.io_due(now) {
         assert_eq!(h.adapter.write_io(d, now, None), 0);
@@ -307,7 +316,10 @@ fn io_due_then_write_io_builds_in_place_and_skips_on_request() {
         assert!(handled <= CONNECTIONS, "a dropped datagram stays due");
     }
     assert_eq!(handled, CONNECTIONS);
-    let later = Instant(RPI);
+    // Next due on the adapter's grid, from one RPI on.
+    let later = h.adapter.next_deadline().unwrap();
+    assert!((RPI..2 * RPI).contains(&later.as_micros()));
+    assert_eq!(h.adapter.io_due(Instant(later.as_micros() - 1)), None);
     let again = h.adapter.io_due(later).unwrap();
     assert_eq!(h.adapter.write_io(again, later, Some(&mut buf)), 52);
     assert_eq!(
@@ -325,8 +337,8 @@ fn io_due_then_write_io_builds_in_place_and_skips_on_request() {
 
 /// Producers of different RPIs each keep their own grid, whichever comes first, and equal
 /// deadlines go in slot order; a closed producer leaves the others' grids as they were and a
-/// new one in its slot starts at once, then moves onto the adapter's grid of its RPI; `poll_io` with a buffer too short for the datagram
-/// changes nothing.
+/// new one in its slot starts at once, then moves onto the adapter's grid of its RPI;
+/// `poll_io` with a buffer too short for the datagram changes nothing.
 #[test]
 fn mixed_rpis_keep_their_grids_through_a_close_and_an_open() {
     let mut h = Harness::new();
@@ -361,19 +373,26 @@ fn mixed_rpis_keep_their_grids_through_a_close_and_an_open() {
         }
         produced
     };
-    // Each (ID, RPI) of `live`, in slot order, on its grid from `start`, between `from` and `to`.
-    let expected = |live: &[(u32, u32)], start: &[u64], from: u64, to: u64| {
+    // Each (ID, RPI) of `live` opened at `opened`: at once, then on the adapter's grid of its
+    // RPI from one RPI on; in time order and slot order on a tie, between `from` and `to`.
+    let expected = |h: &Harness, live: &[(u32, u32)], opened: &[u64], from: u64, to: u64| {
         let mut e = Vec::new();
-        for t in (from..to).step_by(1_000) {
-            for (&(id, rpi), &s) in live.iter().zip(start) {
-                if t >= s && (t - s) % u64::from(rpi) == 0 {
-                    e.push((t, id));
-                }
-            }
+        for (slot, (&(id, rpi), &open)) in live.iter().zip(opened).enumerate() {
+            let phase = h.adapter.connections().grid_phase(rpi);
+            let rpi = u64::from(rpi);
+            let on_grid = phase + (open + rpi - phase).div_ceil(rpi) * rpi;
+            let points = core::iter::once(open).chain((on_grid..to).step_by(rpi as usize));
+            e.extend(
+                points
+                    .filter(|t| (from..to).contains(t))
+                    .map(|t| (t, slot, id)),
+            );
         }
-        e
+        e.sort_unstable();
+        e.into_iter().map(|(t, _, id)| (t, id)).collect::<Vec<_>>()
     };
-    assert_eq!(run(&mut h, 21_000), expected(&live, &[0; 4], 0, 21_000));
+    let want = expected(&h, &live, &[0; 4], 0, 21_000);
+    assert_eq!(run(&mut h, 21_000), want);
 
     // The 1 ms producer in slot 1 closes at 21 ms; a 2 ms one opens into its slot.
     let fc = ForwardCloseRepr {
@@ -389,10 +408,6 @@ fn mixed_rpis_keep_their_grids_through_a_close_and_an_open() {
     h.now = Instant(21_000);
     assert_eq!(status(&h.request(0x4E, &cm_path(), &data[..n])).0, 0);
     live[1] = open(&mut h, 5, 2_000);
-    // At once (in its slot's place among the others due at 21 ms), then on the adapter's
-    // 2 ms grid from one RPI on: 24 ms, not 23.
-    let mut want = expected(&live, &[0, 24_000, 0, 0], 21_000, 50_000);
-    let third = want.iter().position(|&e| e == (21_000, live[2].0)).unwrap();
-    want.insert(third, (21_000, live[1].0));
+    let want = expected(&h, &live, &[0, 21_000, 0, 0], 21_000, 50_000);
     assert_eq!(run(&mut h, 50_000), want);
 }

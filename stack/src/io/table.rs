@@ -61,7 +61,8 @@ impl<const C: usize> ConnectionTable<C> {
             replies: [const { heapless::Vec::new() }; C],
             owner_timeouts: 0,
             timeouts: 0,
-            timing: Timing::new(),
+            // The seed of the IDs also sets the phase of the producers' grids.
+            timing: Timing::new(seed),
             used: 0,
             multicast: false,
         }
@@ -142,6 +143,12 @@ impl<const C: usize> ConnectionTable<C> {
         self.get(slot)
             .and_then(Connection::producer)
             .map(|_| self.timing.next_production(slot))
+    }
+    /// The phase of the adapter's grid of `rpi` (microseconds, below `rpi`): a cyclic producer
+    /// of that RPI produces at the instants `phase + k * rpi` of the adapter's clock from its
+    /// second production on (its first is at once when it opens).
+    pub fn grid_phase(&self, rpi: u32) -> u64 {
+        self.timing.grid_phase(rpi)
     }
     /// The slot [`ConnectionTable::open`] will use next, if one is free.
     pub fn free_slot(&self) -> Option<usize> {

@@ -12,7 +12,9 @@
 //! waits nothing reads it, and without one it is the deadline.
 //!
 //! A cyclic producer is due at once when it opens; its second production moves it onto the
-//! adapter's grid of its RPI, the multiples of the RPI on the adapter's clock, where it stays.
+//! adapter's grid of its RPI, where it stays: the instants `phase + k * RPI` on the adapter's
+//! clock, the phase the adapter's own (from its seed, so that two adapters, or the devices of
+//! a fleet in one process, do not all produce at the same instants).
 //! Cyclic producers of one RPI (or of RPIs that are multiples of each other) then come due at
 //! the same instants, and the runtime serves them in one wake-up instead of one each. The
 //! interval between the first two productions is from one RPI up to two, never shorter; every
@@ -40,13 +42,28 @@ fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
     previous.add(Duration::from_micros(missed.saturating_mul(rpi)))
 }
 
-/// The first point of the adapter's grid of `rpi` (the multiples of `rpi` on its clock) that
-/// is at `from` or later and after `now`: where a cyclic producer moves at its second
-/// production. One division, once per connection.
-fn onto_clock_grid(from: Instant, rpi: u32, now: Instant) -> Instant {
+/// The first point of the adapter's grid of `rpi` (the instants `phase + k * rpi` on its
+/// clock, `phase` its own offset modulo `rpi`) that is at `from` or later and after `now`:
+/// where a cyclic producer moves at its second production. Two divisions, once per
+/// connection.
+fn onto_clock_grid(from: Instant, rpi: u32, now: Instant, offset: u32) -> Instant {
+    let phase = grid_phase(offset, rpi);
     let rpi = u64::from(rpi.max(1));
     let earliest = from.as_micros().max(now.as_micros().saturating_add(1));
-    Instant(earliest.div_ceil(rpi).saturating_mul(rpi))
+    let Some(after_phase) = earliest.checked_sub(phase) else {
+        return Instant(phase);
+    };
+    Instant(
+        after_phase
+            .div_ceil(rpi)
+            .saturating_mul(rpi)
+            .saturating_add(phase),
+    )
+}
+
+/// The phase of the grid of `rpi` for the grids' `offset`, in microseconds below `rpi`.
+fn grid_phase(offset: u32, rpi: u32) -> u64 {
+    u64::from(offset).checked_rem(u64::from(rpi)).unwrap_or(0)
 }
 
 /// What an opened connection produces, for its timing.
@@ -97,12 +114,16 @@ pub(super) struct Timing<const C: usize> {
     schedule: Schedule<C>,
     /// Per slot: the producer's trigger state.
     pending: [Pending; C],
+    /// The phase of the adapter's grids: each RPI's grid is `k * RPI` on from this offset
+    /// (modulo the RPI).
+    grid_offset: u32,
 }
 
 impl<const C: usize> Timing<C> {
-    /// No slot open.
-    pub(super) const fn new() -> Self {
+    /// No slot open; the grids of cyclic producers have the phase `grid_offset`.
+    pub(super) const fn new(grid_offset: u32) -> Self {
         Timing {
+            grid_offset,
             expiry: [Instant::NEVER; C],
             expiry_bound: Instant::NEVER,
             last_activity: [Instant(0); C],
@@ -184,6 +205,11 @@ impl<const C: usize> Timing<C> {
         self.pending.get(slot).is_some_and(|p| p.triggered)
     }
 
+    /// The phase of the adapter's grid of `rpi`: its points are this plus multiples of `rpi`.
+    pub(super) fn grid_phase(&self, rpi: u32) -> u64 {
+        grid_phase(self.grid_offset, rpi)
+    }
+
     /// The producer in `slot` produced at `now`: after a trigger, the next production is one
     /// `rpi` later and the next trigger waits out `inhibit`; otherwise the grid moves on to
     /// its first point after `now` (after a cyclic producer's first production, the first
@@ -207,6 +233,7 @@ impl<const C: usize> Timing<C> {
                 previous.add(Duration::from_micros(u64::from(rpi))),
                 rpi,
                 now,
+                self.grid_offset,
             )
         } else {
             advance(previous, rpi, now)
@@ -324,7 +351,7 @@ mod tests {
 
     #[test]
     fn an_opened_producer_is_due_at_once_and_then_on_its_grid() {
-        let mut t = Timing::new();
+        let mut t = Timing::new(0);
         t.open(2, Instant(500), Duration(4_000), Produces::OnTrigger);
         assert_eq!(t.due(Instant(499)), None);
         assert_eq!(t.due(Instant(500)), Some(2));
@@ -345,7 +372,7 @@ mod tests {
 
     #[test]
     fn a_cyclic_producer_moves_onto_the_clock_grid_at_its_second_production() {
-        let mut t = Timing::new();
+        let mut t = Timing::new(0);
         t.open(2, Instant(500), Duration(4_000), Produces::Cyclic);
         assert_eq!(t.due(Instant(500)), Some(2), "at once");
         t.produced(2, Instant(700), RPI, Duration(0));
@@ -363,7 +390,7 @@ mod tests {
 
     #[test]
     fn cyclic_producers_of_one_rpi_come_due_together() {
-        let mut t = Timing::new();
+        let mut t = Timing::new(0);
         let rpi = 10_000;
         // Opened at three different instants; the second starts late, the third on a point.
         for (slot, open) in [(0, 1_234), (1, 7_777), (2, 20_000)] {
@@ -387,15 +414,29 @@ mod tests {
         t.produced(3, Instant(25_000), 2 * rpi, Duration(0));
         assert_eq!(t.next_production(3), Instant(60_000));
         assert_eq!(
-            onto_clock_grid(Instant(u64::MAX - 5), rpi, Instant(0)),
+            onto_clock_grid(Instant(u64::MAX - 5), rpi, Instant(0), 0),
             Instant(u64::MAX)
         );
         t.assert_consistent();
     }
 
     #[test]
+    fn the_grids_have_the_adapters_phase() {
+        let mut t = Timing::new(12_345);
+        assert_eq!((t.grid_phase(1_000), t.grid_phase(10_000)), (345, 2_345));
+        t.open(0, Instant(0), Duration(40_000), Produces::Cyclic);
+        t.produced(0, Instant(0), 1_000, Duration(0));
+        assert_eq!(t.next_production(0), Instant(1_345));
+        assert_eq!(
+            onto_clock_grid(Instant(100), 1_000, Instant(0), 12_345),
+            Instant(345),
+            "before the first point"
+        );
+    }
+
+    #[test]
     fn a_triggered_producer_keeps_its_own_heartbeat() {
-        let mut t = Timing::new();
+        let mut t = Timing::new(0);
         t.open(4, Instant(1_234), Duration(40_000), Produces::OnTrigger);
         t.produced(4, Instant(1_234), 10_000, Duration(0));
         assert_eq!(
@@ -407,7 +448,7 @@ mod tests {
 
     #[test]
     fn the_watchdog_starts_with_the_grace_and_runs_from_each_feed() {
-        let mut t = Timing::new();
+        let mut t = Timing::new(0);
         t.open(0, Instant(0), Duration(4_000), Produces::Nothing);
         assert_eq!(t.expires(0), Instant(FIRST_PACKET_GRACE_US));
         assert_eq!(t.next_deadline(1), Some(Instant(FIRST_PACKET_GRACE_US)));
@@ -427,7 +468,7 @@ mod tests {
 
     #[test]
     fn a_trigger_waits_out_the_inhibit_time_and_restarts_the_grid() {
-        let mut t = Timing::new();
+        let mut t = Timing::new(0);
         t.open(1, Instant(0), Duration(4_000), Produces::OnTrigger);
         t.produced(1, Instant(0), 10_000, Duration(0));
         t.trigger(1);
@@ -457,7 +498,7 @@ mod tests {
 
     #[test]
     fn a_slot_without_a_producer_is_never_due_even_when_triggered() {
-        let mut t = Timing::new();
+        let mut t = Timing::new(0);
         t.open(3, Instant(0), Duration(4_000), Produces::Nothing);
         t.trigger(3);
         assert!(!t.triggered(3));

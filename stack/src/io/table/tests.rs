@@ -312,9 +312,12 @@ fn any_sequence_of_intents<const C: usize>() {
                             (p.triggered, p.inhibit_until) = (false, now + p.inhibit);
                             p.next = now + p.rpi;
                         } else if p.to_clock_grid {
-                            // The first multiple of the RPI one RPI on, and after now.
+                            // The first point of the table's grid (phase: its seed, 0x100,
+                            // modulo the RPI) one RPI on, and after now.
                             p.to_clock_grid = false;
-                            p.next = (p.next + p.rpi).max(now + 1).div_ceil(p.rpi) * p.rpi;
+                            let phase = 0x100 % p.rpi;
+                            let earliest = (p.next + p.rpi).max(now + 1);
+                            p.next = phase + (earliest - phase).div_ceil(p.rpi) * p.rpi;
                         } else {
                             while p.next <= now {
                                 p.next += p.rpi;
