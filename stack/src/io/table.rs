@@ -61,8 +61,9 @@ impl<const C: usize> ConnectionTable<C> {
             replies: [const { heapless::Vec::new() }; C],
             owner_timeouts: 0,
             timeouts: 0,
-            // The seed of the IDs also sets the phase of the producers' grids.
-            timing: Timing::new(seed),
+            // The seed also sets the phase of the producers' grids, mixed: the phase a T->O
+            // stream shows says nothing plain about the IDs to come.
+            timing: Timing::new(seed.wrapping_mul(0x9E37_79B9).rotate_left(16)),
             used: 0,
             multicast: false,
         }

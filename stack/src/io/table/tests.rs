@@ -312,10 +312,9 @@ fn any_sequence_of_intents<const C: usize>() {
                             (p.triggered, p.inhibit_until) = (false, now + p.inhibit);
                             p.next = now + p.rpi;
                         } else if p.to_clock_grid {
-                            // The first point of the table's grid (phase: its seed, 0x100,
-                            // modulo the RPI) one RPI on, and after now.
+                            // The first point of the table's grid one RPI on, and after now.
                             p.to_clock_grid = false;
-                            let phase = 0x100 % p.rpi;
+                            let phase = table.grid_phase(p.rpi as u32);
                             let earliest = (p.next + p.rpi).max(now + 1);
                             p.next = phase + (earliest - phase).div_ceil(p.rpi) * p.rpi;
                         } else {
