@@ -378,7 +378,7 @@ fn mixed_rpis_keep_their_grids_through_a_close_and_an_open() {
     let expected = |h: &Harness, live: &[(u32, u32)], opened: &[u64], from: u64, to: u64| {
         let mut e = Vec::new();
         for (slot, (&(id, rpi), &open)) in live.iter().zip(opened).enumerate() {
-            let phase = h.adapter.connections().grid_phase(rpi);
+            let phase = u64::from(h.adapter.connections().grid_phase(rpi));
             let rpi = u64::from(rpi);
             let on_grid = phase + (open + rpi - phase).div_ceil(rpi) * rpi;
             let points = core::iter::once(open).chain((on_grid..to).step_by(rpi as usize));

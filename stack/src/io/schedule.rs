@@ -22,14 +22,17 @@ pub(crate) struct Schedule<const C: usize> {
     /// The head of the list and its deadline, as every poll asks for them: a summary that
     /// every [`Schedule::set`] keeps.
     first: (usize, Instant),
+    /// The offset of the adapter's production grids (`io/timing.rs`), kept here where it
+    /// takes no room of its own (the links leave two bytes spare).
+    grid_offset: u16,
 }
 
 impl<const C: usize> Schedule<C> {
     /// The end of the list, in both directions: `next[END]` is the first producer,
     /// `prev[END]` the last; `END` itself as a slot is never due.
     pub(crate) const END: usize = C;
-    /// Nothing scheduled.
-    pub(crate) const fn new() -> Self {
+    /// Nothing scheduled; the production grids have the offset `grid_offset`.
+    pub(crate) const fn new(grid_offset: u16) -> Self {
         const { assert!(C < u8::MAX as usize, "slots fit the list's links") };
         Schedule {
             due: [Instant::NEVER; C],
@@ -37,7 +40,14 @@ impl<const C: usize> Schedule<C> {
             prev: [C as u8; C],
             end: (C as u8, C as u8),
             first: (C, Instant::NEVER),
+            grid_offset,
         }
+    }
+
+    /// The offset of the adapter's production grids.
+    #[inline]
+    pub(crate) fn grid_offset(&self) -> u16 {
+        self.grid_offset
     }
 
     /// The slot due first and when (`Instant::NEVER`, and no slot of the table, if none
@@ -80,17 +90,6 @@ impl<const C: usize> Schedule<C> {
     /// first) never come here.
     #[inline(never)]
     fn reorder(&mut self, slot: usize, listed: bool) {
-        // The first going behind the last (producers of one RPI on the adapter's grid,
-        // taking turns): relinked at the back without a walk.
-        let (p, n, last) = (self.prev(slot), self.next(slot), self.prev(Self::END));
-        let moving = listed && self.at(slot) != Instant::NEVER;
-        if moving && p == Self::END && last != slot && self.before(last, slot) {
-            self.join(Self::END, n);
-            self.join(last, slot);
-            self.join(slot, Self::END);
-            self.first = (n, self.at(n));
-            return;
-        }
         if listed {
             self.join(self.prev(slot), self.next(slot));
         }
@@ -189,7 +188,7 @@ mod tests {
 
     #[test]
     fn the_earliest_comes_first_and_the_lower_slot_on_a_tie() {
-        let mut s = Schedule::new();
+        let mut s = Schedule::new(0);
         assert_eq!(check(&s).1, Instant::NEVER);
         s.set(3, Instant(30));
         s.set(2, Instant(10));
@@ -212,7 +211,7 @@ mod tests {
 
     /// Every one of `C` slots due at once, then each one RPI later: they go in slot order.
     fn take_turns<const C: usize>() {
-        let mut s = super::Schedule::<C>::new();
+        let mut s = super::Schedule::<C>::new(0);
         for slot in 0..C {
             s.set(slot, Instant(0));
         }
@@ -225,7 +224,7 @@ mod tests {
 
     #[test]
     fn a_producer_faster_than_the_others_stays_first_until_they_are_due() {
-        let mut s = Schedule::new();
+        let mut s = Schedule::new(0);
         s.set(4, Instant(10_000));
         s.set(7, Instant(1_000));
         for k in 2..10 {
@@ -246,7 +245,7 @@ mod tests {
 
     /// Random deadlines for random slots of `C`, checked after each move.
     fn any_sequence_of_moves<const C: usize>() {
-        let mut s = super::Schedule::<C>::new();
+        let mut s = super::Schedule::<C>::new(0);
         let mut x = 0x2545_F491_4F6C_DD1Du64;
         for _ in 0..20_000 {
             x ^= x << 13;

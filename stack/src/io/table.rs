@@ -63,7 +63,7 @@ impl<const C: usize> ConnectionTable<C> {
             timeouts: 0,
             // The seed also sets the phase of the producers' grids, mixed: the phase a T->O
             // stream shows says nothing plain about the IDs to come.
-            timing: Timing::new(seed.wrapping_mul(0x9E37_79B9).rotate_left(16)),
+            timing: Timing::new((seed.wrapping_mul(0x9E37_79B9) >> 16) as u16),
             used: 0,
             multicast: false,
         }
@@ -148,7 +148,7 @@ impl<const C: usize> ConnectionTable<C> {
     /// The phase of the adapter's grid of `rpi` (microseconds, below `rpi`): a cyclic producer
     /// of that RPI produces at the instants `phase + k * rpi` of the adapter's clock from its
     /// second production on (its first is at once when it opens).
-    pub fn grid_phase(&self, rpi: u32) -> u64 {
+    pub fn grid_phase(&self, rpi: u32) -> u32 {
         self.timing.grid_phase(rpi)
     }
     /// The slot [`ConnectionTable::open`] will use next, if one is free.

@@ -44,26 +44,27 @@ fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
 
 /// The first point of the adapter's grid of `rpi` (the instants `phase + k * rpi` on its
 /// clock, `phase` its own offset modulo `rpi`) that is at `from` or later and after `now`:
-/// where a cyclic producer moves at its second production. Two divisions, once per
+/// where a cyclic producer moves at its second production. One 64-bit remainder, once per
 /// connection.
-fn onto_clock_grid(from: Instant, rpi: u32, now: Instant, offset: u32) -> Instant {
-    let phase = grid_phase(offset, rpi);
-    let rpi = u64::from(rpi.max(1));
+fn onto_clock_grid(from: Instant, rpi: u32, now: Instant, offset: u16) -> Instant {
+    let phase = u64::from(grid_phase(offset, rpi));
     let earliest = from.as_micros().max(now.as_micros().saturating_add(1));
-    let Some(after_phase) = earliest.checked_sub(phase) else {
+    let Some(since) = earliest.checked_sub(phase) else {
         return Instant(phase);
     };
-    Instant(
-        after_phase
-            .div_ceil(rpi)
-            .saturating_mul(rpi)
-            .saturating_add(phase),
-    )
+    // How far `earliest` is past a point of the grid; the next point is the rest of the way.
+    let past = since.checked_rem(u64::from(rpi)).unwrap_or(0);
+    let ahead = if past == 0 {
+        0
+    } else {
+        u64::from(rpi).saturating_sub(past)
+    };
+    Instant(earliest.saturating_add(ahead))
 }
 
 /// The phase of the grid of `rpi` for the grids' `offset`, in microseconds below `rpi`.
-fn grid_phase(offset: u32, rpi: u32) -> u64 {
-    u64::from(offset).checked_rem(u64::from(rpi)).unwrap_or(0)
+fn grid_phase(offset: u16, rpi: u32) -> u32 {
+    u32::from(offset).checked_rem(rpi).unwrap_or(0)
 }
 
 /// What an opened connection produces, for its timing.
@@ -114,20 +115,17 @@ pub(super) struct Timing<const C: usize> {
     schedule: Schedule<C>,
     /// Per slot: the producer's trigger state.
     pending: [Pending; C],
-    /// The phase of the adapter's grids: each RPI's grid is `k * RPI` on from this offset
-    /// (modulo the RPI).
-    grid_offset: u32,
 }
 
 impl<const C: usize> Timing<C> {
-    /// No slot open; the grids of cyclic producers have the phase `grid_offset`.
-    pub(super) const fn new(grid_offset: u32) -> Self {
+    /// No slot open; the grids of cyclic producers have the phase `grid_offset` (modulo each
+    /// RPI).
+    pub(super) const fn new(grid_offset: u16) -> Self {
         Timing {
-            grid_offset,
             expiry: [Instant::NEVER; C],
             expiry_bound: Instant::NEVER,
             last_activity: [Instant(0); C],
-            schedule: Schedule::new(),
+            schedule: Schedule::new(grid_offset),
             pending: [Pending::NONE; C],
         }
     }
@@ -206,8 +204,8 @@ impl<const C: usize> Timing<C> {
     }
 
     /// The phase of the adapter's grid of `rpi`: its points are this plus multiples of `rpi`.
-    pub(super) fn grid_phase(&self, rpi: u32) -> u64 {
-        grid_phase(self.grid_offset, rpi)
+    pub(super) fn grid_phase(&self, rpi: u32) -> u32 {
+        grid_phase(self.schedule.grid_offset(), rpi)
     }
 
     /// The producer in `slot` produced at `now`: after a trigger, the next production is one
@@ -233,7 +231,7 @@ impl<const C: usize> Timing<C> {
                 previous.add(Duration::from_micros(u64::from(rpi))),
                 rpi,
                 now,
-                self.grid_offset,
+                self.schedule.grid_offset(),
             )
         } else {
             advance(previous, rpi, now)

@@ -314,7 +314,7 @@ fn any_sequence_of_intents<const C: usize>() {
                         } else if p.to_clock_grid {
                             // The first point of the table's grid one RPI on, and after now.
                             p.to_clock_grid = false;
-                            let phase = table.grid_phase(p.rpi as u32);
+                            let phase = u64::from(table.grid_phase(p.rpi as u32));
                             let earliest = (p.next + p.rpi).max(now + 1);
                             p.next = phase + (earliest - phase).div_ceil(p.rpi) * p.rpi;
                         } else {
