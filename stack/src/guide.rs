@@ -194,7 +194,9 @@
 //!
 //! # 5. Inputs that change
 //!
-//! Cyclic connections read the inputs every RPI by themselves. For change-of-state and
+//! Cyclic connections read the inputs every RPI by themselves: at once when they open, then
+//! on the adapter's grid of their RPI, so connections of one RPI read them at the same
+//! instants ([`crate::io::ConnectionTable::grid_phase`]). For change-of-state and
 //! application-triggered connections, the device says which input assemblies changed: it
 //! keeps an [`crate::device::InputChanges`], marks it, and lends it from
 //! [`crate::Device::input_changes`]. The stack looks after every call into the device
