@@ -44,10 +44,10 @@ impl<const C: usize> Schedule<C> {
         }
     }
 
-    /// The offset of the adapter's production grids.
+    /// The phase of the adapter's production grid of `rpi`: the offset modulo `rpi`.
     #[inline]
-    pub(crate) fn grid_offset(&self) -> u16 {
-        self.grid_offset
+    pub(crate) fn grid_phase(&self, rpi: u32) -> u32 {
+        u32::from(self.grid_offset).checked_rem(rpi).unwrap_or(0)
     }
 
     /// The slot due first and when (`Instant::NEVER`, and no slot of the table, if none

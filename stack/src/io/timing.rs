@@ -42,12 +42,11 @@ fn advance(previous: Instant, rpi: u32, now: Instant) -> Instant {
     previous.add(Duration::from_micros(missed.saturating_mul(rpi)))
 }
 
-/// The first point of the adapter's grid of `rpi` (the instants `phase + k * rpi` on its
-/// clock, `phase` its own offset modulo `rpi`) that is at `from` or later and after `now`:
-/// where a cyclic producer moves at its second production. One 64-bit remainder, once per
-/// connection.
-fn onto_clock_grid(from: Instant, rpi: u32, now: Instant, offset: u16) -> Instant {
-    let phase = u64::from(grid_phase(offset, rpi));
+/// The first point of the grid `phase + k * rpi` (`phase` below `rpi`, from
+/// [`Schedule::grid_phase`]) that is at `from` or later and after `now`: where a cyclic
+/// producer moves at its second production. One 64-bit remainder, once per connection.
+fn onto_clock_grid(from: Instant, rpi: u32, now: Instant, phase: u32) -> Instant {
+    let phase = u64::from(phase);
     let earliest = from.as_micros().max(now.as_micros().saturating_add(1));
     let Some(since) = earliest.checked_sub(phase) else {
         return Instant(phase);
@@ -60,11 +59,6 @@ fn onto_clock_grid(from: Instant, rpi: u32, now: Instant, offset: u16) -> Instan
         u64::from(rpi).saturating_sub(past)
     };
     Instant(earliest.saturating_add(ahead))
-}
-
-/// The phase of the grid of `rpi` for the grids' `offset`, in microseconds below `rpi`.
-fn grid_phase(offset: u16, rpi: u32) -> u32 {
-    u32::from(offset).checked_rem(rpi).unwrap_or(0)
 }
 
 /// What an opened connection produces, for its timing.
@@ -205,7 +199,7 @@ impl<const C: usize> Timing<C> {
 
     /// The phase of the adapter's grid of `rpi`: its points are this plus multiples of `rpi`.
     pub(super) fn grid_phase(&self, rpi: u32) -> u32 {
-        grid_phase(self.schedule.grid_offset(), rpi)
+        self.schedule.grid_phase(rpi)
     }
 
     /// The producer in `slot` produced at `now`: after a trigger, the next production is one
@@ -231,7 +225,7 @@ impl<const C: usize> Timing<C> {
                 previous.add(Duration::from_micros(u64::from(rpi))),
                 rpi,
                 now,
-                self.schedule.grid_offset(),
+                self.schedule.grid_phase(rpi),
             )
         } else {
             advance(previous, rpi, now)
@@ -426,7 +420,7 @@ mod tests {
         t.produced(0, Instant(0), 1_000, Duration(0));
         assert_eq!(t.next_production(0), Instant(1_345));
         assert_eq!(
-            onto_clock_grid(Instant(100), 1_000, Instant(0), 12_345),
+            onto_clock_grid(Instant(100), 1_000, Instant(0), 345),
             Instant(345),
             "before the first point"
         );
