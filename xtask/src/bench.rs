@@ -32,10 +32,13 @@ const TAP_RPI_US: u32 = 1_000;
 const TAP_MULTIPLIER: &str = "3";
 /// Runs every benchmark at `scale` and writes the report.
 pub fn run_all(scale: Scale) -> Result {
-    crate::footprint::footprint()?;
+    // The check leaves the footprint to its own step of `cargo xtask test`, just before.
+    if scale == Scale::Full {
+        crate::footprint::footprint()?;
+    }
     // Two builds: together, cargo would build the stack with the host board's `log` feature
     // for the drivers too, and the counts are the stack's as a device builds it by default.
-    run(cargo().args(["build", "--release", "-p", "enip-host"]))?;
+    let host = scale.enip_host()?;
     run(cargo().args(["build", "--release", "-p", "host-tests", "--bins"]))?;
     let bin = util::target_dir().join("release");
     let cycle = bin.join("io_cycle");
@@ -60,7 +63,7 @@ pub fn run_all(scale: Scale) -> Result {
     let baseline =
         output(Command::new(bin.join("timer_baseline")).arg(baseline_seconds.to_string()))
             .ok_or_else(|| util::Error("timer_baseline failed".into()))?;
-    let tap = tap_run(&bin, &dir, tap_seconds)?;
+    let tap = tap_run(&host, &bin, &dir, tap_seconds)?;
     let qemu = crate::bench_qemu::run_all(scale)?;
     let host_runtime = crate::bench_host::measure(scale)?;
     let fleet = match scale {
@@ -271,16 +274,20 @@ fn native_ns(cycle: &str, cycles: u64) -> Result<f64> {
         .ok_or_else(|| util::Error(format!("io_cycle printed {out:?}")))
 }
 
-/// The host board on a TAP with [`TAP_CONNECTIONS`] at [`TAP_RPI_US`] for `seconds`,
-/// measured by the project's scanner (files in `dir`); returns its JSON report.
-fn tap_run(bin: &std::path::Path, dir: &std::path::Path, seconds: u32) -> Result<String> {
+/// The host board `host` on a TAP with [`TAP_CONNECTIONS`] at [`TAP_RPI_US`] for `seconds`,
+/// measured by the project's scanner from `bin` (files in `dir`); returns its JSON report.
+fn tap_run(
+    host: &std::path::Path,
+    bin: &std::path::Path,
+    dir: &std::path::Path,
+    seconds: u32,
+) -> Result<String> {
     if !util::is_root() {
         return err("the TAP benchmark needs root (network namespaces)");
     }
     let log = dir.join("board.log");
-    let host = bin.join("enip-host");
     let board = Board::Host {
-        bin: &host,
+        bin: host,
         profile: "generic",
         extra: &[],
         answers_at: BOARD_IP,

@@ -74,7 +74,7 @@ fn measure(seconds: u64, max_devices: u32, scale: Scale) -> Result<Value> {
     if !util::is_root() {
         return err("the fleet benchmark needs root (network namespaces)");
     }
-    run(cargo().args(["build", "--release", "-p", "enip-host"]))?;
+    let host = scale.enip_host()?;
     run(cargo().args([
         "build",
         "--release",
@@ -102,7 +102,7 @@ fn measure(seconds: u64, max_devices: u32, scale: Scale) -> Result<Value> {
         "KiB/device"
     );
     for n in SIZES.into_iter().filter(|n| *n <= max_devices) {
-        let r = measure_size(&bin, &dir, n, seconds)?;
+        let r = measure_size(&host, &bin, &dir, n, seconds)?;
         print_row(&n.to_string(), n, &r);
         runs.push(r);
     }
@@ -177,8 +177,9 @@ pub fn scanner_command(
     scanner
 }
 
-/// One fleet of `n` devices for `seconds`: the scanner's JSON report.
-fn measure_size(bin: &Path, dir: &Path, n: u32, seconds: u64) -> Result<Value> {
+/// One fleet of `n` devices of the board `host` for `seconds`: the JSON report of the scanner
+/// from `bin`.
+fn measure_size(host: &Path, bin: &Path, dir: &Path, n: u32, seconds: u64) -> Result<Value> {
     let lab = Lab::create_veth(LINK)?;
     lab.ns()
         .exec_checked("ip", &["addr", "add", PEERS_IP, "dev", LINK])?;
@@ -192,7 +193,7 @@ fn measure_size(bin: &Path, dir: &Path, n: u32, seconds: u64) -> Result<Value> {
          profile = \"generic\"\nserial_number = 0xF1EE0001\n"
     );
     fs::write(&list, text).map_err(|e| Error(format!("{}: {e}", list.display())))?;
-    let mut cmd = lab.board_command(bin.join("enip-host"));
+    let mut cmd = lab.board_command(host);
     cmd.arg("--devices").arg(&list).env("RUST_LOG", "warn");
     let mut fleet = LoggedChild::spawn("enip-host --devices", cmd)?;
     let last = Ipv4Addr::from(u32::from(FIRST) + n - 1);

@@ -156,7 +156,7 @@ pub fn run_all() -> bool {
 /// The cargo profile the interop suites' boards are built with: optimized, so the 1 ms soak
 /// measures the adapter rather than a debug build (whose CPU time under SCHED_FIFO ran into
 /// the kernel's real-time throttling, a 50 ms stall), with overflow checks kept.
-const INTEROP_PROFILE: &str = "interop";
+pub(crate) const INTEROP_PROFILE: &str = "interop";
 
 /// The TAP interop suite: ignored tests in host-tests, run one at a time with the peers.
 fn tap_interop() -> Result<Outcome> {
