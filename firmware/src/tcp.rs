@@ -78,20 +78,31 @@ async fn converse<D: Device, const S: usize, const C: usize, const F: usize, con
     reply: &mut [u8],
     on_reset: &dyn Fn(u8),
 ) {
+    // The inactivity deadline is worked out again only when it passes or the timeout (TCP/IP
+    // attribute 13) changes, not per request (it walks the connection table). Traffic since
+    // only moves the true deadline later: passing the one kept costs a look, not the session.
+    // Read-only: cannot bring the link task's deadline forward, so no watch/notice.
+    let timeout_now = || with_adapter_quiet(adapter, |a| a.objects().tcpip.inactivity_timeout_s);
+    let deadline_now = || with_adapter_quiet(adapter, |a| a.tcp_deadline(id));
+    let (mut timeout, mut deadline) = (timeout_now(), deadline_now());
     loop {
-        // Read-only: cannot bring the link task's deadline forward, so no watch/notice.
-        let deadline = with_adapter_quiet(adapter, |a| a.tcp_deadline(id));
+        let latest = timeout_now();
+        if latest != timeout {
+            (timeout, deadline) = (latest, deadline_now());
+        }
         let read = socket.read_with(|data| feed(adapter, id, data, reply));
         let outcome = match deadline {
             None => read.await,
             Some(at) => match with_deadline(to_embassy(at), read).await {
                 Ok(outcome) => outcome,
-                // The timeout (TCP/IP attribute 13) may have been changed meanwhile.
                 Err(_) if idle(adapter, id) => {
                     debug!("tcp socket {}: inactivity timeout", id.0);
                     return;
                 }
-                Err(_) => continue,
+                Err(_) => {
+                    deadline = deadline_now();
+                    continue;
+                }
             },
         };
         // An error here is the peer's FIN or RST.
