@@ -11,7 +11,7 @@ use embassy_net::tcp::{State, TcpSocket};
 use embassy_net::Stack;
 use embassy_time::{with_deadline, with_timeout, Duration, Timer};
 use enip_stack::device::CloseReason;
-use enip_stack::{Device, SocketId, TcpOutcome};
+use enip_stack::{Device, Instant, SocketId, TcpOutcome};
 
 use crate::clock::{now, to_embassy};
 use crate::netif::v4_endpoint;
@@ -82,13 +82,11 @@ async fn converse<D: Device, const S: usize, const C: usize, const F: usize, con
     // attribute 13) changes, not per request (it walks the connection table). Traffic since
     // only moves the true deadline later: passing the one kept costs a look, not the session.
     // Read-only: cannot bring the link task's deadline forward, so no watch/notice.
-    let timeout_now = || with_adapter_quiet(adapter, |a| a.objects().tcpip.inactivity_timeout_s);
-    let deadline_now = || with_adapter_quiet(adapter, |a| a.tcp_deadline(id));
-    let (mut timeout, mut deadline) = (timeout_now(), deadline_now());
+    let (mut timeout, mut deadline) = (inactivity_timeout(adapter), tcp_deadline(adapter, id));
     loop {
-        let latest = timeout_now();
+        let latest = inactivity_timeout(adapter);
         if latest != timeout {
-            (timeout, deadline) = (latest, deadline_now());
+            (timeout, deadline) = (latest, tcp_deadline(adapter, id));
         }
         let read = socket.read_with(|data| feed(adapter, id, data, reply));
         let outcome = match deadline {
@@ -100,7 +98,7 @@ async fn converse<D: Device, const S: usize, const C: usize, const F: usize, con
                     return;
                 }
                 Err(_) => {
-                    deadline = deadline_now();
+                    deadline = tcp_deadline(adapter, id);
                     continue;
                 }
             },
@@ -142,13 +140,28 @@ fn feed<D: Device, const S: usize, const C: usize, const F: usize, const L: usiz
     (outcome.consumed.min(data.len()), outcome)
 }
 
-/// True if the connection on `id` has been idle past the inactivity timeout (read-only, so
-/// without [`with_adapter`]'s wake-ups).
+/// True if the connection on `id` has been idle past the inactivity timeout.
 fn idle<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
     adapter: &SharedAdapter<D, S, C, F, L>,
     id: SocketId,
 ) -> bool {
-    with_adapter_quiet(adapter, |a| a.tcp_deadline(id)).is_some_and(|at| at <= now())
+    tcp_deadline(adapter, id).is_some_and(|at| at <= now())
+}
+
+/// When the connection on `id` must close if idle until then (read-only, so without
+/// [`with_adapter`]'s wake-ups).
+fn tcp_deadline<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    adapter: &SharedAdapter<D, S, C, F, L>,
+    id: SocketId,
+) -> Option<Instant> {
+    with_adapter_quiet(adapter, |a| a.tcp_deadline(id))
+}
+
+/// The encapsulation inactivity timeout in seconds (TCP/IP attribute 13; 0 is off).
+fn inactivity_timeout<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+    adapter: &SharedAdapter<D, S, C, F, L>,
+) -> u16 {
+    with_adapter_quiet(adapter, |a| a.objects().tcpip.inactivity_timeout_s)
 }
 
 /// Queues all of `data` for sending, or fails if the peer does not make room in time.
