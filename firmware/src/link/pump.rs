@@ -254,10 +254,10 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         let mut whole_burst = true;
         for _ in 0..RX_BURST {
             // A full queue waits for the stack, which wakes this task when it takes a frame,
-            // for a while at most (`StackHold`).
+            // for a while at most each time the stack falls behind (`StackHold`).
             let frame = self
                 .stack_hold
-                .may_read(frames.rx.is_full(), at)
+                .may_read(frames.rx.is_full(), frames.rx.is_empty(), at)
                 .then(|| driver.receive(cx))
                 .flatten();
             let Some((rx, _)) = frame else {
