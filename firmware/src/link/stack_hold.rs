@@ -8,9 +8,9 @@
 //! their data unread. So the link task waits at most [`STACK_HOLD_US`]; after that it reads
 //! on, hands O->T data to the adapter and drops the stack's frames while the queue has no
 //! room, until the stack has emptied its queue. A frame the stack takes does not earn it
-//! another wait: under a flood it takes one every few tens of microseconds, and a wait
-//! renewed at each would hold the driver to the stack's pace, the O->T data behind it, until
-//! the driver's own buffer overflowed and dropped them.
+//! another wait: under a flood it takes one well within each wait, and a wait renewed at each
+//! would hold the driver to the stack's pace, the O->T data behind it, until the driver's own
+//! buffer overflowed and dropped them.
 
 use enip_stack::Instant;
 
