@@ -193,8 +193,8 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
         due
     }
 
-    fn write(&self, due: IoDue, now: Instant, out: Option<&mut [u8]>) -> usize {
-        with_adapter_quiet(self, |a| a.write_io(due, now, out))
+    fn write(&self, due: &IoDue, now: Instant, out: Option<&mut [u8]>) -> usize {
+        with_adapter_quiet(self, |a| a.write_io(*due, now, out))
     }
 
     fn deadline(&self) -> Option<Instant> {

@@ -4,7 +4,7 @@
 //! kept) to the QoS object's explicit DSCP, and refreshes the IPv4 header checksum where
 //! software fills it (the TCP and UDP checksums do not cover the DS field). Class 1 T->O
 //! packets get their connection's DSCP where the link task writes their headers
-//! ([`super::frame::write_t_o_headers`]).
+//! ([`super::route::Headers`]).
 
 use enip_stack::config::ENCAP_PORT;
 use smoltcp::phy::ChecksumCapabilities;

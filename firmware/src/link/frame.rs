@@ -1,8 +1,8 @@
 //! Ethernet frames as the link task sees them: which received frames are O->T datagrams
 //! for this adapter (IPv4, UDP port 2222, not fragmented, checksums good) and who sent
-//! them, and the Ethernet, IPv4 and UDP headers in front of a T->O datagram or an ARP
-//! request. Parsing and writing are smoltcp's `wire` codecs, length-checked; the checksums
-//! are [`super::checksum`]'s.
+//! them, and an ARP request (the T->O datagrams' headers are [`super::route`]'s). Parsing
+//! and writing are smoltcp's `wire` codecs, length-checked; the checksums are
+//! [`super::checksum`]'s.
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 use core::ops::Range;
@@ -21,8 +21,6 @@ use smoltcp::wire::{
 pub(crate) const HEADERS_LEN: usize = ETHERNET_HEADER_LEN + IPV4_HEADER_LEN + UDP_HEADER_LEN;
 /// Bytes of an ARP request for an IPv4 address over Ethernet.
 pub(crate) const ARP_REQUEST_LEN: usize = ETHERNET_HEADER_LEN + 28;
-/// Hop limit of point-to-point T->O datagrams (smoltcp's default for every other packet).
-pub(crate) const UNICAST_TTL: u8 = 64;
 
 /// What a received frame holds for the link task.
 #[derive(Debug, Default, PartialEq, Eq)]
@@ -36,11 +34,11 @@ pub(crate) struct Seen {
 }
 
 /// The ethertype of IPv4.
-const IPV4: [u8; 2] = [0x08, 0x00];
+pub(crate) const IPV4: [u8; 2] = [0x08, 0x00];
 /// The ethertype of ARP.
 const ARP: [u8; 2] = [0x08, 0x06];
 /// The IP protocol number of UDP.
-const UDP: u8 = 17;
+pub(crate) const UDP: u8 = 17;
 
 /// True if `frame` is an Ethernet frame of IPv4 (by its ethertype alone).
 pub(crate) fn is_ipv4(frame: &[u8]) -> bool {
@@ -50,9 +48,8 @@ pub(crate) fn is_ipv4(frame: &[u8]) -> bool {
 /// Looks at `frame` for an adapter at `me`; `verify` says which checksums the driver left
 /// to software. Anything that is not a well-formed O->T datagram for `me` has `o_t` `None`
 /// and goes to the network stack, which deals with it as before. Read on the bytes, each
-/// field once, the deciding ones first (this runs for every frame). (Never inlined, here
-/// and in [`write_t_o_headers`]: `cargo xtask bench` shows each function's share of a
-/// cycle.)
+/// field once, the deciding ones first (this runs for every frame). (Never inlined:
+/// `cargo xtask bench` shows its share of a cycle.)
 #[inline(never)]
 pub(crate) fn inspect(frame: &[u8], me: Ipv4Addr, verify: &ChecksumCapabilities) -> Seen {
     let Some((eth, packet)) = frame.split_first_chunk::<ETHERNET_HEADER_LEN>() else {
@@ -170,79 +167,6 @@ pub(crate) fn multicast_mac(group: Ipv4Addr) -> [u8; 6] {
     [0x01, 0x00, 0x5E, b & 0x7F, c, d]
 }
 
-/// The addresses of one T->O datagram (the MAC addresses borrowed: no byte copies to make
-/// one).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Route<'a> {
-    /// This adapter's MAC and IPv4 addresses.
-    pub from: (&'a [u8; 6], Ipv4Addr),
-    /// The next hop's MAC address and the datagram's destination.
-    pub to: (&'a [u8; 6], SocketAddrV4),
-    /// IPv4 time to live.
-    pub ttl: u8,
-    /// DSCP of the IPv4 header (the connection's, from the QoS object).
-    pub dscp: u8,
-}
-
-/// Writes the headers of a T->O datagram of `payload_len` bytes into the front of `frame`,
-/// whose payload (from [`HEADERS_LEN`]) is already written; `fill` says which checksums
-/// software computes. Returns `false`, writing nothing, if `frame` is too short. The IPv4
-/// header is smoltcp's (identification 0, don't fragment, no options).
-#[inline(never)]
-pub(crate) fn write_t_o_headers(
-    frame: &mut [u8],
-    route: &Route<'_>,
-    payload_len: usize,
-    fill: &ChecksumCapabilities,
-) -> bool {
-    let udp_len = payload_len.saturating_add(UDP_HEADER_LEN);
-    let ip_len = udp_len.saturating_add(IPV4_HEADER_LEN);
-    let frame_len = ip_len.saturating_add(ETHERNET_HEADER_LEN);
-    let (Ok(udp_len), Ok(ip_len)) = (u16::try_from(udp_len), u16::try_from(ip_len)) else {
-        return false;
-    };
-    let Some(frame) = frame.get_mut(..frame_len) else {
-        return false;
-    };
-    let Some(headers) = frame.first_chunk_mut::<HEADERS_LEN>() else {
-        return false;
-    };
-    let (&[d0, d1, d2, d3, d4, d5], to) = route.to;
-    let (&[s0, s1, s2, s3, s4, s5], src) = route.from;
-    let dst = *to.ip();
-    let [a0, a1, a2, a3] = src.octets();
-    let [b0, b1, b2, b3] = dst.octets();
-    let [i0, i1] = ip_len.to_be_bytes();
-    let [u0, u1] = udp_len.to_be_bytes();
-    let [p0, p1] = IO_PORT.to_be_bytes();
-    let [q0, q1] = to.port().to_be_bytes();
-    let [t0, t1] = IPV4;
-    let (tos, ttl) = ((route.dscp & 0x3F) << 2, route.ttl);
-    // Ethernet (14 bytes), IPv4 (20), UDP (8).
-    *headers = [
-        d0, d1, d2, d3, d4, d5, s0, s1, s2, s3, s4, s5, t0, t1, 0x45, tos, i0, i1, 0, 0, 0x40, 0,
-        ttl, UDP, 0, 0, a0, a1, a2, a3, b0, b1, b2, b3, p0, p1, q0, q1, u0, u1, 0, 0,
-    ];
-    // The addresses count in both sums; the IPv4 header's other words are known here.
-    let addresses = Sum::default().add_word(src.octets()).add_word(dst.octets());
-    if fill.ipv4.tx() {
-        let sum = addresses
-            .add_word([0x45, tos, i0, i1])
-            .add_word([0, 0, 0x40, 0])
-            .add_word([ttl, UDP, 0, 0]);
-        copy(frame.get_mut(24..).unwrap_or(&mut []), &sum.checksum());
-    }
-    if fill.udp.tx() {
-        let datagram = frame.get(ETHERNET_HEADER_LEN + IPV4_HEADER_LEN..);
-        let sum = addresses.add_word([0, UDP, u0, u1]);
-        let sum = sum.add(datagram.unwrap_or(&[])).checksum();
-        // A computed zero is sent as all ones (RFC 768): zero means none was computed.
-        let sum = if sum == [0, 0] { [0xFF, 0xFF] } else { sum };
-        copy(frame.get_mut(40..).unwrap_or(&mut []), &sum);
-    }
-    true
-}
-
 /// Writes an ARP request from `from` (MAC, IPv4) for `target` into `frame` (at least
 /// [`ARP_REQUEST_LEN`] bytes); `false` if it is too short.
 pub(crate) fn write_arp_request(
@@ -294,6 +218,7 @@ mod tests {
     use smoltcp::wire::{IpAddress, Ipv4Packet, UdpPacket};
     use std::vec::Vec;
 
+    use crate::link::route::{Headers, Route};
     use crate::link::test_frames::{ME, MY_MAC, PEER, PEER_MAC};
 
     fn software() -> ChecksumCapabilities {
@@ -310,12 +235,7 @@ mod tests {
             ttl: 64,
             dscp: 0,
         };
-        assert!(write_t_o_headers(
-            &mut frame,
-            &route,
-            payload.len(),
-            &software()
-        ));
+        assert!(Headers::new(&route).write(&mut frame, payload.len(), &software()));
         // The peer's source port.
         frame[34..36].copy_from_slice(&port.to_be_bytes());
         let mut ip = Ipv4Packet::new_unchecked(&mut frame[14..]);
@@ -424,87 +344,6 @@ mod tests {
             &mut frame[..ARP_REQUEST_LEN - 1],
             (PEER_MAC, PEER),
             ME
-        ));
-    }
-
-    #[test]
-    fn t_o_headers_are_the_ones_smoltcp_writes() {
-        use crate::link::test_frames::{ipv4_frame, ipv4_mut};
-        use smoltcp::wire::{IpProtocol, UdpRepr};
-        let payload = b"0123456789a";
-        let to = SocketAddrV4::new(PEER, 40_000);
-        let route = Route {
-            from: (&MY_MAC, ME),
-            to: (&PEER_MAC, to),
-            ttl: 64,
-            dscp: 43,
-        };
-        let mut ours = std::vec![0u8; HEADERS_LEN + payload.len()];
-        ours[HEADERS_LEN..].copy_from_slice(payload);
-        assert!(write_t_o_headers(
-            &mut ours,
-            &route,
-            payload.len(),
-            &software()
-        ));
-        let mut theirs = ipv4_frame(IpProtocol::Udp, 8 + payload.len(), 0, &software());
-        theirs[HEADERS_LEN..].copy_from_slice(payload);
-        let mut ip = ipv4_mut(&mut theirs);
-        ip.set_dscp(43);
-        ip.fill_checksum();
-        let (src, dst) = (IpAddress::Ipv4(ME), IpAddress::Ipv4(PEER));
-        UdpRepr {
-            src_port: IO_PORT,
-            dst_port: 40_000,
-        }
-        .emit(
-            &mut UdpPacket::new_unchecked(ip.payload_mut()),
-            &src,
-            &dst,
-            payload.len(),
-            |_| {},
-            &software(),
-        );
-        assert_eq!(ours, theirs);
-    }
-
-    #[test]
-    fn t_o_headers_parse_back_with_good_checksums() {
-        let group = Ipv4Addr::new(239, 192, 1, 0);
-        let payload = b"t->o payload";
-        let mut frame = std::vec![0u8; HEADERS_LEN + payload.len() + 4];
-        frame[HEADERS_LEN..HEADERS_LEN + payload.len()].copy_from_slice(payload);
-        let route = Route {
-            from: (&MY_MAC, ME),
-            to: (&multicast_mac(group), SocketAddrV4::new(group, 2222)),
-            ttl: 7,
-            dscp: 47,
-        };
-        assert!(write_t_o_headers(
-            &mut frame,
-            &route,
-            payload.len(),
-            &software()
-        ));
-        let eth = EthernetFrame::new_checked(&frame[..]).unwrap();
-        assert_eq!(eth.dst_addr().0, [0x01, 0x00, 0x5E, 0x40, 1, 0]);
-        assert_eq!(eth.src_addr().0, MY_MAC);
-        let ip = Ipv4Packet::new_checked(eth.payload()).unwrap();
-        assert!(ip.verify_checksum());
-        assert_eq!(
-            (ip.src_addr(), ip.dst_addr(), ip.hop_limit(), ip.dscp()),
-            (ME, group, 7, 47)
-        );
-        let udp = UdpPacket::new_checked(ip.payload()).unwrap();
-        assert!(udp.verify_checksum(&IpAddress::Ipv4(ME), &IpAddress::Ipv4(group)));
-        assert_eq!((udp.src_port(), udp.dst_port()), (2222, 2222));
-        assert_eq!(udp.payload(), payload);
-        // Too short a frame is refused.
-        assert!(!write_t_o_headers(
-            &mut frame[..HEADERS_LEN],
-            &route,
-            1,
-            &software()
         ));
     }
 }

@@ -26,7 +26,7 @@ pub trait IoPort: LldpPort + AcdPort {
     /// (`Adapter::io_deadline`, asked under the same lock).
     fn due(&self, now: Instant) -> Result<IoDue, Option<Instant>>;
     /// Writes (or with `None` drops) the datagram `due` named (`Adapter::write_io`).
-    fn write(&self, due: IoDue, now: Instant, out: Option<&mut [u8]>) -> usize;
+    fn write(&self, due: &IoDue, now: Instant, out: Option<&mut [u8]>) -> usize;
     /// The next production or watchdog expiry (`Adapter::io_deadline`).
     fn deadline(&self) -> Option<Instant>;
     /// Time to live of multicast T->O datagrams (TCP/IP attribute 8).

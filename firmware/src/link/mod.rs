@@ -52,6 +52,7 @@ mod neighbors;
 mod net_driver;
 mod polled_link;
 mod pump;
+mod route;
 mod stack_hold;
 mod stack_sums;
 #[cfg(test)]

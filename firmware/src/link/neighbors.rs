@@ -27,6 +27,9 @@ pub(crate) struct Neighbors {
     last: usize,
     /// The last ARP request sent: when.
     asked: Option<Instant>,
+    /// Count of the entries that took another host or another MAC address: a next hop's
+    /// MAC address looked up before may no longer be the one a lookup finds.
+    changes: u32,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -43,25 +46,28 @@ impl Neighbors {
     pub fn learn(&mut self, ip: Ipv4Addr, mac: [u8; 6]) {
         self.clock = self.clock.wrapping_add(1);
         let learned = self.clock;
-        let (slot, used) = match self.find(ip) {
-            Some(i) => (
-                i,
-                self.entries
-                    .get(i)
-                    .copied()
-                    .flatten()
-                    .is_some_and(|e| e.used),
-            ),
-            None => (self.oldest(), false),
-        };
+        // A host heard from before (nearly every frame): newer, and its MAC if it moved.
+        if let Some(i) = self.find(ip) {
+            if let Some(Some(e)) = self.entries.get_mut(i) {
+                e.learned = learned;
+                if e.mac != mac {
+                    e.mac = mac;
+                    self.changes = self.changes.wrapping_add(1);
+                }
+                self.last = i;
+                return;
+            }
+        }
+        let slot = self.oldest();
         if let Some(e) = self.entries.get_mut(slot) {
             *e = Some(Entry {
                 ip,
                 mac,
                 learned,
-                used,
+                used: false,
             });
             self.last = slot;
+            self.changes = self.changes.wrapping_add(1);
         }
     }
 
@@ -72,6 +78,12 @@ impl Neighbors {
         let e = self.entries.get_mut(i)?.as_mut()?;
         e.used = true;
         Some(e.mac)
+    }
+
+    /// Changes to the entries since the start: the same count means every lookup finds what
+    /// it found before.
+    pub fn changes(&self) -> u32 {
+        self.changes
     }
 
     /// The entry of `ip`: the last one used, else the first that matches.

@@ -23,11 +23,12 @@ use super::alarm::{LinkAlarm, TimeQueue};
 use super::counted::Counted;
 use super::dscp;
 use super::flood_guard::FloodGuard;
-use super::frame::{self, copy, send_copy, Route, ARP_REQUEST_LEN, HEADERS_LEN, UNICAST_TTL};
+use super::frame::{self, copy, send_copy, ARP_REQUEST_LEN, HEADERS_LEN};
 use super::frames::{LinkFrames, TX_FRAMES};
 use super::io_port::IoPort;
 use super::lldp;
 use super::neighbors::{next_hop, Neighbors};
+use super::route::{Headers, LastRoute, UNICAST_TTL};
 use super::stack_hold::StackHold;
 use super::stack_sums::{self, LinkChecksums};
 use crate::clock::{earliest, now, to_embassy};
@@ -88,6 +89,8 @@ struct Pump<'a, const STACK_SUMS: bool> {
     /// the Class 1 frames' and, if `STACK_SUMS`, the stack's.
     sums: ChecksumCapabilities,
     neighbors: Neighbors,
+    /// The headers of the last T->O datagram's route.
+    last_route: LastRoute,
     /// Address Conflict Detection of the interface address.
     guard: Guard,
     /// The adapter's next production or watchdog expiry as last learned: until then (and
@@ -136,6 +139,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             mac,
             sums,
             neighbors: Neighbors::default(),
+            last_route: LastRoute::default(),
             guard: Guard::new(mac, seed),
             io_next: None,
             io_stale: true,
@@ -436,7 +440,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
                     return next;
                 }
             };
-            if !self.send_due(cx, driver, io, (me, usable), due, at) {
+            if !self.send_due(cx, driver, io, (me, usable), &due, at) {
                 self.blocked = true;
                 break;
             }
@@ -456,7 +460,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         driver: &mut D,
         io: &dyn IoPort,
         (me, usable): (&NetworkConfig, bool),
-        due: IoDue,
+        due: &IoDue,
         at: Instant,
     ) -> bool {
         if !usable {
@@ -468,60 +472,29 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             return false;
         };
         let to = *due.to.ip();
-        let hop = next_hop(to, me.ip, me.netmask, me.gateway);
-        let mac = if to.is_multicast() {
-            Some(frame::multicast_mac(to))
+        let ttl = if to.is_multicast() {
+            io.multicast_ttl()
         } else {
-            self.neighbors.get(to).or_else(|| self.neighbors.get(hop))
+            UNICAST_TTL
         };
-        let Some(mac) = mac else {
+        let route = (due.to, due.dscp, ttl);
+        let Some(headers) = self
+            .last_route
+            .headers((&self.mac, me), route, &mut self.neighbors)
+        else {
             // Nobody to send it to yet: dropped, and the next hop asked for by ARP.
             io.write(due, at, None);
             if self.neighbors.may_ask(at) {
+                let hop = next_hop(to, me.ip, me.netmask, me.gateway);
                 let mut request = [0u8; ARP_REQUEST_LEN];
                 frame::write_arp_request(&mut request, (self.mac, me.ip), hop);
                 send_copy(tx, &request);
             }
             return true;
         };
-        let route = Route {
-            from: (&self.mac, me.ip),
-            to: (&mac, due.to),
-            ttl: if to.is_multicast() {
-                io.multicast_ttl()
-            } else {
-                UNICAST_TTL
-            },
-            dscp: due.dscp,
-        };
         let len = HEADERS_LEN.saturating_add(due.max_len);
-        tx.consume(len, |buf| self.write_t_o(buf, io, due, &route, at));
+        tx.consume(len, |buf| write_t_o(buf, io, due, headers, &self.sums, at));
         true
-    }
-
-    /// Writes the T->O datagram `due` into `buf`: the adapter's payload, then the headers.
-    fn write_t_o(
-        &self,
-        buf: &mut [u8],
-        io: &dyn IoPort,
-        due: IoDue,
-        route: &Route<'_>,
-        at: Instant,
-    ) {
-        let Some(payload) = buf.get_mut(HEADERS_LEN..) else {
-            io.write(due, at, None);
-            return;
-        };
-        let len = io.write(due, at, Some(&mut *payload));
-        if len == 0 {
-            // The driver's buffer was short of the connection's size: dropped.
-            io.write(due, at, None);
-        }
-        // The device may fill less than the connection's size: the rest is padding.
-        if let Some(rest) = payload.get_mut(len..).filter(|rest| !rest.is_empty()) {
-            rest.fill(0);
-        }
-        frame::write_t_o_headers(buf, route, len, &self.sums);
     }
 
     /// Asks for a wake-up at `deadline`; false if it is due already at `at` (the pass's
@@ -557,6 +530,32 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
 #[inline(never)]
 fn consume(io: &dyn IoPort, from: SocketAddrV4, data: &[u8], at: Instant) -> Option<Instant> {
     io.receive(from, data, at)
+}
+
+/// Writes the T->O datagram `due` into `buf`: the adapter's payload, then `headers` (with
+/// the checksums `sums` says software fills).
+fn write_t_o(
+    buf: &mut [u8],
+    io: &dyn IoPort,
+    due: &IoDue,
+    headers: &Headers,
+    sums: &ChecksumCapabilities,
+    at: Instant,
+) {
+    let Some(payload) = buf.get_mut(HEADERS_LEN..) else {
+        io.write(due, at, None);
+        return;
+    };
+    let len = io.write(due, at, Some(&mut *payload));
+    if len == 0 {
+        // The driver's buffer was short of the connection's size: dropped.
+        io.write(due, at, None);
+    }
+    // The device may fill less than the connection's size: the rest is padding.
+    if let Some(rest) = payload.get_mut(len..).filter(|rest| !rest.is_empty()) {
+        rest.fill(0);
+    }
+    headers.write(buf, len, sums);
 }
 
 /// What software does about a checksum the driver does `hardware` about.
