@@ -6,8 +6,9 @@
 //! driver's buffer to the adapter; every other frame goes on to embassy-net through
 //! [`LinkFrames`] and the [`NetDriver`] the stack was built with. T->O datagrams are written
 //! by the adapter straight into the driver's transmit buffer, behind Ethernet, IPv4 and UDP
-//! headers the link task writes; the next hop's MAC address is the one the originator's own
-//! frames came from (asked for by ARP if none came yet), or the IPv4 multicast group's.
+//! headers the link task writes (built once per route and kept, `route.rs`); the next hop's
+//! MAC address is the one the originator's own frames came from (asked for by ARP if none
+//! came yet), or the IPv4 multicast group's.
 //!
 //! LLDP frames (ethertype 0x88CC) are the link task's too: received ones go to the adapter's
 //! LLDP Data Table, and the adapter's own LLDPDUs go out when due (`link/lldp.rs`).
