@@ -77,9 +77,9 @@ impl Headers {
 
     /// Writes these headers in front of a T->O datagram of `payload_len` bytes into `frame`,
     /// whose payload (from [`HEADERS_LEN`]) is already written; `fill` says which checksums
-    /// software computes. Returns `false`, writing nothing, if `frame` is too short. (Never
-    /// inlined: `cargo xtask bench` shows its share of a cycle.)
-    #[inline(never)]
+    /// software computes. Returns `false`, writing nothing, if `frame` is too short. (Inline:
+    /// its one caller writes the payload in front of it.)
+    #[inline]
     pub(crate) fn write(
         &self,
         frame: &mut [u8],

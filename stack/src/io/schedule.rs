@@ -1,9 +1,10 @@
 //! The production schedule: when each producer of the connection table is next due, and the
 //! producers in the order they are due (a list linked both ways, kept in order as they move),
 //! so the first is known without a scan. A producer that stays between its neighbours (a
-//! single producer, or one faster than the rest) compares with them alone; one that goes
-//! behind the others (equal RPIs taking turns) is placed from the back of the list, after
-//! one comparison, where a scan of every deadline used to find the new first.
+//! single producer, or one faster than the rest) compares with them alone; the first going
+//! behind the last (equal RPIs taking turns) moves there after one more comparison; any other
+//! move is placed from the back of the list, where a scan of every deadline used to find the
+//! new first.
 
 use crate::time::Instant;
 
@@ -79,6 +80,15 @@ impl<const C: usize> Schedule<C> {
                 if p == Self::END {
                     self.first.1 = at;
                 }
+                return;
+            }
+            // The first goes behind the last (producers of one RPI taking turns).
+            let last = self.prev(Self::END);
+            if p == Self::END && last != slot && self.before(last, slot) {
+                self.join(Self::END, n);
+                self.join(last, slot);
+                self.join(slot, Self::END);
+                self.first = (n, self.at(n));
                 return;
             }
         }
