@@ -41,8 +41,10 @@ const ELF_VAR: &str = "ENIP_QEMU_BENCH_ELF";
 /// Set, `cargo xtask bench --qemu` makes one traced run and nothing else, a quick figure
 /// while working on the firmware: of 1 connection, or with `explicit` of the requests.
 const QUICK_VAR: &str = "ENIP_QEMU_BENCH_QUICK";
-/// The function called once per O->T datagram: the cycle counter.
-pub const MARKER: &str = "enip_firmware::link::pump::consume";
+/// The function called once per O->T datagram (the adapter's Class 1 receive, called through
+/// `IoPort`, so never inlined): the cycle counter.
+pub const MARKER: &str =
+    "<enip_firmware::shared::SharedAdapter<D,_,_,_,_> as enip_firmware::link::io_port::IoPort>::receive";
 /// The function called once per explicit request read from TCP: the request counter.
 const REQUEST_MARKER: &str = "enip_firmware::tcp::feed";
 /// The device's Class 1 write (the generic profile's): where O->T data reaches it, and where

@@ -9,7 +9,6 @@
 
 use core::convert::Infallible;
 use core::future::poll_fn;
-use core::net::SocketAddrV4;
 use core::task::{Context, Poll, Waker};
 
 use embassy_net_driver::{Checksum, Driver, HardwareAddress, LinkState, RxToken, TxToken};
@@ -244,7 +243,9 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         !more_frames && self.sleep_until(deadline, at, cx)
     }
 
-    /// Reads what the driver received; true if it read a whole burst (more may wait).
+    /// Reads what the driver received; true if it read a whole burst (more may wait). Out of
+    /// line, with the loop inside: the frames' temporaries are set up once per pass.
+    #[inline(never)]
     fn receive<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -276,9 +277,8 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         whole_burst
     }
 
-    /// One received frame: O->T data to the adapter, anything else to the stack (true). Out
-    /// of line: the frame's temporaries are set up only when a frame came, not in every pass.
-    #[inline(never)]
+    /// One received frame: O->T data to the adapter, anything else to the stack (true).
+    #[inline(always)]
     fn ingest(
         &mut self,
         frame: &[u8],
@@ -302,7 +302,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         let passed = match o_t {
             Some((from, data)) => {
                 // The data may have triggered a production: the deadline is learned anew.
-                self.io_next = consume(io, from, data, at);
+                self.io_next = io.receive(from, data, at);
                 false
             }
             None if !self.flood_guard.admit(frame, me.ip, at) => false,
@@ -429,16 +429,29 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             return self.io_next;
         }
         self.io_stale = false;
+        self.io_next = self.send_all_due(cx, driver, io, me, at);
+        self.io_next
+    }
+
+    /// Sends (or drops) every T->O datagram due at `at`; returns the adapter's next deadline.
+    /// Out of line, with the loop inside: the datagrams' temporaries are set up only when one
+    /// is due, once for all of them.
+    #[inline(never)]
+    fn send_all_due<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        io: &dyn IoPort,
+        me: &NetworkConfig,
+        at: Instant,
+    ) -> Option<Instant> {
         let usable = self.guard.usable();
         // Bounded: each round sends or drops one datagram, and each producer is due once.
         for _ in 0..MAX_CONNECTIONS.saturating_mul(2) {
             let due = match io.due(at) {
                 Ok(due) => due,
                 // Nothing more due: the answer says when the next is.
-                Err(next) => {
-                    self.io_next = next;
-                    return next;
-                }
+                Err(next) => return next,
             };
             if !self.send_due(cx, driver, io, (me, usable), &due, at) {
                 self.blocked = true;
@@ -446,14 +459,12 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             }
         }
         // The driver had no room, or the bound was reached: asked apart.
-        self.io_next = io.deadline();
-        self.io_next
+        io.deadline()
     }
 
     /// Sends (or drops) the T->O datagram `due` at `at` from the interface `me` (its address
-    /// usable or not); false if the driver had no room. Out of line: the datagram's
-    /// temporaries are set up only when one is due, not in every pass.
-    #[inline(never)]
+    /// usable or not); false if the driver had no room.
+    #[inline(always)]
     fn send_due<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -522,14 +533,6 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             .wake_at(to_embassy(deadline).as_ticks(), cx.waker());
         true
     }
-}
-
-/// Hands one O->T datagram to the adapter; returns the adapter's next deadline after it.
-/// Never inlined: `cargo xtask bench` counts its calls as the Class 1 cycles of the emulated
-/// board.
-#[inline(never)]
-fn consume(io: &dyn IoPort, from: SocketAddrV4, data: &[u8], at: Instant) -> Option<Instant> {
-    io.receive(from, data, at)
 }
 
 /// Writes the T->O datagram `due` into `buf`: the adapter's payload, then `headers` (with
