@@ -44,6 +44,14 @@ struct Entry {
 impl Neighbors {
     /// Notes that `ip`'s frames come from `mac`.
     pub fn learn(&mut self, ip: Ipv4Addr, mac: [u8; 6]) {
+        // The host learned last, from the same MAC (a stream of O->T data): it stays the
+        // newest, and nothing changes.
+        let newest = |e: &Option<Entry>| {
+            e.is_some_and(|e| e.ip == ip && e.mac == mac && e.learned == self.clock)
+        };
+        if self.entries.get(self.last).is_some_and(newest) {
+            return;
+        }
         self.clock = self.clock.wrapping_add(1);
         let learned = self.clock;
         // A host heard from before (nearly every frame): newer, and its MAC if it moved.
