@@ -74,21 +74,29 @@ impl<const C: usize> Schedule<C> {
         *d = at;
         if listed && at != Instant::NEVER {
             let (p, n) = (self.prev(slot), self.next(slot));
-            // Still after the one before it and before the one after it: the order stands.
-            if (p == Self::END || self.before(p, slot)) && (n == Self::END || self.before(slot, n))
-            {
-                if p == Self::END {
+            if p == Self::END {
+                // The first: alone, it stays so.
+                if n == Self::END {
                     self.first.1 = at;
+                    return;
                 }
-                return;
-            }
-            // The first goes behind the last (producers of one RPI taking turns).
-            let last = self.prev(Self::END);
-            if p == Self::END && last != slot && self.before(last, slot) {
-                self.join(Self::END, n);
-                self.join(last, slot);
-                self.join(slot, Self::END);
-                self.first = (n, self.at(n));
+                // Behind the last now (producers of one RPI taking turns): moved there,
+                // asked first as the commonest move of a first with others behind it.
+                let last = self.prev(Self::END);
+                if self.before(last, slot) {
+                    self.join(Self::END, n);
+                    self.join(last, slot);
+                    self.join(slot, Self::END);
+                    self.first = (n, self.at(n));
+                    return;
+                }
+                // Still before the next: the order stands.
+                if self.before(slot, n) {
+                    self.first.1 = at;
+                    return;
+                }
+            } else if self.before(p, slot) && (n == Self::END || self.before(slot, n)) {
+                // Still after the one before it and before the one after it.
                 return;
             }
         }
