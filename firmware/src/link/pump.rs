@@ -243,9 +243,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         !more_frames && self.sleep_until(deadline, at, cx)
     }
 
-    /// Reads what the driver received; true if it read a whole burst (more may wait). Out of
-    /// line, with the loop inside: the frames' temporaries are set up once per pass.
-    #[inline(never)]
+    /// Reads what the driver received; true if it read a whole burst (more may wait).
     fn receive<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -277,8 +275,9 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         whole_burst
     }
 
-    /// One received frame: O->T data to the adapter, anything else to the stack (true).
-    #[inline(always)]
+    /// One received frame: O->T data to the adapter, anything else to the stack (true). Out
+    /// of line: the frame's temporaries are set up only when a frame came, not in every pass.
+    #[inline(never)]
     fn ingest(
         &mut self,
         frame: &[u8],

@@ -531,6 +531,7 @@ impl<
     }
 
     /// The next instant [`Self::poll_io`] has work: a production or a watchdog expiry.
+    #[inline]
     pub fn io_deadline(&self) -> Option<Instant> {
         self.inner.connections.next_deadline()
     }

@@ -72,17 +72,25 @@ impl<const C: usize> Schedule<C> {
         };
         let listed = *d != Instant::NEVER;
         *d = at;
+        // Alone in the list, it stays first.
+        if self.first.0 == slot && usize::from(self.end.1) == slot && listed && at != Instant::NEVER
+        {
+            self.first.1 = at;
+            return;
+        }
+        self.moved(slot, at, listed);
+    }
+
+    /// [`Self::set`] of `slot` to `at` (`listed` before) among others, or into or out of the
+    /// list. Out of line: a single producer never comes here.
+    #[inline(never)]
+    fn moved(&mut self, slot: usize, at: Instant, listed: bool) {
         if listed && at != Instant::NEVER {
-            let (p, n) = (self.prev(slot), self.next(slot));
-            if p == Self::END {
-                // The first: alone, it stays so.
-                if n == Self::END {
-                    self.first.1 = at;
-                    return;
-                }
+            let last = usize::from(self.end.1);
+            if slot == usize::from(self.end.0) {
                 // Behind the last now (producers of one RPI taking turns): moved there,
                 // asked first as the commonest move of a first with others behind it.
-                let last = self.prev(Self::END);
+                let n = self.next(slot);
                 if self.before(last, slot) {
                     self.join(Self::END, n);
                     self.join(last, slot);
@@ -95,18 +103,21 @@ impl<const C: usize> Schedule<C> {
                     self.first.1 = at;
                     return;
                 }
-            } else if self.before(p, slot) && (n == Self::END || self.before(slot, n)) {
+            } else {
                 // Still after the one before it and before the one after it.
-                return;
+                let (p, n) = (self.prev(slot), self.next(slot));
+                if self.before(p, slot) && (n == Self::END || self.before(slot, n)) {
+                    return;
+                }
             }
         }
         self.reorder(slot, listed);
     }
 
     /// Takes `slot` out of the list if it is `listed`, and puts it back in its place if it
-    /// has a deadline. Out of line: the common moves (one producer, or one that stays
-    /// first) never come here.
-    #[inline(never)]
+    /// has a deadline. Inline in [`Self::moved`], whose common moves (one that stays first,
+    /// or goes behind the last) return before it.
+    #[inline(always)]
     fn reorder(&mut self, slot: usize, listed: bool) {
         if listed {
             self.join(self.prev(slot), self.next(slot));
