@@ -198,6 +198,44 @@ mod tests {
     }
 
     #[test]
+    fn changes_count_what_a_lookup_could_find_differently() {
+        let mut n = Neighbors::default();
+        let b = Ipv4Addr::new(198, 18, 0, 9);
+        n.learn(A, [2, 0, 0, 0, 0, 1]);
+        let first = n.changes();
+        // The same host from the same MAC again, in a stream or after another host: none.
+        n.learn(A, [2, 0, 0, 0, 0, 1]);
+        n.learn(A, [2, 0, 0, 0, 0, 1]);
+        assert_eq!(n.changes(), first);
+        n.learn(b, [2, 0, 0, 0, 0, 9]);
+        let second = n.changes();
+        assert_ne!(second, first, "a new host");
+        n.learn(A, [2, 0, 0, 0, 0, 1]);
+        assert_eq!(n.changes(), second);
+        n.learn(A, [2, 0, 0, 0, 0, 2]);
+        assert_ne!(n.changes(), second, "a MAC that moved");
+        assert_eq!(n.get(A), Some([2, 0, 0, 0, 0, 2]));
+    }
+
+    #[test]
+    fn a_stream_from_one_host_keeps_it_the_newest() {
+        let mut n = Neighbors::default();
+        let b = Ipv4Addr::new(198, 18, 0, 9);
+        n.learn(A, [2, 0, 0, 0, 0, 1]);
+        n.learn(b, [2, 0, 0, 0, 0, 9]);
+        // B's stream: B stays newer than A, so A makes room first.
+        for _ in 0..5 {
+            n.learn(b, [2, 0, 0, 0, 0, 9]);
+        }
+        for i in 0..(NEIGHBORS - 2) as u8 {
+            n.learn(Ipv4Addr::new(198, 18, 1, i), [2, 0, 0, 0, 1, i]);
+        }
+        n.learn(Ipv4Addr::new(198, 18, 2, 0), [2, 0, 0, 0, 2, 0]);
+        assert_eq!(n.get(A), None, "the oldest made room");
+        assert_eq!(n.get(b), Some([2, 0, 0, 0, 0, 9]));
+    }
+
+    #[test]
     fn asks_at_most_every_100_ms() {
         let mut n = Neighbors::default();
         assert!(n.may_ask(Instant::from_micros(1_000)));
