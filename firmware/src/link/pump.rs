@@ -233,7 +233,14 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             // The stack's frames may answer a request that moved the LLDP deadline.
             self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
         }
-        let io_next = self.produce(cx, driver, io, me, at);
+        // The adapter is asked only when the deadline last learned has come or another task
+        // may have moved it: a wake-up for a received frame pays a comparison.
+        self.blocked = false;
+        let io_next = if self.io_stale || self.io_next.is_some_and(|next| next <= at) {
+            self.produce(cx, driver, io, me, at)
+        } else {
+            self.io_next
+        };
         if up && (self.lldp_stale || self.lldp_next.is_some_and(|d| d <= at)) {
             self.send_lldp(cx, driver, io, at);
         }
@@ -414,9 +421,10 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         sent
     }
 
-    /// Sends (or drops) every T->O datagram due at `at`; returns the adapter's next deadline
-    /// (`IoPort::deadline`). Asks the adapter only when the deadline last learned has come
-    /// or another task may have moved it: a wake-up for a received frame pays a comparison.
+    /// Sends (or drops) every T->O datagram due at `at`; learns and returns the adapter's next
+    /// deadline. Out of line, with the loop inside: the datagrams' temporaries are set up
+    /// only when one is due, once for all of them.
+    #[inline(never)]
     fn produce<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
@@ -425,34 +433,17 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         me: &NetworkConfig,
         at: Instant,
     ) -> Option<Instant> {
-        self.blocked = false;
-        if !self.io_stale && self.io_next.is_none_or(|next| next > at) {
-            return self.io_next;
-        }
         self.io_stale = false;
-        self.io_next = self.send_all_due(cx, driver, io, me, at);
-        self.io_next
-    }
-
-    /// Sends (or drops) every T->O datagram due at `at`; returns the adapter's next deadline.
-    /// Out of line, with the loop inside: the datagrams' temporaries are set up only when one
-    /// is due, once for all of them.
-    #[inline(never)]
-    fn send_all_due<D: Driver>(
-        &mut self,
-        cx: &mut Context<'_>,
-        driver: &mut D,
-        io: &dyn IoPort,
-        me: &NetworkConfig,
-        at: Instant,
-    ) -> Option<Instant> {
         let usable = self.guard.usable();
         // Bounded: each round sends or drops one datagram, and each producer is due once.
         for _ in 0..MAX_CONNECTIONS.saturating_mul(2) {
             let due = match io.due(at) {
                 Ok(due) => due,
                 // Nothing more due: the answer says when the next is.
-                Err(next) => return next,
+                Err(next) => {
+                    self.io_next = next;
+                    return next;
+                }
             };
             if !self.send_due(cx, driver, io, (me, usable), &due, at) {
                 self.blocked = true;
@@ -460,7 +451,8 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             }
         }
         // The driver had no room, or the bound was reached: asked apart.
-        io.deadline()
+        self.io_next = io.deadline();
+        self.io_next
     }
 
     /// Sends (or drops) the T->O datagram `due` at `at` from the interface `me` (its address
