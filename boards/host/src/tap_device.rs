@@ -1,8 +1,10 @@
 //! [`TapDevice`]: a TAP interface as an embassy-net driver, with one receive and one transmit
 //! buffer allocated at start, so a received frame costs no allocation or zeroing (the
 //! embassy-net-tuntap driver allocates and zeroes an MTU-sized buffer on every read attempt);
-//! it reads only after the loop's `ppoll` found the TAP readable ([`Readable`]), so no read
-//! comes back empty; and it is built to survive the link going down: the kernel refuses
+//! it reads after the loop's `ppoll` found the TAP readable ([`Readable`]) and then on, as a
+//! MAC's receive ring is drained, up to [`READS_PER_REPORT`] frames or until the TAP is empty
+//! (a flood costs one `ppoll` for that many frames, not one each, while the loop's other
+//! descriptors are still watched between them); and it is built to survive the link going down: the kernel refuses
 //! writes (EIO) while the TAP is administratively down (`ip link set TAP down`, a pulled
 //! cable), and such a frame is dropped as on a link without carrier, while the link state
 //! follows the interface's flags (up and running), read again whenever netlink reports a
@@ -29,6 +31,8 @@ const IFREQ_LEN: usize = 40;
 /// How long after a failed read the TAP is watched again (a persistent error is retried,
 /// not spun on).
 const READ_RETRY: Duration = Duration::from_millis(100);
+/// Frames read after one readiness report before the loop's wait is asked again.
+const READS_PER_REPORT: u8 = 16;
 
 /// An open TAP interface.
 pub struct TapDevice {
@@ -50,6 +54,8 @@ pub struct TapDevice {
     watch: Watch,
     /// After a failed read: when to watch the TAP again.
     retry: Option<Timer>,
+    /// Reads that may still be tried without a new readiness report (0: wait for one).
+    reads_left: u8,
     /// Frames the kernel refused since the link was last seen down (logged once an outage).
     dropped: u64,
 }
@@ -101,6 +107,7 @@ impl TapDevice {
             link_changes: Readable::new(watch.fd()),
             watch,
             retry: None,
+            reads_left: 0,
             dropped: 0,
         };
         tap.link = tap.read_link()?;
@@ -110,6 +117,42 @@ impl TapDevice {
     /// Sets the Ethernet address the network stack uses.
     pub fn set_hardware_address(&mut self, mac: [u8; 6]) {
         self.mac = mac;
+    }
+
+    /// Reads one frame into the receive buffer; a failure other than an empty TAP is logged
+    /// and the TAP watched again only after [`READ_RETRY`] (the timer polled with `cx`).
+    fn read(&mut self, cx: &mut Context<'_>) -> ReadOutcome {
+        match (&self.file).read(self.rx.as_mut_slice()) {
+            Ok(n) => ReadOutcome::Frame(n),
+            Err(e) if e.kind() == io::ErrorKind::WouldBlock => ReadOutcome::Empty,
+            Err(e) => {
+                log::warn!("tap read: {e}");
+                let mut retry = Timer::after(READ_RETRY);
+                // Polled once, so that it wakes the runner.
+                let _ = Pin::new(&mut retry).poll(cx);
+                self.retry = Some(retry);
+                self.reads_left = 0;
+                ReadOutcome::Failed
+            }
+        }
+    }
+
+    /// The tokens of the `n`-byte frame just read.
+    fn tokens(&mut self, n: usize) -> (RxToken<'_>, TxToken<'_>) {
+        let Self {
+            file,
+            rx,
+            tx,
+            dropped,
+            ..
+        } = self;
+        let frame = rx.get_mut(..n).unwrap_or_default();
+        let tx = TxToken {
+            file,
+            buf: tx,
+            dropped,
+        };
+        (RxToken { frame }, tx)
     }
 
     /// The link state from the interface's flags: up only when both up and running.
@@ -148,6 +191,16 @@ fn request(name: &[u8; libc::IF_NAMESIZE]) -> [u8; IFREQ_LEN] {
         dst.copy_from_slice(name);
     }
     ifreq
+}
+
+/// What one read of the TAP gave.
+enum ReadOutcome {
+    /// A frame of this many bytes.
+    Frame(usize),
+    /// Nothing to read.
+    Empty,
+    /// An error, logged; the TAP is read again after [`READ_RETRY`].
+    Failed,
 }
 
 /// A received frame, in the device's receive buffer.
@@ -195,38 +248,28 @@ impl Driver for TapDevice {
             }
             self.retry = None;
         }
-        // Bounded: a report with nothing to read (another reader took it) is taken, so the
-        // second poll keeps the waker for the next report.
+        if self.reads_left > 0 {
+            self.reads_left -= 1;
+            match self.read(cx) {
+                ReadOutcome::Frame(n) => return Some(self.tokens(n)),
+                ReadOutcome::Failed => return None,
+                // Drained: wait for the next report.
+                ReadOutcome::Empty => self.reads_left = 0,
+            }
+        }
+        // Bounded: a report with nothing to read (another reader took it, or the reads since
+        // it drained the TAP) is taken, so the second poll keeps the waker for the next one.
         for _ in 0..2 {
             if self.readable.poll_readable(cx).is_pending() {
                 return None;
             }
-            match (&self.file).read(self.rx.as_mut_slice()) {
-                Ok(n) => {
-                    let Self {
-                        file,
-                        rx,
-                        tx,
-                        dropped,
-                        ..
-                    } = self;
-                    let frame = rx.get_mut(..n).unwrap_or_default();
-                    let tx = TxToken {
-                        file,
-                        buf: tx,
-                        dropped,
-                    };
-                    return Some((RxToken { frame }, tx));
+            match self.read(cx) {
+                ReadOutcome::Frame(n) => {
+                    self.reads_left = READS_PER_REPORT - 1;
+                    return Some(self.tokens(n));
                 }
-                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {}
-                Err(e) => {
-                    log::warn!("tap read: {e}");
-                    let mut retry = Timer::after(READ_RETRY);
-                    // Polled once, so that it wakes the runner.
-                    let _ = Pin::new(&mut retry).poll(cx);
-                    self.retry = Some(retry);
-                    return None;
-                }
+                ReadOutcome::Failed => return None,
+                ReadOutcome::Empty => {}
             }
         }
         None
