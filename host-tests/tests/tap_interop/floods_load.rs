@@ -5,10 +5,12 @@
 //! are "no flood" and each flood in turn, so that every flood is compared with the same load
 //! without it on the same board in the same run.
 //!
-//! The board is pinned to CPU 0 (`taskset`) and runs under SCHED_FIFO, as the scanner's I/O
-//! threads do; flooders run on CPU 1 at normal priority. On this 2-core machine an unpinned
-//! flooder takes the board's core and every connection times out, which would measure the
-//! machine, not the adapter.
+//! The board is pinned to CPU 0 (`taskset`) at the highest normal priority (nice -20);
+//! flooders run on CPU 1 at normal priority. On this 2-core machine an unpinned flooder takes
+//! the board's core and every connection times out, which would measure the machine, not the
+//! adapter. Not SCHED_FIFO as elsewhere: a line-rate flood can keep the board busy for whole
+//! seconds, and the kernel then stops a real-time task for some 50 ms a second to run the
+//! normal tasks of its core (`high_priority_process`), which times out every connection.
 
 use std::io;
 use std::process::Command;
@@ -17,10 +19,10 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 use serde_json::{json, Value};
 
 use crate::common::{self, REPLY};
-use crate::fault_io::{board_real_time, SCANNER_PRIORITY};
+use crate::fault_io::SCANNER_PRIORITY;
 use crate::faults::cm_counter;
 use host_tests::enip::{mr_request, path, Client};
-use host_tests::faults::{ms, pid_in, real_time_thread};
+use host_tests::faults::{high_priority_process, ms, pid_in, real_time_thread};
 use host_tests::netns::Namespace;
 use host_tests::peers;
 use host_tests::rig::{Rig, BOARD_IP};
@@ -67,7 +69,7 @@ pub const BOARD_CPU: u32 = 0;
 pub const FLOOD_CPU: u32 = 1;
 
 /// Pins the board `program` (as `/proc/PID/comm` has it: `enip-host` or QEMU) to
-/// [`BOARD_CPU`], `enip-host` under SCHED_FIFO too; returns its pid.
+/// [`BOARD_CPU`], `enip-host` at nice -20 too; returns its pid.
 pub fn pin_board(rig: &Rig, program: &str) -> u32 {
     let pid = pid_in(rig.ns(), program).expect("board pid");
     let status = Command::new("taskset")
@@ -76,9 +78,9 @@ pub fn pin_board(rig: &Rig, program: &str) -> u32 {
         .expect("taskset");
     assert!(status.status.success(), "taskset: {status:?}");
     // QEMU's threads share the CPU (its vCPU thread runs flat out and would starve the one
-    // that moves frames to and from the TAP under SCHED_FIFO): pinned only.
+    // that moves frames to and from the TAP at a higher priority): pinned only.
     if program == "enip-host" {
-        board_real_time(rig);
+        high_priority_process(pid).expect("nice -20 for the board");
     }
     pid
 }
