@@ -389,7 +389,19 @@ pub fn flood_run(
     }
     let run = run_phases(rig, program, rpi, &phases);
     host_tests::faults::report(scenario, run.clone());
-    println!("board log (last lines):\n{}", rig.board_log_tail(30));
+    // The connections' closes (a timeout names its reason), which the sessions' lines of the
+    // fresh clients would push out of a plain tail.
+    let log = rig.board_log_tail(100_000);
+    let closes: Vec<&str> = log
+        .lines()
+        .filter(|l| l.contains("] connection "))
+        .collect();
+    println!(
+        "board log, connections closed ({}, the last 20):\n{}\nboard log (last lines):\n{}",
+        closes.len(),
+        closes[closes.len().saturating_sub(20)..].join("\n"),
+        rig.board_log_tail(30)
+    );
     assert_load_held(&run);
     for (name, _, _) in floods {
         assert_served_after(&run, name);
