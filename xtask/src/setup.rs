@@ -45,6 +45,8 @@ pub const APT_PACKAGES: &[(&str, &[&str])] = &[
     // The npm peer (st-ethernet-ip) and the fault tests' real-time priority (`chrt`).
     ("npm", &["npm", "--version"]),
     ("util-linux", &["chrt", "--version"]),
+    // The flood tests' board priority (nice -20: `renice`, Debian's bsdutils).
+    ("bsdutils", &["renice", "--version"]),
     // Where the eip2nats bridge publishes the T->O data EIPScanner receives.
     ("nats-server", &["nats-server", "--version"]),
     // Layer-2 peers of the conformance tests: an LLDP agent and an ARP prober (RFC 5227).

@@ -391,7 +391,7 @@ pub fn flood_run(
     host_tests::faults::report(scenario, run.clone());
     // The connections' closes (a timeout names its reason), which the sessions' lines of the
     // fresh clients would push out of a plain tail.
-    let log = rig.board_log_tail(100_000);
+    let log = rig.board_log();
     let closes: Vec<&str> = log
         .lines()
         .filter(|l| l.contains("] connection "))
