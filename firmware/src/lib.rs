@@ -4,17 +4,17 @@
 //! [`enip_stack::Adapter`] over a device profile in an [`AdapterCell`], spawns the link task
 //! with its Ethernet driver, and awaits [`run`] next to the stack's runner:
 //!
-//! - [`run`] serves the three encapsulation TCP sockets ([`tcp`], with the session timeouts
-//!   every runtime shares) and the UDP socket on port 44818, keeps the adapter's view of the
-//!   interface current, and runs the device's own clock (`Device::poll`, e.g. a simulated
-//!   drive's control tick);
-//! - [`link`] is Class 1 I/O at the Ethernet frame level: the board's driver belongs to the
-//!   link task ([`link::run`]), which hands O->T datagrams to the adapter and sends T->O
-//!   data straight from it, and passes every other frame to embassy-net through a
-//!   [`link::NetDriver`];
-//! - [`Resources`] are the socket buffers, which the board places (usually in a `static`),
-//!   and the embassy-net stack needs [`SOCKETS`] sockets (build its resources with
-//!   [`stack_resources`], which refuses fewer);
+//! - [`run`] serves the UDP socket on port 44818, keeps the adapter's view of the interface
+//!   current, runs the device's own clock (`Device::poll`, e.g. a simulated drive's control
+//!   tick), and performs the Identity Resets requested;
+//! - [`link`] is Class 1 I/O and the encapsulation TCP at the Ethernet frame level: the
+//!   board's driver belongs to the link task ([`link::run`]), which hands O->T datagrams to
+//!   the adapter and sends T->O data straight from it, serves TCP port 44818 with the
+//!   stack's own TCP ([`enip_stack::tcp`]: a request and its reply in one wake-up), and
+//!   passes every other frame to embassy-net through a [`link::NetDriver`];
+//! - [`Resources`] are the UDP socket's buffers, which the board places (usually in a
+//!   `static`), and the embassy-net stack needs [`SOCKETS`] sockets (build its resources
+//!   with [`stack_resources`], which refuses fewer);
 //! - [`indicators`] shows the ODVA Module and Network Status on the board's LEDs;
 //! - [`admission`] holds Class 1 connections to the RPI the board can sustain ([`RpiFloor`]);
 //! - [`diagnostics`] puts the board's own object (its call stack's high-water mark) in front of
@@ -37,7 +37,7 @@
 
 // The stack's logging macros (its `fmt` module), decided by this crate's `log` and `defmt`
 // features.
-#[macro_use(debug, info, warn, error)]
+#[macro_use(info, warn, error)]
 extern crate enip_stack;
 
 pub mod admission;
@@ -51,8 +51,6 @@ mod netif;
 mod resources;
 mod runtime;
 mod shared;
-pub mod tcp;
-mod tcp_accept;
 mod udp;
 pub mod watchdog;
 

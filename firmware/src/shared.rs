@@ -1,6 +1,7 @@
 //! The adapter shared between the runtime's tasks on one single-threaded executor: the
 //! wake-up that tells the link task its deadline moved, the note that the multicast group
-//! may have changed, and its Class 1 and LLDP calls as an [`IoPort`] and [`LldpPort`].
+//! may have changed, the encapsulation port's TCP, and its Class 1, TCP and LLDP calls as an
+//! [`IoPort`] and [`LldpPort`].
 
 use core::cell::{Cell, RefCell};
 use core::net::SocketAddrV4;
@@ -12,7 +13,9 @@ use embassy_sync::signal::Signal;
 use enip_stack::config::{
     MAX_CONNECTIONS, MAX_ENCAP_FRAME, MAX_PENDING_LIST_IDENTITY, MAX_SESSIONS,
 };
+use enip_stack::device::CloseReason;
 use enip_stack::objects::LinkCounters;
+use enip_stack::tcp::{Outgoing, Segment, TcpServer};
 use enip_stack::{Adapter, Device, Instant, IoDue, NetworkConfig};
 use static_cell::StaticCell;
 
@@ -35,6 +38,11 @@ pub struct SharedAdapter<
     io_waker: KeptWaker,
     /// Signalled when the multicast group T->O data goes to may have changed.
     membership: Signal<NoopRawMutex, ()>,
+    /// The encapsulation port's TCP (the link task's): its connections are the adapter's
+    /// sessions.
+    tcp: RefCell<TcpServer<S, F>>,
+    /// Signalled with the type of an Identity Reset whose reply went out.
+    reset: Signal<NoopRawMutex, u8>,
 }
 
 /// Wraps `adapter` for [`crate::run`] and the link task.
@@ -46,6 +54,8 @@ pub const fn share<D: Device, const S: usize, const C: usize, const F: usize, co
         io_moved: Cell::new(false),
         io_waker: KeptWaker::new(),
         membership: Signal::new(),
+        tcp: RefCell::new(TcpServer::new(0)),
+        reset: Signal::new(),
     }
 }
 
@@ -152,6 +162,19 @@ pub(crate) fn with_adapter_quiet<
     shared.adapter.lock(|cell| f(&mut cell.borrow_mut()))
 }
 
+/// Waits for an Identity Reset whose reply went out (its connections are closed): its type.
+pub(crate) async fn reset_requested<
+    D: Device,
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+>(
+    shared: &SharedAdapter<D, S, C, F, L>,
+) -> u8 {
+    shared.reset.wait().await
+}
+
 /// Waits until the multicast group may have changed.
 pub(crate) async fn membership_changed<
     D: Device,
@@ -219,6 +242,55 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
 
     fn deadline_moved(&self) -> bool {
         self.io_moved.replace(false)
+    }
+
+    fn tcp_seed(&self, seed: u64) {
+        self.tcp.borrow_mut().seed(seed);
+    }
+
+    fn tcp_segment(&self, segment: &Segment<'_>, now: Instant) -> Option<Outgoing> {
+        let mut tcp = self.tcp.borrow_mut();
+        let rst = with_adapter(self, |a| tcp.process(segment, now, a));
+        self.hand_over_reset(&mut tcp);
+        rst
+    }
+
+    fn tcp_poll(&self, now: Instant) {
+        let mut tcp = self.tcp.borrow_mut();
+        with_adapter(self, |a| tcp.poll(now, a));
+        self.hand_over_reset(&mut tcp);
+    }
+
+    fn tcp_deadline(&self) -> Option<Instant> {
+        let tcp = self.tcp.borrow();
+        with_adapter_quiet(self, |a| tcp.deadline(a))
+    }
+
+    fn tcp_owes(&self) -> bool {
+        self.tcp.borrow().owes()
+    }
+
+    fn tcp_transmit(&self, now: Instant, send: &mut dyn FnMut(&Outgoing, &[u8])) -> bool {
+        let mut tcp = self.tcp.borrow_mut();
+        let Some(segment) = tcp.transmit(now) else {
+            return false;
+        };
+        send(&segment.segment, segment.payload);
+        true
+    }
+}
+
+impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>
+    SharedAdapter<D, S, C, F, L>
+{
+    /// An Identity Reset whose reply went out: every connection closes, and [`crate::run`]
+    /// performs it.
+    fn hand_over_reset(&self, tcp: &mut TcpServer<S, F>) {
+        if let Some(kind) = tcp.take_reset() {
+            info!("identity reset type {} requested", kind);
+            with_adapter(self, |a| a.close_all(CloseReason::Reset));
+            self.reset.signal(kind);
+        }
     }
 }
 

@@ -23,6 +23,8 @@
 //!   Connection Manager among them, which is why they sit above the connections).
 //! - `encap`: encapsulation sessions, TCP framing and the delayed ListIdentity replies.
 //! - [`adapter`]: the [`Adapter`] the runtime drives, with the encapsulation commands beside it.
+//! - [`tcp`]: the encapsulation port's TCP for a runtime that owns the Ethernet driver,
+//!   feeding each connection's byte stream to the adapter.
 //! - [`eds`] (the EDS file of any device), [`originator`] (the scanner side of the codecs, for
 //!   tests and tools) and [`virtual_scanner`] (a scanner in virtual time, for a device's own
 //!   tests) use the layers below them.
@@ -59,6 +61,7 @@ pub mod nv;
 pub mod objects;
 pub mod originator;
 pub mod rng;
+pub mod tcp;
 pub mod time;
 pub mod virtual_scanner;
 pub mod wire;

@@ -1,16 +1,17 @@
-//! [`IoPort`]: the adapter's Class 1 calls the link task makes, without naming the device
-//! type (the link task is one non-generic task of the board).
+//! [`IoPort`]: the adapter's Class 1 and encapsulation TCP calls the link task makes, without
+//! naming the device type (the link task is one non-generic task of the board).
 
 use core::net::SocketAddrV4;
 use core::task::Waker;
 
 use enip_stack::objects::LinkCounters;
+use enip_stack::tcp::{Outgoing, Segment};
 use enip_stack::{Instant, IoDue, NetworkConfig};
 
 use super::lldp::LldpPort;
 use super::AcdPort;
 
-/// Class 1 I/O (and, through [`LldpPort`], LLDP) of an adapter shared with the other tasks
+/// Class 1 I/O, the encapsulation TCP (and, through [`LldpPort`], LLDP) of an adapter shared with the other tasks
 /// of the runtime, and what Address Conflict Detection reports to it ([`AcdPort`]);
 /// implemented by [`crate::SharedAdapter`].
 pub trait IoPort: LldpPort + AcdPort {
@@ -41,4 +42,19 @@ pub trait IoPort: LldpPort + AcdPort {
     fn watch_deadline(&self, waker: &Waker);
     /// True (once) if another task brought the deadline forward since the last call.
     fn deadline_moved(&self) -> bool;
+    /// Seeds the encapsulation TCP's initial sequence numbers (once, at the link task's
+    /// start).
+    fn tcp_seed(&self, seed: u64);
+    /// A TCP segment for the encapsulation port (`TcpServer::process`, the adapter taking
+    /// its data); the RST to send if it belongs to no connection.
+    fn tcp_segment(&self, segment: &Segment<'_>, now: Instant) -> Option<Outgoing>;
+    /// The encapsulation TCP's timers at `now` (`TcpServer::poll`).
+    fn tcp_poll(&self, now: Instant);
+    /// When [`Self::tcp_poll`] has something to do next.
+    fn tcp_deadline(&self) -> Option<Instant>;
+    /// True if the encapsulation TCP has a segment to send now.
+    fn tcp_owes(&self) -> bool;
+    /// Hands the next segment of the encapsulation TCP and its data to `send` (which sends
+    /// it); false if there was none.
+    fn tcp_transmit(&self, now: Instant, send: &mut dyn FnMut(&Outgoing, &[u8])) -> bool;
 }

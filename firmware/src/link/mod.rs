@@ -56,6 +56,8 @@ mod pump;
 mod route;
 mod stack_hold;
 mod stack_sums;
+mod tcp_frames;
+mod tcp_link;
 #[cfg(test)]
 mod test_frames;
 

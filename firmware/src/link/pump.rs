@@ -9,6 +9,8 @@
 
 use core::convert::Infallible;
 use core::future::poll_fn;
+use core::net::Ipv4Addr;
+use core::ops::Range;
 use core::task::{Context, Poll, Waker};
 
 use embassy_net_driver::{Checksum, Driver, HardwareAddress, LinkState, RxToken, TxToken};
@@ -30,6 +32,7 @@ use super::neighbors::{next_hop, Neighbors};
 use super::route::{Headers, LastRoute, UNICAST_TTL};
 use super::stack_hold::StackHold;
 use super::stack_sums::{self, LinkChecksums};
+use super::tcp_link::{self, TcpLink};
 use crate::clock::{earliest, now, to_embassy};
 
 /// Passes of receive, send and produce in one wake-up at most (then the task yields to the
@@ -45,7 +48,7 @@ const RX_BURST: usize = 12;
 /// LAN9118's with its frame buffers) beside the caller's own copy of its argument.
 macro_rules! pump_forever {
     ($stack_sums:literal, $driver:ident, $frames:ident, $io:ident, $alarm:expr) => {{
-        let mut pump = Pump::<$stack_sums>::new(&$driver, $alarm);
+        let mut pump = Pump::<$stack_sums>::new(&$driver, $io, $alarm);
         let mut driver = Counted::new(&mut $driver, pump.mac);
         let never: Infallible = poll_fn(|cx| {
             pump.poll(cx, &mut driver, $frames, $io);
@@ -115,16 +118,19 @@ struct Pump<'a, const STACK_SUMS: bool> {
     stack_hold: StackHold,
     /// Wakes the task at its next deadline.
     alarm: &'a dyn LinkAlarm,
+    /// The encapsulation TCP's segments and timers.
+    tcp: TcpLink,
 }
 
 impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
-    fn new(driver: &impl Driver, alarm: &'a dyn LinkAlarm) -> Self {
+    fn new(driver: &impl Driver, io: &dyn IoPort, alarm: &'a dyn LinkAlarm) -> Self {
         let caps = driver.capabilities();
         let mut sums = ChecksumCapabilities::default();
         sums.ipv4 = software(caps.checksum.ipv4);
         sums.udp = software(caps.checksum.udp);
+        // The encapsulation port's TCP segments are the link task's.
+        sums.tcp = software(caps.checksum.tcp);
         if STACK_SUMS {
-            sums.tcp = software(caps.checksum.tcp);
             sums.icmpv4 = software(caps.checksum.icmpv4);
         }
         #[allow(unreachable_patterns)] // other media exist only with other driver features
@@ -136,6 +142,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         let seed = mac
             .iter()
             .fold(now().as_micros(), |s, b| s.rotate_left(8) ^ u64::from(*b));
+        io.tcp_seed(seed.rotate_left(32) ^ 0x5851_F42D_4C95_7F2D);
         Pump {
             mac,
             sums,
@@ -151,6 +158,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             waker: None,
             stack_hold: StackHold::default(),
             alarm,
+            tcp: TcpLink::default(),
         }
     }
 
@@ -233,9 +241,12 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             // The stack's frames may answer a request that moved the LLDP deadline.
             self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
         }
+        self.blocked = false;
+        if self.tcp.due(at) {
+            self.serve_tcp(cx, driver, io, me, at);
+        }
         // The adapter is asked only when the deadline last learned has come or another task
         // may have moved it: a wake-up for a received frame pays a comparison.
-        self.blocked = false;
         let io_next = if self.io_stale || self.io_next.is_some_and(|next| next <= at) {
             self.produce(cx, driver, io, me, at)
         } else {
@@ -246,7 +257,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         }
         let lldp = self.lldp_next.filter(|_| up);
         let deadline = earliest(
-            earliest(io_next, lldp),
+            earliest(earliest(io_next, lldp), self.tcp.deadline()),
             earliest(acd, self.stack_hold.until(frames.rx.is_full(), at)),
         );
         !more_frames && self.sleep_until(deadline, at, cx)
@@ -304,6 +315,10 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             self.guard.receive(frame, io, at);
         }
         let seen = frame::inspect(frame, me.ip, &self.sums);
+        if let Some((src, range)) = seen.tcp.clone() {
+            self.ingest_tcp(frame, (seen.sender, src, range), io, me, at);
+            return false;
+        }
         let o_t = seen
             .o_t
             .and_then(|(from, range)| Some((from, frame.get(range)?)));
@@ -327,6 +342,57 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             self.neighbors.learn(ip, mac);
         }
         passed
+    }
+
+    /// The TCP segment at `range` of `frame` from `src` (its sender `sender`), for the
+    /// encapsulation port: the sender is learned first (the reply goes back to it in this
+    /// wake-up), then the segment goes to the server unless the flood guard drops it. Out
+    /// of line: not on the Class 1 path.
+    #[inline(never)]
+    fn ingest_tcp(
+        &mut self,
+        frame: &[u8],
+        (sender, src, range): (Option<(Ipv4Addr, [u8; 6])>, Ipv4Addr, Range<usize>),
+        io: &dyn IoPort,
+        me: &NetworkConfig,
+        at: Instant,
+    ) {
+        if let Some((ip, mac)) = sender {
+            self.neighbors.learn(ip, mac);
+        }
+        if !self.flood_guard.admit(frame, me.ip, at) {
+            return;
+        }
+        if let Some(segment) = frame.get(range) {
+            let verify = self.sums.tcp.rx();
+            self.tcp.take(segment, (src, me.ip), verify, io, at);
+        }
+    }
+
+    /// Runs the encapsulation TCP's timers and sends what it owes; another task's deadline
+    /// its requests moved (a Forward_Open) is asked in this pass. Out of line: not on the
+    /// Class 1 path.
+    #[inline(never)]
+    fn serve_tcp<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        io: &dyn IoPort,
+        me: &NetworkConfig,
+        at: Instant,
+    ) {
+        let from = tcp_link::From {
+            mac: self.mac,
+            me,
+            usable: self.guard.usable(),
+        };
+        let neighbors = (&mut self.neighbors, &self.sums);
+        if !self.tcp.serve((cx, driver), io, &from, neighbors, at) {
+            self.blocked = true;
+        }
+        if io.deadline_moved() {
+            self.io_stale = true;
+        }
     }
 
     /// Passes `frame` to the stack (true) unless a checksum the stack would have found bad

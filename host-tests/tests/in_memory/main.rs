@@ -126,7 +126,7 @@ fn with_adapter<const S: usize, const C: usize, const F: usize, const L: usize>(
     scenario: impl AsyncFnOnce(Stack<'_>),
 ) {
     let (adapter_port, client_port) = wire::pair([2, 0, 0, 0, 0, 2], [2, 0, 0, 0, 0, 1]);
-    let mut adapter_sockets = Resources::<S, F>::stack_resources::<NET_SOCKETS>();
+    let mut adapter_sockets = Resources::<F>::stack_resources::<NET_SOCKETS>();
     let mut client_sockets = StackResources::<NET_SOCKETS>::new();
     // As on the boards, the adapter's port belongs to the link task: Class 1 datagrams go
     // between it and the adapter, every other frame through `frames` to embassy-net.
@@ -151,7 +151,7 @@ fn with_adapter<const S: usize, const C: usize, const F: usize, const L: usize>(
     // Not about Address Conflict Detection: no seconds of probing (the TAP tests cover it).
     adapter.skip_acd();
     let adapter = enip_firmware::share(adapter);
-    let mut resources = Box::new(Resources::<S, F>::new());
+    let mut resources = Box::new(Resources::<F>::new());
     let background = join4(
         adapter_runner.run(),
         client_runner.run(),

@@ -3,14 +3,14 @@
 //! buffer only when its previous reply has gone out, hands the bytes to the adapter frame by
 //! frame, writes each reply, performs an Identity Reset once its reply is out, and on a close
 //! shuts its side down and waits (bounded) for the peer's FIN. The timeouts are the embedded
-//! runtime's ([`enip_firmware::tcp`]).
+//! runtime's ([`enip_stack::tcp`]).
 
 use std::io;
 use std::net::{SocketAddrV4, TcpStream};
 use std::os::fd::{AsRawFd, RawFd};
 use std::time::Duration;
 
-use enip_firmware::tcp::{LINGER, WRITE_TIMEOUT};
+use enip_stack::tcp::{LINGER, WRITE_TIMEOUT};
 use enip_stack::config::MAX_ENCAP_FRAME;
 use enip_stack::device::CloseReason;
 use enip_stack::{Adapter, Device, Instant, SocketId, TcpOutcome};
@@ -369,7 +369,7 @@ impl Slot {
                 Ok(n) if n > 0 => self.out_start += n,
                 Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
                     if let State::Open { write_deadline, .. } = &mut conn.state {
-                        write_deadline.get_or_insert(now.add(stack_duration(WRITE_TIMEOUT)));
+                        write_deadline.get_or_insert(now.add(WRITE_TIMEOUT));
                     }
                     return Flush::Pending;
                 }
@@ -424,7 +424,7 @@ impl Slot {
         }
         conn.stream.shutdown();
         conn.state = State::Closing {
-            until: now.add(stack_duration(LINGER)),
+            until: now.add(LINGER),
         };
         self.out_start = self.out_end;
         self.rx_start = self.rx_end;
@@ -499,9 +499,4 @@ fn open() -> State {
 /// A standard duration as the stack's.
 pub fn micros(d: Duration) -> enip_stack::time::Duration {
     enip_stack::time::Duration::from_micros(d.as_micros() as u64)
-}
-
-/// One of the embedded runtime's durations as the stack's.
-fn stack_duration(d: embassy_time::Duration) -> enip_stack::time::Duration {
-    enip_stack::time::Duration::from_micros(d.as_micros())
 }

@@ -1,0 +1,303 @@
+//! The encapsulation port's TCP segments in Ethernet frames, for the link task: a received
+//! one read into the stack's [`Segment`] (its checksum checked where the driver leaves it to
+//! software), an outgoing [`Outgoing`] written behind its Ethernet and IPv4 headers.
+
+use core::net::{Ipv4Addr, SocketAddrV4};
+
+use enip_stack::config::ENCAP_PORT;
+use enip_stack::tcp::{Flags, Outgoing, Segment};
+use smoltcp::phy::ChecksumCapabilities;
+use smoltcp::wire::{ETHERNET_HEADER_LEN, IPV4_HEADER_LEN};
+
+use super::checksum::Sum;
+use super::frame::IPV4;
+use super::route::UNICAST_TTL;
+
+/// The IP protocol number of TCP.
+pub(crate) const TCP: u8 = 6;
+/// Bytes of a TCP header without options.
+const TCP_HEADER_LEN: usize = 20;
+/// Bytes of the maximum segment size option (kind 2, length 4).
+const MSS_OPTION_LEN: usize = 4;
+/// The flags' bits in the TCP header's 14th byte.
+const FIN: u8 = 0x01;
+const SYN: u8 = 0x02;
+const RST: u8 = 0x04;
+const PSH: u8 = 0x08;
+const ACK: u8 = 0x10;
+/// Don't fragment, in the IPv4 header's flags.
+const DONT_FRAGMENT: u8 = 0x40;
+
+/// True if the IPv4 payload `segment` is a TCP segment to the encapsulation port (by its
+/// destination port alone).
+pub(crate) fn to_encap_port(segment: &[u8]) -> bool {
+    segment.get(2..4) == Some(&ENCAP_PORT.to_be_bytes()[..])
+}
+
+/// Reads the TCP segment `segment` (an IPv4 payload, whole) from `src` to `me`; `None` if
+/// it is malformed, not for the encapsulation port, or its checksum fails (checked if
+/// `verify`).
+pub(crate) fn parse(segment: &[u8], src: Ipv4Addr, me: Ipv4Addr, verify: bool) -> Option<Segment<'_>> {
+    let header = segment.first_chunk::<TCP_HEADER_LEN>()?;
+    let &[p0, p1, d0, d1, s0, s1, s2, s3, a0, a1, a2, a3, offset, bits, w0, w1, ..] = header;
+    if u16::from_be_bytes([d0, d1]) != ENCAP_PORT {
+        return None;
+    }
+    let header_len = usize::from(offset >> 4).wrapping_mul(4);
+    let options = segment.get(TCP_HEADER_LEN..header_len)?;
+    let payload = segment.get(header_len..)?;
+    if verify {
+        let len = u16::try_from(segment.len()).ok()?;
+        let [l0, l1] = len.to_be_bytes();
+        let pseudo = Sum::default()
+            .add_word(src.octets())
+            .add_word(me.octets())
+            .add_word([0, TCP, l0, l1]);
+        if !pseudo.add(segment).is_valid() {
+            return None;
+        }
+    }
+    let flags = Flags {
+        syn: bits & SYN != 0,
+        ack: bits & ACK != 0,
+        fin: bits & FIN != 0,
+        rst: bits & RST != 0,
+        psh: bits & PSH != 0,
+    };
+    Some(Segment {
+        peer: SocketAddrV4::new(src, u16::from_be_bytes([p0, p1])),
+        seq: u32::from_be_bytes([s0, s1, s2, s3]),
+        ack: u32::from_be_bytes([a0, a1, a2, a3]),
+        flags,
+        window: u16::from_be_bytes([w0, w1]),
+        mss: if flags.syn { mss(options) } else { None },
+        payload,
+    })
+}
+
+/// The maximum segment size option among `options` (RFC 9293 3.2), if any.
+fn mss(mut options: &[u8]) -> Option<u16> {
+    // Each option takes at least a byte: bounded by their length.
+    for _ in 0..options.len() {
+        match *options {
+            [] | [0, ..] => return None,
+            [1, ref rest @ ..] => options = rest,
+            [2, 4, hi, lo, ..] => return Some(u16::from_be_bytes([hi, lo])),
+            [_, len, ..] if len >= 2 => options = options.get(usize::from(len)..)?,
+            _ => return None,
+        }
+    }
+    None
+}
+
+/// Bytes of the frame that carries `out` with `payload_len` bytes of data.
+pub(crate) fn frame_len(out: &Outgoing, payload_len: usize) -> usize {
+    let mss = if out.mss.is_some() { MSS_OPTION_LEN } else { 0 };
+    (ETHERNET_HEADER_LEN + IPV4_HEADER_LEN + TCP_HEADER_LEN + mss).saturating_add(payload_len)
+}
+
+/// Who a segment goes from and to on the link: our MAC and address, the next hop's MAC.
+pub(crate) struct Hop {
+    /// Our MAC address and IPv4 address.
+    pub from: ([u8; 6], Ipv4Addr),
+    /// The next hop's MAC address towards the peer.
+    pub to: [u8; 6],
+    /// The DSCP of explicit messaging (the QoS object's).
+    pub dscp: u8,
+    /// The IPv4 identification.
+    pub ident: u16,
+}
+
+/// Writes the frame of `out` with `payload` over `hop` into `frame` ([`frame_len`] bytes;
+/// a shorter one is left alone), with the checksums `sums` says software fills.
+pub(crate) fn write(
+    frame: &mut [u8],
+    hop: &Hop,
+    out: &Outgoing,
+    payload: &[u8],
+    sums: &ChecksumCapabilities,
+) {
+    let len = frame_len(out, payload.len());
+    let Some(frame) = frame.get_mut(..len) else {
+        return;
+    };
+    let Some((eth, packet)) = frame.split_first_chunk_mut::<ETHERNET_HEADER_LEN>() else {
+        return;
+    };
+    let (mac, me) = hop.from;
+    let [t0, t1] = IPV4;
+    let [h0, h1, h2, h3, h4, h5] = hop.to;
+    let [m0, m1, m2, m3, m4, m5] = mac;
+    *eth = [h0, h1, h2, h3, h4, h5, m0, m1, m2, m3, m4, m5, t0, t1];
+    let Some((ip, segment)) = packet.split_first_chunk_mut::<IPV4_HEADER_LEN>() else {
+        return;
+    };
+    let total = u16::try_from(IPV4_HEADER_LEN.saturating_add(segment.len())).unwrap_or(0);
+    let [n0, n1] = total.to_be_bytes();
+    let [i0, i1] = hop.ident.to_be_bytes();
+    let [s0, s1, s2, s3] = me.octets();
+    let [d0, d1, d2, d3] = out.peer.ip().octets();
+    let tos = hop.dscp << 2;
+    *ip = [
+        0x45, tos, n0, n1, i0, i1, DONT_FRAGMENT, 0, UNICAST_TTL, TCP, 0, 0, s0, s1, s2, s3, d0,
+        d1, d2, d3,
+    ];
+    if sums.ipv4.tx() {
+        let sum = Sum::default().add(ip).checksum();
+        if let Some(field) = ip.get_mut(10..12) {
+            field.copy_from_slice(&sum);
+        }
+    }
+    write_tcp(segment, out, payload);
+    if sums.tcp.tx() {
+        let len = u16::try_from(segment.len()).unwrap_or(0);
+        let [l0, l1] = len.to_be_bytes();
+        let sum = Sum::default()
+            .add_word(me.octets())
+            .add_word(out.peer.ip().octets())
+            .add_word([0, TCP, l0, l1])
+            .add(segment);
+        if let Some(field) = segment.get_mut(16..18) {
+            field.copy_from_slice(&sum.checksum());
+        }
+    }
+}
+
+/// The TCP header of `out` (checksum zero) and `payload` into `segment`.
+fn write_tcp(segment: &mut [u8], out: &Outgoing, payload: &[u8]) {
+    let Some((header, rest)) = segment.split_first_chunk_mut::<TCP_HEADER_LEN>() else {
+        return;
+    };
+    let [p0, p1] = ENCAP_PORT.to_be_bytes();
+    let [d0, d1] = out.peer.port().to_be_bytes();
+    let [s0, s1, s2, s3] = out.seq.to_be_bytes();
+    let [a0, a1, a2, a3] = if out.flags.ack { out.ack } else { 0 }.to_be_bytes();
+    let [w0, w1] = out.window.to_be_bytes();
+    let words = if out.mss.is_some() { 6u8 } else { 5 };
+    let f = out.flags;
+    let bit = |on: bool, b: u8| if on { b } else { 0 };
+    let bits = bit(f.fin, FIN) | bit(f.syn, SYN) | bit(f.rst, RST) | bit(f.psh, PSH) | bit(f.ack, ACK);
+    *header = [
+        p0, p1, d0, d1, s0, s1, s2, s3, a0, a1, a2, a3, words << 4, bits, w0, w1, 0, 0, 0, 0,
+    ];
+    let data = match out.mss {
+        Some(mss) => {
+            let [m0, m1] = mss.to_be_bytes();
+            let Some((option, data)) = rest.split_first_chunk_mut::<MSS_OPTION_LEN>() else {
+                return;
+            };
+            *option = [2, 4, m0, m1];
+            data
+        }
+        None => rest,
+    };
+    if let Some(data) = data.get_mut(..payload.len()) {
+        data.copy_from_slice(payload);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use smoltcp::wire::{
+        EthernetFrame, IpAddress, IpProtocol, Ipv4Packet, TcpControl, TcpPacket, TcpRepr,
+        TcpSeqNumber,
+    };
+    use std::vec;
+
+    const ME: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
+    const PEER: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
+
+    fn software() -> ChecksumCapabilities {
+        ChecksumCapabilities::default()
+    }
+
+    fn written(out: &Outgoing, payload: &[u8]) -> std::vec::Vec<u8> {
+        let mut frame = vec![0u8; frame_len(out, payload.len())];
+        let hop = Hop {
+            from: ([2, 0, 0, 0, 0, 2], ME),
+            to: [2, 0, 0, 0, 0, 1],
+            dscp: 27,
+            ident: 7,
+        };
+        write(&mut frame, &hop, out, payload, &software());
+        frame
+    }
+
+    #[test]
+    fn a_written_segment_is_what_smoltcp_reads_with_good_checksums() {
+        let out = Outgoing {
+            peer: SocketAddrV4::new(PEER, 50_000),
+            seq: 1000,
+            ack: 77,
+            flags: Flags {
+                syn: true,
+                ack: true,
+                ..Flags::default()
+            },
+            window: 1048,
+            mss: Some(1460),
+        };
+        let frame = written(&out, &[]);
+        let eth = EthernetFrame::new_checked(&frame[..]).unwrap();
+        let ip = Ipv4Packet::new_checked(eth.payload()).unwrap();
+        assert!(ip.verify_checksum());
+        assert_eq!((ip.dscp(), ip.hop_limit(), ip.dont_frag()), (27, 64, true));
+        let tcp = TcpPacket::new_checked(ip.payload()).unwrap();
+        let repr = TcpRepr::parse(
+            &tcp,
+            &IpAddress::Ipv4(ME),
+            &IpAddress::Ipv4(PEER),
+            &software(),
+        )
+        .expect("smoltcp takes it, checksum and all");
+        assert_eq!(repr.control, TcpControl::Syn);
+        assert_eq!(repr.seq_number, TcpSeqNumber(1000));
+        assert_eq!(repr.ack_number, Some(TcpSeqNumber(77)));
+        assert_eq!((repr.window_len, repr.max_seg_size), (1048, Some(1460)));
+        assert_eq!((repr.src_port, repr.dst_port), (ENCAP_PORT, 50_000));
+        assert_eq!(ip.next_header(), IpProtocol::Tcp);
+    }
+
+    #[test]
+    fn a_segment_reads_back_and_a_bad_checksum_is_refused() {
+        let out = Outgoing {
+            peer: SocketAddrV4::new(PEER, 50_000),
+            seq: u32::MAX,
+            ack: 9,
+            flags: Flags {
+                ack: true,
+                psh: true,
+                fin: true,
+                ..Flags::default()
+            },
+            window: 512,
+            mss: None,
+        };
+        let mut frame = written(&out, b"hello");
+        // Read back as if the peer had sent it to us: swap the addresses and ports.
+        let at = ETHERNET_HEADER_LEN + IPV4_HEADER_LEN;
+        let segment = &mut frame[at..];
+        let (src, dst) = (segment[0..2].to_vec(), segment[2..4].to_vec());
+        segment[0..2].copy_from_slice(&dst);
+        segment[2..4].copy_from_slice(&src);
+        let seg = parse(segment, PEER, ME, true).expect("swapping words keeps the checksum");
+        assert_eq!((seg.peer.port(), seg.seq, seg.ack, seg.window), (50_000, u32::MAX, 9, 512));
+        assert!(seg.flags.ack && seg.flags.psh && seg.flags.fin && !seg.flags.syn);
+        assert_eq!(seg.payload, b"hello");
+        segment[24] ^= 1;
+        assert!(parse(segment, PEER, ME, true).is_none());
+        assert!(parse(segment, PEER, ME, false).is_some(), "unchecked when offloaded");
+    }
+
+    #[test]
+    fn options_are_walked_to_the_segment_size() {
+        assert_eq!(mss(&[1, 1, 2, 4, 0x05, 0xB4]), Some(1460));
+        assert_eq!(mss(&[3, 3, 7, 2, 4, 0x02, 0x18]), Some(536));
+        assert_eq!(mss(&[0, 2, 4, 1, 1]), None);
+        assert_eq!(mss(&[8, 1, 2, 4, 1, 1]), None, "a length below 2 ends the walk");
+        assert_eq!(mss(&[8, 40]), None);
+        assert_eq!(mss(&[]), None);
+    }
+}

@@ -1,0 +1,624 @@
+//! One connection of the server: its state (RFC 9293 3.3.2), sequence numbers, the replies
+//! not yet acknowledged, and its timers. The server ([`super::TcpServer`]) finds the
+//! connection a segment belongs to; this file does what RFC 9293 3.10.7.4 says of it.
+
+use core::net::{Ipv4Addr, SocketAddrV4};
+use core::ops::Range;
+
+use super::seq::{distance, le, lt, within};
+use super::{
+    Flags, Outgoing, Segment, TcpApp, DEFAULT_MSS, HALF_OPEN, INITIAL_RTO, LINGER, MIN_RTO, MSS,
+    WRITE_TIMEOUT,
+};
+use crate::{Duration, Instant, SocketId};
+
+/// The longest retransmission timeout (RFC 6298 2.5).
+const MAX_RTO: Duration = Duration::from_secs(60);
+/// The smallest maximum segment size taken from a peer (a smaller one is raised to it, as
+/// Linux does: a tiny one would make a reply a flood of segments).
+const MIN_MSS: u16 = 48;
+
+/// Where a connection is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum State {
+    /// No connection: the slot listens.
+    Free,
+    /// The SYN came and the SYN-ACK went; waiting for its acknowledgment.
+    SynReceived,
+    /// Open both ways.
+    Established,
+    /// The adapter closed: our FIN follows the replies; waiting for its acknowledgment.
+    FinWait1,
+    /// Our FIN is acknowledged; waiting for the peer's.
+    FinWait2,
+    /// Both FINs came and went; ours not yet acknowledged.
+    Closing,
+    /// The peer closed first: our FIN follows the replies; waiting for its acknowledgment.
+    LastAck,
+    /// Both FINs are acknowledged but for ours of the peer's: sent next, and the slot is free.
+    LastAckOwed,
+}
+
+/// One connection; `F` is the adapter's largest reply (its frame size).
+pub(super) struct Conn<const F: usize> {
+    pub(super) state: State,
+    pub(super) peer: SocketAddrV4,
+    /// When the SYN came (the half-open bound) or the close began (the linger bound).
+    pub(super) since: Instant,
+    iss: u32,
+    irs: u32,
+    /// The oldest sequence number not acknowledged.
+    snd_una: u32,
+    /// The next sequence number to send.
+    snd_nxt: u32,
+    /// The highest sequence number sent (a segment below it is a retransmission).
+    snd_max: u32,
+    /// The window the peer offers, and the segment it was last learned from.
+    snd_wnd: u32,
+    snd_wl1: u32,
+    snd_wl2: u32,
+    /// The next sequence number expected.
+    rcv_nxt: u32,
+    /// The peer's maximum segment size.
+    mss: u16,
+    /// The replies from `snd_una` on (once the SYN is acknowledged): sent and not yet
+    /// acknowledged, then not yet sent. Two frames: a reply always finds room for the next
+    /// request's while the last one waits for its acknowledgment.
+    tx: [[u8; F]; 2],
+    tx_len: usize,
+    /// Our FIN follows the replies.
+    fin: bool,
+    ack_owed: bool,
+    syn_ack_owed: bool,
+    /// A RST is owed: the slot is free once it is sent.
+    rst_owed: bool,
+    /// A window probe is owed (the peer's window is closed and replies wait).
+    probe_owed: bool,
+    /// The adapter has the connection as a session (accepted, not yet told it closed).
+    open: bool,
+    rto: Duration,
+    /// Smoothed round trip and its variation, in microseconds (RFC 6298).
+    srtt: Option<(u64, u64)>,
+    /// The acknowledgment that times a round trip, and when its segment went.
+    rtt_probe: Option<(u32, Instant)>,
+    retransmit_at: Option<Instant>,
+    /// When the peer last acknowledged something new (or replies began to wait).
+    progress_at: Instant,
+    /// An Identity Reset accepted on this connection, performed once its reply is
+    /// acknowledged (or could not be).
+    reset: Option<u8>,
+}
+
+impl<const F: usize> Conn<F> {
+    /// A free slot.
+    pub(super) const fn new() -> Self {
+        Conn {
+            state: State::Free,
+            peer: SocketAddrV4::new(Ipv4Addr::UNSPECIFIED, 0),
+            since: Instant(0),
+            iss: 0,
+            irs: 0,
+            snd_una: 0,
+            snd_nxt: 0,
+            snd_max: 0,
+            snd_wnd: 0,
+            snd_wl1: 0,
+            snd_wl2: 0,
+            rcv_nxt: 0,
+            mss: DEFAULT_MSS,
+            tx: [[0; F]; 2],
+            tx_len: 0,
+            fin: false,
+            ack_owed: false,
+            syn_ack_owed: false,
+            rst_owed: false,
+            probe_owed: false,
+            open: false,
+            rto: INITIAL_RTO,
+            srtt: None,
+            rtt_probe: None,
+            retransmit_at: None,
+            progress_at: Instant(0),
+            reset: None,
+        }
+    }
+
+    /// Takes the SYN `seg` with our initial sequence number `iss`: SYN-RECEIVED, the
+    /// SYN-ACK owed.
+    pub(super) fn open(&mut self, seg: &Segment<'_>, iss: u32, now: Instant) {
+        self.state = State::SynReceived;
+        self.peer = seg.peer;
+        self.since = now;
+        self.iss = iss;
+        self.irs = seg.seq;
+        self.snd_una = iss;
+        self.snd_nxt = iss.wrapping_add(1);
+        self.snd_max = self.snd_nxt;
+        self.snd_wnd = u32::from(seg.window);
+        self.snd_wl1 = seg.seq;
+        self.snd_wl2 = iss;
+        self.rcv_nxt = seg.seq.wrapping_add(1);
+        self.mss = seg.mss.unwrap_or(DEFAULT_MSS).clamp(MIN_MSS, MSS);
+        self.tx_len = 0;
+        self.fin = false;
+        self.ack_owed = false;
+        self.syn_ack_owed = true;
+        self.rst_owed = false;
+        self.probe_owed = false;
+        self.open = false;
+        self.rto = INITIAL_RTO;
+        self.srtt = None;
+        self.rtt_probe = None;
+        self.retransmit_at = None;
+        self.progress_at = now;
+        self.reset = None;
+    }
+
+    /// The window offered: a frame, if the replies have room for one more (the adapter
+    /// takes a request only with room for its largest reply), else none.
+    fn window(&self) -> u16 {
+        if self.room() >= F {
+            u16::try_from(F).unwrap_or(u16::MAX)
+        } else {
+            0
+        }
+    }
+
+    /// Free bytes after the replies.
+    fn room(&self) -> usize {
+        F.saturating_mul(2).saturating_sub(self.tx_len)
+    }
+
+    /// Sequence numbers sent and not acknowledged (our FIN included, once sent).
+    fn flight(&self) -> usize {
+        distance(self.snd_una, self.snd_nxt) as usize
+    }
+
+    /// The segment `seg` of this connection, as RFC 9293 3.10.7.4 says, from the sequence
+    /// check on; `id` is the connection's number for the adapter.
+    pub(super) fn process(
+        &mut self,
+        id: SocketId,
+        seg: &Segment<'_>,
+        now: Instant,
+        app: &mut impl TcpApp,
+    ) {
+        let flags = seg.flags;
+        if self.state == State::SynReceived && flags.syn && !flags.ack && !flags.rst {
+            // The SYN again: its SYN-ACK was lost. Another SYN from the same port is left to
+            // the half-open bound.
+            self.syn_ack_owed |= seg.seq == self.irs;
+            return;
+        }
+        if !self.acceptable(seg) {
+            self.ack_owed |= !flags.rst;
+            return;
+        }
+        if flags.rst {
+            // RFC 5961 3.2: only the exact next sequence number resets; any other in the
+            // window is answered with a challenge ACK.
+            if seg.seq == self.rcv_nxt {
+                self.end(id, now, app);
+            } else {
+                self.ack_owed = true;
+            }
+            return;
+        }
+        if flags.syn {
+            // RFC 5961 4.2: a SYN on a synchronized connection gets a challenge ACK.
+            self.ack_owed = true;
+            return;
+        }
+        if !flags.ack || !self.take_ack(id, seg, now, app) {
+            return;
+        }
+        self.take_data(id, seg, now, app);
+    }
+
+    /// RFC 9293 3.10.7.4's test of the segment's sequence numbers against the window.
+    fn acceptable(&self, seg: &Segment<'_>) -> bool {
+        let window = u32::from(self.window());
+        let len = seg.len();
+        match (len, window) {
+            (0, 0) => seg.seq == self.rcv_nxt,
+            (0, _) => within(seg.seq, self.rcv_nxt, window),
+            (_, 0) => false,
+            _ => {
+                within(seg.seq, self.rcv_nxt, window)
+                    || within(
+                        seg.seq.wrapping_add(len).wrapping_sub(1),
+                        self.rcv_nxt,
+                        window,
+                    )
+            }
+        }
+    }
+
+    /// The acknowledgment of `seg`; false if the segment goes no further.
+    fn take_ack(
+        &mut self,
+        id: SocketId,
+        seg: &Segment<'_>,
+        now: Instant,
+        app: &mut impl TcpApp,
+    ) -> bool {
+        let ack = seg.ack;
+        if self.state == State::SynReceived {
+            if ack != self.snd_nxt {
+                // Not our SYN-ACK's: left to the half-open bound.
+                return false;
+            }
+            self.state = State::Established;
+            self.snd_una = ack;
+            self.open = true;
+            self.progress_at = now;
+            self.learn_window(seg);
+            app.accepted(id, self.peer, now);
+            return true;
+        }
+        if lt(self.snd_max, ack) {
+            // Acknowledges what was not sent: an ACK, and the segment is dropped.
+            self.ack_owed = true;
+            return false;
+        }
+        if lt(self.snd_una, ack) {
+            self.acknowledged(ack, now);
+        }
+        self.learn_window(seg);
+        self.state != State::Free
+    }
+
+    /// The peer acknowledged up to `ack` (new, and not past what was sent).
+    fn acknowledged(&mut self, ack: u32, now: Instant) {
+        let acked = ack.wrapping_sub(self.snd_una) as usize;
+        let data = acked.min(self.tx_len);
+        let had_room = self.room() >= F;
+        let tx = self.tx.as_flattened_mut();
+        tx.copy_within(data..self.tx_len, 0);
+        self.tx_len = self.tx_len.saturating_sub(data);
+        self.snd_una = ack;
+        if lt(self.snd_nxt, ack) {
+            self.snd_nxt = ack;
+        }
+        self.progress_at = now;
+        if let Some((probe, sent)) = self.rtt_probe {
+            if le(probe, ack) {
+                self.sample_rtt(now.since(sent));
+                self.rtt_probe = None;
+            }
+        }
+        self.retransmit_at = (self.flight() > 0).then(|| now.add(self.rto));
+        // A window that opens again is announced.
+        self.ack_owed |= !had_room && self.room() >= F;
+        if acked > data {
+            // Our FIN, which follows the data, is acknowledged.
+            self.fin = false;
+            self.state = match self.state {
+                State::FinWait1 => State::FinWait2,
+                State::Closing | State::LastAck => State::Free,
+                other => other,
+            };
+        }
+    }
+
+    /// Learns the peer's window from `seg` unless an older segment than the last one
+    /// taught it (RFC 9293 3.10.7.4, SND.WL1 and SND.WL2).
+    fn learn_window(&mut self, seg: &Segment<'_>) {
+        if lt(self.snd_wl1, seg.seq) || (self.snd_wl1 == seg.seq && le(self.snd_wl2, seg.ack)) {
+            self.snd_wnd = u32::from(seg.window);
+            self.snd_wl1 = seg.seq;
+            self.snd_wl2 = seg.ack;
+        }
+    }
+
+    /// A round trip of `rtt` measured (RFC 6298 2.2, 2.3).
+    fn sample_rtt(&mut self, rtt: Duration) {
+        let r = rtt.as_micros();
+        let (srtt, rttvar) = match self.srtt {
+            None => (r, r / 2),
+            Some((s, v)) => (
+                s.saturating_mul(7).saturating_add(r) / 8,
+                v.saturating_mul(3).saturating_add(s.abs_diff(r)) / 4,
+            ),
+        };
+        self.srtt = Some((srtt, rttvar));
+        let rto = Duration::from_micros(srtt.saturating_add(rttvar.saturating_mul(4)));
+        self.rto = rto.clamp(MIN_RTO, MAX_RTO);
+    }
+
+    /// The data and FIN of `seg`, in order only: the data goes to the adapter while the
+    /// replies have room for another.
+    fn take_data(&mut self, id: SocketId, seg: &Segment<'_>, now: Instant, app: &mut impl TcpApp) {
+        if !matches!(
+            self.state,
+            State::Established | State::FinWait1 | State::FinWait2
+        ) {
+            // The peer's FIN came already: whatever follows it (its FIN again) is answered.
+            self.ack_owed |= seg.len() > 0;
+            return;
+        }
+        if lt(self.rcv_nxt, seg.seq) {
+            // Ahead of what is expected: not kept; the ACK says what is.
+            self.ack_owed = true;
+            return;
+        }
+        let skip = distance(seg.seq, self.rcv_nxt) as usize;
+        let data = seg.payload.get(skip..).unwrap_or(&[]);
+        let taken = self.feed(id, data, now, app);
+        self.ack_owed |= !data.is_empty();
+        if seg.flags.fin && taken == data.len() && skip <= seg.payload.len() {
+            self.rcv_nxt = self.rcv_nxt.wrapping_add(1);
+            self.ack_owed = true;
+            self.peer_fin(id, now, app);
+        }
+    }
+
+    /// Hands `data` to the adapter while the replies have room; returns the bytes taken.
+    fn feed(&mut self, id: SocketId, data: &[u8], now: Instant, app: &mut impl TcpApp) -> usize {
+        if !self.open {
+            // Closed by the adapter: what still arrives is acknowledged and dropped.
+            self.advance(data.len());
+            return data.len();
+        }
+        let mut taken = 0;
+        while let Some(rest) = data.get(taken..).filter(|r| !r.is_empty()) {
+            if self.room() < F {
+                break;
+            }
+            let was_empty = self.tx_len == 0;
+            let room = self.tx.as_flattened_mut().get_mut(self.tx_len..).unwrap_or(&mut []);
+            let outcome = app.receive(id, rest, now, room);
+            let consumed = outcome.consumed.min(rest.len());
+            let reply = outcome.reply_len.min(room.len());
+            self.tx_len = self.tx_len.saturating_add(reply);
+            if was_empty && reply > 0 {
+                self.progress_at = now;
+            }
+            self.advance(consumed);
+            taken = taken.saturating_add(consumed);
+            if outcome.reset.is_some() {
+                self.reset = outcome.reset;
+            }
+            if outcome.close {
+                self.close(id, now, app);
+                let left = data.len().saturating_sub(taken);
+                self.advance(left);
+                return data.len();
+            }
+            if consumed == 0 {
+                break;
+            }
+        }
+        taken
+    }
+
+    /// `n` more bytes received in order.
+    fn advance(&mut self, n: usize) {
+        let n = u32::try_from(n).unwrap_or(u32::MAX);
+        self.rcv_nxt = self.rcv_nxt.wrapping_add(n);
+    }
+
+    /// The peer's FIN came, in order.
+    fn peer_fin(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
+        match self.state {
+            State::Established => {
+                self.tell_closed(id, now, app);
+                self.fin = true;
+                self.since = now;
+                self.state = State::LastAck;
+            }
+            State::FinWait1 => self.state = State::Closing,
+            State::FinWait2 => self.state = State::LastAckOwed,
+            _ => {}
+        }
+    }
+
+    /// The adapter, or its inactivity timeout, closes the connection: our FIN follows the
+    /// replies.
+    pub(super) fn close(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
+        self.tell_closed(id, now, app);
+        if self.state == State::Established {
+            self.fin = true;
+            self.since = now;
+            self.state = State::FinWait1;
+        }
+    }
+
+    /// Resets the connection: a RST goes, and the slot is free.
+    pub(super) fn abort(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
+        if self.state != State::Free {
+            self.tell_closed(id, now, app);
+            self.rst_owed = true;
+        }
+    }
+
+    /// The peer reset the connection: the slot is free.
+    fn end(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
+        self.tell_closed(id, now, app);
+        self.state = State::Free;
+    }
+
+    /// Tells the adapter the session ended, once.
+    fn tell_closed(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
+        if core::mem::take(&mut self.open) {
+            app.closed(id, now);
+        }
+    }
+
+    /// The next segment this connection sends, and the range of its data in
+    /// [`Self::bytes`]; its sequence numbers count as sent.
+    pub(super) fn transmit(&mut self, now: Instant) -> Option<(Outgoing, Range<usize>)> {
+        let ack = Flags {
+            ack: true,
+            ..Flags::default()
+        };
+        match self.state {
+            State::Free => return None,
+            _ if self.rst_owed => {
+                self.rst_owed = false;
+                self.state = State::Free;
+                // With the ACK: a peer whose SYN-ACK was lost (still in SYN-SENT) takes it too.
+                let mut out = self.segment(self.snd_nxt, Flags { rst: true, ..ack });
+                out.window = 0;
+                return Some((out, 0..0));
+            }
+            State::SynReceived => {
+                if !core::mem::take(&mut self.syn_ack_owed) {
+                    return None;
+                }
+                let mut out = self.segment(self.iss, Flags { syn: true, ..ack });
+                out.mss = Some(MSS);
+                return Some((out, 0..0));
+            }
+            State::LastAckOwed => {
+                self.state = State::Free;
+                return Some((self.segment(self.snd_nxt, ack), 0..0));
+            }
+            _ => {}
+        }
+        let flight = self.flight();
+        let sent = flight.min(self.tx_len);
+        let unsent = self.tx_len.saturating_sub(sent);
+        let mut allowance = (self.snd_wnd as usize).saturating_sub(flight);
+        if core::mem::take(&mut self.probe_owed) {
+            allowance = allowance.max(1);
+        }
+        let len = unsent.min(allowance).min(usize::from(self.mss));
+        let fin_due = self.fin && flight <= self.tx_len && unsent == len;
+        if len > 0 || fin_due {
+            let seq = self.snd_nxt;
+            let fin = fin_due;
+            let step = u32::try_from(len).unwrap_or(0).saturating_add(u32::from(fin));
+            self.snd_nxt = seq.wrapping_add(step);
+            if lt(self.snd_max, self.snd_nxt) {
+                if le(self.snd_max, seq) && self.rtt_probe.is_none() {
+                    // New data only (Karn): its acknowledgment times a round trip.
+                    self.rtt_probe = Some((self.snd_nxt, now));
+                }
+                self.snd_max = self.snd_nxt;
+            }
+            if self.retransmit_at.is_none() {
+                self.retransmit_at = Some(now.add(self.rto));
+            }
+            self.ack_owed = false;
+            let flags = Flags {
+                psh: len > 0 && unsent == len,
+                fin,
+                ..ack
+            };
+            return Some((self.segment(seq, flags), sent..sent.saturating_add(len)));
+        }
+        if unsent > 0 && self.retransmit_at.is_none() {
+            // The peer's window is closed: probed at the retransmission timeout.
+            self.retransmit_at = Some(now.add(self.rto));
+        }
+        if core::mem::take(&mut self.ack_owed) {
+            return Some((self.segment(self.snd_nxt, ack), 0..0));
+        }
+        None
+    }
+
+    /// A segment of this connection from `seq` with `flags`, acknowledging what came.
+    fn segment(&self, seq: u32, flags: Flags) -> Outgoing {
+        Outgoing {
+            peer: self.peer,
+            seq,
+            ack: self.rcv_nxt,
+            flags,
+            window: self.window(),
+            mss: None,
+        }
+    }
+
+    /// The replies' bytes in `range` (from [`Self::transmit`]).
+    pub(super) fn bytes(&self, range: Range<usize>) -> &[u8] {
+        self.tx.as_flattened().get(range).unwrap_or(&[])
+    }
+
+    /// The connection's timers at `now`: the half-open and linger bounds, the adapter's
+    /// inactivity timeout, retransmission, and giving up on a peer that acknowledges nothing.
+    pub(super) fn poll(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
+        match self.state {
+            State::Free | State::LastAckOwed => return,
+            State::SynReceived if now >= self.since.add(HALF_OPEN) => {
+                self.abort(id, now, app);
+                return;
+            }
+            State::FinWait1 | State::FinWait2 | State::Closing | State::LastAck
+                if now >= self.since.add(LINGER) =>
+            {
+                self.abort(id, now, app);
+                return;
+            }
+            State::Established if app.idle_deadline(id).is_some_and(|at| at <= now) => {
+                self.close(id, now, app);
+            }
+            _ => {}
+        }
+        if self.waiting() && now >= self.progress_at.add(WRITE_TIMEOUT) {
+            self.abort(id, now, app);
+            return;
+        }
+        if self.retransmit_at.is_some_and(|at| at <= now) {
+            // Go back to the oldest unacknowledged byte, with the timeout doubled (RFC 6298
+            // 5.4-5.6); with nothing in flight, the closed window is probed.
+            self.probe_owed = self.flight() == 0;
+            self.snd_nxt = self.snd_una;
+            self.rtt_probe = None;
+            self.rto = Duration::from_micros(self.rto.as_micros().saturating_mul(2)).min(MAX_RTO);
+            self.retransmit_at = None;
+        }
+    }
+
+    /// Replies or our FIN wait for the peer's acknowledgment.
+    fn waiting(&self) -> bool {
+        self.state != State::SynReceived && (self.tx_len > 0 || self.flight() > 0)
+    }
+
+    /// When [`Self::poll`] has something to do, for the adapter `app` (its inactivity
+    /// timeout on connection `id`).
+    pub(super) fn deadline(&self, id: SocketId, app: &impl TcpApp) -> Option<Instant> {
+        let bound = match self.state {
+            State::Free | State::LastAckOwed => return None,
+            State::SynReceived => Some(self.since.add(HALF_OPEN)),
+            State::Established => app.idle_deadline(id),
+            _ => Some(self.since.add(LINGER)),
+        };
+        let give_up = self
+            .waiting()
+            .then(|| self.progress_at.add(WRITE_TIMEOUT));
+        [bound, give_up, self.retransmit_at]
+            .into_iter()
+            .flatten()
+            .min()
+    }
+
+    /// True if a segment is owed now ([`Self::transmit`] has one).
+    pub(super) fn owes(&self) -> bool {
+        match self.state {
+            State::Free => false,
+            State::SynReceived => self.syn_ack_owed || self.rst_owed,
+            State::LastAckOwed => true,
+            _ => {
+                let flight = self.flight();
+                let unsent = self.tx_len.saturating_sub(flight);
+                self.rst_owed
+                    || self.ack_owed
+                    || self.probe_owed
+                    || (unsent > 0 && (self.snd_wnd as usize) > flight)
+                    || (self.fin && flight <= self.tx_len && unsent == 0)
+            }
+        }
+    }
+
+    /// The Identity Reset accepted on this connection, once its reply is acknowledged or
+    /// the connection ended.
+    pub(super) fn take_reset(&mut self) -> Option<u8> {
+        let flushed = self.tx_len == 0 || !matches!(self.state, State::Established);
+        if flushed {
+            self.reset.take()
+        } else {
+            None
+        }
+    }
+}
