@@ -257,17 +257,17 @@
 //! ```
 //!
 //! - `FRAME` bounds every explicit message and reply: the runtime's reply buffers have that
-//!   size (`enip_firmware::Resources<SESSIONS, FRAME>`, which the embedded runtime takes with
-//!   the adapter), and an assembly read explicitly must fit it (0x11 otherwise). Class 1
+//!   size (`enip_firmware::Resources<FRAME>`, which the embedded runtime takes with the
+//!   adapter, and the encapsulation TCP's [`crate::tcp::TcpServer`]`<SESSIONS, FRAME>`, two
+//!   replies a session), and an assembly read explicitly must fit it (0x11 otherwise). Class 1
 //!   data does not pass through it: a Large_Forward_Open carries an assembly as large as
 //!   the device declares, up to 1 448 bytes in one Ethernet frame.
 //! - The choices are checked against each other where the adapter is built, at compile
 //!   time: 1 to 254 sessions and connections, `FRAME` at least
 //!   [`crate::adapter::MIN_FRAME`] (a 504-byte Class 3 message) and within the 16-bit
 //!   length field, at least one ListIdentity slot; the embedded runtime's
-//!   `Resources::<SESSIONS, FRAME>::stack_resources::<N>()` refuses fewer embassy-net
-//!   sockets than sessions plus its UDP socket, and `Resources::new` a frame larger than a
-//!   TCP socket's transmit buffer.
+//!   `Resources::<FRAME>::stack_resources::<N>()` refuses fewer embassy-net sockets than
+//!   its UDP socket needs.
 //!
 //!   ```compile_fail
 //!   # use enip_stack::{Adapter, AssemblyInfo, Device, IdentityInfo, NetworkConfig};

@@ -46,7 +46,8 @@ const QUICK_VAR: &str = "ENIP_QEMU_BENCH_QUICK";
 pub const MARKER: &str =
     "<enip_firmware::shared::SharedAdapter<D,_,_,_,_> as enip_firmware::link::io_port::IoPort>::receive";
 /// The function called once per explicit request read from TCP: the request counter.
-const REQUEST_MARKER: &str = "enip_firmware::tcp::feed";
+const REQUEST_MARKER: &str =
+    "enip_stack::tcp::app::<impl enip_stack::tcp::TcpApp for enip_stack::adapter::Adapter<D,_,_,_,_>>::receive";
 /// The device's Class 1 write (the generic profile's): where O->T data reaches it, and where
 /// it marks its input changed.
 const WRITE_ASSEMBLY: &str = "as enip_stack::device::Device>::write_assembly";

@@ -366,6 +366,8 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         if let Some(segment) = frame.get(range) {
             let verify = self.sums.tcp.rx();
             self.tcp.take(segment, (src, me.ip), verify, io, at);
+            // A request may have moved the LLDP deadline (the LLDP Management object).
+            self.lldp_stale = true;
         }
     }
 

@@ -295,6 +295,8 @@ impl<const F: usize> Conn<F> {
             self.fin = false;
             self.state = match self.state {
                 State::FinWait1 => State::FinWait2,
+                // An ACK still owed (the peer's FIN came in the same burst) goes first.
+                State::Closing | State::LastAck if self.ack_owed => State::LastAckOwed,
                 State::Closing | State::LastAck => State::Free,
                 other => other,
             };

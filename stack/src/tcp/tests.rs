@@ -433,3 +433,22 @@ fn abort_all_resets_every_connection() {
     assert_eq!(app.events.iter().filter(|e| matches!(e, Event::Closed(_))).count(), 2);
     assert_eq!(s.deadline(&app), None);
 }
+
+#[test]
+fn the_ack_of_the_peers_fin_goes_even_when_ours_is_acknowledged_in_the_same_burst() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    // The adapter closes on the request; our FIN goes out with its reply.
+    s.process(&seg(peer(5000), 101, iss, ACK, b"Cxyz"), ms(2), &mut app);
+    assert!(drain(&mut s, ms(2))[0].0.flags.fin);
+    // The peer's FIN, then its ACK of ours, both read before anything is sent.
+    s.process(&seg(peer(5000), 105, iss + 4, FIN_ACK, &[]), ms(3), &mut app);
+    s.process(&seg(peer(5000), 106, iss + 5, ACK, &[]), ms(3), &mut app);
+    let last = drain(&mut s, ms(3));
+    assert_eq!(last.len(), 1, "{last:?}");
+    assert_eq!((last[0].0.flags, last[0].0.ack), (ACK, 106));
+    assert_eq!(s.deadline(&app), None);
+    // A FIN sent again finds no connection: refused, as a late FIN is.
+    let late = s.process(&seg(peer(5000), 105, iss + 5, FIN_ACK, &[]), ms(4), &mut app);
+    assert!(late.is_some_and(|r| r.flags.rst));
+}
