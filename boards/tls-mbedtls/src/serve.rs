@@ -16,8 +16,7 @@ pub const TLS_PORT: u16 = 2221;
 /// Longest handshake; a client that takes longer is dropped.
 const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(10);
 /// Longest wait for a reply to be taken by the peer (the plaintext sockets' bound).
-const WRITE_TIMEOUT: Duration =
-    Duration::from_micros(enip_stack::tcp::WRITE_TIMEOUT.as_micros());
+const WRITE_TIMEOUT: Duration = Duration::from_micros(enip_stack::tcp::WRITE_TIMEOUT.as_micros());
 /// Longest wait for the peer's FIN when closing (the plaintext sockets' bound).
 const LINGER: Duration = Duration::from_micros(enip_stack::tcp::LINGER.as_micros());
 /// Pause before listening again after the socket refused to listen.

@@ -43,6 +43,9 @@ const PASSES: usize = 4;
 /// burst took two passes, about 20 instructions a cycle more at ten connections).
 const RX_BURST: usize = 12;
 
+/// A frame's sender: its IPv4 address and the MAC address it came from.
+type Sender = (Ipv4Addr, [u8; 6]);
+
 /// [`run`]'s and [`run_with_link_checksums`]'s body: a `Pump` polled at every wake-up. A
 /// macro, not an async function both await: that one's future would hold the driver (the
 /// LAN9118's with its frame buffers) beside the caller's own copy of its argument.
@@ -316,7 +319,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         }
         let seen = frame::inspect(frame, me.ip, &self.sums);
         if let Some((src, range)) = seen.tcp.clone() {
-            self.ingest_tcp(frame, (seen.sender, src, range), io, me, at);
+            self.ingest_tcp(frame, (seen.sender, (src, range)), io, me, at);
             return false;
         }
         let o_t = seen
@@ -352,7 +355,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
     fn ingest_tcp(
         &mut self,
         frame: &[u8],
-        (sender, src, range): (Option<(Ipv4Addr, [u8; 6])>, Ipv4Addr, Range<usize>),
+        (sender, (src, range)): (Option<Sender>, (Ipv4Addr, Range<usize>)),
         io: &dyn IoPort,
         me: &NetworkConfig,
         at: Instant,

@@ -37,7 +37,12 @@ pub(crate) fn to_encap_port(segment: &[u8]) -> bool {
 /// Reads the TCP segment `segment` (an IPv4 payload, whole) from `src` to `me`; `None` if
 /// it is malformed, not for the encapsulation port, or its checksum fails (checked if
 /// `verify`).
-pub(crate) fn parse(segment: &[u8], src: Ipv4Addr, me: Ipv4Addr, verify: bool) -> Option<Segment<'_>> {
+pub(crate) fn parse(
+    segment: &[u8],
+    src: Ipv4Addr,
+    me: Ipv4Addr,
+    verify: bool,
+) -> Option<Segment<'_>> {
     let header = segment.first_chunk::<TCP_HEADER_LEN>()?;
     let &[p0, p1, d0, d1, s0, s1, s2, s3, a0, a1, a2, a3, offset, bits, w0, w1, ..] = header;
     if u16::from_be_bytes([d0, d1]) != ENCAP_PORT {
@@ -92,8 +97,9 @@ fn mss(mut options: &[u8]) -> Option<u16> {
 
 /// Bytes of the frame that carries `out` with `payload_len` bytes of data.
 pub(crate) fn frame_len(out: &Outgoing, payload_len: usize) -> usize {
+    const HEADERS: usize = ETHERNET_HEADER_LEN + IPV4_HEADER_LEN + TCP_HEADER_LEN;
     let mss = if out.mss.is_some() { MSS_OPTION_LEN } else { 0 };
-    (ETHERNET_HEADER_LEN + IPV4_HEADER_LEN + TCP_HEADER_LEN + mss).saturating_add(payload_len)
+    HEADERS.saturating_add(mss).saturating_add(payload_len)
 }
 
 /// Who a segment goes from and to on the link: our MAC and address, the next hop's MAC.
@@ -139,8 +145,26 @@ pub(crate) fn write(
     let [d0, d1, d2, d3] = out.peer.ip().octets();
     let tos = hop.dscp << 2;
     *ip = [
-        0x45, tos, n0, n1, i0, i1, DONT_FRAGMENT, 0, UNICAST_TTL, TCP, 0, 0, s0, s1, s2, s3, d0,
-        d1, d2, d3,
+        0x45,
+        tos,
+        n0,
+        n1,
+        i0,
+        i1,
+        DONT_FRAGMENT,
+        0,
+        UNICAST_TTL,
+        TCP,
+        0,
+        0,
+        s0,
+        s1,
+        s2,
+        s3,
+        d0,
+        d1,
+        d2,
+        d3,
     ];
     if sums.ipv4.tx() {
         let sum = Sum::default().add(ip).checksum();
@@ -176,9 +200,29 @@ fn write_tcp(segment: &mut [u8], out: &Outgoing, payload: &[u8]) {
     let words = if out.mss.is_some() { 6u8 } else { 5 };
     let f = out.flags;
     let bit = |on: bool, b: u8| if on { b } else { 0 };
-    let bits = bit(f.fin, FIN) | bit(f.syn, SYN) | bit(f.rst, RST) | bit(f.psh, PSH) | bit(f.ack, ACK);
+    let bits =
+        bit(f.fin, FIN) | bit(f.syn, SYN) | bit(f.rst, RST) | bit(f.psh, PSH) | bit(f.ack, ACK);
     *header = [
-        p0, p1, d0, d1, s0, s1, s2, s3, a0, a1, a2, a3, words << 4, bits, w0, w1, 0, 0, 0, 0,
+        p0,
+        p1,
+        d0,
+        d1,
+        s0,
+        s1,
+        s2,
+        s3,
+        a0,
+        a1,
+        a2,
+        a3,
+        words << 4,
+        bits,
+        w0,
+        w1,
+        0,
+        0,
+        0,
+        0,
     ];
     let data = match out.mss {
         Some(mss) => {
@@ -283,12 +327,18 @@ mod tests {
         segment[0..2].copy_from_slice(&dst);
         segment[2..4].copy_from_slice(&src);
         let seg = parse(segment, PEER, ME, true).expect("swapping words keeps the checksum");
-        assert_eq!((seg.peer.port(), seg.seq, seg.ack, seg.window), (50_000, u32::MAX, 9, 512));
+        assert_eq!(
+            (seg.peer.port(), seg.seq, seg.ack, seg.window),
+            (50_000, u32::MAX, 9, 512)
+        );
         assert!(seg.flags.ack && seg.flags.psh && seg.flags.fin && !seg.flags.syn);
         assert_eq!(seg.payload, b"hello");
         segment[24] ^= 1;
         assert!(parse(segment, PEER, ME, true).is_none());
-        assert!(parse(segment, PEER, ME, false).is_some(), "unchecked when offloaded");
+        assert!(
+            parse(segment, PEER, ME, false).is_some(),
+            "unchecked when offloaded"
+        );
     }
 
     #[test]
@@ -296,7 +346,11 @@ mod tests {
         assert_eq!(mss(&[1, 1, 2, 4, 0x05, 0xB4]), Some(1460));
         assert_eq!(mss(&[3, 3, 7, 2, 4, 0x02, 0x18]), Some(536));
         assert_eq!(mss(&[0, 2, 4, 1, 1]), None);
-        assert_eq!(mss(&[8, 1, 2, 4, 1, 1]), None, "a length below 2 ends the walk");
+        assert_eq!(
+            mss(&[8, 1, 2, 4, 1, 1]),
+            None,
+            "a length below 2 ends the walk"
+        );
         assert_eq!(mss(&[8, 40]), None);
         assert_eq!(mss(&[]), None);
     }

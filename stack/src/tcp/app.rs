@@ -15,13 +15,7 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
     /// Never inlined: `cargo xtask bench --qemu` counts its calls as the explicit requests
     /// served.
     #[inline(never)]
-    fn receive(
-        &mut self,
-        id: SocketId,
-        data: &[u8],
-        now: Instant,
-        reply: &mut [u8],
-    ) -> TcpOutcome {
+    fn receive(&mut self, id: SocketId, data: &[u8], now: Instant, reply: &mut [u8]) -> TcpOutcome {
         self.tcp_receive(id, data, now, reply)
     }
 

@@ -368,7 +368,11 @@ impl<const F: usize> Conn<F> {
                 break;
             }
             let was_empty = self.tx_len == 0;
-            let room = self.tx.as_flattened_mut().get_mut(self.tx_len..).unwrap_or(&mut []);
+            let room = self
+                .tx
+                .as_flattened_mut()
+                .get_mut(self.tx_len..)
+                .unwrap_or(&mut []);
             let outcome = app.receive(id, rest, now, room);
             let consumed = outcome.consumed.min(rest.len());
             let reply = outcome.reply_len.min(room.len());
@@ -490,7 +494,9 @@ impl<const F: usize> Conn<F> {
         if len > 0 || fin_due {
             let seq = self.snd_nxt;
             let fin = fin_due;
-            let step = u32::try_from(len).unwrap_or(0).saturating_add(u32::from(fin));
+            let step = u32::try_from(len)
+                .unwrap_or(0)
+                .saturating_add(u32::from(fin));
             self.snd_nxt = seq.wrapping_add(step);
             if lt(self.snd_max, self.snd_nxt) {
                 if le(self.snd_max, seq) && self.rtt_probe.is_none() {
@@ -586,9 +592,7 @@ impl<const F: usize> Conn<F> {
             State::Established => app.idle_deadline(id),
             _ => Some(self.since.add(LINGER)),
         };
-        let give_up = self
-            .waiting()
-            .then(|| self.progress_at.add(WRITE_TIMEOUT));
+        let give_up = self.waiting().then(|| self.progress_at.add(WRITE_TIMEOUT));
         [bound, give_up, self.retransmit_at]
             .into_iter()
             .flatten()

@@ -118,8 +118,7 @@ pub trait TcpApp {
     fn accepted(&mut self, id: SocketId, peer: SocketAddrV4, now: Instant);
     /// Bytes `data` arrived on `id`, in order; a reply goes into `reply` (as
     /// [`crate::Adapter::tcp_receive`]).
-    fn receive(&mut self, id: SocketId, data: &[u8], now: Instant, reply: &mut [u8])
-        -> TcpOutcome;
+    fn receive(&mut self, id: SocketId, data: &[u8], now: Instant, reply: &mut [u8]) -> TcpOutcome;
     /// Connection `id` ended, by either side or a timeout.
     fn closed(&mut self, id: SocketId, now: Instant);
     /// When connection `id` closes if nothing arrives until then (the encapsulation

@@ -114,7 +114,10 @@ fn drain(server: &mut Server, now: Instant) -> Vec<(Outgoing, Vec<u8>)> {
 /// A connection from `from`, its client's sequence numbers starting at `isn`; returns the
 /// server's next sequence number.
 fn connect(server: &mut Server, app: &mut Echo, from: SocketAddrV4, isn: u32) -> u32 {
-    assert_eq!(server.process(&seg(from, isn, 0, SYN, &[]), ms(0), app), None);
+    assert_eq!(
+        server.process(&seg(from, isn, 0, SYN, &[]), ms(0), app),
+        None
+    );
     let sent = drain(server, ms(0));
     assert_eq!(sent.len(), 1, "one SYN-ACK: {sent:?}");
     let syn_ack = sent[0].0;
@@ -124,7 +127,10 @@ fn connect(server: &mut Server, app: &mut Echo, from: SocketAddrV4, isn: u32) ->
     let next = syn_ack.seq.wrapping_add(1);
     let ack = seg(from, isn.wrapping_add(1), next, ACK, &[]);
     assert_eq!(server.process(&ack, ms(1), app), None);
-    assert!(drain(server, ms(1)).is_empty(), "nothing answers the handshake's ACK");
+    assert!(
+        drain(server, ms(1)).is_empty(),
+        "nothing answers the handshake's ACK"
+    );
     next
 }
 
@@ -151,7 +157,11 @@ fn a_request_is_answered_with_its_reply_and_the_ack_of_the_request() {
 fn several_requests_in_one_segment_each_get_their_reply() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let iss = connect(&mut s, &mut app, peer(5000), 100);
-    s.process(&seg(peer(5000), 101, iss, ACK, b"abcdefghij"), ms(2), &mut app);
+    s.process(
+        &seg(peer(5000), 101, iss, ACK, b"abcdefghij"),
+        ms(2),
+        &mut app,
+    );
     let received: Vec<_> = app.events[1..].to_vec();
     assert_eq!(
         received,
@@ -247,12 +257,22 @@ fn the_adapters_close_sends_the_reply_then_our_fin_and_waits_for_the_peers() {
     assert_eq!(sent[0].1, b"Cxyz");
     s.process(&seg(peer(5000), 105, iss + 5, ACK, &[]), ms(3), &mut app);
     assert!(drain(&mut s, ms(3)).is_empty());
-    s.process(&seg(peer(5000), 105, iss + 5, FIN_ACK, &[]), ms(4), &mut app);
+    s.process(
+        &seg(peer(5000), 105, iss + 5, FIN_ACK, &[]),
+        ms(4),
+        &mut app,
+    );
     let last = drain(&mut s, ms(4));
     assert_eq!(last.len(), 1);
     assert_eq!((last[0].0.flags, last[0].0.ack), (ACK, 106));
     assert_eq!(s.deadline(&app), None);
-    assert_eq!(app.events.iter().filter(|e| **e == Event::Closed(0)).count(), 1);
+    assert_eq!(
+        app.events
+            .iter()
+            .filter(|e| **e == Event::Closed(0))
+            .count(),
+        1
+    );
 }
 
 #[test]
@@ -277,7 +297,10 @@ fn only_the_exact_next_sequence_number_resets_other_rsts_and_syns_get_a_challeng
     s.process(&seg(peer(5000), 5, 0, SYN, &[]), ms(2), &mut app);
     let sent = drain(&mut s, ms(2));
     assert_eq!(sent.len(), 1, "one challenge ACK covers both: {sent:?}");
-    assert_eq!((sent[0].0.flags, sent[0].0.seq, sent[0].0.ack), (ACK, iss, 101));
+    assert_eq!(
+        (sent[0].0.flags, sent[0].0.seq, sent[0].0.ack),
+        (ACK, iss, 101)
+    );
     assert!(!app.events.contains(&Event::Closed(0)));
     // Out of the window altogether: not even a challenge.
     s.process(&seg(peer(5000), 100_000, 0, RST, &[]), ms(3), &mut app);
@@ -294,10 +317,20 @@ fn segments_of_no_connection_are_refused_as_rfc_9293_says() {
     let with_ack = s.process(&seg(peer(6000), 10, 777, ACK, b"zz"), ms(0), &mut app);
     let rst = with_ack.expect("refused");
     assert_eq!((rst.seq, rst.flags), (777, RST));
-    let without = s.process(&seg(peer(6000), 10, 0, FIN_ACK.without_ack(), b"zz"), ms(0), &mut app);
+    let without = s.process(
+        &seg(peer(6000), 10, 0, FIN_ACK.without_ack(), b"zz"),
+        ms(0),
+        &mut app,
+    );
     let rst = without.expect("refused");
-    assert_eq!((rst.seq, rst.ack, rst.flags.rst, rst.flags.ack), (0, 13, true, true));
-    assert_eq!(s.process(&seg(peer(6000), 10, 0, RST, &[]), ms(0), &mut app), None);
+    assert_eq!(
+        (rst.seq, rst.ack, rst.flags.rst, rst.flags.ack),
+        (0, 13, true, true)
+    );
+    assert_eq!(
+        s.process(&seg(peer(6000), 10, 0, RST, &[]), ms(0), &mut app),
+        None
+    );
 }
 
 impl Flags {
@@ -321,7 +354,14 @@ fn a_syn_when_every_connection_is_open_is_refused() {
 fn a_syn_flood_cannot_hold_the_connections() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     for port in 40_000..40_050 {
-        assert_eq!(s.process(&seg(peer(port), 1, 0, SYN, &[]), ms(u64::from(port)), &mut app), None);
+        assert_eq!(
+            s.process(
+                &seg(peer(port), 1, 0, SYN, &[]),
+                ms(u64::from(port)),
+                &mut app
+            ),
+            None
+        );
         drain(&mut s, ms(0));
     }
     // A real client's SYN takes the place of the oldest half-open one.
@@ -330,8 +370,7 @@ fn a_syn_flood_cannot_hold_the_connections() {
 }
 
 #[test]
-fn a_half_open_connection_is_dropped_after_the_bound_and_its_syn_ack_repeated_on_a_repeated_syn()
-{
+fn a_half_open_connection_is_dropped_after_the_bound_and_its_syn_ack_repeated_on_a_repeated_syn() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     s.process(&seg(peer(5000), 100, 0, SYN, &[]), ms(0), &mut app);
     let first = drain(&mut s, ms(0));
@@ -413,11 +452,19 @@ fn an_identity_reset_is_handed_over_once_its_reply_is_acknowledged() {
 fn sequence_numbers_wrap() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let iss = connect(&mut s, &mut app, peer(5000), u32::MAX - 1);
-    s.process(&seg(peer(5000), u32::MAX, iss, ACK, b"abcd"), ms(2), &mut app);
+    s.process(
+        &seg(peer(5000), u32::MAX, iss, ACK, b"abcd"),
+        ms(2),
+        &mut app,
+    );
     let sent = drain(&mut s, ms(2));
     assert_eq!(sent[0].0.ack, 3);
     assert_eq!(sent[0].1, b"abcd");
-    s.process(&seg(peer(5000), 3, iss.wrapping_add(4), ACK, b"efgh"), ms(3), &mut app);
+    s.process(
+        &seg(peer(5000), 3, iss.wrapping_add(4), ACK, b"efgh"),
+        ms(3),
+        &mut app,
+    );
     let sent = drain(&mut s, ms(3));
     assert_eq!((sent[0].0.ack, sent[0].1.as_slice()), (7, &b"efgh"[..]));
 }
@@ -430,7 +477,13 @@ fn abort_all_resets_every_connection() {
     s.abort_all(ms(5), &mut app);
     let sent = drain(&mut s, ms(5));
     assert_eq!(sent.iter().filter(|(o, _)| o.flags.rst).count(), 2);
-    assert_eq!(app.events.iter().filter(|e| matches!(e, Event::Closed(_))).count(), 2);
+    assert_eq!(
+        app.events
+            .iter()
+            .filter(|e| matches!(e, Event::Closed(_)))
+            .count(),
+        2
+    );
     assert_eq!(s.deadline(&app), None);
 }
 
@@ -442,13 +495,21 @@ fn the_ack_of_the_peers_fin_goes_even_when_ours_is_acknowledged_in_the_same_burs
     s.process(&seg(peer(5000), 101, iss, ACK, b"Cxyz"), ms(2), &mut app);
     assert!(drain(&mut s, ms(2))[0].0.flags.fin);
     // The peer's FIN, then its ACK of ours, both read before anything is sent.
-    s.process(&seg(peer(5000), 105, iss + 4, FIN_ACK, &[]), ms(3), &mut app);
+    s.process(
+        &seg(peer(5000), 105, iss + 4, FIN_ACK, &[]),
+        ms(3),
+        &mut app,
+    );
     s.process(&seg(peer(5000), 106, iss + 5, ACK, &[]), ms(3), &mut app);
     let last = drain(&mut s, ms(3));
     assert_eq!(last.len(), 1, "{last:?}");
     assert_eq!((last[0].0.flags, last[0].0.ack), (ACK, 106));
     assert_eq!(s.deadline(&app), None);
     // A FIN sent again finds no connection: refused, as a late FIN is.
-    let late = s.process(&seg(peer(5000), 105, iss + 5, FIN_ACK, &[]), ms(4), &mut app);
+    let late = s.process(
+        &seg(peer(5000), 105, iss + 5, FIN_ACK, &[]),
+        ms(4),
+        &mut app,
+    );
     assert!(late.is_some_and(|r| r.flags.rst));
 }

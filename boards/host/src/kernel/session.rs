@@ -10,9 +10,9 @@ use std::net::{SocketAddrV4, TcpStream};
 use std::os::fd::{AsRawFd, RawFd};
 use std::time::Duration;
 
-use enip_stack::tcp::{LINGER, WRITE_TIMEOUT};
 use enip_stack::config::MAX_ENCAP_FRAME;
 use enip_stack::device::CloseReason;
+use enip_stack::tcp::{LINGER, WRITE_TIMEOUT};
 use enip_stack::{Adapter, Device, Instant, SocketId, TcpOutcome};
 use socket2::SockRef;
 
