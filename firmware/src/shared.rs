@@ -24,7 +24,9 @@ use crate::link::KeptWaker;
 use crate::link::{IoPort, LldpPort};
 
 /// An [`Adapter`] shared by the runtime's futures and the link task; never borrowed across
-/// an `.await`.
+/// an `.await`. Laid out in order (`repr(C)`): the adapter first, the TCP server's replies
+/// last, so the Class 1 path's offsets into the adapter stay small.
+#[repr(C)]
 pub struct SharedAdapter<
     D: Device,
     const S: usize = { MAX_SESSIONS },

@@ -11,5 +11,6 @@ pub mod link_seeds;
 pub mod profile;
 pub mod script;
 pub mod store;
+pub mod tcp_script;
 
 pub use device::TestDevice;

@@ -12,7 +12,6 @@ use enip_stack::config::IO_PORT;
 use smoltcp::phy::ChecksumCapabilities;
 
 use super::checksum::Sum;
-use super::tcp_frames::{to_encap_port, TCP};
 use smoltcp::wire::{
     ArpOperation, ArpPacket, ArpRepr, EthernetAddress, EthernetFrame, EthernetProtocol,
     EthernetRepr, ETHERNET_HEADER_LEN, IPV4_HEADER_LEN, UDP_HEADER_LEN,
@@ -32,9 +31,6 @@ pub(crate) struct Seen {
     pub sender: Option<(Ipv4Addr, [u8; 6])>,
     /// An O->T datagram: its source and where its UDP payload lies in the frame.
     pub o_t: Option<(SocketAddrV4, Range<usize>)>,
-    /// A TCP segment to the encapsulation port (unchecked beyond the port): its source and
-    /// where it lies in the frame ([`super::tcp_frames::parse`] reads it).
-    pub tcp: Option<(Ipv4Addr, Range<usize>)>,
 }
 
 /// The ethertype of IPv4.
@@ -65,7 +61,7 @@ pub(crate) fn inspect(frame: &[u8], me: Ipv4Addr, verify: &ChecksumCapabilities)
         IPV4 => inspect_ipv4(packet, mac, me, verify),
         ARP => Seen {
             sender: arp_sender(packet, mac, me),
-            ..Seen::default()
+            o_t: None,
         },
         _ => Seen::default(),
     }
@@ -104,43 +100,25 @@ fn inspect_ipv4(
     let segment = packet.get(header_len..total_len).unwrap_or(&[]);
     let udp = segment.first_chunk::<UDP_HEADER_LEN>();
     let Some(&[p0, p1, q0, q1, u0, u1, c0, c1]) = udp.filter(|_| protocol == UDP) else {
-        let tcp = (protocol == TCP && unfragmented && sender.is_some() && to_encap_port(segment))
-            .then(|| {
-                let start = ETHERNET_HEADER_LEN.wrapping_add(header_len);
-                (src, start..ETHERNET_HEADER_LEN.wrapping_add(total_len))
-            });
-        return Seen {
-            sender,
-            o_t: None,
-            tcp,
-        };
+        return Seen { sender, o_t: None };
     };
     let udp_len = u16::from_be_bytes([u0, u1]);
     let Some(datagram) = segment.get(..usize::from(udp_len)) else {
-        return Seen {
-            sender,
-            ..Seen::default()
-        };
+        return Seen { sender, o_t: None };
     };
     if u16::from_be_bytes([q0, q1]) != IO_PORT
         || !unfragmented
         || usize::from(udp_len) < UDP_HEADER_LEN
         || sender.is_none()
     {
-        return Seen {
-            sender,
-            ..Seen::default()
-        };
+        return Seen { sender, o_t: None };
     }
     let good = !verify.udp.rx() || [c0, c1] == [0, 0] || {
         let sum = Sum::default().add_pseudo_header(src, me, udp_len);
         sum.add(datagram).is_valid()
     };
     if !good {
-        return Seen {
-            sender,
-            ..Seen::default()
-        };
+        return Seen { sender, o_t: None };
     }
     // The payload's place in the frame: behind the Ethernet, IPv4 (with its options) and
     // UDP headers, as long as the UDP length says.
@@ -152,7 +130,6 @@ fn inspect_ipv4(
             SocketAddrV4::new(src, u16::from_be_bytes([p0, p1])),
             start..end,
         )),
-        tcp: None,
     }
 }
 
@@ -350,7 +327,7 @@ mod tests {
             seen,
             Seen {
                 sender: Some((PEER, PEER_MAC)),
-                ..Seen::default()
+                o_t: None
             }
         );
         // About another host: nothing.

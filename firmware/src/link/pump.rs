@@ -32,6 +32,7 @@ use super::neighbors::{next_hop, Neighbors};
 use super::route::{Headers, LastRoute, UNICAST_TTL};
 use super::stack_hold::StackHold;
 use super::stack_sums::{self, LinkChecksums};
+use super::tcp_frames;
 use super::tcp_link::{self, TcpLink};
 use crate::clock::{earliest, now, to_embassy};
 
@@ -42,9 +43,6 @@ const PASSES: usize = 4;
 /// arriving together, and two more, before the pass produces what is due (with eight, such a
 /// burst took two passes, about 20 instructions a cycle more at ten connections).
 const RX_BURST: usize = 12;
-
-/// A frame's sender: its IPv4 address and the MAC address it came from.
-type Sender = (Ipv4Addr, [u8; 6]);
 
 /// [`run`]'s and [`run_with_link_checksums`]'s body: a `Pump` polled at every wake-up. A
 /// macro, not an async function both await: that one's future would hold the driver (the
@@ -318,10 +316,6 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             self.guard.receive(frame, io, at);
         }
         let seen = frame::inspect(frame, me.ip, &self.sums);
-        if let Some((src, range)) = seen.tcp.clone() {
-            self.ingest_tcp(frame, (seen.sender, (src, range)), io, me, at);
-            return false;
-        }
         let o_t = seen
             .o_t
             .and_then(|(from, range)| Some((from, frame.get(range)?)));
@@ -331,41 +325,57 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
                 self.io_next = io.receive(from, data, at);
                 false
             }
-            None if !self.flood_guard.admit(frame, me.ip, at) => false,
-            None if STACK_SUMS => self.pass_checked(frame, frames),
-            None => {
-                // A frame longer than a queue slot is cut short, and the stack drops it.
-                let _ = frames.rx.push(frame.len(), |room| copy(room, frame));
-                true
-            }
+            None => self.other_frame(frame, seen.sender.is_some(), frames, io, me, at),
         };
         // Learned once the O->T data reached the device, not on its way there; before any
-        // T->O datagram of this wake-up goes out.
+        // T->O datagram or TCP segment of this wake-up goes out.
         if let Some((ip, mac)) = seen.sender {
             self.neighbors.learn(ip, mac);
         }
         passed
     }
 
-    /// The TCP segment at `range` of `frame` from `src` (its sender `sender`), for the
-    /// encapsulation port: the sender is learned first (the reply goes back to it in this
-    /// wake-up), then the segment goes to the server unless the flood guard drops it. Out
-    /// of line: not on the Class 1 path.
+    /// A received frame that is no O->T datagram (`from_host`: its IPv4 header held, from
+    /// one host): unless the flood guard drops it, a TCP segment to the encapsulation port
+    /// goes to the server, anything else to the stack (true).
+    fn other_frame(
+        &mut self,
+        frame: &[u8],
+        from_host: bool,
+        frames: &LinkFrames,
+        io: &dyn IoPort,
+        me: &NetworkConfig,
+        at: Instant,
+    ) -> bool {
+        if !self.flood_guard.admit(frame, me.ip, at) {
+            return false;
+        }
+        if let Some(tcp) = from_host
+            .then(|| tcp_frames::locate(frame, me.ip))
+            .flatten()
+        {
+            self.ingest_tcp(frame, tcp, io, me, at);
+            return false;
+        }
+        if STACK_SUMS {
+            return self.pass_checked(frame, frames);
+        }
+        // A frame longer than a queue slot is cut short, and the stack drops it.
+        let _ = frames.rx.push(frame.len(), |room| copy(room, frame));
+        true
+    }
+
+    /// The TCP segment `tcp` (its source, its place in `frame`) for the encapsulation port:
+    /// to the server. Out of line: not on the Class 1 path.
     #[inline(never)]
     fn ingest_tcp(
         &mut self,
         frame: &[u8],
-        (sender, (src, range)): (Option<Sender>, (Ipv4Addr, Range<usize>)),
+        (src, range): (Ipv4Addr, Range<usize>),
         io: &dyn IoPort,
         me: &NetworkConfig,
         at: Instant,
     ) {
-        if let Some((ip, mac)) = sender {
-            self.neighbors.learn(ip, mac);
-        }
-        if !self.flood_guard.admit(frame, me.ip, at) {
-            return;
-        }
         if let Some(segment) = frame.get(range) {
             let verify = self.sums.tcp.rx();
             self.tcp.take(segment, (src, me.ip), verify, io, at);

@@ -3,6 +3,7 @@
 //! software), an outgoing [`Outgoing`] written behind its Ethernet and IPv4 headers.
 
 use core::net::{Ipv4Addr, SocketAddrV4};
+use core::ops::Range;
 
 use enip_stack::config::ENCAP_PORT;
 use enip_stack::tcp::{Flags, Outgoing, Segment};
@@ -28,10 +29,32 @@ const ACK: u8 = 0x10;
 /// Don't fragment, in the IPv4 header's flags.
 const DONT_FRAGMENT: u8 = 0x40;
 
-/// True if the IPv4 payload `segment` is a TCP segment to the encapsulation port (by its
-/// destination port alone).
-pub(crate) fn to_encap_port(segment: &[u8]) -> bool {
-    segment.get(2..4) == Some(&ENCAP_PORT.to_be_bytes()[..])
+/// The TCP segment to the encapsulation port in the IPv4 frame `frame` to `me` (whose
+/// IPv4 header [`super::frame::inspect`] found good): its source and where it lies in the
+/// frame. Not part of `inspect`, which every Class 1 frame passes: a TCP frame pays for
+/// reading its IPv4 header twice.
+pub(crate) fn locate(frame: &[u8], me: Ipv4Addr) -> Option<(Ipv4Addr, Range<usize>)> {
+    let packet = frame.get(ETHERNET_HEADER_LEN..)?;
+    let header = packet.first_chunk::<IPV4_HEADER_LEN>()?;
+    let &[ihl, _, l0, l1, _, _, f0, f1, _, protocol, _, _, s0, s1, s2, s3, d0, d1, d2, d3] = header;
+    let header_len = usize::from(ihl & 0x0F).wrapping_mul(4);
+    let total_len = usize::from(u16::from_be_bytes([l0, l1]));
+    // More fragments (0x2000) or a fragment offset: not the whole segment.
+    let unfragmented = u16::from_be_bytes([f0, f1]) & 0x3FFF == 0;
+    if frame.get(12..ETHERNET_HEADER_LEN) != Some(&IPV4[..])
+        || protocol != TCP
+        || !unfragmented
+        || Ipv4Addr::new(d0, d1, d2, d3) != me
+        || header_len < IPV4_HEADER_LEN
+        || total_len > packet.len()
+    {
+        return None;
+    }
+    let start = ETHERNET_HEADER_LEN.wrapping_add(header_len);
+    let end = ETHERNET_HEADER_LEN.wrapping_add(total_len);
+    let segment = frame.get(start..end)?;
+    (segment.get(2..4) == Some(&ENCAP_PORT.to_be_bytes()[..]))
+        .then_some((Ipv4Addr::new(s0, s1, s2, s3), start..end))
 }
 
 /// Reads the TCP segment `segment` (an IPv4 payload, whole) from `src` to `me`; `None` if

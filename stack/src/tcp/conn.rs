@@ -549,7 +549,9 @@ impl<const F: usize> Conn<F> {
         match self.state {
             State::Free | State::LastAckOwed => return,
             State::SynReceived if now >= self.since.add(HALF_OPEN) => {
-                self.abort(id, now, app);
+                // Dropped without a RST: a forged source would not read it, and a client
+                // whose SYN-ACK was lost sends its SYN again and finds a free connection.
+                self.state = State::Free;
                 return;
             }
             State::FinWait1 | State::FinWait2 | State::Closing | State::LastAck

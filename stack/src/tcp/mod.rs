@@ -15,7 +15,7 @@
 //! - replies are retransmitted from the oldest unacknowledged byte (RFC 6298 timer, Karn's
 //!   rule), and a peer that takes [`WRITE_TIMEOUT`] to acknowledge loses its connection;
 //! - RST and SYN checks of RFC 5961 (an in-window RST or any SYN on an open connection gets a
-//!   challenge ACK); a connection half-open for [`HALF_OPEN`] is dropped;
+//!   challenge ACK); a connection half-open for [`HALF_OPEN`] is dropped (without a RST);
 //! - the adapter closes when the peer does (no CLOSE-WAIT), and a connection is free again
 //!   once both FINs are acknowledged (no TIME-WAIT: a late FIN finds no connection and is
 //!   answered with a RST); a close the peer does not complete within [`LINGER`] is reset.
