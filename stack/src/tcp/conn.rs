@@ -222,7 +222,9 @@ impl<const F: usize> Conn<F> {
         match (len, window) {
             (0, 0) => seg.seq == self.rcv_nxt,
             (0, _) => within(seg.seq, self.rcv_nxt, window),
-            (_, 0) => false,
+            // RFC 9293's allowance for a closed window: a segment at the next byte is taken
+            // for its ACK, RST and FIN (its data waits: the replies have no room).
+            (_, 0) => seg.seq == self.rcv_nxt,
             _ => {
                 within(seg.seq, self.rcv_nxt, window)
                     || within(
@@ -287,7 +289,9 @@ impl<const F: usize> Conn<F> {
                 self.rtt_probe = None;
             }
         }
-        self.retransmit_at = (self.flight() > 0).then(|| now.add(self.rto));
+        // Armed while replies wait, sent or not: a closed window is probed at it.
+        let waiting = self.flight() > 0 || self.tx_len > 0;
+        self.retransmit_at = waiting.then(|| now.add(self.rto));
         // A window that opens again is announced.
         self.ack_owed |= !had_room && self.room() >= F;
         if acked > data {
@@ -464,7 +468,7 @@ impl<const F: usize> Conn<F> {
                 self.rst_owed = false;
                 self.state = State::Free;
                 // With the ACK: a peer whose SYN-ACK was lost (still in SYN-SENT) takes it too.
-                let mut out = self.segment(self.snd_nxt, Flags { rst: true, ..ack });
+                let mut out = self.segment(self.snd_max, Flags { rst: true, ..ack });
                 out.window = 0;
                 return Some((out, 0..0));
             }
@@ -478,7 +482,7 @@ impl<const F: usize> Conn<F> {
             }
             State::LastAckOwed => {
                 self.state = State::Free;
-                return Some((self.segment(self.snd_nxt, ack), 0..0));
+                return Some((self.segment(self.snd_max, ack), 0..0));
             }
             _ => {}
         }
@@ -493,6 +497,11 @@ impl<const F: usize> Conn<F> {
         let fin_due = self.fin && flight <= self.tx_len && unsent == len;
         if len > 0 || fin_due {
             let seq = self.snd_nxt;
+            if self.snd_una == self.snd_max {
+                // Nothing was waiting for the peer: the write timeout starts now (our FIN after
+                // a quiet spell is not overdue).
+                self.progress_at = now;
+            }
             let fin = fin_due;
             let step = u32::try_from(len)
                 .unwrap_or(0)
@@ -521,7 +530,9 @@ impl<const F: usize> Conn<F> {
             self.retransmit_at = Some(now.add(self.rto));
         }
         if core::mem::take(&mut self.ack_owed) {
-            return Some((self.segment(self.snd_nxt, ack), 0..0));
+            // From the highest number sent: a retransmission timeout rewinds `snd_nxt`, and
+            // a peer drops a segment below what it has received.
+            return Some((self.segment(self.snd_max, ack), 0..0));
         }
         None
     }
@@ -572,7 +583,7 @@ impl<const F: usize> Conn<F> {
         if self.retransmit_at.is_some_and(|at| at <= now) {
             // Go back to the oldest unacknowledged byte, with the timeout doubled (RFC 6298
             // 5.4-5.6); with nothing in flight, the closed window is probed.
-            self.probe_owed = self.flight() == 0;
+            self.probe_owed = self.snd_wnd == 0 && self.tx_len > 0;
             self.snd_nxt = self.snd_una;
             self.rtt_probe = None;
             self.rto = Duration::from_micros(self.rto.as_micros().saturating_mul(2)).min(MAX_RTO);

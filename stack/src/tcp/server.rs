@@ -7,13 +7,15 @@ use super::{Flags, Outgoing, Segment, TcpApp};
 use crate::rng::Rng;
 use crate::{Instant, SocketId};
 
+use core::net::SocketAddrV4;
+
 /// The encapsulation port's TCP: `N` connections (the adapter's sessions, at most 255),
 /// replies of up to `F` bytes (its frame size). Its connection `i` is the adapter's
 /// `SocketId(i)`.
 pub struct TcpServer<const N: usize, const F: usize> {
     conns: [Conn<F>; N],
-    /// Initial sequence numbers.
-    rng: Rng,
+    /// The key of the initial sequence numbers' hash (RFC 6528).
+    key: (u64, u64),
     /// The connection [`Self::transmit`] looks at first (each gets its turn).
     next: usize,
     /// An Identity Reset whose reply went out: for [`Self::take_reset`].
@@ -35,16 +37,26 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
     pub const fn new(seed: u64) -> Self {
         TcpServer {
             conns: [const { Conn::new() }; N],
-            rng: Rng::new(seed),
+            key: (seed, seed ^ 0x736F_6D65_7073_6575),
             next: 0,
             reset: None,
         }
     }
 
-    /// Mixes `seed` (the runtime's hardware RNG or clock at start) into the initial
-    /// sequence numbers.
+    /// Mixes `seed` (the runtime's hardware RNG or clock at start) into the key of the
+    /// initial sequence numbers.
     pub fn seed(&mut self, seed: u64) {
-        self.rng = Rng::new(self.rng.next_u64() ^ seed);
+        let mut rng = Rng::new(seed);
+        self.key = (self.key.0 ^ rng.next_u64(), self.key.1 ^ rng.next_u64());
+    }
+
+    /// The initial sequence number of a connection from `peer` at `now` (RFC 6528): a clock
+    /// ticking every 4 us plus a keyed hash (SipHash-2-4) of the peer's address and port.
+    fn iss(&self, peer: SocketAddrV4, now: Instant) -> u32 {
+        let tuple = (u64::from(u32::from(*peer.ip())) << 16) | u64::from(peer.port());
+        let hash = siphash24(self.key, tuple);
+        let clock = (now.as_micros() >> 2) as u32;
+        clock.wrapping_add((hash >> 32) as u32)
     }
 
     /// The segment `seg`, arrived at `now`, for `app`; returns the RST to send if it belongs
@@ -66,15 +78,18 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
             return None;
         }
         if flags.syn && !flags.ack {
-            let Some(conn) = self.slot_for_syn().and_then(|i| self.conns.get_mut(i)) else {
+            let Some(slot) = self.slot_for_syn() else {
                 return Some(refusal(seg));
             };
-            // RFC 6528 wants the clock in; the generator's state moves at every SYN anyway.
-            let iss = (self.rng.next_u64() >> 32) as u32;
-            conn.open(seg, iss, now);
+            let iss = self.iss(seg.peer, now);
+            if let Some(conn) = self.conns.get_mut(slot) {
+                conn.open(seg, iss, now);
+            }
             return None;
         }
-        Some(refusal(seg))
+        // The port listens (RFC 9293 3.10.7.2): a segment with an ACK is answered with a RST,
+        // one with neither ACK nor SYN (a FIN, NULL or Xmas scan) dropped.
+        flags.ack.then(|| refusal(seg))
     }
 
     /// The connection `seg` belongs to.
@@ -134,14 +149,6 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
     pub fn take_reset(&mut self) -> Option<u8> {
         self.reset.take()
     }
-
-    /// Resets every connection (the device restarts, or the address changed): each sends a
-    /// RST ([`Self::transmit`]) and the adapter is told it closed.
-    pub fn abort_all(&mut self, now: Instant, app: &mut impl TcpApp) {
-        for (i, conn) in self.conns.iter_mut().enumerate() {
-            conn.abort(id(i), now, app);
-        }
-    }
 }
 
 /// The adapter's number of connection `i`.
@@ -172,5 +179,53 @@ fn refusal(seg: &Segment<'_>) -> Outgoing {
         flags,
         window: 0,
         mss: None,
+    }
+}
+
+/// SipHash-2-4 (Aumasson and Bernstein) of the 8-byte message `m` under `key`.
+fn siphash24((k0, k1): (u64, u64), m: u64) -> u64 {
+    let mut v = [
+        k0 ^ 0x736F_6D65_7073_6575,
+        k1 ^ 0x646F_7261_6E64_6F6D,
+        k0 ^ 0x6C79_6765_6E65_7261,
+        k1 ^ 0x7465_6462_7974_6573,
+    ];
+    let round = |v: &mut [u64; 4]| {
+        let [a, b, c, d] = v;
+        *a = a.wrapping_add(*b);
+        *b = b.rotate_left(13) ^ *a;
+        *a = a.rotate_left(32);
+        *c = c.wrapping_add(*d);
+        *d = d.rotate_left(16) ^ *c;
+        *a = a.wrapping_add(*d);
+        *d = d.rotate_left(21) ^ *a;
+        *c = c.wrapping_add(*b);
+        *b = b.rotate_left(17) ^ *c;
+        *c = c.rotate_left(32);
+    };
+    // The message word, then the last block: the length (8) in the top byte.
+    for word in [m, 8 << 56] {
+        v[3] ^= word;
+        round(&mut v);
+        round(&mut v);
+        v[0] ^= word;
+    }
+    v[2] ^= 0xFF;
+    for _ in 0..4 {
+        round(&mut v);
+    }
+    v[0] ^ v[1] ^ v[2] ^ v[3]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::siphash24;
+
+    #[test]
+    fn siphash_matches_the_reference_vector() {
+        // The reference implementation's vector for the 8-byte message 00..07 under the key
+        // 00..0f (vectors.h, entry 8).
+        let key = (0x0706_0504_0302_0100, 0x0F0E_0D0C_0B0A_0908);
+        assert_eq!(siphash24(key, 0x0706_0504_0302_0100), 0x93F5_F579_9A93_2462);
     }
 }

@@ -101,11 +101,21 @@ fn seg(from: SocketAddrV4, seq: u32, ack: u32, flags: Flags, payload: &[u8]) -> 
     }
 }
 
-/// Everything the server sends at `now`, with the data.
+/// Everything the server sends at `now`, with the data, asked as the link task asks: only
+/// while it says it owes a segment.
 fn drain(server: &mut Server, now: Instant) -> Vec<(Outgoing, Vec<u8>)> {
     let mut out = Vec::new();
     for _ in 0..16 {
-        let Some(t) = server.transmit(now) else { break };
+        if !server.owes() {
+            assert!(
+                server.transmit(now).is_none(),
+                "a segment it did not own up to"
+            );
+            break;
+        }
+        let Some(t) = server.transmit(now) else {
+            panic!("owes a segment and sends none");
+        };
         out.push((t.segment, t.payload.to_vec()));
     }
     out
@@ -317,16 +327,9 @@ fn segments_of_no_connection_are_refused_as_rfc_9293_says() {
     let with_ack = s.process(&seg(peer(6000), 10, 777, ACK, b"zz"), ms(0), &mut app);
     let rst = with_ack.expect("refused");
     assert_eq!((rst.seq, rst.flags), (777, RST));
-    let without = s.process(
-        &seg(peer(6000), 10, 0, FIN_ACK.without_ack(), b"zz"),
-        ms(0),
-        &mut app,
-    );
-    let rst = without.expect("refused");
-    assert_eq!(
-        (rst.seq, rst.ack, rst.flags.rst, rst.flags.ack),
-        (0, 13, true, true)
-    );
+    // The port listens: a FIN (or NULL, or Xmas) segment without an ACK is dropped.
+    let fin = seg(peer(6000), 10, 0, FIN_ACK.without_ack(), b"zz");
+    assert_eq!(s.process(&fin, ms(0), &mut app), None);
     assert_eq!(
         s.process(&seg(peer(6000), 10, 0, RST, &[]), ms(0), &mut app),
         None
@@ -472,24 +475,6 @@ fn sequence_numbers_wrap() {
 }
 
 #[test]
-fn abort_all_resets_every_connection() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    connect(&mut s, &mut app, peer(5000), 100);
-    connect(&mut s, &mut app, peer(5001), 100);
-    s.abort_all(ms(5), &mut app);
-    let sent = drain(&mut s, ms(5));
-    assert_eq!(sent.iter().filter(|(o, _)| o.flags.rst).count(), 2);
-    assert_eq!(
-        app.events
-            .iter()
-            .filter(|e| matches!(e, Event::Closed(_)))
-            .count(),
-        2
-    );
-    assert_eq!(s.deadline(&app), None);
-}
-
-#[test]
 fn the_ack_of_the_peers_fin_goes_even_when_ours_is_acknowledged_in_the_same_burst() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let iss = connect(&mut s, &mut app, peer(5000), 100);
@@ -514,4 +499,76 @@ fn the_ack_of_the_peers_fin_goes_even_when_ours_is_acknowledged_in_the_same_burs
         &mut app,
     );
     assert!(late.is_some_and(|r| r.flags.rst));
+}
+
+#[test]
+fn a_fin_after_a_quiet_spell_is_not_overdue() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    s.process(&seg(peer(5000), 101, iss, ACK, b"abcd"), ms(2), &mut app);
+    drain(&mut s, ms(2));
+    s.process(&seg(peer(5000), 105, iss + 4, ACK, &[]), ms(3), &mut app);
+    // Two minutes of quiet, then the inactivity timeout closes: the FIN waits its own
+    // timeouts, not the last reply's.
+    app.idle_at = Some(ms(120_000));
+    s.poll(ms(120_000), &mut app);
+    let fin = drain(&mut s, ms(120_000));
+    assert_eq!(fin[0].0.flags, FIN_ACK);
+    let next = s.deadline(&app).expect("the FIN's retransmission");
+    assert_eq!(
+        next,
+        ms(120_000).add(MIN_RTO),
+        "the round trip measured (1 ms) sets it"
+    );
+    s.poll(next, &mut app);
+    let again = drain(&mut s, next);
+    assert_eq!(again.len(), 1, "{again:?}");
+    assert_eq!(again[0].0.flags, FIN_ACK, "sent again, not reset");
+}
+
+#[test]
+fn a_segment_at_the_next_byte_brings_its_ack_through_a_closed_window() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    // A peer that takes nothing: two long replies fill the room, and the window closes.
+    let closed = Segment {
+        window: 0,
+        ..seg(peer(5000), 101, iss, ACK, b"L")
+    };
+    s.process(&closed, ms(2), &mut app);
+    s.process(&seg(peer(5000), 102, iss, ACK, b"L"), ms(2), &mut app);
+    let sent = drain(&mut s, ms(2));
+    assert_eq!(sent.last().map(|(o, _)| o.window), Some(0), "{sent:?}");
+    // The next request, carrying the ACK of both replies: the ACK is taken, the window
+    // opens, and the request is answered.
+    let next = seg(peer(5000), 103, iss + 2 * FRAME as u32, ACK, b"abcd");
+    s.process(&next, ms(3), &mut app);
+    let sent = drain(&mut s, ms(3));
+    assert!(sent.iter().any(|(_, d)| d == b"abcd"), "{sent:?}");
+}
+
+#[test]
+fn a_closed_window_is_probed_even_when_everything_sent_was_acknowledged() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    // The peer's window takes 4 of the 8 bytes of reply.
+    let small = Segment {
+        window: 4,
+        ..seg(peer(5000), 101, iss, ACK, b"abcdefgh")
+    };
+    s.process(&small, ms(2), &mut app);
+    let sent = drain(&mut s, ms(2));
+    assert_eq!(sent.iter().map(|(_, d)| d.len()).sum::<usize>(), 4);
+    // A pure ACK of those 4 that closes the window: the other 4 wait, and the window is
+    // probed at the timeout.
+    let closed = Segment {
+        window: 0,
+        ..seg(peer(5000), 109, iss + 4, ACK, &[])
+    };
+    s.process(&closed, ms(3), &mut app);
+    assert!(drain(&mut s, ms(3)).is_empty());
+    let at = s.deadline(&app).expect("the probe is armed");
+    s.poll(at, &mut app);
+    let probe = drain(&mut s, at);
+    assert_eq!(probe.first().map(|(_, d)| d.as_slice()), Some(&b"e"[..]));
 }
