@@ -1,15 +1,15 @@
 //! One connection of the server: its state (RFC 9293 3.3.2), sequence numbers, the replies
 //! not yet acknowledged, and its timers. The server ([`super::TcpServer`]) finds the
-//! connection a segment belongs to; this file does what RFC 9293 3.10.7.4 says of it.
+//! connection a segment belongs to; this file does what RFC 9293 3.10.7.4 says of it,
+//! [`send`] what the connection sends, and [`timers`] its timers.
+
+mod send;
+mod timers;
 
 use core::net::{Ipv4Addr, SocketAddrV4};
-use core::ops::Range;
 
 use super::seq::{distance, le, lt, within};
-use super::{
-    Flags, Outgoing, Segment, TcpApp, DEFAULT_MSS, HALF_OPEN, INITIAL_RTO, LINGER, MIN_RTO, MSS,
-    WRITE_TIMEOUT,
-};
+use super::{Segment, TcpApp, DEFAULT_MSS, INITIAL_RTO, MIN_RTO, MSS};
 use crate::{Duration, Instant, SocketId};
 
 /// The longest retransmission timeout (RFC 6298 2.5).
@@ -452,192 +452,6 @@ impl<const F: usize> Conn<F> {
     fn tell_closed(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
         if core::mem::take(&mut self.open) {
             app.closed(id, now);
-        }
-    }
-
-    /// The next segment this connection sends, and the range of its data in
-    /// [`Self::bytes`]; its sequence numbers count as sent.
-    pub(super) fn transmit(&mut self, now: Instant) -> Option<(Outgoing, Range<usize>)> {
-        let ack = Flags {
-            ack: true,
-            ..Flags::default()
-        };
-        match self.state {
-            State::Free => return None,
-            _ if self.rst_owed => {
-                self.rst_owed = false;
-                self.state = State::Free;
-                // With the ACK: a peer whose SYN-ACK was lost (still in SYN-SENT) takes it too.
-                let mut out = self.segment(self.snd_max, Flags { rst: true, ..ack });
-                out.window = 0;
-                return Some((out, 0..0));
-            }
-            State::SynReceived => {
-                if !core::mem::take(&mut self.syn_ack_owed) {
-                    return None;
-                }
-                let mut out = self.segment(self.iss, Flags { syn: true, ..ack });
-                out.mss = Some(MSS);
-                return Some((out, 0..0));
-            }
-            State::LastAckOwed => {
-                self.state = State::Free;
-                return Some((self.segment(self.snd_max, ack), 0..0));
-            }
-            _ => {}
-        }
-        let flight = self.flight();
-        let sent = flight.min(self.tx_len);
-        let unsent = self.tx_len.saturating_sub(sent);
-        let mut allowance = (self.snd_wnd as usize).saturating_sub(flight);
-        if core::mem::take(&mut self.probe_owed) {
-            allowance = allowance.max(1);
-        }
-        let len = unsent.min(allowance).min(usize::from(self.mss));
-        let fin_due = self.fin && flight <= self.tx_len && unsent == len;
-        if len > 0 || fin_due {
-            let seq = self.snd_nxt;
-            if self.snd_una == self.snd_max {
-                // Nothing was waiting for the peer: the write timeout starts now (our FIN after
-                // a quiet spell is not overdue).
-                self.progress_at = now;
-            }
-            let fin = fin_due;
-            let step = u32::try_from(len)
-                .unwrap_or(0)
-                .saturating_add(u32::from(fin));
-            self.snd_nxt = seq.wrapping_add(step);
-            if lt(self.snd_max, self.snd_nxt) {
-                if le(self.snd_max, seq) && self.rtt_probe.is_none() {
-                    // New data only (Karn): its acknowledgment times a round trip.
-                    self.rtt_probe = Some((self.snd_nxt, now));
-                }
-                self.snd_max = self.snd_nxt;
-            }
-            if self.retransmit_at.is_none() {
-                self.retransmit_at = Some(now.add(self.rto));
-            }
-            self.ack_owed = false;
-            let flags = Flags {
-                psh: len > 0 && unsent == len,
-                fin,
-                ..ack
-            };
-            return Some((self.segment(seq, flags), sent..sent.saturating_add(len)));
-        }
-        if unsent > 0 && self.retransmit_at.is_none() {
-            // The peer's window is closed: probed at the retransmission timeout.
-            self.retransmit_at = Some(now.add(self.rto));
-        }
-        if core::mem::take(&mut self.ack_owed) {
-            // From the highest number sent: a retransmission timeout rewinds `snd_nxt`, and
-            // a peer drops a segment below what it has received.
-            return Some((self.segment(self.snd_max, ack), 0..0));
-        }
-        None
-    }
-
-    /// A segment of this connection from `seq` with `flags`, acknowledging what came.
-    fn segment(&self, seq: u32, flags: Flags) -> Outgoing {
-        Outgoing {
-            peer: self.peer,
-            seq,
-            ack: self.rcv_nxt,
-            flags,
-            window: self.window(),
-            mss: None,
-        }
-    }
-
-    /// The replies' bytes in `range` (from [`Self::transmit`]).
-    pub(super) fn bytes(&self, range: Range<usize>) -> &[u8] {
-        self.tx.as_flattened().get(range).unwrap_or(&[])
-    }
-
-    /// The connection's timers at `now`: the half-open and linger bounds, the adapter's
-    /// inactivity timeout, retransmission, and giving up on a peer that acknowledges nothing.
-    pub(super) fn poll(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
-        match self.state {
-            State::Free | State::LastAckOwed => return,
-            State::SynReceived if now >= self.since.add(HALF_OPEN) => {
-                // Dropped without a RST: a forged source would not read it, and a client
-                // whose SYN-ACK was lost sends its SYN again and finds a free connection.
-                self.state = State::Free;
-                return;
-            }
-            State::FinWait1 | State::FinWait2 | State::Closing | State::LastAck
-                if now >= self.since.add(LINGER) =>
-            {
-                self.abort(id, now, app);
-                return;
-            }
-            State::Established if app.idle_deadline(id).is_some_and(|at| at <= now) => {
-                self.close(id, now, app);
-            }
-            _ => {}
-        }
-        if self.waiting() && now >= self.progress_at.add(WRITE_TIMEOUT) {
-            self.abort(id, now, app);
-            return;
-        }
-        if self.retransmit_at.is_some_and(|at| at <= now) {
-            // Go back to the oldest unacknowledged byte, with the timeout doubled (RFC 6298
-            // 5.4-5.6); with nothing in flight, the closed window is probed.
-            self.probe_owed = self.snd_wnd == 0 && self.tx_len > 0;
-            self.snd_nxt = self.snd_una;
-            self.rtt_probe = None;
-            self.rto = Duration::from_micros(self.rto.as_micros().saturating_mul(2)).min(MAX_RTO);
-            self.retransmit_at = None;
-        }
-    }
-
-    /// Replies or our FIN wait for the peer's acknowledgment.
-    fn waiting(&self) -> bool {
-        self.state != State::SynReceived && (self.tx_len > 0 || self.flight() > 0)
-    }
-
-    /// When [`Self::poll`] has something to do, for the adapter `app` (its inactivity
-    /// timeout on connection `id`).
-    pub(super) fn deadline(&self, id: SocketId, app: &impl TcpApp) -> Option<Instant> {
-        let bound = match self.state {
-            State::Free | State::LastAckOwed => return None,
-            State::SynReceived => Some(self.since.add(HALF_OPEN)),
-            State::Established => app.idle_deadline(id),
-            _ => Some(self.since.add(LINGER)),
-        };
-        let give_up = self.waiting().then(|| self.progress_at.add(WRITE_TIMEOUT));
-        [bound, give_up, self.retransmit_at]
-            .into_iter()
-            .flatten()
-            .min()
-    }
-
-    /// True if a segment is owed now ([`Self::transmit`] has one).
-    pub(super) fn owes(&self) -> bool {
-        match self.state {
-            State::Free => false,
-            State::SynReceived => self.syn_ack_owed || self.rst_owed,
-            State::LastAckOwed => true,
-            _ => {
-                let flight = self.flight();
-                let unsent = self.tx_len.saturating_sub(flight);
-                self.rst_owed
-                    || self.ack_owed
-                    || self.probe_owed
-                    || (unsent > 0 && (self.snd_wnd as usize) > flight)
-                    || (self.fin && flight <= self.tx_len && unsent == 0)
-            }
-        }
-    }
-
-    /// The Identity Reset accepted on this connection, once its reply is acknowledged or
-    /// the connection ended.
-    pub(super) fn take_reset(&mut self) -> Option<u8> {
-        let flushed = self.tx_len == 0 || !matches!(self.state, State::Established);
-        if flushed {
-            self.reset.take()
-        } else {
-            None
         }
     }
 }

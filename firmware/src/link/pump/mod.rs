@@ -7,10 +7,9 @@
 //! until the adapter's next production, watchdog expiry or LLDPDU, the next probe or
 //! announcement, a frame, or another task's wake-up.
 
+mod others;
 use core::convert::Infallible;
 use core::future::poll_fn;
-use core::net::Ipv4Addr;
-use core::ops::Range;
 use core::task::{Context, Poll, Waker};
 
 use embassy_net_driver::{Checksum, Driver, HardwareAddress, LinkState, RxToken, TxToken};
@@ -19,21 +18,19 @@ use enip_stack::config::MAX_CONNECTIONS;
 use enip_stack::{Instant, IoDue, NetworkConfig};
 use smoltcp::phy::{Checksum as Sums, ChecksumCapabilities};
 
-use super::acd::{passes_unaddressed, Guard};
+use super::acd::Guard;
 use super::alarm::{LinkAlarm, TimeQueue};
 use super::counted::Counted;
-use super::dscp;
 use super::flood_guard::FloodGuard;
-use super::frame::{self, copy, send_copy, ARP_REQUEST_LEN, HEADERS_LEN};
-use super::frames::{LinkFrames, TX_FRAMES};
+use super::frame::{self, send_copy, ARP_REQUEST_LEN, HEADERS_LEN};
+use super::frames::LinkFrames;
 use super::io_port::IoPort;
 use super::lldp;
 use super::neighbors::{next_hop, Neighbors};
 use super::route::{Headers, LastRoute, UNICAST_TTL};
 use super::stack_hold::StackHold;
-use super::stack_sums::{self, LinkChecksums};
-use super::tcp_frames;
-use super::tcp_link::{self, TcpLink};
+use super::stack_sums::LinkChecksums;
+use super::tcp_link::TcpLink;
 use crate::clock::{earliest, now, to_embassy};
 
 /// Passes of receive, send and produce in one wake-up at most (then the task yields to the
@@ -335,97 +332,6 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         passed
     }
 
-    /// A received frame that is no O->T datagram (`from_host`: its IPv4 header held, from
-    /// one host): unless the flood guard drops it, a TCP segment to the encapsulation port
-    /// goes to the server, anything else to the stack (true).
-    fn other_frame(
-        &mut self,
-        frame: &[u8],
-        from_host: bool,
-        frames: &LinkFrames,
-        io: &dyn IoPort,
-        me: &NetworkConfig,
-        at: Instant,
-    ) -> bool {
-        if !self.flood_guard.admit(frame, me.ip, at) {
-            return false;
-        }
-        if let Some(tcp) = from_host
-            .then(|| tcp_frames::locate(frame, me.ip))
-            .flatten()
-        {
-            self.ingest_tcp(frame, tcp, io, me, at);
-            return false;
-        }
-        if STACK_SUMS {
-            return self.pass_checked(frame, frames);
-        }
-        // A frame longer than a queue slot is cut short, and the stack drops it.
-        let _ = frames.rx.push(frame.len(), |room| copy(room, frame));
-        true
-    }
-
-    /// The TCP segment `tcp` (its source, its place in `frame`) for the encapsulation port:
-    /// to the server. Out of line: not on the Class 1 path.
-    #[inline(never)]
-    fn ingest_tcp(
-        &mut self,
-        frame: &[u8],
-        (src, range): (Ipv4Addr, Range<usize>),
-        io: &dyn IoPort,
-        me: &NetworkConfig,
-        at: Instant,
-    ) {
-        if let Some(segment) = frame.get(range) {
-            let verify = self.sums.tcp.rx();
-            self.tcp.take(segment, (src, me.ip), verify, io, at);
-            // A request may have moved the LLDP deadline (the LLDP Management object).
-            self.lldp_stale = true;
-        }
-    }
-
-    /// Runs the encapsulation TCP's timers and sends what it owes; another task's deadline
-    /// its requests moved (a Forward_Open) is asked in this pass. Out of line: not on the
-    /// Class 1 path.
-    #[inline(never)]
-    fn serve_tcp<D: Driver>(
-        &mut self,
-        cx: &mut Context<'_>,
-        driver: &mut D,
-        io: &dyn IoPort,
-        me: &NetworkConfig,
-        at: Instant,
-    ) {
-        let from = tcp_link::From {
-            mac: self.mac,
-            me,
-            usable: self.guard.usable(),
-        };
-        let neighbors = (&mut self.neighbors, &self.sums);
-        if !self.tcp.serve((cx, driver), io, &from, neighbors, at) {
-            self.blocked = true;
-        }
-        if io.deadline_moved() {
-            self.io_stale = true;
-        }
-    }
-
-    /// Passes `frame` to the stack (true) unless a checksum the stack would have found bad
-    /// drops it here, in its place (`STACK_SUMS`); checked in its queue slot.
-    fn pass_checked(&self, frame: &[u8], frames: &LinkFrames) -> bool {
-        let sums = &self.sums;
-        let pushed = frames.rx.push(frame.len(), |room| {
-            // A frame longer than a queue slot is cut short, and the stack drops it.
-            copy(room, frame);
-            stack_sums::each(room, sums, false)
-        });
-        let kept = !matches!(pushed, Ok(false));
-        if !kept {
-            frames.rx.drop_last();
-        }
-        kept
-    }
-
     /// Asks for the LLDP deadline again and sends the LLDPDU due at `at` (`lldp::service`).
     #[inline(never)]
     fn send_lldp<D: Driver>(
@@ -454,52 +360,6 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             }
             None => self.guard.put_back(arp),
         }
-    }
-
-    /// Sends the frames the stack queued, explicit messaging marked with its DSCP; drops them
-    /// while the address may not be used (but those of a DHCP client). True if it sent any.
-    #[inline(never)]
-    fn send_stack_frames<D: Driver>(
-        &mut self,
-        cx: &mut Context<'_>,
-        driver: &mut D,
-        frames: &LinkFrames,
-        io: &dyn IoPort,
-    ) -> bool {
-        if frames.tx.is_empty() {
-            return false;
-        }
-        let dscp = io.explicit_dscp();
-        let sums = &self.sums;
-        // With the stack's checksums done here, every one is filled after the marking.
-        let none = ChecksumCapabilities::ignored();
-        let mark_sums = if STACK_SUMS { &none } else { sums };
-        // The stack waits for room only when it found the queue full (`NetDriver`).
-        let was_full = frames.tx.is_full();
-        let mut sent = false;
-        let usable = self.guard.usable();
-        for _ in 0..TX_FRAMES {
-            if frames.tx.is_empty() {
-                break;
-            }
-            let Some(tx) = driver.transmit(cx) else {
-                break;
-            };
-            let _ = frames.tx.pop(|frame| {
-                if usable || passes_unaddressed(frame) {
-                    dscp::mark_explicit(frame, dscp, mark_sums);
-                    if STACK_SUMS {
-                        stack_sums::each(frame, sums, true);
-                    }
-                    send_copy(tx, frame);
-                }
-            });
-            sent = true;
-        }
-        if sent && was_full {
-            frames.wake_stack();
-        }
-        sent
     }
 
     /// Sends (or drops) every T->O datagram due at `at`; learns and returns the adapter's next

@@ -1,0 +1,128 @@
+//! What a connection sends: its next segment (the SYN-ACK, a RST, data from the replies
+//! within the peer's window and segment size, our FIN, an ACK), and whether it owes one.
+
+use core::ops::Range;
+
+use super::super::seq::{le, lt};
+use super::super::{Flags, Outgoing, MSS};
+use super::{Conn, State};
+use crate::Instant;
+
+impl<const F: usize> Conn<F> {
+    /// The next segment this connection sends, and the range of its data in
+    /// [`Self::bytes`]; its sequence numbers count as sent.
+    pub(in crate::tcp) fn transmit(&mut self, now: Instant) -> Option<(Outgoing, Range<usize>)> {
+        let ack = Flags {
+            ack: true,
+            ..Flags::default()
+        };
+        match self.state {
+            State::Free => return None,
+            _ if self.rst_owed => {
+                self.rst_owed = false;
+                self.state = State::Free;
+                // With the ACK: a peer whose SYN-ACK was lost (still in SYN-SENT) takes it too.
+                let mut out = self.segment(self.snd_max, Flags { rst: true, ..ack });
+                out.window = 0;
+                return Some((out, 0..0));
+            }
+            State::SynReceived => {
+                if !core::mem::take(&mut self.syn_ack_owed) {
+                    return None;
+                }
+                let mut out = self.segment(self.iss, Flags { syn: true, ..ack });
+                out.mss = Some(MSS);
+                return Some((out, 0..0));
+            }
+            State::LastAckOwed => {
+                self.state = State::Free;
+                return Some((self.segment(self.snd_max, ack), 0..0));
+            }
+            _ => {}
+        }
+        let flight = self.flight();
+        let sent = flight.min(self.tx_len);
+        let unsent = self.tx_len.saturating_sub(sent);
+        let mut allowance = (self.snd_wnd as usize).saturating_sub(flight);
+        if core::mem::take(&mut self.probe_owed) {
+            allowance = allowance.max(1);
+        }
+        let len = unsent.min(allowance).min(usize::from(self.mss));
+        let fin_due = self.fin && flight <= self.tx_len && unsent == len;
+        if len > 0 || fin_due {
+            let seq = self.snd_nxt;
+            if self.snd_una == self.snd_max {
+                // Nothing was waiting for the peer: the write timeout starts now (our FIN after
+                // a quiet spell is not overdue).
+                self.progress_at = now;
+            }
+            let fin = fin_due;
+            let step = u32::try_from(len)
+                .unwrap_or(0)
+                .saturating_add(u32::from(fin));
+            self.snd_nxt = seq.wrapping_add(step);
+            if lt(self.snd_max, self.snd_nxt) {
+                if le(self.snd_max, seq) && self.rtt_probe.is_none() {
+                    // New data only (Karn): its acknowledgment times a round trip.
+                    self.rtt_probe = Some((self.snd_nxt, now));
+                }
+                self.snd_max = self.snd_nxt;
+            }
+            if self.retransmit_at.is_none() {
+                self.retransmit_at = Some(now.add(self.rto));
+            }
+            self.ack_owed = false;
+            let flags = Flags {
+                psh: len > 0 && unsent == len,
+                fin,
+                ..ack
+            };
+            return Some((self.segment(seq, flags), sent..sent.saturating_add(len)));
+        }
+        if unsent > 0 && self.retransmit_at.is_none() {
+            // The peer's window is closed: probed at the retransmission timeout.
+            self.retransmit_at = Some(now.add(self.rto));
+        }
+        if core::mem::take(&mut self.ack_owed) {
+            // From the highest number sent: a retransmission timeout rewinds `snd_nxt`, and
+            // a peer drops a segment below what it has received.
+            return Some((self.segment(self.snd_max, ack), 0..0));
+        }
+        None
+    }
+
+    /// A segment of this connection from `seq` with `flags`, acknowledging what came.
+    fn segment(&self, seq: u32, flags: Flags) -> Outgoing {
+        Outgoing {
+            peer: self.peer,
+            seq,
+            ack: self.rcv_nxt,
+            flags,
+            window: self.window(),
+            mss: None,
+        }
+    }
+
+    /// The replies' bytes in `range` (from [`Self::transmit`]).
+    pub(in crate::tcp) fn bytes(&self, range: Range<usize>) -> &[u8] {
+        self.tx.as_flattened().get(range).unwrap_or(&[])
+    }
+
+    /// True if a segment is owed now ([`Self::transmit`] has one).
+    pub(in crate::tcp) fn owes(&self) -> bool {
+        match self.state {
+            State::Free => false,
+            State::SynReceived => self.syn_ack_owed || self.rst_owed,
+            State::LastAckOwed => true,
+            _ => {
+                let flight = self.flight();
+                let unsent = self.tx_len.saturating_sub(flight);
+                self.rst_owed
+                    || self.ack_owed
+                    || self.probe_owed
+                    || (unsent > 0 && (self.snd_wnd as usize) > flight)
+                    || (self.fin && flight <= self.tx_len && unsent == 0)
+            }
+        }
+    }
+}
