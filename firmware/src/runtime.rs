@@ -7,7 +7,7 @@ use embassy_net::Stack;
 use enip_stack::Device;
 
 use crate::resources::Resources;
-use crate::shared::{reset_requested, SharedAdapter};
+use crate::shared::SharedAdapter;
 use crate::{device_tick, multicast, netif, udp};
 
 /// Runs the adapter on `net` forever: the UDP socket on port 44818, the multicast group
@@ -30,7 +30,7 @@ pub async fn run<D: Device, const S: usize, const C: usize, const F: usize, cons
 ) -> ! {
     let resets = async {
         loop {
-            on_reset(reset_requested(adapter).await);
+            on_reset(adapter.reset_requested().await);
         }
     };
     // Every joined future loops forever: the join never completes.

@@ -164,19 +164,6 @@ pub(crate) fn with_adapter_quiet<
     shared.adapter.lock(|cell| f(&mut cell.borrow_mut()))
 }
 
-/// Waits for an Identity Reset whose reply went out (its connections are closed): its type.
-pub(crate) async fn reset_requested<
-    D: Device,
-    const S: usize,
-    const C: usize,
-    const F: usize,
-    const L: usize,
->(
-    shared: &SharedAdapter<D, S, C, F, L>,
-) -> u8 {
-    shared.reset.wait().await
-}
-
 /// Waits until the multicast group may have changed.
 pub(crate) async fn membership_changed<
     D: Device,
@@ -285,6 +272,12 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
 impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>
     SharedAdapter<D, S, C, F, L>
 {
+    /// Waits for an Identity Reset whose reply went out (its connections are closed): its
+    /// type.
+    pub(crate) async fn reset_requested(&self) -> u8 {
+        self.reset.wait().await
+    }
+
     /// An Identity Reset whose reply went out: every connection closes, and [`crate::run`]
     /// performs it.
     fn hand_over_reset(&self, tcp: &mut TcpServer<S, F>) {

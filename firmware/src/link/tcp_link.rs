@@ -34,7 +34,7 @@ pub(crate) struct TcpLink {
 
 /// Where the segments go from: our MAC address, the interface, and whether its address may
 /// be used (Address Conflict Detection).
-pub(crate) struct From<'a> {
+pub(crate) struct LocalEnd<'a> {
     /// Our MAC address.
     pub mac: [u8; 6],
     /// The interface configuration.
@@ -79,7 +79,7 @@ impl TcpLink {
         &mut self,
         (cx, driver): (&mut Context<'_>, &mut D),
         io: &dyn IoPort,
-        from: &From<'_>,
+        from: &LocalEnd<'_>,
         (neighbors, sums): (&mut Neighbors, &ChecksumCapabilities),
         at: Instant,
     ) -> bool {
@@ -131,7 +131,7 @@ impl TcpLink {
 /// out while the address may not be used.
 fn send_segment(
     tx: impl TxToken,
-    (from, dscp, ident): (&From<'_>, u8, u16),
+    (from, dscp, ident): (&LocalEnd<'_>, u8, u16),
     out: &Outgoing,
     payload: &[u8],
     (neighbors, sums): (&mut Neighbors, &ChecksumCapabilities),

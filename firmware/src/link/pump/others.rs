@@ -83,7 +83,7 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
         me: &NetworkConfig,
         at: Instant,
     ) {
-        let from = tcp_link::From {
+        let from = tcp_link::LocalEnd {
             mac: self.mac,
             me,
             usable: self.guard.usable(),
