@@ -188,7 +188,12 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
         with_adapter_quiet(self, |a| {
             // A discarded datagram is counted by the adapter; nothing to answer.
             let _ = a.io_receive(from, data, now);
-            a.io_deadline()
+            // A production due from now on, within its slack, goes in this wake-up.
+            if a.io_ready(now) {
+                Some(now)
+            } else {
+                a.io_deadline()
+            }
         })
     }
 

@@ -530,10 +530,21 @@ impl<
         self.inner.delayed.next_due()
     }
 
-    /// The next instant [`Self::poll_io`] has work: a production or a watchdog expiry.
+    /// The next instant [`Self::poll_io`] has work: a production or a watchdog expiry. A
+    /// cyclic producer that follows its originator's O->T data counts at its nominal instant
+    /// plus a slack (up to 1/16 of its RPI, at most 500 us), and any call from its nominal
+    /// instant on sends it: a runtime that asks [`Self::io_ready`] when O->T data wakes it
+    /// serves both in one wake-up.
     #[inline]
     pub fn io_deadline(&self) -> Option<Instant> {
         self.inner.connections.next_deadline()
+    }
+
+    /// True if a T->O datagram is due at `now` ([`Self::io_due`] would name one), before
+    /// [`Self::io_deadline`] if it has slack.
+    #[inline]
+    pub fn io_ready(&self, now: Instant) -> bool {
+        self.inner.connections.due(now).is_some()
     }
 
     /// The earliest of [`Self::udp_deadline`] and [`Self::io_deadline`].

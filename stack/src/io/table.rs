@@ -6,6 +6,7 @@
 //! `next_production` and `next_deadline`.
 
 use super::connection::{Connection, Producer, Transport};
+use super::follow;
 use super::timing::{Produces, Timing};
 use crate::config::{MAX_CONNECTIONS, MAX_EXPLICIT_CONNECTED};
 use crate::device::Trigger;
@@ -164,6 +165,10 @@ impl<const C: usize> ConnectionTable<C> {
         let slot = self.free_slot()?;
         let produces = match conn.producer().map(|p| p.trigger) {
             None => Produces::Nothing,
+            // O->T data at the same RPI: the production follows its arrivals.
+            Some(Trigger::Cyclic) if conn.o_t_rpi == conn.t_o_rpi => {
+                Produces::Following(follow::slack(conn.t_o_rpi))
+            }
             Some(Trigger::Cyclic) => Produces::Cyclic,
             Some(_) => Produces::OnTrigger,
         };
@@ -266,7 +271,8 @@ impl<const C: usize> ConnectionTable<C> {
                 (true, false) => EXT_IDLE,
             }
     }
-    /// The earliest watchdog expiry or production deadline.
+    /// The earliest watchdog expiry or production deadline (a producer that follows its
+    /// originator's O->T data counted at its nominal instant plus its slack: `io/follow.rs`).
     pub fn next_deadline(&self) -> Option<Instant> {
         self.timing.next_deadline(self.used)
     }

@@ -20,7 +20,13 @@
 //! interval between the first two productions is from one RPI up to two, never shorter; every
 //! later one is the RPI. Change-of-state and application-triggered producers keep their own
 //! grid: their RPI is a heartbeat, one RPI after each production at most.
+//!
+//! A cyclic producer whose connection has O->T data at the same RPI leaves the adapter's grid
+//! once that data comes: its grid then follows the arrivals (`io/follow.rs`), and its
+//! deadline for [`Timing::next_deadline`] is its nominal instant plus a slack, while
+//! [`Timing::due`] finds it due from the nominal instant on.
 
+use super::follow;
 use super::schedule::Schedule;
 use crate::config::FIRST_PACKET_GRACE_US;
 use crate::time::{Duration, Instant};
@@ -68,6 +74,11 @@ pub(super) enum Produces {
     Nothing,
     /// Cyclic data: at once, then on the adapter's grid of its RPI.
     Cyclic,
+    /// Cyclic data that follows its originator's O->T data of the same RPI
+    /// (`io/follow.rs`): at once, then on the adapter's grid of its RPI until O->T data
+    /// comes, then on a grid of its own kept just before the arrivals, with this slack
+    /// (microseconds).
+    Following(u16),
     /// Change-of-state or application-triggered data: at once, then at each trigger and one
     /// RPI (its heartbeat) after each production at most.
     OnTrigger,
@@ -81,6 +92,14 @@ struct Pending {
     inhibit_until: Instant,
     /// A cyclic producer not on the adapter's grid yet: its next production moves it there.
     to_clock_grid: bool,
+    /// A following producer's slack (microseconds, `io/follow.rs`); 0 for any other.
+    slack: u16,
+    /// The originator was heard since the last production: a following producer's grid
+    /// steps toward that arrival (else it keeps its grid: nothing new to follow).
+    fed: bool,
+    /// A following producer whose grid has stepped toward O->T data: its deadline carries
+    /// its slack (before that it is due at its nominal instant, as any other).
+    following: bool,
 }
 
 impl Pending {
@@ -88,6 +107,9 @@ impl Pending {
         triggered: false,
         inhibit_until: Instant(0),
         to_clock_grid: false,
+        slack: 0,
+        fed: false,
+        following: false,
     };
 }
 
@@ -139,12 +161,18 @@ impl<const C: usize> Timing<C> {
             *p = Pending {
                 triggered: false,
                 inhibit_until: now,
-                to_clock_grid: produces == Produces::Cyclic,
+                to_clock_grid: matches!(produces, Produces::Cyclic | Produces::Following(_)),
+                slack: match produces {
+                    Produces::Following(slack) => slack,
+                    _ => 0,
+                },
+                fed: false,
+                following: false,
             };
         }
         let first = match produces {
             Produces::Nothing => Instant::NEVER,
-            Produces::Cyclic | Produces::OnTrigger => now,
+            Produces::Cyclic | Produces::Following(_) | Produces::OnTrigger => now,
         };
         self.reschedule(slot, first);
     }
@@ -165,6 +193,9 @@ impl<const C: usize> Timing<C> {
     #[inline]
     pub(super) fn feed(&mut self, slot: usize, now: Instant, timeout: Duration) {
         self.heard(slot, now, now.add(timeout));
+        if let Some(p) = self.pending.get_mut(slot) {
+            p.fed = true;
+        }
     }
 
     /// Heard at `now`, the watchdog of `slot` now fires `expires` (traffic can bring it
@@ -205,18 +236,23 @@ impl<const C: usize> Timing<C> {
     /// The producer in `slot` produced at `now`: after a trigger, the next production is one
     /// `rpi` later and the next trigger waits out `inhibit`; otherwise the grid moves on to
     /// its first point after `now` (after a cyclic producer's first production, the first
-    /// point of the adapter's grid at least one `rpi` on).
+    /// point of the adapter's grid at least one `rpi` on), and a following producer's grid
+    /// takes its step toward the O->T arrivals (`io/follow.rs`).
     #[inline]
     pub(super) fn produced(&mut self, slot: usize, now: Instant, rpi: u32, inhibit: Duration) {
         let Some(p) = self.pending.get_mut(slot) else {
             return;
         };
         let previous = self.schedule.at(slot);
+        let fed = core::mem::take(&mut p.fed);
         let next = if p.triggered {
             *p = Pending {
                 triggered: false,
                 inhibit_until: now.add(inhibit),
                 to_clock_grid: false,
+                slack: p.slack,
+                fed: false,
+                following: p.following,
             };
             now.add(Duration::from_micros(u64::from(rpi)))
         } else if p.to_clock_grid {
@@ -227,6 +263,14 @@ impl<const C: usize> Timing<C> {
                 now,
                 self.schedule.grid_phase(rpi),
             )
+        } else if fed && p.slack > 0 {
+            p.following = true;
+            let next = advance(previous, rpi, now);
+            let heard = self.last_activity.get(slot).copied().unwrap_or(Instant(0));
+            let step = follow::step(heard, previous, now, rpi, p.slack);
+            // Moved unless that would make it due at once.
+            let moved = next.as_micros().checked_add_signed(step).map(Instant);
+            moved.filter(|&m| m > now).unwrap_or(next)
         } else {
             advance(previous, rpi, now)
         };
@@ -280,11 +324,19 @@ impl<const C: usize> Timing<C> {
         self.expiry_bound = self.expiry.iter().copied().min().unwrap_or(Instant::NEVER);
     }
 
-    /// The earliest watchdog expiry or production deadline among the slots below `end`.
+    /// The earliest watchdog expiry or production deadline among the slots below `end`; the
+    /// deadline of a following producer is its nominal instant plus its slack (any call at
+    /// or after the nominal instant finds it due: `io/follow.rs`).
     pub(super) fn next_deadline(&self, end: usize) -> Option<Instant> {
         // No watchdog fires before `expiry_bound`: while that is after the first production,
         // the production is the answer and the watchdogs need no look.
-        let (_, production) = self.schedule.first();
+        let (slot, production) = self.schedule.first();
+        let slack = self
+            .pending
+            .get(slot)
+            .filter(|p| p.following)
+            .map_or(0, |p| p.slack);
+        let production = production.add(Duration::from_micros(u64::from(slack)));
         let at = if production < self.expiry_bound {
             production
         } else {

@@ -98,6 +98,12 @@ struct ModelProducer {
     triggered: bool,
     /// Cyclic, before its first production: then it moves onto the clock's grid.
     to_clock_grid: bool,
+    /// Cyclic with O->T data at its RPI: the slack it follows the arrivals with (else 0).
+    slack: u64,
+    /// Fed since its last production.
+    fed: bool,
+    /// It has followed an arrival: its deadline carries the slack.
+    following: bool,
 }
 
 impl ModelProducer {
@@ -176,10 +182,38 @@ fn connection<const C: usize>(rng: &mut Rng, table: &ConnectionTable<C>, n: u16)
             Kind::ListenOnly => followed.unwrap_or(0x7000_0000 | u32::from(n)),
             _ => 0x1000_0000 | u32::from(n),
         },
-        o_t_rpi: rpi as u32,
+        // Mostly the same RPI both ways (a cyclic producer then follows the O->T data).
+        o_t_rpi: if rng.below(4) == 0 { rpi * 2 } else { rpi } as u32,
         t_o_rpi: rpi as u32,
         timeout,
         transport,
+    }
+}
+
+/// The next deadline of the following producer `p` (already on its grid's next point after
+/// `now`) that produced `nominal` at `now`, its O->T data last heard at `heard`: the grid
+/// steps toward placing the arrival an eighth of the slack after the grid point nearest it,
+/// by half of an early error and a sixteenth of a late one, at most RPI/16 either way; no
+/// step if nothing was heard within two RPIs, the arrival lies more than one and a half RPIs
+/// from `nominal`, or the step would make the producer due at once.
+fn follow(p: &ModelProducer, heard: Option<Instant>, nominal: u64, now: u64) -> u64 {
+    let heard = heard.map_or(0, |h| h.0);
+    let (rpi, slack) = (p.rpi as i64, p.slack as i64);
+    let d = heard as i64 - nominal as i64;
+    if now - heard > 2 * p.rpi || d > rpi / 2 + rpi || d <= rpi / 2 - 2 * rpi {
+        return p.next;
+    }
+    let mut lag = d.rem_euclid(rpi);
+    if lag > rpi / 2 {
+        lag -= rpi;
+    }
+    let error = lag - slack / 8;
+    let step = if error < 0 { error / 2 } else { error / 16 };
+    let moved = p.next as i64 + step.clamp(-rpi / 16, rpi / 16);
+    if moved > now as i64 {
+        moved as u64
+    } else {
+        p.next
     }
 }
 
@@ -213,11 +247,16 @@ fn check<const C: usize>(table: &ConnectionTable<C>, model: &[Option<Model>; C],
         );
         earliest = earliest.min(m.expires.0);
         if let Some(due) = due {
-            earliest = earliest.min(due);
             if first.is_none_or(|(at, _)| due < at) {
                 first = Some((due, slot));
             }
         }
+    }
+    // The first producer counts with its slack.
+    if let Some((due, slot)) = first {
+        let p = model[slot].and_then(|m| m.producer);
+        let slack = p.filter(|p| p.following).map_or(0, |p| p.slack);
+        earliest = earliest.min(due.saturating_add(slack));
     }
     let expected = (earliest != u64::MAX).then_some(Instant(earliest));
     assert_eq!(table.next_deadline(), expected, "next deadline at {now:?}");
@@ -263,6 +302,13 @@ fn any_sequence_of_intents<const C: usize>() {
                             inhibit_until: now,
                             triggered: false,
                             to_clock_grid: p.trigger == Trigger::Cyclic,
+                            slack: if p.trigger == Trigger::Cyclic && conn.o_t_rpi == conn.t_o_rpi {
+                                (u64::from(conn.t_o_rpi) / 8).min(2_000)
+                            } else {
+                                0
+                            },
+                            fed: false,
+                            following: false,
                         }),
                     };
                     if let Some(slot) = table.open(conn, at) {
@@ -275,6 +321,9 @@ fn any_sequence_of_intents<const C: usize>() {
                     if let Some(m) = &mut model[slot] {
                         m.expires = Instant(now + m.timeout);
                         m.last = at;
+                        if let Some(p) = &mut m.producer {
+                            p.fed = true;
+                        }
                     }
                 }
                 6 | 7 => {
@@ -304,10 +353,12 @@ fn any_sequence_of_intents<const C: usize>() {
                         assert_eq!(table.produce(slot, stale, at, |_, _, _| Some(())), None);
                         assert_eq!(table.produce(slot, None, at, |_, _, _| None::<()>), None);
                         check(&table, &model, at);
+                        let heard = model[slot].map(|m| m.last);
                         let p = model[slot].as_mut().and_then(|m| m.producer.as_mut());
                         let p = p.expect("only a producer is due");
                         let triggered = table.produce(slot, None, at, |_, _, t| Some(t));
                         assert_eq!(triggered, Some(p.triggered), "slot {slot} triggered");
+                        let fed = core::mem::take(&mut p.fed);
                         if p.triggered {
                             (p.triggered, p.inhibit_until) = (false, now + p.inhibit);
                             p.next = now + p.rpi;
@@ -318,8 +369,13 @@ fn any_sequence_of_intents<const C: usize>() {
                             let earliest = (p.next + p.rpi).max(now + 1);
                             p.next = phase + (earliest - phase).div_ceil(p.rpi) * p.rpi;
                         } else {
+                            let nominal = p.next;
                             while p.next <= now {
                                 p.next += p.rpi;
+                            }
+                            if p.slack > 0 && fed {
+                                p.following = true;
+                                p.next = follow(p, heard, nominal, now);
                             }
                         }
                         check(&table, &model, at);
