@@ -184,17 +184,11 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
         with_adapter_quiet(self, |a| *a.network())
     }
 
-    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant) -> Option<Instant> {
+    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant) {
         with_adapter_quiet(self, |a| {
             // A discarded datagram is counted by the adapter; nothing to answer.
             let _ = a.io_receive(from, data, now);
-            // A production due from now on, within its slack, goes in this wake-up.
-            if a.io_ready(now) {
-                Some(now)
-            } else {
-                a.io_deadline()
-            }
-        })
+        });
     }
 
     fn due(&self, now: Instant) -> Result<IoDue, Option<Instant>> {

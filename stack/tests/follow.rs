@@ -12,8 +12,6 @@ use enip_stack::Instant;
 const RPI: u64 = 10_000;
 /// The slack at 10 ms: RPI/8 (at most 2 ms).
 const SLACK: u64 = 1_250;
-/// Where the grid places the arrivals: an eighth of the slack after its instants.
-const TARGET: u64 = SLACK / 8;
 
 /// Opens one exclusive owner at `o_t_rpi` / `t_o_rpi`; its O->T connection ID.
 fn open(h: &mut Harness, o_t_rpi: u32, t_o_rpi: u32) -> u32 {
@@ -70,16 +68,18 @@ fn run(h: &mut Harness, o_t: u32, arrivals: &[u64], end: u64) -> Vec<(u64, bool)
     produced
 }
 
-/// A scanner clock 100 ppm fast with +-40 us of jitter (a fixed pseudo-random sequence),
-/// starting `phase` after the Forward_Open: its O->T send instants up to `end`.
-fn drifting_scanner(phase: u64, end: u64) -> Vec<u64> {
+/// A scanner clock 100 ppm fast (or slow) with +-40 us of jitter (a fixed pseudo-random
+/// sequence), starting `phase` after the Forward_Open: its O->T send instants up to `end`.
+fn drifting_scanner(phase: u64, fast: bool, end: u64) -> Vec<u64> {
     let mut x = 0x2545_F491_4F6C_DD1Du64;
     (0..)
         .map(|k: u64| {
             x ^= x << 13;
             x ^= x >> 7;
             x ^= x << 17;
-            let ideal = phase + k * RPI - k * RPI / 10_000;
+            let drift = k * RPI / 10_000;
+            let ideal = phase + k * RPI;
+            let ideal = if fast { ideal - drift } else { ideal + drift };
             ideal + 40 + x % 81 - 80
         })
         .take_while(|&t| t < end)
@@ -89,15 +89,19 @@ fn drifting_scanner(phase: u64, end: u64) -> Vec<u64> {
 #[test]
 fn production_follows_a_drifting_jittering_scanner_in_one_wake_up() {
     const END: u64 = 60_000_000;
-    for phase in [1_000, 3_700, 5_000, 6_300, 9_900] {
+    for (phase, fast) in [1_000, 3_700, 5_000, 6_300, 9_900]
+        .into_iter()
+        .flat_map(|p| [(p, true), (p, false)])
+    {
         let mut h = Harness::new();
         let o_t = open(&mut h, RPI as u32, RPI as u32);
-        let arrivals = drifting_scanner(phase, END);
+        let arrivals = drifting_scanner(phase, fast, END);
         let produced = run(&mut h, o_t, &arrivals, END);
-        // One production per RPI of the adapter's clock (the scanner's is 100 ppm faster).
+        // One production per RPI of the scanner's clock, 100 ppm off the adapter's.
+        let expected = arrivals.len() as i64;
         assert!(
-            (5_998..=6_001).contains(&produced.len()),
-            "phase {phase}: {} productions",
+            (produced.len() as i64 - expected).abs() <= 3,
+            "phase {phase}: {} productions for {expected} arrivals",
             produced.len()
         );
         // Nominal instants 15/16 to 17/16 of the RPI apart, each datagram at most the slack
@@ -110,10 +114,14 @@ fn production_follows_a_drifting_jittering_scanner_in_one_wake_up() {
                 w[1].0
             );
         }
-        // Found within 20 RPIs; from then on every T->O datagram goes in the wake-up of the
-        // O->T datagram, jitter and drift followed.
-        let merged = produced[20..].iter().filter(|p| p.1).count();
-        assert_eq!(merged, produced.len() - 20, "phase {phase}");
+        // Found within 20 RPIs (eight corrections at most, after the adapter's grid); from
+        // then on the T->O datagram goes in the wake-up of the O->T datagram. A scanner
+        // drifting early is followed at once; one drifting late leaves the slack now and
+        // then: two late arrivals in a row (two wake-ups of their own, more where the jitter
+        // straddles the slack's end) and the grid moves RPI/16 later. Under 1 % of them.
+        let apart = produced[20..].iter().filter(|p| !p.1).count();
+        let most = if fast { 0 } else { produced.len() / 100 };
+        assert!(apart <= most, "phase {phase}, fast {fast}: {apart} apart");
     }
 }
 
@@ -131,14 +139,11 @@ fn when_the_data_stops_the_grid_holds_and_goes_out_within_the_slack() {
         .map(|p| p.0)
         .collect();
     assert!(!after.is_empty() && after.len() <= 4, "{after:?}");
-    // Each one slack after a nominal instant of the grid the arrivals were followed with:
-    // the target before them, to the sixteenth of an error that a step leaves.
+    // Each one slack after a nominal instant of the grid the arrivals were in step with:
+    // within the slack before them.
     for (i, at) in after.iter().enumerate() {
         let lag = (last + RPI - (at - SLACK) % RPI) % RPI;
-        assert!(
-            (TARGET - 1..=TARGET + 16).contains(&lag),
-            "{i}: {at}, {lag}"
-        );
+        assert!(lag <= SLACK, "{i}: {at}, {lag}");
     }
     assert!(after.windows(2).all(|w| w[1] - w[0] == RPI), "{after:?}");
 }

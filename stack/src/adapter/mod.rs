@@ -532,19 +532,19 @@ impl<
 
     /// The next instant [`Self::poll_io`] has work: a production or a watchdog expiry. A
     /// cyclic producer that follows its originator's O->T data counts at its nominal instant
-    /// plus a slack (up to 1/16 of its RPI, at most 500 us), and any call from its nominal
-    /// instant on sends it: a runtime that asks [`Self::io_ready`] when O->T data wakes it
-    /// serves both in one wake-up.
+    /// plus a slack (1/8 of its RPI, at most 2 ms), and any call from its nominal instant on
+    /// sends it: a runtime that asks [`Self::io_deadline_at`] when O->T data wakes it serves
+    /// both in that one wake-up.
     #[inline]
     pub fn io_deadline(&self) -> Option<Instant> {
         self.inner.connections.next_deadline()
     }
 
-    /// True if a T->O datagram is due at `now` ([`Self::io_due`] would name one), before
-    /// [`Self::io_deadline`] if it has slack.
+    /// [`Self::io_deadline`] as seen at `now`: a producer already due by `now` (within its
+    /// slack) counts at its nominal instant, at or before `now`.
     #[inline]
-    pub fn io_ready(&self, now: Instant) -> bool {
-        self.inner.connections.due(now).is_some()
+    pub fn io_deadline_at(&self, now: Instant) -> Option<Instant> {
+        self.inner.connections.next_deadline_at(now)
     }
 
     /// The earliest of [`Self::udp_deadline`] and [`Self::io_deadline`].

@@ -4,20 +4,21 @@
 //! wake-up a cycle where the two streams' independent phases would otherwise take two.
 //!
 //! Two rules, each a pure function of the instants involved:
-//! - the *slack*: when no wake-up comes sooner, the runtime is woken for a following producer
-//!   at its nominal instant plus the slack (1/8 of the RPI, at most 2 ms); any wake-up from
-//!   its nominal instant on sends it. A datagram never goes before its nominal instant, and
-//!   at most the slack after it.
-//! - the *step*: at each production the grid moves toward placing the arrivals an eighth of
-//!   the slack after its instants: by half the error when the last arrival came before the
-//!   instant nearest it (that arrival took a wake-up of its own), by a sixteenth when it came
-//!   after (the slack covers it), at most 1/16 of the RPI. So the grid settles at the
-//!   earliest of the arrivals, and jitter and drift between the two clocks are followed.
-//!   Nominal instants are 15/16 to 17/16 of the RPI apart.
+//! - the *slack*: once its O->T data has come, the runtime is woken for a following producer
+//!   at its nominal instant plus the slack (1/8 of the RPI, at most 2 ms) when no wake-up
+//!   comes sooner; any wake-up from its nominal instant on sends it. A datagram never goes
+//!   before its nominal instant, and at most the slack after it.
+//! - the *correction*, at each O->T arrival: an arrival within the slack after the grid's
+//!   instant it belongs to is in step, and nothing moves (the production path pays nothing).
+//!   Any other moves that instant toward one an eighth of the slack before the arrival, by
+//!   1/16 of the RPI at most: so the grid is found within eight RPIs, drift between the two
+//!   clocks is followed as it leaves the slack, and an instant moved to the arrival or
+//!   before it is due at once, in the arrival's wake-up. Nominal instants are 15/16 to
+//!   17/16 of the RPI apart.
 //!
-//! Before any O->T data comes the producer stays on the adapter's grid without slack; when
-//! the data stops, its grid stays where it was, and its datagrams go out the slack after
-//! their instants until the watchdog closes the connection.
+//! Before any O->T data comes the producer is on the adapter's grid without slack; when the
+//! data stops, its grid stays where it was, and its datagrams go out the slack after their
+//! instants until the watchdog closes the connection.
 
 use crate::time::Instant;
 
@@ -26,8 +27,9 @@ use crate::time::Instant;
 /// data spread over about a millisecond: 500 us kept half its cycles at two wake-ups.)
 pub(crate) const MAX_SLACK_US: u32 = 2000;
 
-/// The longest RPI followed (microseconds): its arithmetic stays within 32 bits.
-const MAX_FOLLOWED_RPI: i32 = 1 << 28;
+/// The longest RPI followed (microseconds, about 4.5 minutes): the offsets stay far from
+/// overflow.
+const MAX_FOLLOWED_RPI: u64 = 1 << 28;
 
 /// The slack (microseconds) of a following producer of `rpi`: 1/8 of it, at most
 /// [`MAX_SLACK_US`].
@@ -36,41 +38,53 @@ pub(crate) const fn slack(rpi: u32) -> u16 {
     (if s < MAX_SLACK_US { s } else { MAX_SLACK_US }) as u16
 }
 
-/// How far (signed microseconds) the grid of a following producer of `rpi` with `slack`
-/// moves when it produces the instant `nominal` at `now`, its O->T data last `heard`: 0 when
-/// nothing was heard within two RPIs of `now`, or it lies more than one and a half RPIs from
-/// `nominal` (a production late after a stall: nothing to learn from it). No division by
-/// the RPI: it runs at every production.
-pub(crate) fn step(heard: Instant, nominal: Instant, now: Instant, rpi: u32, slack: u16) -> i64 {
-    // 32-bit arithmetic: an RPI up to 2^28 us (4.5 minutes; none longer is followed) keeps
-    // every sum below within +-2^30, so the wrapping operations never wrap.
-    let Ok(r) = i32::try_from(rpi) else {
-        return 0;
-    };
-    let heard_within = u64::from(rpi).wrapping_mul(2);
-    if !(1..=MAX_FOLLOWED_RPI).contains(&r) || now.since(heard).as_micros() > heard_within {
-        return 0;
+/// True if O->T data arriving at `now` is in step with a following producer of `rpi` with
+/// `slack` next due at `next`: within the slack after `next` (its production waiting), or
+/// after the instant one RPI before it. The common case, inline and in 32 bits (the offsets
+/// modulo 2^32 us: an arrival over 35 minutes from `next` may pass for in step, and moves
+/// nothing).
+#[inline]
+pub(crate) fn in_step(now: Instant, next: Instant, rpi: u32, slack: u16) -> bool {
+    // `now - next` modulo 2^32; one RPI more is the offset from the instant before.
+    let after = (now.as_micros() as u32).wrapping_sub(next.as_micros() as u32);
+    let slack = u32::from(slack);
+    after <= slack || after.wrapping_add(rpi) <= slack
+}
+
+/// The new nominal instant of a following producer of `rpi` with `slack`, next due at
+/// `next`, when its O->T data arrives at `now`; `None` if the arrival is in step (within the
+/// slack after the instant it belongs to), the producer is not scheduled, or it is overdue by
+/// more than an RPI (a stall: nothing to learn from it).
+#[inline(never)]
+pub(crate) fn correction(now: Instant, next: Instant, rpi: u32, slack: u16) -> Option<Instant> {
+    let r = u64::from(rpi);
+    if r == 0 || r > MAX_FOLLOWED_RPI || next == Instant::NEVER {
+        return None;
     }
-    let Ok(d) = i32::try_from(heard.as_micros().wrapping_sub(nominal.as_micros()) as i64) else {
-        return 0;
-    };
-    let half = r / 2;
-    // The arrival's offset from the grid point nearest it, within half an RPI either way.
-    let lag = if d > half.wrapping_add(r) || d <= half.wrapping_sub(r.wrapping_mul(2)) {
-        return 0;
-    } else if d > half {
-        d.wrapping_sub(r)
-    } else if d <= half.wrapping_sub(r) {
-        d.wrapping_add(r)
+    let (now_us, next_us) = (now.as_micros(), next.as_micros());
+    // The arrival's offset from the instant it belongs to: `next` itself if that has come
+    // (its production waits) or is less than half an RPI ahead, else the one before it.
+    let lag = if next_us <= now_us {
+        let late = now_us.wrapping_sub(next_us);
+        if late > r {
+            return None;
+        }
+        late as i64
     } else {
-        d
+        let ahead = next_us.wrapping_sub(now_us);
+        if ahead < r / 2 || ahead > r {
+            (ahead as i64).wrapping_neg()
+        } else {
+            r.wrapping_sub(ahead) as i64
+        }
     };
-    // Toward the arrivals' earliest: half of an early error (a wake-up lost), a sixteenth of
-    // a late one (its slack covers it).
-    let error = lag.wrapping_sub(i32::from(slack / 8));
-    let step = if error < 0 { error / 2 } else { error / 16 };
-    let most = r / 16;
-    i64::from(step.clamp(most.wrapping_neg(), most))
+    let slack = i64::from(slack);
+    if (0..=slack).contains(&lag) {
+        return None;
+    }
+    let most = (r / 16) as i64;
+    let step = lag.wrapping_sub(slack / 8).clamp(most.wrapping_neg(), most);
+    next_us.checked_add_signed(step).map(Instant)
 }
 
 #[cfg(test)]
@@ -78,16 +92,13 @@ mod tests {
     use super::*;
 
     const RPI: u32 = 10_000;
-    /// The slack at 10 ms, and the arrivals' target offset after the grid's instants.
+    /// The slack at 10 ms, and where a correction puts the grid's instant before an arrival.
     const SLACK: u16 = 1_250;
     const TARGET: u64 = 156;
 
-    /// The step for an arrival `offset` us after (or before) the nominal instant 20 ms,
-    /// produced at the arrival or at the instant, whichever is later.
-    fn at(offset: i64) -> i64 {
-        let heard = Instant(20_000u64.checked_add_signed(offset).unwrap());
-        let nominal = Instant(20_000);
-        step(heard, nominal, heard.max(nominal), RPI, SLACK)
+    /// The correction for an arrival at `now` with the producer next due at 20 ms.
+    fn at(now: u64) -> Option<u64> {
+        correction(Instant(now), Instant(20_000), RPI, SLACK).map(Instant::as_micros)
     }
 
     #[test]
@@ -101,68 +112,74 @@ mod tests {
     }
 
     #[test]
-    fn an_arrival_at_the_target_moves_nothing() {
-        assert_eq!(at(TARGET as i64), 0);
-        // The same arrival seen one cycle later (not heard again yet): the same offset.
-        let heard = Instant(20_000 + TARGET);
-        assert_eq!(step(heard, Instant(30_000), Instant(31_250), RPI, SLACK), 0);
-    }
-
-    #[test]
-    fn an_early_arrival_moves_the_grid_by_half_a_late_one_by_a_sixteenth() {
-        assert_eq!(at(56), -50, "100 us early of the target");
-        assert_eq!(at(-300), -228, "before the instant itself");
-        assert_eq!(at(1_156), 62, "1 ms late of the target");
-        assert_eq!(at(3_156), 187, "3 ms late");
-    }
-
-    #[test]
-    fn at_most_a_sixteenth_of_the_rpi() {
-        assert_eq!(at(-2_000), -625);
-        assert_eq!(at(-4_999), -625);
-        assert_eq!(at(5_000), 302, "half an RPI late: a sixteenth of the error");
+    fn an_arrival_within_the_slack_after_its_instant_moves_nothing() {
+        assert_eq!(at(20_000), None, "at the instant, its production waiting");
+        assert_eq!(at(21_250), None, "the slack after it");
+        // After the instant's production went (the next is one RPI on).
         assert_eq!(
-            step(Instant(0), Instant(4_000), Instant(4_000), 1_000, 125),
-            0
-        );
-        assert_eq!(
-            step(Instant(4_700), Instant(4_000), Instant(4_700), 1_000, 125),
-            -62,
-            "300 us before the next instant: early, a sixteenth of 1 ms"
+            correction(Instant(20_700), Instant(30_000), RPI, SLACK),
+            None
         );
     }
 
     #[test]
-    fn nothing_heard_lately_or_near_nothing_followed() {
+    fn an_early_arrival_brings_the_instant_to_it_and_it_is_due_at_once() {
+        assert_eq!(at(19_700), Some(19_700 - TARGET));
+        assert_eq!(at(19_000), Some(20_000 - 625), "1/16 of the RPI at most");
         assert_eq!(
-            step(Instant(0), Instant(30_000), Instant(31_250), RPI, SLACK),
-            0
+            at(15_001),
+            Some(20_000 - 625),
+            "just under half an RPI early"
         );
+    }
+
+    #[test]
+    fn a_late_one_moves_the_instant_later() {
+        // Still waiting for its production past the slack (a late runtime): due at once,
+        // the grid later by 1/16 of the RPI at most.
+        assert_eq!(at(21_300), Some(20_625));
+        assert_eq!(at(23_000), Some(20_625));
+        // After the previous instant's production went: the next one moves.
         assert_eq!(
-            step(
-                Instant(10_000),
-                Instant(30_000),
-                Instant(30_001),
-                RPI,
-                SLACK
-            ),
-            0
+            correction(Instant(22_000), Instant(30_000), RPI, SLACK),
+            Some(Instant(30_625))
         );
-        // A production 40 ms late after a stall, the data heard since.
+
         assert_eq!(
-            step(
-                Instant(59_000),
-                Instant(20_000),
-                Instant(60_000),
-                RPI,
-                SLACK
-            ),
-            0
+            correction(Instant(25_000), Instant(30_000), RPI, SLACK),
+            Some(Instant(30_625))
         );
+    }
+
+    #[test]
+    fn in_step_is_exactly_where_no_correction_comes() {
+        for rpi in [1_000u32, 10_000, 100_000] {
+            let s = slack(rpi);
+            let r = u64::from(rpi);
+            for now in (0..3 * r).step_by(7) {
+                let next = Instant(r + r / 3);
+                let step = in_step(Instant(now), next, rpi, s);
+                let moved = correction(Instant(now), next, rpi, s);
+                if step {
+                    assert_eq!(moved, None, "{rpi} {now}");
+                } else {
+                    // Out of step: a correction, unless overdue by over an RPI.
+                    assert_eq!(moved.is_none(), now > next.as_micros() + r, "{rpi} {now}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn nothing_to_follow_after_a_stall_or_without_a_schedule() {
+        assert_eq!(at(30_001), None, "overdue by more than an RPI");
         assert_eq!(
-            step(Instant(0), Instant(u64::MAX), Instant(u64::MAX), 0, 0),
-            0
+            correction(Instant(0), Instant(50_000), RPI, SLACK),
+            Some(Instant(49_375)),
+            "more than an RPI ahead (just opened): as early"
         );
-        assert_eq!(step(Instant(1), Instant(1), Instant(1), 1 << 29, 2_000), 0);
+        assert_eq!(correction(Instant(5), Instant::NEVER, RPI, SLACK), None);
+        assert_eq!(correction(Instant(5), Instant(9), 0, 0), None);
+        assert_eq!(correction(Instant(5), Instant(9), 1 << 29, 2_000), None);
     }
 }

@@ -185,7 +185,7 @@ impl<const C: usize> ConnectionTable<C> {
     #[inline]
     pub(crate) fn feed(&mut self, slot: usize, now: Instant) {
         if let Some(c) = self.slots.get(slot).and_then(Option::as_ref) {
-            self.timing.feed(slot, now, c.timeout);
+            self.timing.feed(slot, now, c.timeout, c.t_o_rpi);
         }
     }
     /// The slot of the producer due first at `now`, if one is due: the earliest deadline, the
@@ -274,7 +274,12 @@ impl<const C: usize> ConnectionTable<C> {
     /// The earliest watchdog expiry or production deadline (a producer that follows its
     /// originator's O->T data counted at its nominal instant plus its slack: `io/follow.rs`).
     pub fn next_deadline(&self) -> Option<Instant> {
-        self.timing.next_deadline(self.used)
+        self.timing.next_deadline(self.used, Instant(0))
+    }
+    /// [`Self::next_deadline`] as seen at `now`: a producer due by `now` counts at its
+    /// nominal instant (the caller produces it at once), not with its slack.
+    pub fn next_deadline_at(&self, now: Instant) -> Option<Instant> {
+        self.timing.next_deadline(self.used, now)
     }
     /// Closes the connection in `slot` and the listen-only connections that follow its
     /// production, telling `device` when the last exclusive owner goes.

@@ -94,12 +94,12 @@ struct Pending {
     to_clock_grid: bool,
     /// A following producer's slack (microseconds, `io/follow.rs`); 0 for any other.
     slack: u16,
-    /// The originator was heard since the last production: a following producer's grid
-    /// steps toward that arrival (else it keeps its grid: nothing new to follow).
-    fed: bool,
-    /// A following producer whose grid has stepped toward O->T data: its deadline carries
-    /// its slack (before that it is due at its nominal instant, as any other).
-    following: bool,
+    /// The slack its deadline carries: a following producer's once its O->T data has come
+    /// (before that it is due at its nominal instant, as any other), else 0.
+    deadline_slack: u16,
+    /// The last O->T arrival was out of step, late (`io/follow.rs`): a second in a row moves
+    /// the grid.
+    out_of_step: bool,
 }
 
 impl Pending {
@@ -108,8 +108,8 @@ impl Pending {
         inhibit_until: Instant(0),
         to_clock_grid: false,
         slack: 0,
-        fed: false,
-        following: false,
+        deadline_slack: 0,
+        out_of_step: false,
     };
 }
 
@@ -166,8 +166,8 @@ impl<const C: usize> Timing<C> {
                     Produces::Following(slack) => slack,
                     _ => 0,
                 },
-                fed: false,
-                following: false,
+                deadline_slack: 0,
+                out_of_step: false,
             };
         }
         let first = match produces {
@@ -191,11 +191,40 @@ impl<const C: usize> Timing<C> {
 
     /// The originator of `slot` was heard at `now`: its watchdog fires `timeout` later.
     #[inline]
-    pub(super) fn feed(&mut self, slot: usize, now: Instant, timeout: Duration) {
+    pub(super) fn feed(&mut self, slot: usize, now: Instant, timeout: Duration, rpi: u32) {
         self.heard(slot, now, now.add(timeout));
-        if let Some(p) = self.pending.get_mut(slot) {
-            p.fed = true;
+        if self.pending.get(slot).is_some_and(|p| p.slack > 0) {
+            self.follow(slot, now, rpi);
         }
+    }
+
+    /// The O->T data of the following producer in `slot` arrived at `now`: its deadline
+    /// carries its slack from now on, and its grid moves if the arrival is early, or late
+    /// after one late before it (`io/follow.rs`).
+    #[inline]
+    fn follow(&mut self, slot: usize, now: Instant, rpi: u32) {
+        let Some(p) = self.pending.get_mut(slot) else {
+            return;
+        };
+        p.deadline_slack = p.slack;
+        let next = self.schedule.at(slot);
+        if follow::in_step(now, next, rpi, p.slack) {
+            p.out_of_step = false;
+            return;
+        }
+        let Some(moved) = follow::correction(now, next, rpi, p.slack) else {
+            return;
+        };
+        // An early arrival moves the grid at once (then it is due in this wake-up); one late
+        // arrival may be the originator's jitter, the second in a row is not.
+        let late = moved > next;
+        if late && !core::mem::replace(&mut p.out_of_step, true) {
+            return;
+        }
+        p.out_of_step = false;
+        // Its own grid from now on, not the adapter's.
+        p.to_clock_grid = false;
+        self.reschedule(slot, moved);
     }
 
     /// Heard at `now`, the watchdog of `slot` now fires `expires` (traffic can bring it
@@ -236,23 +265,21 @@ impl<const C: usize> Timing<C> {
     /// The producer in `slot` produced at `now`: after a trigger, the next production is one
     /// `rpi` later and the next trigger waits out `inhibit`; otherwise the grid moves on to
     /// its first point after `now` (after a cyclic producer's first production, the first
-    /// point of the adapter's grid at least one `rpi` on), and a following producer's grid
-    /// takes its step toward the O->T arrivals (`io/follow.rs`).
+    /// point of the adapter's grid at least one `rpi` on).
     #[inline]
     pub(super) fn produced(&mut self, slot: usize, now: Instant, rpi: u32, inhibit: Duration) {
         let Some(p) = self.pending.get_mut(slot) else {
             return;
         };
         let previous = self.schedule.at(slot);
-        let fed = core::mem::take(&mut p.fed);
         let next = if p.triggered {
             *p = Pending {
                 triggered: false,
                 inhibit_until: now.add(inhibit),
                 to_clock_grid: false,
                 slack: p.slack,
-                fed: false,
-                following: p.following,
+                deadline_slack: p.deadline_slack,
+                out_of_step: p.out_of_step,
             };
             now.add(Duration::from_micros(u64::from(rpi)))
         } else if p.to_clock_grid {
@@ -263,14 +290,6 @@ impl<const C: usize> Timing<C> {
                 now,
                 self.schedule.grid_phase(rpi),
             )
-        } else if fed && p.slack > 0 {
-            p.following = true;
-            let next = advance(previous, rpi, now);
-            let heard = self.last_activity.get(slot).copied().unwrap_or(Instant(0));
-            let step = follow::step(heard, previous, now, rpi, p.slack);
-            // Moved unless that would make it due at once.
-            let moved = next.as_micros().checked_add_signed(step).map(Instant);
-            moved.filter(|&m| m > now).unwrap_or(next)
         } else {
             advance(previous, rpi, now)
         };
@@ -324,19 +343,19 @@ impl<const C: usize> Timing<C> {
         self.expiry_bound = self.expiry.iter().copied().min().unwrap_or(Instant::NEVER);
     }
 
-    /// The earliest watchdog expiry or production deadline among the slots below `end`; the
-    /// deadline of a following producer is its nominal instant plus its slack (any call at
-    /// or after the nominal instant finds it due: `io/follow.rs`).
-    pub(super) fn next_deadline(&self, end: usize) -> Option<Instant> {
+    /// The earliest watchdog expiry or production deadline among the slots below `end`, as
+    /// seen at `now`; the deadline of a following producer not due by `now` is its nominal
+    /// instant plus its slack (any call at or after the nominal instant finds it due:
+    /// `io/follow.rs`).
+    #[inline]
+    pub(super) fn next_deadline(&self, end: usize, now: Instant) -> Option<Instant> {
         // No watchdog fires before `expiry_bound`: while that is after the first production,
         // the production is the answer and the watchdogs need no look.
-        let (slot, production) = self.schedule.first();
-        let slack = self
-            .pending
-            .get(slot)
-            .filter(|p| p.following)
-            .map_or(0, |p| p.slack);
-        let production = production.add(Duration::from_micros(u64::from(slack)));
+        let (slot, mut production) = self.schedule.first();
+        if production > now {
+            let slack = self.pending.get(slot).map_or(0, |p| p.deadline_slack);
+            production = production.add(Duration::from_micros(u64::from(slack)));
+        }
         let at = if production < self.expiry_bound {
             production
         } else {
@@ -495,18 +514,21 @@ mod tests {
         let mut t = Timing::new(0);
         t.open(0, Instant(0), Duration(4_000), Produces::Nothing);
         assert_eq!(t.expires(0), Instant(FIRST_PACKET_GRACE_US));
-        assert_eq!(t.next_deadline(1), Some(Instant(FIRST_PACKET_GRACE_US)));
-        t.feed(0, Instant(100), Duration(4_000));
+        assert_eq!(
+            t.next_deadline(1, Instant(0)),
+            Some(Instant(FIRST_PACKET_GRACE_US))
+        );
+        t.feed(0, Instant(100), Duration(4_000), 1_000);
         assert_eq!(
             (t.expires(0), t.last_activity(0)),
             (Instant(4_100), Instant(100))
         );
-        assert_eq!(t.next_deadline(1), Some(Instant(4_100)));
+        assert_eq!(t.next_deadline(1, Instant(0)), Some(Instant(4_100)));
         assert!(!t.expired(0, Instant(4_099)) && t.expired(0, Instant(4_100)));
         t.close(0);
         t.swept();
         assert!(!t.may_expire(Instant(u64::MAX - 1)));
-        assert_eq!(t.next_deadline(1), None);
+        assert_eq!(t.next_deadline(1, Instant(0)), None);
         t.assert_consistent();
     }
 

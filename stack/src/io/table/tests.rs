@@ -100,10 +100,10 @@ struct ModelProducer {
     to_clock_grid: bool,
     /// Cyclic with O->T data at its RPI: the slack it follows the arrivals with (else 0).
     slack: u64,
-    /// Fed since its last production.
-    fed: bool,
     /// It has followed an arrival: its deadline carries the slack.
     following: bool,
+    /// The last arrival was out of step, late.
+    out_of_step: bool,
 }
 
 impl ModelProducer {
@@ -190,31 +190,29 @@ fn connection<const C: usize>(rng: &mut Rng, table: &ConnectionTable<C>, n: u16)
     }
 }
 
-/// The next deadline of the following producer `p` (already on its grid's next point after
-/// `now`) that produced `nominal` at `now`, its O->T data last heard at `heard`: the grid
-/// steps toward placing the arrival an eighth of the slack after the grid point nearest it,
-/// by half of an early error and a sixteenth of a late one, at most RPI/16 either way; no
-/// step if nothing was heard within two RPIs, the arrival lies more than one and a half RPIs
-/// from `nominal`, or the step would make the producer due at once.
-fn follow(p: &ModelProducer, heard: Option<Instant>, nominal: u64, now: u64) -> u64 {
-    let heard = heard.map_or(0, |h| h.0);
-    let (rpi, slack) = (p.rpi as i64, p.slack as i64);
-    let d = heard as i64 - nominal as i64;
-    if now - heard > 2 * p.rpi || d > rpi / 2 + rpi || d <= rpi / 2 - 2 * rpi {
-        return p.next;
-    }
-    let mut lag = d.rem_euclid(rpi);
-    if lag > rpi / 2 {
-        lag -= rpi;
-    }
-    let error = lag - slack / 8;
-    let step = if error < 0 { error / 2 } else { error / 16 };
-    let moved = p.next as i64 + step.clamp(-rpi / 16, rpi / 16);
-    if moved > now as i64 {
-        moved as u64
+/// The following producer `p`'s O->T data arrived at `now`: whether it is in step (within
+/// the slack after the instant it belongs to: the next if that has come or is less than half
+/// an RPI ahead, else the one before), and where a correction moves the next instant: toward
+/// an eighth of the slack before the arrival, by RPI/16 at most (none if overdue by more
+/// than an RPI).
+fn follow(p: &ModelProducer, now: u64) -> (bool, Option<u64>) {
+    let (next, rpi, slack) = (p.next as i64, p.rpi as i64, p.slack as i64);
+    let now = now as i64;
+    // From `next` itself if that has come or is under half an RPI (or over one) ahead.
+    let ahead = next - now;
+    let lag = if ahead <= 0 || ahead < rpi / 2 || ahead > rpi {
+        now - next
     } else {
-        p.next
+        now - (next - rpi)
+    };
+    if (0..=slack).contains(&lag) {
+        return (true, None);
     }
+    if lag > rpi && next <= now {
+        return (false, None);
+    }
+    let moved = next + (lag - slack / 8).clamp(-rpi / 16, rpi / 16);
+    (false, Some(moved as u64))
 }
 
 /// Checks every slot and summary of `table` against `model`.
@@ -307,8 +305,8 @@ fn any_sequence_of_intents<const C: usize>() {
                             } else {
                                 0
                             },
-                            fed: false,
                             following: false,
+                            out_of_step: false,
                         }),
                     };
                     if let Some(slot) = table.open(conn, at) {
@@ -321,8 +319,20 @@ fn any_sequence_of_intents<const C: usize>() {
                     if let Some(m) = &mut model[slot] {
                         m.expires = Instant(now + m.timeout);
                         m.last = at;
-                        if let Some(p) = &mut m.producer {
-                            p.fed = true;
+                        if let Some(p) = m.producer.as_mut().filter(|p| p.slack > 0) {
+                            p.following = true;
+                            // Early: the grid moves; late: the second in a row moves it.
+                            match follow(p, now) {
+                                (true, _) => p.out_of_step = false,
+                                (false, None) => {}
+                                (false, Some(moved)) if moved > p.next && !p.out_of_step => {
+                                    p.out_of_step = true;
+                                }
+                                (false, Some(moved)) => {
+                                    (p.next, p.to_clock_grid) = (moved, false);
+                                    p.out_of_step = false;
+                                }
+                            }
                         }
                     }
                 }
@@ -353,12 +363,10 @@ fn any_sequence_of_intents<const C: usize>() {
                         assert_eq!(table.produce(slot, stale, at, |_, _, _| Some(())), None);
                         assert_eq!(table.produce(slot, None, at, |_, _, _| None::<()>), None);
                         check(&table, &model, at);
-                        let heard = model[slot].map(|m| m.last);
                         let p = model[slot].as_mut().and_then(|m| m.producer.as_mut());
                         let p = p.expect("only a producer is due");
                         let triggered = table.produce(slot, None, at, |_, _, t| Some(t));
                         assert_eq!(triggered, Some(p.triggered), "slot {slot} triggered");
-                        let fed = core::mem::take(&mut p.fed);
                         if p.triggered {
                             (p.triggered, p.inhibit_until) = (false, now + p.inhibit);
                             p.next = now + p.rpi;
@@ -369,13 +377,8 @@ fn any_sequence_of_intents<const C: usize>() {
                             let earliest = (p.next + p.rpi).max(now + 1);
                             p.next = phase + (earliest - phase).div_ceil(p.rpi) * p.rpi;
                         } else {
-                            let nominal = p.next;
                             while p.next <= now {
                                 p.next += p.rpi;
-                            }
-                            if p.slack > 0 && fed {
-                                p.following = true;
-                                p.next = follow(p, heard, nominal, now);
                             }
                         }
                         check(&table, &model, at);
