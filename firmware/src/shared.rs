@@ -184,11 +184,12 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
         with_adapter_quiet(self, |a| *a.network())
     }
 
-    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant) {
+    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant) -> Option<Instant> {
         with_adapter_quiet(self, |a| {
             // A discarded datagram is counted by the adapter; nothing to answer.
             let _ = a.io_receive(from, data, now);
-        });
+            a.io_deadline()
+        })
     }
 
     fn due(&self, now: Instant) -> Result<IoDue, Option<Instant>> {

@@ -196,9 +196,7 @@
 //!
 //! Cyclic connections read the inputs every RPI by themselves: at once when they open, then
 //! on the adapter's grid of their RPI, so connections of one RPI read them at the same
-//! instants ([`crate::io::ConnectionTable::grid_phase`]). One whose O->T data comes at the
-//! same RPI then follows that data: it produces in the wake-up that receives it, up to 1/8
-//! of the RPI (at most 2 ms) after its own instant ([`crate::Adapter::io_deadline`]). For change-of-state and
+//! instants ([`crate::io::ConnectionTable::grid_phase`]). For change-of-state and
 //! application-triggered connections, the device says which input assemblies changed: it
 //! keeps an [`crate::device::InputChanges`], marks it, and lends it from
 //! [`crate::Device::input_changes`]. The stack looks after every call into the device

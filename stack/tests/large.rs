@@ -17,8 +17,6 @@ mod electronic_key;
 mod ethernet_link;
 #[path = "explicit.rs"]
 mod explicit;
-#[path = "follow.rs"]
-mod follow;
 #[path = "forward_open.rs"]
 mod forward_open;
 #[path = "lldp_objects.rs"]

@@ -7,7 +7,7 @@ use crate::workspace::Metadata;
 use crate::{boards, footprint, fuzz, setup, smoke};
 
 /// Seconds per fuzz target in the test run: a smoke run from the seeds (22 targets; the
-/// long runs are `cargo xtask campaign`).
+/// long runs are `cargo xtask fuzz --campaign MINUTES`).
 const FUZZ_SECONDS: u64 = 3;
 /// The published crate whose `rust-version` the run builds with.
 const PUBLISHED: &str = "enip-stack";

@@ -18,10 +18,10 @@ pub trait IoPort: LldpPort + AcdPort {
     /// The interface configuration now (`Adapter::network`): the addresses T->O datagrams
     /// go out with.
     fn interface(&self) -> NetworkConfig;
-    /// Feeds one O->T datagram from `from` (`Adapter::io_receive`). The link task then asks
-    /// [`Self::due`] in the same pass: the data may have triggered a production, or brought
-    /// a following producer's instant (`enip_stack`'s `io/follow.rs`).
-    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant);
+    /// Feeds one O->T datagram from `from` (`Adapter::io_receive`); returns the next
+    /// production or watchdog expiry after it (`Adapter::io_deadline`, asked under the same
+    /// lock: the data may have triggered a production).
+    fn receive(&self, from: SocketAddrV4, data: &[u8], now: Instant) -> Option<Instant>;
     /// Closes expired connections, then names the most overdue T->O datagram
     /// (`Adapter::io_due`), or if none is due the next production or watchdog expiry
     /// (`Adapter::io_deadline`, asked under the same lock).

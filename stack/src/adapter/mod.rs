@@ -530,21 +530,10 @@ impl<
         self.inner.delayed.next_due()
     }
 
-    /// The next instant [`Self::poll_io`] has work: a production or a watchdog expiry. A
-    /// cyclic producer that follows its originator's O->T data counts at its nominal instant
-    /// plus a slack (1/8 of its RPI, at most 2 ms), and any call from its nominal instant on
-    /// sends it: a runtime that asks [`Self::io_deadline_at`] when O->T data wakes it serves
-    /// both in that one wake-up.
+    /// The next instant [`Self::poll_io`] has work: a production or a watchdog expiry.
     #[inline]
     pub fn io_deadline(&self) -> Option<Instant> {
         self.inner.connections.next_deadline()
-    }
-
-    /// [`Self::io_deadline`] as seen at `now`: a producer already due by `now` (within its
-    /// slack) counts at its nominal instant, at or before `now`.
-    #[inline]
-    pub fn io_deadline_at(&self, now: Instant) -> Option<Instant> {
-        self.inner.connections.next_deadline_at(now)
     }
 
     /// The earliest of [`Self::udp_deadline`] and [`Self::io_deadline`].

@@ -4,7 +4,6 @@
 pub(crate) mod connection;
 pub(crate) mod consume;
 pub(crate) mod explicit;
-mod follow;
 pub(crate) mod open;
 pub(crate) mod produce;
 mod schedule;

@@ -6,7 +6,6 @@
 //! `next_production` and `next_deadline`.
 
 use super::connection::{Connection, Producer, Transport};
-use super::follow;
 use super::timing::{Produces, Timing};
 use crate::config::{MAX_CONNECTIONS, MAX_EXPLICIT_CONNECTED};
 use crate::device::Trigger;
@@ -165,10 +164,6 @@ impl<const C: usize> ConnectionTable<C> {
         let slot = self.free_slot()?;
         let produces = match conn.producer().map(|p| p.trigger) {
             None => Produces::Nothing,
-            // O->T data at the same RPI: the production follows its arrivals.
-            Some(Trigger::Cyclic) if conn.o_t_rpi == conn.t_o_rpi => {
-                Produces::Following(follow::slack(conn.t_o_rpi))
-            }
             Some(Trigger::Cyclic) => Produces::Cyclic,
             Some(_) => Produces::OnTrigger,
         };
@@ -185,7 +180,7 @@ impl<const C: usize> ConnectionTable<C> {
     #[inline]
     pub(crate) fn feed(&mut self, slot: usize, now: Instant) {
         if let Some(c) = self.slots.get(slot).and_then(Option::as_ref) {
-            self.timing.feed(slot, now, c.timeout, c.t_o_rpi);
+            self.timing.feed(slot, now, c.timeout);
         }
     }
     /// The slot of the producer due first at `now`, if one is due: the earliest deadline, the
@@ -271,15 +266,9 @@ impl<const C: usize> ConnectionTable<C> {
                 (true, false) => EXT_IDLE,
             }
     }
-    /// The earliest watchdog expiry or production deadline (a producer that follows its
-    /// originator's O->T data counted at its nominal instant plus its slack: `io/follow.rs`).
+    /// The earliest watchdog expiry or production deadline.
     pub fn next_deadline(&self) -> Option<Instant> {
-        self.timing.next_deadline(self.used, Instant(0))
-    }
-    /// [`Self::next_deadline`] as seen at `now`: a producer due by `now` counts at its
-    /// nominal instant (the caller produces it at once), not with its slack.
-    pub fn next_deadline_at(&self, now: Instant) -> Option<Instant> {
-        self.timing.next_deadline(self.used, now)
+        self.timing.next_deadline(self.used)
     }
     /// Closes the connection in `slot` and the listen-only connections that follow its
     /// production, telling `device` when the last exclusive owner goes.

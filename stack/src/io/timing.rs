@@ -20,13 +20,7 @@
 //! interval between the first two productions is from one RPI up to two, never shorter; every
 //! later one is the RPI. Change-of-state and application-triggered producers keep their own
 //! grid: their RPI is a heartbeat, one RPI after each production at most.
-//!
-//! A cyclic producer whose connection has O->T data at the same RPI leaves the adapter's grid
-//! once that data comes: its grid then follows the arrivals (`io/follow.rs`), and its
-//! deadline for [`Timing::next_deadline`] is its nominal instant plus a slack, while
-//! [`Timing::due`] finds it due from the nominal instant on.
 
-use super::follow;
 use super::schedule::Schedule;
 use crate::config::FIRST_PACKET_GRACE_US;
 use crate::time::{Duration, Instant};
@@ -74,11 +68,6 @@ pub(super) enum Produces {
     Nothing,
     /// Cyclic data: at once, then on the adapter's grid of its RPI.
     Cyclic,
-    /// Cyclic data that follows its originator's O->T data of the same RPI
-    /// (`io/follow.rs`): at once, then on the adapter's grid of its RPI until O->T data
-    /// comes, then on a grid of its own kept just before the arrivals, with this slack
-    /// (microseconds).
-    Following(u16),
     /// Change-of-state or application-triggered data: at once, then at each trigger and one
     /// RPI (its heartbeat) after each production at most.
     OnTrigger,
@@ -92,14 +81,6 @@ struct Pending {
     inhibit_until: Instant,
     /// A cyclic producer not on the adapter's grid yet: its next production moves it there.
     to_clock_grid: bool,
-    /// A following producer's slack (microseconds, `io/follow.rs`); 0 for any other.
-    slack: u16,
-    /// The slack its deadline carries: a following producer's once its O->T data has come
-    /// (before that it is due at its nominal instant, as any other), else 0.
-    deadline_slack: u16,
-    /// The last O->T arrival was out of step, late (`io/follow.rs`): a second in a row moves
-    /// the grid.
-    out_of_step: bool,
 }
 
 impl Pending {
@@ -107,9 +88,6 @@ impl Pending {
         triggered: false,
         inhibit_until: Instant(0),
         to_clock_grid: false,
-        slack: 0,
-        deadline_slack: 0,
-        out_of_step: false,
     };
 }
 
@@ -161,18 +139,12 @@ impl<const C: usize> Timing<C> {
             *p = Pending {
                 triggered: false,
                 inhibit_until: now,
-                to_clock_grid: matches!(produces, Produces::Cyclic | Produces::Following(_)),
-                slack: match produces {
-                    Produces::Following(slack) => slack,
-                    _ => 0,
-                },
-                deadline_slack: 0,
-                out_of_step: false,
+                to_clock_grid: produces == Produces::Cyclic,
             };
         }
         let first = match produces {
             Produces::Nothing => Instant::NEVER,
-            Produces::Cyclic | Produces::Following(_) | Produces::OnTrigger => now,
+            Produces::Cyclic | Produces::OnTrigger => now,
         };
         self.reschedule(slot, first);
     }
@@ -191,40 +163,8 @@ impl<const C: usize> Timing<C> {
 
     /// The originator of `slot` was heard at `now`: its watchdog fires `timeout` later.
     #[inline]
-    pub(super) fn feed(&mut self, slot: usize, now: Instant, timeout: Duration, rpi: u32) {
+    pub(super) fn feed(&mut self, slot: usize, now: Instant, timeout: Duration) {
         self.heard(slot, now, now.add(timeout));
-        if self.pending.get(slot).is_some_and(|p| p.slack > 0) {
-            self.follow(slot, now, rpi);
-        }
-    }
-
-    /// The O->T data of the following producer in `slot` arrived at `now`: its deadline
-    /// carries its slack from now on, and its grid moves if the arrival is early, or late
-    /// after one late before it (`io/follow.rs`).
-    #[inline]
-    fn follow(&mut self, slot: usize, now: Instant, rpi: u32) {
-        let Some(p) = self.pending.get_mut(slot) else {
-            return;
-        };
-        p.deadline_slack = p.slack;
-        let next = self.schedule.at(slot);
-        if follow::in_step(now, next, rpi, p.slack) {
-            p.out_of_step = false;
-            return;
-        }
-        let Some(moved) = follow::correction(now, next, rpi, p.slack) else {
-            return;
-        };
-        // An early arrival moves the grid at once (then it is due in this wake-up); one late
-        // arrival may be the originator's jitter, the second in a row is not.
-        let late = moved > next;
-        if late && !core::mem::replace(&mut p.out_of_step, true) {
-            return;
-        }
-        p.out_of_step = false;
-        // Its own grid from now on, not the adapter's.
-        p.to_clock_grid = false;
-        self.reschedule(slot, moved);
     }
 
     /// Heard at `now`, the watchdog of `slot` now fires `expires` (traffic can bring it
@@ -277,9 +217,6 @@ impl<const C: usize> Timing<C> {
                 triggered: false,
                 inhibit_until: now.add(inhibit),
                 to_clock_grid: false,
-                slack: p.slack,
-                deadline_slack: p.deadline_slack,
-                out_of_step: p.out_of_step,
             };
             now.add(Duration::from_micros(u64::from(rpi)))
         } else if p.to_clock_grid {
@@ -343,19 +280,11 @@ impl<const C: usize> Timing<C> {
         self.expiry_bound = self.expiry.iter().copied().min().unwrap_or(Instant::NEVER);
     }
 
-    /// The earliest watchdog expiry or production deadline among the slots below `end`, as
-    /// seen at `now`; the deadline of a following producer not due by `now` is its nominal
-    /// instant plus its slack (any call at or after the nominal instant finds it due:
-    /// `io/follow.rs`).
-    #[inline]
-    pub(super) fn next_deadline(&self, end: usize, now: Instant) -> Option<Instant> {
+    /// The earliest watchdog expiry or production deadline among the slots below `end`.
+    pub(super) fn next_deadline(&self, end: usize) -> Option<Instant> {
         // No watchdog fires before `expiry_bound`: while that is after the first production,
         // the production is the answer and the watchdogs need no look.
-        let (slot, mut production) = self.schedule.first();
-        if production > now {
-            let slack = self.pending.get(slot).map_or(0, |p| p.deadline_slack);
-            production = production.add(Duration::from_micros(u64::from(slack)));
-        }
+        let (_, production) = self.schedule.first();
         let at = if production < self.expiry_bound {
             production
         } else {
@@ -514,21 +443,18 @@ mod tests {
         let mut t = Timing::new(0);
         t.open(0, Instant(0), Duration(4_000), Produces::Nothing);
         assert_eq!(t.expires(0), Instant(FIRST_PACKET_GRACE_US));
-        assert_eq!(
-            t.next_deadline(1, Instant(0)),
-            Some(Instant(FIRST_PACKET_GRACE_US))
-        );
-        t.feed(0, Instant(100), Duration(4_000), 1_000);
+        assert_eq!(t.next_deadline(1), Some(Instant(FIRST_PACKET_GRACE_US)));
+        t.feed(0, Instant(100), Duration(4_000));
         assert_eq!(
             (t.expires(0), t.last_activity(0)),
             (Instant(4_100), Instant(100))
         );
-        assert_eq!(t.next_deadline(1, Instant(0)), Some(Instant(4_100)));
+        assert_eq!(t.next_deadline(1), Some(Instant(4_100)));
         assert!(!t.expired(0, Instant(4_099)) && t.expired(0, Instant(4_100)));
         t.close(0);
         t.swept();
         assert!(!t.may_expire(Instant(u64::MAX - 1)));
-        assert_eq!(t.next_deadline(1, Instant(0)), None);
+        assert_eq!(t.next_deadline(1), None);
         t.assert_consistent();
     }
 

@@ -227,7 +227,7 @@ impl<D: Device> Node<D> {
         if due(self.device_due) {
             self.device_due = self.adapter.poll_device(now);
         }
-        let io = self.adapter.io_deadline();
+        let mut io = self.adapter.io_deadline();
         if io.is_some_and(|at| now.as_micros() > at.as_micros().saturating_add(STALL_US)) {
             // Woken this late, the process was not scheduled: the O->T data that arrived
             // meanwhile goes in before the connections' watchdogs are judged.
@@ -236,9 +236,8 @@ impl<D: Device> Node<D> {
                     break;
                 }
             }
+            io = self.adapter.io_deadline();
         }
-        // A producer due within its slack counts as due now: it goes in this wake-up.
-        let mut io = self.adapter.io_deadline_at(now);
         if due(io) {
             self.io.produce(&mut self.adapter, now, tx);
             io = self.adapter.io_deadline();

@@ -98,8 +98,8 @@ struct Pump<'a, const STACK_SUMS: bool> {
     /// The adapter's next production or watchdog expiry as last learned: until then (and
     /// unless [`Self::io_stale`]) a pass does not ask the adapter what is due.
     io_next: Option<Instant>,
-    /// Another task may have brought [`Self::io_next`] forward (`IoPort::deadline_moved`), or
-    /// O->T data came in this pass: the pass asks the adapter.
+    /// Another task may have brought [`Self::io_next`] forward (`IoPort::deadline_moved`):
+    /// the next pass asks the adapter.
     io_stale: bool,
     /// A T->O datagram is due but the driver had no room: its wake-up comes from the driver.
     blocked: bool,
@@ -318,10 +318,8 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             .and_then(|(from, range)| Some((from, frame.get(range)?)));
         let passed = match o_t {
             Some((from, data)) => {
-                // The data may have triggered a production or brought a following producer's
-                // instant: the pass asks the adapter what is due.
-                io.receive(from, data, at);
-                self.io_stale = true;
+                // The data may have triggered a production: the deadline is learned anew.
+                self.io_next = io.receive(from, data, at);
                 false
             }
             None => self.other_frame(frame, seen.sender.is_some(), frames, io, me, at),

@@ -98,12 +98,6 @@ struct ModelProducer {
     triggered: bool,
     /// Cyclic, before its first production: then it moves onto the clock's grid.
     to_clock_grid: bool,
-    /// Cyclic with O->T data at its RPI: the slack it follows the arrivals with (else 0).
-    slack: u64,
-    /// It has followed an arrival: its deadline carries the slack.
-    following: bool,
-    /// The last arrival was out of step, late.
-    out_of_step: bool,
 }
 
 impl ModelProducer {
@@ -182,37 +176,11 @@ fn connection<const C: usize>(rng: &mut Rng, table: &ConnectionTable<C>, n: u16)
             Kind::ListenOnly => followed.unwrap_or(0x7000_0000 | u32::from(n)),
             _ => 0x1000_0000 | u32::from(n),
         },
-        // Mostly the same RPI both ways (a cyclic producer then follows the O->T data).
-        o_t_rpi: if rng.below(4) == 0 { rpi * 2 } else { rpi } as u32,
+        o_t_rpi: rpi as u32,
         t_o_rpi: rpi as u32,
         timeout,
         transport,
     }
-}
-
-/// The following producer `p`'s O->T data arrived at `now`: whether it is in step (within
-/// the slack after the instant it belongs to: the next if that has come or is less than half
-/// an RPI ahead, else the one before), and where a correction moves the next instant: toward
-/// an eighth of the slack before the arrival, by RPI/16 at most (none if overdue by more
-/// than an RPI).
-fn follow(p: &ModelProducer, now: u64) -> (bool, Option<u64>) {
-    let (next, rpi, slack) = (p.next as i64, p.rpi as i64, p.slack as i64);
-    let now = now as i64;
-    // From `next` itself if that has come or is under half an RPI (or over one) ahead.
-    let ahead = next - now;
-    let lag = if ahead <= 0 || ahead < rpi / 2 || ahead > rpi {
-        now - next
-    } else {
-        now - (next - rpi)
-    };
-    if (0..=slack).contains(&lag) {
-        return (true, None);
-    }
-    if lag > rpi && next <= now {
-        return (false, None);
-    }
-    let moved = next + (lag - slack / 8).clamp(-rpi / 16, rpi / 16);
-    (false, Some(moved as u64))
 }
 
 /// Checks every slot and summary of `table` against `model`.
@@ -245,16 +213,11 @@ fn check<const C: usize>(table: &ConnectionTable<C>, model: &[Option<Model>; C],
         );
         earliest = earliest.min(m.expires.0);
         if let Some(due) = due {
+            earliest = earliest.min(due);
             if first.is_none_or(|(at, _)| due < at) {
                 first = Some((due, slot));
             }
         }
-    }
-    // The first producer counts with its slack.
-    if let Some((due, slot)) = first {
-        let p = model[slot].and_then(|m| m.producer);
-        let slack = p.filter(|p| p.following).map_or(0, |p| p.slack);
-        earliest = earliest.min(due.saturating_add(slack));
     }
     let expected = (earliest != u64::MAX).then_some(Instant(earliest));
     assert_eq!(table.next_deadline(), expected, "next deadline at {now:?}");
@@ -300,13 +263,6 @@ fn any_sequence_of_intents<const C: usize>() {
                             inhibit_until: now,
                             triggered: false,
                             to_clock_grid: p.trigger == Trigger::Cyclic,
-                            slack: if p.trigger == Trigger::Cyclic && conn.o_t_rpi == conn.t_o_rpi {
-                                (u64::from(conn.t_o_rpi) / 8).min(2_000)
-                            } else {
-                                0
-                            },
-                            following: false,
-                            out_of_step: false,
                         }),
                     };
                     if let Some(slot) = table.open(conn, at) {
@@ -319,21 +275,6 @@ fn any_sequence_of_intents<const C: usize>() {
                     if let Some(m) = &mut model[slot] {
                         m.expires = Instant(now + m.timeout);
                         m.last = at;
-                        if let Some(p) = m.producer.as_mut().filter(|p| p.slack > 0) {
-                            p.following = true;
-                            // Early: the grid moves; late: the second in a row moves it.
-                            match follow(p, now) {
-                                (true, _) => p.out_of_step = false,
-                                (false, None) => {}
-                                (false, Some(moved)) if moved > p.next && !p.out_of_step => {
-                                    p.out_of_step = true;
-                                }
-                                (false, Some(moved)) => {
-                                    (p.next, p.to_clock_grid) = (moved, false);
-                                    p.out_of_step = false;
-                                }
-                            }
-                        }
                     }
                 }
                 6 | 7 => {
