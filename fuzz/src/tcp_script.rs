@@ -1,4 +1,5 @@
-//! The byte scripts the `tcp_server` target reads: segments from three peers, time passing
+//! The byte scripts the `tcp_server` target reads: segments from four peers (three hosts,
+//! one of them on a second port), time passing
 //! and sends, played against the encapsulation port's TCP (`enip_stack::tcp::TcpServer`)
 //! with a real [`Adapter`] behind it (the first byte picks the device, as
 //! [`crate::script`]'s scripts do), checking the server's invariants.
@@ -162,7 +163,7 @@ fn run<D: Device>(adapter: Adapter<D>, script: &[u8]) {
                         let syn = syns.get(&(j, sent.segment.ack.wrapping_sub(1)));
                         mss[j] = *syn.expect("a SYN-ACK to no SYN");
                     }
-                    check(&sent.segment, sent.payload, &mss);
+                    check(&sent.segment, sent.payload, mss[j]);
                     theirs[j] = sent.segment.seq;
                 }
             }
@@ -171,12 +172,11 @@ fn run<D: Device>(adapter: Adapter<D>, script: &[u8]) {
     }
 }
 
-/// A segment the server sent: within the peer's MSS and the replies kept; a SYN only as a
-/// SYN-ACK with our MSS.
-fn check(out: &Outgoing, payload: &[u8], mss: &[u16; 4]) {
-    let i = (0..4u8).position(|j| peer(j) == out.peer).expect("a peer");
+/// A segment the server sent: within its peer's MSS `mss` and the replies kept; a SYN only
+/// as a SYN-ACK with our MSS.
+fn check(out: &Outgoing, payload: &[u8], mss: u16) {
     assert!(
-        payload.len() <= usize::from(mss[i]),
+        payload.len() <= usize::from(mss),
         "a segment over the peer's MSS"
     );
     assert!(payload.len() <= 2 * MAX_ENCAP_FRAME);

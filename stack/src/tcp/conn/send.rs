@@ -56,10 +56,9 @@ impl<const F: usize> Conn<F> {
                 // a quiet spell is not overdue).
                 self.progress_at = now;
             }
-            let fin = fin_due;
             let step = u32::try_from(len)
                 .unwrap_or(0)
-                .saturating_add(u32::from(fin));
+                .saturating_add(u32::from(fin_due));
             self.snd_nxt = seq.wrapping_add(step);
             if lt(self.snd_max, self.snd_nxt) {
                 if le(self.snd_max, seq) && self.rtt_probe.is_none() {
@@ -74,7 +73,7 @@ impl<const F: usize> Conn<F> {
             self.ack_owed = false;
             let flags = Flags {
                 psh: len > 0 && unsent == len,
-                fin,
+                fin: fin_due,
                 ..ack
             };
             return Some((self.segment(seq, flags), sent..sent.saturating_add(len)));
