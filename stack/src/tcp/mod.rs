@@ -14,8 +14,10 @@
 //!   or timestamps; the maximum segment size is announced and honoured;
 //! - replies are retransmitted from the oldest unacknowledged byte (RFC 6298 timer, Karn's
 //!   rule), and a peer that takes [`WRITE_TIMEOUT`] to acknowledge loses its connection;
-//! - RST and SYN checks of RFC 5961 (an in-window RST or any SYN on an open connection gets a
-//!   challenge ACK); a connection half-open for [`HALF_OPEN`] is dropped (without a RST);
+//! - RST, SYN and ACK checks of RFC 5961 (an in-window RST, any SYN on an open connection,
+//!   or an ACK older than the peer's largest window before the oldest unacknowledged byte
+//!   gets a challenge ACK, and the segment goes no further); a connection half-open for
+//!   [`HALF_OPEN`] is dropped (without a RST);
 //! - the adapter closes when the peer does (no CLOSE-WAIT), and a connection is free again
 //!   once both FINs are acknowledged (no TIME-WAIT: a late FIN finds no connection and is
 //!   answered with a RST); a close the peer does not complete within [`LINGER`] is reset.

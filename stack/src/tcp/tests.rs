@@ -572,3 +572,30 @@ fn a_closed_window_is_probed_even_when_everything_sent_was_acknowledged() {
     let probe = drain(&mut s, at);
     assert_eq!(probe.first().map(|(_, d)| d.as_slice()), Some(&b"e"[..]));
 }
+
+#[test]
+fn data_with_an_ack_older_than_any_window_offered_gets_a_challenge_ack_and_is_dropped() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    // RFC 5961 5.2: the peer offered 8 192 bytes at most; an ACK further back than that
+    // before the oldest unacknowledged byte is a blind injection's guess.
+    let guess = iss.wrapping_sub(8_193);
+    s.process(&seg(peer(5000), 101, guess, ACK, b"evil"), ms(2), &mut app);
+    assert_eq!(app.events, [Event::Accepted(0, peer(5000))]);
+    let sent = drain(&mut s, ms(2));
+    assert_eq!(sent.len(), 1, "one challenge ACK: {sent:?}");
+    assert_eq!(
+        (sent[0].0.flags, sent[0].0.seq, sent[0].0.ack),
+        (ACK, iss, 101)
+    );
+    // An old ACK within the largest window is acceptable: its data is taken.
+    let old = iss.wrapping_sub(8_192);
+    s.process(&seg(peer(5000), 101, old, ACK, b"abcd"), ms(3), &mut app);
+    assert_eq!(
+        app.events.last(),
+        Some(&Event::Received(0, b"abcd".to_vec()))
+    );
+    let sent = drain(&mut s, ms(3));
+    assert_eq!((sent.len(), sent[0].0.ack), (1, 105));
+    assert_eq!(sent[0].1, b"abcd");
+}

@@ -57,6 +57,8 @@ pub(super) struct Conn<const F: usize> {
     snd_wnd: u32,
     snd_wl1: u32,
     snd_wl2: u32,
+    /// The largest window the peer has offered (RFC 5961's MAX.SND.WND).
+    max_snd_wnd: u32,
     /// The next sequence number expected.
     rcv_nxt: u32,
     /// The peer's maximum segment size.
@@ -104,6 +106,7 @@ impl<const F: usize> Conn<F> {
             snd_wnd: 0,
             snd_wl1: 0,
             snd_wl2: 0,
+            max_snd_wnd: 0,
             rcv_nxt: 0,
             mss: DEFAULT_MSS,
             tx: [[0; F]; 2],
@@ -137,6 +140,7 @@ impl<const F: usize> Conn<F> {
         self.snd_wnd = u32::from(seg.window);
         self.snd_wl1 = seg.seq;
         self.snd_wl2 = iss;
+        self.max_snd_wnd = self.snd_wnd;
         self.rcv_nxt = seg.seq.wrapping_add(1);
         self.mss = seg.mss.unwrap_or(DEFAULT_MSS).clamp(MIN_MSS, MSS);
         self.tx_len = 0;
@@ -258,8 +262,9 @@ impl<const F: usize> Conn<F> {
             app.accepted(id, self.peer, now);
             return true;
         }
-        if lt(self.snd_max, ack) {
-            // Acknowledges what was not sent: an ACK, and the segment is dropped.
+        if lt(self.snd_max, ack) || lt(ack, self.snd_una.wrapping_sub(self.max_snd_wnd)) {
+            // Acknowledges what was not sent, or is older than any window the peer offered
+            // (RFC 5961 5.2, against blind data injection): an ACK, and the segment is dropped.
             self.ack_owed = true;
             return false;
         }
@@ -312,6 +317,7 @@ impl<const F: usize> Conn<F> {
     fn learn_window(&mut self, seg: &Segment<'_>) {
         if lt(self.snd_wl1, seg.seq) || (self.snd_wl1 == seg.seq && le(self.snd_wl2, seg.ack)) {
             self.snd_wnd = u32::from(seg.window);
+            self.max_snd_wnd = self.max_snd_wnd.max(self.snd_wnd);
             self.snd_wl1 = seg.seq;
             self.snd_wl2 = seg.ack;
         }
