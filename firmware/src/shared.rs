@@ -239,9 +239,9 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
 
     fn tcp_segment(&self, segment: &Segment<'_>, now: Instant) -> Option<Outgoing> {
         let mut tcp = self.tcp.borrow_mut();
-        let rst = with_adapter(self, |a| tcp.process(segment, now, a));
+        let answer = with_adapter(self, |a| tcp.process(segment, now, a));
         self.hand_over_reset(&mut tcp);
-        rst
+        answer
     }
 
     fn tcp_poll(&self, now: Instant) {

@@ -79,7 +79,7 @@ impl<D: Device> TcpApp for Checked<D> {
 
 /// Plays a script; panics on a broken invariant (the adapter's pairing above; a segment
 /// longer than the peer's maximum segment size or than the replies kept; a RST answering a
-/// RST; a SYN that is not a SYN-ACK; time the timers asked for not honoured).
+/// RST; a SYN that is not a SYN-ACK, or a SYN cookie to no SYN; time the timers asked for not honoured).
 pub fn run_tcp_server(script: &[u8]) {
     with_device!(script, |adapter, rest| run(adapter, rest))
 }
@@ -140,9 +140,19 @@ fn run<D: Device>(adapter: Adapter<D>, script: &[u8]) {
                     mss: option,
                     payload,
                 };
-                if let Some(rst) = server.process(&segment, now, &mut app) {
-                    assert!(rst.flags.rst && !flags.rst, "a RST answers a RST");
-                    assert_eq!(rst.peer, segment.peer);
+                if let Some(answer) = server.process(&segment, now, &mut app) {
+                    assert!(!flags.rst, "a RST answered");
+                    assert_eq!(answer.peer, segment.peer);
+                    if answer.flags.syn {
+                        // A SYN cookie: it answers a SYN, and its connection, if the ACK
+                        // comes, keeps to a size not over that SYN's.
+                        assert!(flags.syn && !flags.ack && answer.ack == seq[i].wrapping_add(1));
+                        check(&answer, &[], MSS);
+                        mss[i] = syns.get(&(i, seq[i])).copied().unwrap_or(536);
+                        theirs[i] = answer.seq;
+                    } else {
+                        assert!(answer.flags.rst, "neither a RST nor a SYN cookie");
+                    }
                 }
             }
             2 => {

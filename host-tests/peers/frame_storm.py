@@ -1,10 +1,12 @@
 """A storm of Ethernet frames at the board, through an AF_PACKET socket on the namespace's
 link: ARP requests for the board's address from changing senders (198.18.0.100-249, each
-with its own locally administered MAC), or LLDPDUs from changing chassis (MAC addresses),
-at most "per_second" frames a second (a TAP has no line rate of its own), bounded by time
-and count.
+with its own locally administered MAC), LLDPDUs from changing chassis (MAC addresses), or
+TCP SYNs to the board's port 44818 from the same changing senders and ports (a SYN flood
+from many forged sources: no source sends enough to be told from a client; the board's
+MAC is read from this namespace's ARP table), at most "per_second" frames a second (a TAP
+has no line rate of its own), bounded by time and count.
 
-Reads {"iface": str, "kind": "arp"|"lldp", "seconds": float, "max_frames": int,
+Reads {"iface": str, "kind": "arp"|"lldp"|"syn", "seconds": float, "max_frames": int,
 "per_second": float, "target": str} as JSON from stdin. Prints one JSON line: {"kind", "frames", "seconds",
 "frames_per_second"}.
 """
@@ -42,7 +44,41 @@ def lldp(i):
     return b"\x01\x80\xc2\x00\x00\x0e" + src + b"\x88\xcc" + body
 
 
-make = arp if req["kind"] == "arp" else lldp
+def board_mac():
+    with open("/proc/net/arp") as table:
+        for line in table.readlines()[1:]:
+            fields = line.split()
+            if fields[0] == req["target"]:
+                return bytes.fromhex(fields[3].replace(":", ""))
+    sys.exit("the board's MAC is not in the ARP table")
+
+
+def checksum(data):
+    if len(data) % 2:
+        data += b"\0"
+    total = sum(struct.unpack("!%dH" % (len(data) // 2), data))
+    while total > 0xFFFF:
+        total = (total & 0xFFFF) + (total >> 16)
+    return ~total & 0xFFFF
+
+
+def syn(i):
+    src_ip = bytes([198, 18, 0, 100 + i % 150])
+    port = 1024 + i
+    tcp = struct.pack("!HHIIBBHHH", port, 44818, 0x1000 * i, 0, 6 << 4, 0x02, 64240, 0, 0)
+    tcp += struct.pack("!BBH", 2, 4, 1460)
+    pseudo = src_ip + target + struct.pack("!BBH", 0, 6, len(tcp))
+    tcp = tcp[:16] + struct.pack("!H", checksum(pseudo + tcp)) + tcp[18:]
+    ip = struct.pack("!BBHHHBBH4s4s", 0x45, 0, 20 + len(tcp), i & 0xFFFF, 0, 64, 6, 0,
+                     src_ip, target)
+    ip = ip[:10] + struct.pack("!H", checksum(ip)) + ip[12:]
+    return to_board + mac(i) + b"\x08\x00" + ip + tcp
+
+
+kind = req["kind"]
+if kind == "syn":
+    to_board = board_mac()
+make = {"arp": arp, "lldp": lldp, "syn": syn}[kind]
 # A few thousand different senders, built before the clock starts.
 frames = [make(i) for i in range(4096)]
 start = time.monotonic()

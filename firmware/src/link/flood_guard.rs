@@ -2,17 +2,19 @@
 //! SYNs to the encapsulation port from a source that floods them (here), and ARP requests
 //! from strangers past a budget ([`super::arp_guard`]).
 //!
-//! The stack has three sockets on TCP 44818 and no SYN cookies, so every SYN it takes holds
-//! a socket half-open until the handshake's ACK comes or `tcp_accept::HALF_OPEN` passes. A
-//! source that sends more than [`LIMIT`] SYNs to the port within [`WINDOW`] without a
-//! single segment that acknowledges anything (a client completes each handshake with one;
-//! one that reconnects thousands of times a second is no flooder) is a flooder: its SYNs
-//! are dropped until it has sent none for [`BLOCK`], so once its half-open connections
-//! lapse the sockets serve everyone else, and the stack spends no time on its SYNs. The
-//! guard follows [`SOURCES`] sources at once (the least recently seen gives way): a flood
-//! from many forged sources at a time is not told apart from clients and holds the sockets
-//! while it lasts, and a flooder that also talks TCP from the same address is never
-//! blocked (its forged SYN-ACKs draw its own host's resets, which free the sockets).
+//! The encapsulation TCP (`enip_stack::tcp`) holds a few connections; every SYN that finds
+//! one free holds it half-open until the handshake's ACK comes or `HALF_OPEN` passes, and
+//! SYNs beyond them are answered with SYN cookies, which hold nothing. A source that sends
+//! more than [`LIMIT`] SYNs to the port within [`WINDOW`] without a single segment that
+//! acknowledges anything (a client completes each handshake with one; one that reconnects
+//! thousands of times a second is no flooder) is a flooder: its SYNs are dropped until it
+//! has sent none for [`BLOCK`], so once its half-open connections lapse the connections
+//! serve everyone else, and the server spends no time on its SYNs. The guard follows
+//! [`SOURCES`] sources at once (the least recently seen gives way): a flood from many forged
+//! sources at a time is not told apart from clients; it holds the free connections
+//! half-open while it lasts, and clients get in by the cookies. A flooder that also talks
+//! TCP from the same address is never blocked (its forged SYN-ACKs draw its own host's
+//! resets, which free the connections).
 
 use core::net::Ipv4Addr;
 

@@ -46,7 +46,8 @@ pub trait IoPort: LldpPort + AcdPort {
     /// start).
     fn tcp_seed(&self, seed: u64);
     /// A TCP segment for the encapsulation port (`TcpServer::process`, the adapter taking
-    /// its data); the RST to send if it belongs to no connection.
+    /// its data); what answers it if it belongs to no connection (a RST, or a SYN cookie's
+    /// SYN-ACK).
     fn tcp_segment(&self, segment: &Segment<'_>, now: Instant) -> Option<Outgoing>;
     /// The encapsulation TCP's timers at `now` (`TcpServer::poll`).
     fn tcp_poll(&self, now: Instant);

@@ -16,7 +16,8 @@ use super::io_port::IoPort;
 use super::neighbors::{next_hop, Neighbors};
 use super::tcp_frames::{self, Hop};
 
-/// Segments sent in one pass at most: every connection's reply and its FIN, and a RST.
+/// Segments sent in one pass at most: every connection's reply and its FIN, and the answer to
+/// a segment of no connection.
 const SEGMENTS_PER_PASS: usize = 2 * enip_stack::config::MAX_SESSIONS + 1;
 
 /// What the link task keeps of the encapsulation TCP between passes.
@@ -26,8 +27,8 @@ pub(crate) struct TcpLink {
     next: Option<Instant>,
     /// The server took a segment or had no room to send: it is asked again at the next pass.
     stale: bool,
-    /// A RST answering a segment of no connection, to send.
-    rst: Option<Outgoing>,
+    /// The answer to a segment of no connection (a RST, or a SYN cookie's SYN-ACK), to send.
+    answer: Option<Outgoing>,
     /// The IPv4 identification of the next segment.
     ident: u16,
 }
@@ -57,8 +58,8 @@ impl TcpLink {
         let Some(segment) = tcp_frames::parse(segment, src, me, verify) else {
             return;
         };
-        if let Some(rst) = io.tcp_segment(&segment, at) {
-            self.rst = Some(rst);
+        if let Some(answer) = io.tcp_segment(&segment, at) {
+            self.answer = Some(answer);
         }
         self.stale = true;
     }
@@ -90,13 +91,13 @@ impl TcpLink {
         let mut sent_all = false;
         let mut room = true;
         for _ in 0..SEGMENTS_PER_PASS {
-            let rst = self.rst.take();
-            if rst.is_none() && !io.tcp_owes() {
+            let answer = self.answer.take();
+            if answer.is_none() && !io.tcp_owes() {
                 sent_all = true;
                 break;
             }
             let Some(tx) = driver.transmit(cx) else {
-                self.rst = rst;
+                self.answer = answer;
                 room = false;
                 break;
             };
@@ -108,8 +109,8 @@ impl TcpLink {
                     send_segment(tx, (from, dscp, ident), out, payload, (neighbors, sums), at);
                 }
             };
-            match rst {
-                Some(rst) => send(&rst, &[]),
+            match answer {
+                Some(answer) => send(&answer, &[]),
                 None => {
                     io.tcp_transmit(at, &mut send);
                 }

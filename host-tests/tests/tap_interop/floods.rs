@@ -5,9 +5,10 @@
 //! floods and the frame-level storms are in `floods_datagrams.rs`.
 //!
 //! The SYN floods come from an address nobody answers for (198.18.0.77), as an attacker's
-//! forged SYNs do: no RST ever frees the board's half-open sockets, so what frees them is
-//! the adapter's own bound on half-open connections (`firmware/src/tcp_accept.rs`) and the
-//! link task's SYN guard (`firmware/src/link/flood_guard.rs`). Every flood is bounded in time
+//! forged SYNs do: no RST ever frees the board's half-open connections, so what frees them
+//! is the encapsulation TCP's bound on half-open connections (`enip_stack::tcp::HALF_OPEN`)
+//! and the link task's SYN guard (`firmware/src/link/flood_guard.rs`); SYNs beyond the
+//! connections are answered with SYN cookies. Every flood is bounded in time
 //! and count and runs inside the test's namespace, on CPU 1.
 //!
 //! Each prints its figures as one `FAULT-REPORT {json}` line; `ENIP_FAULTS_LONG=1` runs the
@@ -19,7 +20,7 @@ use std::time::{Duration, Instant};
 use serde_json::{json, Value};
 
 use crate::common;
-use crate::floods_datagrams::{forged_io, malformed_encapsulation};
+use crate::floods_datagrams::{forged_io, frame_storm, malformed_encapsulation};
 use crate::floods_load::{flood_run, phase, pin_flooder_thread, Flood, QEMU_RPI, RPI};
 use enip_stack::config::LIST_IDENTITY_UDP_BYTES_PER_SECOND;
 use host_tests::enip::{command, Header};
@@ -90,9 +91,12 @@ fn syn_flood(f: &Flood<'_>, per_second: Option<u64>) -> Value {
 }
 
 /// SYN floods on TCP 44818 from a forged source, paced (`hping3 -i u1`) and at line rate,
-/// each 2 s (long: 30 s) against the load: no connection times out, the established
-/// pycomm3 session answers every read, fresh clients are served during each flood and
-/// within 1 s after it ends; Class 1 losses and the board's CPU time reported per phase.
+/// and from 150 forged sources and 4 096 ports (`peers/frame_storm.py`: no source sends
+/// enough for the SYN guard, so the flood holds every free connection half-open and clients
+/// get in by SYN cookies), each 2 s (long: 30 s) against the load: no connection times out,
+/// the established pycomm3 session answers every read, fresh clients are served during each
+/// flood and within 1 s after it ends; Class 1 losses and the board's CPU time reported per
+/// phase.
 #[test]
 #[ignore = "needs root: network namespace and TAP, hping3"]
 fn faults_flood_syn() {
@@ -100,6 +104,7 @@ fn faults_flood_syn() {
     let rig = Rig::start(&common::host_bin(), "generic", None).expect("rig");
     let moderate = |f: &Flood<'_>| syn_flood(f, Some(MODERATE_SYN_PER_SECOND));
     let line_rate = |f: &Flood<'_>| syn_flood(f, None);
+    let many = |f: &Flood<'_>| frame_storm(f, "syn");
     let run = flood_run(
         &rig,
         "enip-host",
@@ -109,9 +114,10 @@ fn faults_flood_syn() {
         &[
             ("syn paced", len, &moderate),
             ("syn line rate", len, &line_rate),
+            ("syn from many sources", len, &many),
         ],
     );
-    for name in ["syn paced", "syn line rate"] {
+    for name in ["syn paced", "syn line rate", "syn from many sources"] {
         let fresh = &phase(&run, name)["new_sessions"];
         assert!(
             fresh["served"].as_u64().unwrap_or(0) > 0,

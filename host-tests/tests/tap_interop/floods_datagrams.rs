@@ -233,8 +233,8 @@ fn faults_flood_udp() {
     rig.finish().expect("the board ran to the end");
 }
 
-/// An ARP or LLDP storm from `peers/frame_storm.py` on CPU 1 until `until`.
-fn frame_storm(f: &Flood<'_>, kind: &str) -> Value {
+/// An ARP, LLDP or SYN storm from `peers/frame_storm.py` on CPU 1 until `until`.
+pub fn frame_storm(f: &Flood<'_>, kind: &str) -> Value {
     let secs = f.until.saturating_duration_since(Instant::now());
     let input = json!({
         "iface": TAP,

@@ -7,8 +7,10 @@
 //! use it: the kernel's TCP feeds the adapter there.
 //!
 //! What it does, and leaves out, for a server of request and reply:
-//! - passive open only; a SYN finds a free connection, or takes the place of the oldest one
-//!   still half-open (a SYN flood cannot hold every connection), or is refused with a RST;
+//! - passive open only; a SYN finds a free connection; with none free, it is answered with a
+//!   SYN cookie if one is half-open (RFC 4987 3.6: a SYN flood holds the free connections
+//!   half-open, and a client's ACK proving its cookie opens one in the place of the oldest
+//!   half-open one), else refused with a RST;
 //! - data is taken in order only (a segment ahead of the next expected byte is answered with
 //!   an ACK and dropped, as is one the replies have no room after); no window scaling, SACK
 //!   or timestamps; the maximum segment size is announced and honoured;
@@ -24,8 +26,12 @@
 
 mod app;
 mod conn;
+mod cookie;
+#[cfg(test)]
+mod flood_tests;
 mod seq;
 mod server;
+mod siphash;
 #[cfg(test)]
 mod tests;
 
@@ -45,6 +51,9 @@ pub const HALF_OPEN: Duration = Duration::from_millis(300);
 /// The maximum segment size announced: an Ethernet frame's 1500-byte IPv4 payload less the
 /// 20-byte IPv4 and TCP headers.
 pub const MSS: u16 = 1460;
+/// The smallest maximum segment size taken from a peer (a smaller one is raised to it, as
+/// Linux does: a tiny one would make a reply a flood of segments).
+const MIN_MSS: u16 = 48;
 /// The peer's maximum segment size when its SYN names none (RFC 9293 3.7.1).
 pub const DEFAULT_MSS: u16 = 536;
 /// The first retransmission timeout, before any round trip was measured (RFC 6298 2.1).

@@ -1,9 +1,11 @@
 //! The server of `N` connections: finds the connection of each segment, takes SYNs into
-//! free (or the oldest half-open) connections, answers segments of no connection with a RST
-//! (RFC 9293 3.10.7.1), and hands out the connections' segments in turn.
+//! free connections (or, when every one is taken and one is half-open, answers them with a
+//! SYN cookie), answers other segments of no connection with a RST (RFC 9293 3.10.7.1), and
+//! hands out the connections' segments in turn.
 
 use super::conn::{Conn, State};
-use super::{Flags, Outgoing, Segment, TcpApp};
+use super::siphash::siphash24;
+use super::{cookie, Flags, Outgoing, Segment, TcpApp, DEFAULT_MSS, MIN_MSS, MSS};
 use crate::rng::Rng;
 use crate::{Instant, SocketId};
 
@@ -20,6 +22,9 @@ pub struct TcpServer<const N: usize, const F: usize> {
     next: usize,
     /// An Identity Reset whose reply went out: for [`Self::take_reset`].
     reset: Option<u8>,
+    /// Until when an ACK of no connection may prove a SYN cookie: two ticks of the cookie
+    /// clock after the last one sent (ACKs are not hashed while no cookie went out).
+    cookies_until: Option<Instant>,
 }
 
 /// A segment to send, from [`TcpServer::transmit`], and its data.
@@ -40,6 +45,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
             key: (seed, seed ^ 0x736F_6D65_7073_6575),
             next: 0,
             reset: None,
+            cookies_until: None,
         }
     }
 
@@ -59,8 +65,9 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         clock.wrapping_add((hash >> 32) as u32)
     }
 
-    /// The segment `seg`, arrived at `now`, for `app`; returns the RST to send if it belongs
-    /// to no connection (its own segments come from [`Self::transmit`]).
+    /// The segment `seg`, arrived at `now`, for `app`; returns the segment answering it if
+    /// it belongs to no connection: a RST, or a SYN cookie's SYN-ACK (the connections'
+    /// own segments come from [`Self::transmit`]).
     pub fn process(
         &mut self,
         seg: &Segment<'_>,
@@ -68,9 +75,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         app: &mut impl TcpApp,
     ) -> Option<Outgoing> {
         if let Some(i) = self.find(seg) {
-            let conn = self.conns.get_mut(i)?;
-            conn.process(id(i), seg, now, app);
-            self.reset = self.reset.or(conn.take_reset());
+            self.deliver(i, seg, now, app);
             return None;
         }
         let flags = seg.flags;
@@ -78,18 +83,84 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
             return None;
         }
         if flags.syn && !flags.ack {
-            let Some(slot) = self.slot_for_syn() else {
-                return Some(refusal(seg));
-            };
-            let iss = self.iss(seg.peer, now);
-            if let Some(conn) = self.conns.get_mut(slot) {
-                conn.open(seg, iss, now);
-            }
+            return self.take_syn(seg, now);
+        }
+        if flags.ack && !flags.syn && self.take_cookie(seg, now, app) {
             return None;
         }
         // The port listens (RFC 9293 3.10.7.2): a segment with an ACK is answered with a RST,
         // one with neither ACK nor SYN (a FIN, NULL or Xmas scan) dropped.
         flags.ack.then(|| refusal(seg))
+    }
+
+    /// `seg` to connection `i`.
+    fn deliver(&mut self, i: usize, seg: &Segment<'_>, now: Instant, app: &mut impl TcpApp) {
+        if let Some(conn) = self.conns.get_mut(i) {
+            conn.process(id(i), seg, now, app);
+            self.reset = self.reset.or(conn.take_reset());
+        }
+    }
+
+    /// A SYN of no connection: a free connection takes it; with none free, a SYN cookie
+    /// answers it if a connection is half-open (a SYN flood, or a handshake under way),
+    /// else a RST refuses it (every connection is in use).
+    fn take_syn(&mut self, seg: &Segment<'_>, now: Instant) -> Option<Outgoing> {
+        if let Some(i) = self.conns.iter().position(|c| c.state == State::Free) {
+            let iss = self.iss(seg.peer, now);
+            if let Some(conn) = self.conns.get_mut(i) {
+                conn.open(seg, iss, now);
+            }
+            return None;
+        }
+        if !self.conns.iter().any(|c| c.state == State::SynReceived) {
+            return Some(refusal(seg));
+        }
+        let mss = seg.mss.unwrap_or(DEFAULT_MSS).clamp(MIN_MSS, MSS);
+        let cookie = cookie::make(self.key, seg.peer, seg.seq, mss, now);
+        self.cookies_until = Some(now.add(cookie::LIFETIME));
+        Some(Outgoing {
+            peer: seg.peer,
+            seq: cookie,
+            ack: seg.seq.wrapping_add(1),
+            flags: Flags {
+                syn: true,
+                ack: true,
+                ..Flags::default()
+            },
+            window: u16::try_from(F).unwrap_or(u16::MAX),
+            mss: Some(MSS),
+        })
+    }
+
+    /// An ACK of no connection that proves a SYN cookie (sent lately) opens a connection in
+    /// a free one's place or the oldest half-open one's, and goes to it; false if it proves
+    /// none, or no connection is free or half-open.
+    fn take_cookie(&mut self, seg: &Segment<'_>, now: Instant, app: &mut impl TcpApp) -> bool {
+        if self.cookies_until.is_none_or(|until| now >= until) {
+            return false;
+        }
+        let (isn, iss) = (seg.seq.wrapping_sub(1), seg.ack.wrapping_sub(1));
+        let Some(mss) = cookie::check(self.key, seg.peer, isn, iss, now) else {
+            return false;
+        };
+        let Some(i) = self.slot_for_syn() else {
+            return false;
+        };
+        let syn = Segment {
+            seq: isn,
+            flags: Flags {
+                syn: true,
+                ..Flags::default()
+            },
+            mss: Some(mss),
+            payload: &[],
+            ..*seg
+        };
+        if let Some(conn) = self.conns.get_mut(i) {
+            conn.open_answered(&syn, iss, now);
+        }
+        self.deliver(i, seg, now, app);
+        true
     }
 
     /// The connection `seg` belongs to.
@@ -99,7 +170,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
             .position(|c| c.state != State::Free && c.peer == seg.peer)
     }
 
-    /// A free connection for a SYN, or the one half-open the longest.
+    /// A free connection for a proven SYN cookie, or the one half-open the longest.
     fn slot_for_syn(&self) -> Option<usize> {
         let free = self.conns.iter().position(|c| c.state == State::Free);
         free.or_else(|| {
@@ -179,53 +250,5 @@ fn refusal(seg: &Segment<'_>) -> Outgoing {
         flags,
         window: 0,
         mss: None,
-    }
-}
-
-/// SipHash-2-4 (Aumasson and Bernstein) of the 8-byte message `m` under `key`.
-fn siphash24((k0, k1): (u64, u64), m: u64) -> u64 {
-    let mut v = [
-        k0 ^ 0x736F_6D65_7073_6575,
-        k1 ^ 0x646F_7261_6E64_6F6D,
-        k0 ^ 0x6C79_6765_6E65_7261,
-        k1 ^ 0x7465_6462_7974_6573,
-    ];
-    let round = |v: &mut [u64; 4]| {
-        let [a, b, c, d] = v;
-        *a = a.wrapping_add(*b);
-        *b = b.rotate_left(13) ^ *a;
-        *a = a.rotate_left(32);
-        *c = c.wrapping_add(*d);
-        *d = d.rotate_left(16) ^ *c;
-        *a = a.wrapping_add(*d);
-        *d = d.rotate_left(21) ^ *a;
-        *c = c.wrapping_add(*b);
-        *b = b.rotate_left(17) ^ *c;
-        *c = c.rotate_left(32);
-    };
-    // The message word, then the last block: the length (8) in the top byte.
-    for word in [m, 8 << 56] {
-        v[3] ^= word;
-        round(&mut v);
-        round(&mut v);
-        v[0] ^= word;
-    }
-    v[2] ^= 0xFF;
-    for _ in 0..4 {
-        round(&mut v);
-    }
-    v[0] ^ v[1] ^ v[2] ^ v[3]
-}
-
-#[cfg(test)]
-mod tests {
-    use super::siphash24;
-
-    #[test]
-    fn siphash_matches_the_reference_vector() {
-        // The reference implementation's vector for the 8-byte message 00..07 under the key
-        // 00..0f (vectors.h, entry 8).
-        let key = (0x0706_0504_0302_0100, 0x0F0E_0D0C_0B0A_0908);
-        assert_eq!(siphash24(key, 0x0706_0504_0302_0100), 0x93F5_F579_9A93_2462);
     }
 }

@@ -9,14 +9,11 @@ mod timers;
 use core::net::{Ipv4Addr, SocketAddrV4};
 
 use super::seq::{distance, le, lt, within};
-use super::{Segment, TcpApp, DEFAULT_MSS, INITIAL_RTO, MIN_RTO, MSS};
+use super::{Segment, TcpApp, DEFAULT_MSS, INITIAL_RTO, MIN_MSS, MIN_RTO, MSS};
 use crate::{Duration, Instant, SocketId};
 
 /// The longest retransmission timeout (RFC 6298 2.5).
 const MAX_RTO: Duration = Duration::from_secs(60);
-/// The smallest maximum segment size taken from a peer (a smaller one is raised to it, as
-/// Linux does: a tiny one would make a reply a flood of segments).
-const MIN_MSS: u16 = 48;
 
 /// Where a connection is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -156,6 +153,13 @@ impl<const F: usize> Conn<F> {
         self.retransmit_at = None;
         self.progress_at = now;
         self.reset = None;
+    }
+
+    /// Takes the SYN `syn` that a SYN cookie answered with `iss` (its SYN-ACK went already):
+    /// SYN-RECEIVED, waiting for the ACK that proved the cookie.
+    pub(super) fn open_answered(&mut self, syn: &Segment<'_>, iss: u32, now: Instant) {
+        self.open(syn, iss, now);
+        self.syn_ack_owed = false;
     }
 
     /// The window offered: a frame, if the replies have room for one more (the adapter

@@ -1,0 +1,110 @@
+//! The server under a SYN flood from forged sources: the connections it holds half-open,
+//! the SYN cookies that answer the SYNs beyond them, and the clients those cookies let in.
+
+extern crate std;
+
+use std::vec::Vec;
+
+use super::tests::{drain, ms, peer, seg, Echo, Event, Server, ACK, FRAME, SYN};
+use super::*;
+
+/// Forged SYNs from `count` ports at `at`: the first take the free connections (their
+/// SYN-ACKs drained), the rest are answered with cookies, returned.
+fn flood(s: &mut Server, app: &mut Echo, count: u16, at: Instant) -> Vec<Outgoing> {
+    let mut cookies = Vec::new();
+    for port in 40_000..40_000 + count {
+        if let Some(answer) = s.process(&seg(peer(port), 1, 0, SYN, &[]), at, app) {
+            cookies.push(answer);
+        }
+        drain(s, at);
+    }
+    cookies
+}
+
+/// A client's SYN during the flood: its cookie SYN-ACK, checked.
+fn cookie_for(s: &mut Server, app: &mut Echo, port: u16, isn: u32, at: Instant) -> u32 {
+    let answer = s
+        .process(&seg(peer(port), isn, 0, SYN, &[]), at, app)
+        .expect("a SYN-ACK answers at once");
+    assert!(answer.flags.syn && answer.flags.ack && !answer.flags.rst);
+    assert_eq!((answer.peer, answer.ack), (peer(port), isn + 1));
+    assert_eq!((answer.mss, answer.window), (Some(MSS), FRAME as u16));
+    assert!(drain(s, at).is_empty(), "nothing kept for it");
+    answer.seq
+}
+
+#[test]
+fn a_syn_flood_holds_no_client_out_the_cookies_let_it_in() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let cookies = flood(&mut s, &mut app, 50, ms(0));
+    assert_eq!(
+        cookies.len(),
+        48,
+        "both connections half-open, a cookie for each other SYN"
+    );
+    assert!(cookies.iter().all(|c| c.flags.syn && c.flags.ack));
+    // A client's SYN gets its cookie; its ACK, carrying a request, opens a connection in the
+    // oldest half-open one's place, and the request is answered.
+    let cookie = cookie_for(&mut s, &mut app, 5000, 100, ms(1));
+    let next = cookie.wrapping_add(1);
+    s.process(&seg(peer(5000), 101, next, ACK, b"abcd"), ms(2), &mut app);
+    assert_eq!(
+        app.events,
+        [
+            Event::Accepted(0, peer(5000)),
+            Event::Received(0, b"abcd".to_vec())
+        ]
+    );
+    let sent = drain(&mut s, ms(2));
+    assert_eq!(sent.len(), 1, "{sent:?}");
+    assert_eq!((sent[0].0.seq, sent[0].0.ack), (next, 105));
+    assert_eq!(sent[0].1, b"abcd");
+    // The flood goes on: the other half-open connection gives way to the next client.
+    flood(&mut s, &mut app, 20, ms(3));
+    let cookie = cookie_for(&mut s, &mut app, 5001, 900, ms(4));
+    s.process(&seg(peer(5001), 901, cookie + 1, ACK, &[]), ms(5), &mut app);
+    assert_eq!(app.events.last(), Some(&Event::Accepted(1, peer(5001))));
+    // Both connections open, none half-open: a SYN is refused, as before any flood.
+    let refused = s.process(&seg(peer(5002), 7, 0, SYN, &[]), ms(6), &mut app);
+    assert!(refused.is_some_and(|r| r.flags.rst));
+}
+
+#[test]
+fn an_ack_that_proves_no_cookie_is_refused() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    flood(&mut s, &mut app, 3, ms(0));
+    let cookie = cookie_for(&mut s, &mut app, 5000, 100, ms(1));
+    let refused = |s: &mut Server, app: &mut Echo, seq, ack, at| {
+        let answer = s.process(&seg(peer(5000), seq, ack, ACK, &[]), at, app);
+        answer.is_some_and(|r| r.flags.rst && r.seq == ack)
+    };
+    // Another cookie, another initial sequence number, or too late: a RST.
+    assert!(refused(&mut s, &mut app, 101, cookie ^ 0x100, ms(2)));
+    assert!(refused(&mut s, &mut app, 102, cookie + 1, ms(2)));
+    let late = ms(2).add(cookie::LIFETIME).add(Duration::from_secs(5));
+    assert!(refused(&mut s, &mut app, 101, cookie + 1, late));
+    assert!(app.events.is_empty());
+    // In time it opens its connection.
+    assert!(!refused(&mut s, &mut app, 101, cookie + 1, ms(3)));
+    assert_eq!(app.events, [Event::Accepted(0, peer(5000))]);
+}
+
+#[test]
+fn a_cookie_connection_keeps_to_the_segment_size_its_cookie_named() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    flood(&mut s, &mut app, 2, ms(0));
+    let mut syn = seg(peer(5000), 100, 0, SYN, &[]);
+    syn.mss = Some(100);
+    let cookie = s.process(&syn, ms(1), &mut app).expect("a cookie").seq;
+    s.process(&seg(peer(5000), 101, cookie + 1, ACK, &[]), ms(2), &mut app);
+    assert_eq!(app.events, [Event::Accepted(0, peer(5000))]);
+    // A cookie names 100 as the smallest size it knows, 48: a 64-byte reply goes in two.
+    s.process(
+        &seg(peer(5000), 101, cookie + 1, ACK, b"L"),
+        ms(3),
+        &mut app,
+    );
+    let sent = drain(&mut s, ms(3));
+    let sizes: Vec<usize> = sent.iter().map(|(_, data)| data.len()).collect();
+    assert_eq!(sizes, [48, FRAME - 48]);
+}
