@@ -37,7 +37,7 @@ struct Entry {
     ip: Ipv4Addr,
     mac: [u8; 6],
     learned: u32,
-    /// A T->O datagram went to it ([`Neighbors::get`]).
+    /// A T->O datagram or a connection's TCP segment went to it ([`Neighbors::get`]).
     used: bool,
 }
 
@@ -86,6 +86,15 @@ impl Neighbors {
         let e = self.entries.get_mut(i)?.as_mut()?;
         e.used = true;
         Some(e.mac)
+    }
+
+    /// The MAC address of `ip`'s frames, if any came, without making its entry one that T->O
+    /// goes to: for the answers to SYNs and the RSTs, which a storm of forged segments would
+    /// otherwise turn into entries kept before the originators'.
+    pub fn peek(&mut self, ip: Ipv4Addr) -> Option<[u8; 6]> {
+        let i = self.find(ip)?;
+        self.last = i;
+        Some(self.entries.get(i)?.as_ref()?.mac)
     }
 
     /// Changes to the entries since the start: the same count means every lookup finds what
@@ -195,6 +204,20 @@ mod tests {
             n.learn(Ipv4Addr::new(198, 18, 2, i), [2, 0, 0, 0, 2, i]);
         }
         assert_eq!(n.get(A), Some([2, 0, 0, 0, 0, 2]));
+    }
+
+    #[test]
+    fn senders_only_answered_by_peek_do_not_crowd_out_the_originators() {
+        let mut n = Neighbors::default();
+        n.learn(A, [2, 0, 0, 0, 0, 1]);
+        assert!(n.get(A).is_some(), "T->O goes to A");
+        // Forged SYNs from changing senders, each answered (its MAC looked up by peek).
+        for i in 0..=255u8 {
+            let ip = Ipv4Addr::new(198, 18, 1, i);
+            n.learn(ip, [2, 0, 0, 0, 1, i]);
+            assert_eq!(n.peek(ip), Some([2, 0, 0, 0, 1, i]));
+        }
+        assert_eq!(n.get(A), Some([2, 0, 0, 0, 0, 1]));
     }
 
     #[test]

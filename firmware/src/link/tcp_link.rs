@@ -144,7 +144,17 @@ fn send_segment(
     let me = from.me;
     let peer = *out.peer.ip();
     let hop = next_hop(peer, me.ip, me.netmask, me.gateway);
-    let Some(to) = neighbors.get(peer).or_else(|| neighbors.get(hop)) else {
+    // A connection's segments keep its peer's entry as T->O's do; a SYN's answer or a RST
+    // (to whatever address a segment claimed) does not.
+    let keep = !out.flags.syn && !out.flags.rst;
+    let mut lookup = |ip| {
+        if keep {
+            neighbors.get(ip)
+        } else {
+            neighbors.peek(ip)
+        }
+    };
+    let Some(to) = lookup(peer).or_else(|| lookup(hop)) else {
         if neighbors.may_ask(at) {
             let mut request = [0u8; ARP_REQUEST_LEN];
             frame::write_arp_request(&mut request, (from.mac, me.ip), hop);
