@@ -233,15 +233,16 @@ fn faults_flood_udp() {
     rig.finish().expect("the board ran to the end");
 }
 
-/// An ARP, LLDP or SYN storm from `peers/frame_storm.py` on CPU 1 until `until`.
-pub fn frame_storm(f: &Flood<'_>, kind: &str) -> Value {
+/// An ARP, LLDP or SYN storm from `peers/frame_storm.py` on CPU 1 until `until`, at
+/// `per_second` frames at most.
+pub fn frame_storm(f: &Flood<'_>, kind: &str, per_second: f64) -> Value {
     let secs = f.until.saturating_duration_since(Instant::now());
     let input = json!({
         "iface": TAP,
         "kind": kind,
         "seconds": secs.as_secs_f64(),
         "max_frames": line_rate_bound(f.until),
-        "per_second": LINE_RATE,
+        "per_second": per_second,
         "target": BOARD_IP.to_string(),
     });
     let mut cmd = f.ns.command("taskset");
@@ -265,8 +266,8 @@ pub fn frame_storm(f: &Flood<'_>, kind: &str) -> Value {
 fn faults_flood_arp_and_lldp() {
     let len = phase_length();
     let rig = Rig::start(&common::host_bin(), "generic", None).expect("rig");
-    let arp = |f: &Flood<'_>| frame_storm(f, "arp");
-    let lldp = |f: &Flood<'_>| frame_storm(f, "lldp");
+    let arp = |f: &Flood<'_>| frame_storm(f, "arp", LINE_RATE);
+    let lldp = |f: &Flood<'_>| frame_storm(f, "lldp", LINE_RATE);
     flood_run(
         &rig,
         "enip-host",
