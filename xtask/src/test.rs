@@ -8,7 +8,7 @@ use crate::{boards, footprint, fuzz, setup, smoke};
 
 /// Seconds per fuzz target in the test run: a smoke run from the seeds (22 targets; the
 /// long runs are `cargo xtask fuzz --campaign MINUTES`).
-const FUZZ_SECONDS: u64 = 3;
+const FUZZ_SECONDS: u64 = 2;
 /// The published crate whose `rust-version` the run builds with.
 const PUBLISHED: &str = "enip-stack";
 /// Every crate a device author needs: the `no_std` ones and the Linux host board's.
