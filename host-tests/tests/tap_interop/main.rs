@@ -56,6 +56,7 @@ mod floods_datagrams;
 mod floods_load;
 mod hostile_cip;
 mod hostile_framing;
+mod hostile_tcp;
 mod kollmorgen_akd;
 mod lldp;
 mod parker_ipa;
