@@ -1,12 +1,12 @@
 """A storm of Ethernet frames at the board, through an AF_PACKET socket on the namespace's
 link: ARP requests for the board's address from changing senders (198.18.0.100-249, each
 with its own locally administered MAC), LLDPDUs from changing chassis (MAC addresses), or
-TCP SYNs to the board's port 44818 from the same changing senders and ports (a SYN flood
-from many forged sources: no source sends enough to be told from a client; the board's
-MAC is read from this namespace's ARP table), at most "per_second" frames a second (a TAP
-has no line rate of its own), bounded by time and count.
+TCP SYNs ("syn") or ACKs of no connection ("ack") to the board's port 44818 from the same
+changing senders and ports (a flood from many forged sources: no source sends enough to be
+told from a client; the board's MAC is read from this namespace's ARP table), at most
+"per_second" frames a second (a TAP has no line rate of its own), bounded by time and count.
 
-Reads {"iface": str, "kind": "arp"|"lldp"|"syn", "seconds": float, "max_frames": int,
+Reads {"iface": str, "kind": "arp"|"lldp"|"syn"|"ack", "seconds": float, "max_frames": int,
 "per_second": float, "target": str} as JSON from stdin. Prints one JSON line: {"kind", "frames", "seconds",
 "frames_per_second"}.
 """
@@ -62,10 +62,11 @@ def checksum(data):
     return ~total & 0xFFFF
 
 
-def syn(i):
+def syn(i, flags=0x02):
     src_ip = bytes([198, 18, 0, 100 + i % 150])
     port = 1024 + i
-    tcp = struct.pack("!HHIIBBHHH", port, 44818, 0x1000 * i, 0, 6 << 4, 0x02, 64240, 0, 0)
+    ack = 0x2000 * i if flags & 0x10 else 0
+    tcp = struct.pack("!HHIIBBHHH", port, 44818, 0x1000 * i, ack, 6 << 4, flags, 64240, 0, 0)
     tcp += struct.pack("!BBH", 2, 4, 1460)
     pseudo = src_ip + target + struct.pack("!BBH", 0, 6, len(tcp))
     tcp = tcp[:16] + struct.pack("!H", checksum(pseudo + tcp)) + tcp[18:]
@@ -76,9 +77,9 @@ def syn(i):
 
 
 kind = req["kind"]
-if kind == "syn":
+if kind in ("syn", "ack"):
     to_board = board_mac()
-make = {"arp": arp, "lldp": lldp, "syn": syn}[kind]
+make = {"arp": arp, "lldp": lldp, "syn": syn, "ack": lambda i: syn(i, 0x10)}[kind]
 # A few thousand different senders, built before the clock starts.
 frames = [make(i) for i in range(4096)]
 start = time.monotonic()
