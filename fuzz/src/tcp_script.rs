@@ -79,7 +79,8 @@ impl<D: Device> TcpApp for Checked<D> {
 
 /// Plays a script; panics on a broken invariant (the adapter's pairing above; a segment
 /// longer than the peer's maximum segment size or than the replies kept; a RST answering a
-/// RST; a SYN that is not a SYN-ACK, or a SYN cookie to no SYN; time the timers asked for not honoured).
+/// RST; a SYN that is not a SYN-ACK, or a SYN cookie to no SYN; time the timers asked for
+/// not honoured).
 pub fn run_tcp_server(script: &[u8]) {
     with_device!(script, |adapter, rest| run(adapter, rest))
 }
@@ -101,8 +102,9 @@ fn run<D: Device>(adapter: Adapter<D>, script: &[u8]) {
     let mut seq = [1000u32, 2000, 3000, 4000];
     let mut theirs = [0u32; 4];
     let mut mss = [MSS; 4];
-    // Every SYN's peer, sequence number and maximum segment size (one repeated with the
-    // same number keeps the first one's, as the server does).
+    // Every SYN's peer and sequence number, with the largest maximum segment size a SYN of
+    // that number named (the bound of whatever connection it opens: a half-open one keeps
+    // the first SYN's, a cookie the size of the SYN it answered).
     let mut syns: HashMap<(usize, u32), u16> = HashMap::new();
     let mut c = Cursor(script);
     while let Some(op) = c.u8() {
@@ -129,7 +131,8 @@ fn run<D: Device>(adapter: Adapter<D>, script: &[u8]) {
                 seq[i] = seq[i].wrapping_add(u32::from(ds));
                 if flags.syn {
                     let size = option.unwrap_or(536).clamp(48, MSS);
-                    syns.entry((i, seq[i])).or_insert(size);
+                    let kept = syns.entry((i, seq[i])).or_insert(size);
+                    *kept = (*kept).max(size);
                 }
                 let segment = Segment {
                     peer: peer(who),

@@ -2,8 +2,9 @@
 link: ARP requests for the board's address from changing senders (198.18.0.100-249, each
 with its own locally administered MAC), LLDPDUs from changing chassis (MAC addresses), or
 TCP SYNs ("syn") or ACKs of no connection ("ack") to the board's port 44818 from the same
-changing senders and ports (a flood from many forged sources: no source sends enough to be
-told from a client; the board's MAC is read from this namespace's ARP table), at most
+changing senders and ports (a flood from many forged sources: the board's SYN guard follows
+a few sources at a time, and 150 in turn push each other out of it before any counts as a
+flooder; the board's MAC is read from this namespace's ARP table), at most
 "per_second" frames a second (a TAP has no line rate of its own), bounded by time and count.
 
 Reads {"iface": str, "kind": "arp"|"lldp"|"syn"|"ack", "seconds": float, "max_frames": int,
@@ -48,7 +49,8 @@ def board_mac():
     with open("/proc/net/arp") as table:
         for line in table.readlines()[1:]:
             fields = line.split()
-            if fields[0] == req["target"]:
+            # A complete entry only (flag 0x2): an incomplete one's MAC is all zeros.
+            if fields[0] == req["target"] and int(fields[2], 16) & 0x2:
                 return bytes.fromhex(fields[3].replace(":", ""))
     sys.exit("the board's MAC is not in the ARP table")
 

@@ -77,9 +77,19 @@ raw = socket.socket(socket.AF_PACKET, socket.SOCK_RAW, socket.htons(0x0003))
 raw.bind((interface_to(target), 0))
 client = socket.create_connection((target, port), timeout=5)
 me = client.getsockname()
+def receive(n):
+    data = b""
+    while len(data) < n:
+        chunk = client.recv(n - len(data))
+        if not chunk:
+            break
+        data += chunk
+    return data
+
+
 client.sendall(header(REGISTER, 4) + struct.pack("<HH", 1, 0))
-registered = client.recv(28)
-assert len(registered) >= 8, registered
+registered = receive(28)
+assert len(registered) == 28, registered
 session = struct.unpack("<I", registered[4:8])[0]
 time.sleep(0.2)
 seen = segments(raw, time.monotonic() + 0.3)
@@ -110,12 +120,7 @@ challenge = any(not s[5] and s[3] == client_next for s in board_after)
 
 client.sendall(header(LIST_IDENTITY))
 client.settimeout(3)
-reply = b""
-while len(reply) < 24:
-    chunk = client.recv(24 - len(reply))
-    if not chunk:
-        break
-    reply += chunk
+reply = receive(24)
 command = struct.unpack("<H", reply[:2])[0]
 forged_answered = command == LIST_SERVICES
 client.close()

@@ -4,12 +4,13 @@
 //! ListIdentity storm; and the SYN and UDP floods, shorter, on the emulated board. The UDP
 //! floods and the frame-level storms are in `floods_datagrams.rs`.
 //!
-//! The SYN floods come from an address nobody answers for (198.18.0.77), as an attacker's
-//! forged SYNs do: no RST ever frees the board's half-open connections, so what frees them
-//! is the encapsulation TCP's bound on half-open connections (`enip_stack::tcp::HALF_OPEN`)
-//! and the link task's SYN guard (`firmware/src/link/flood_guard.rs`); SYNs beyond the
-//! connections are answered with SYN cookies. Every flood is bounded in time
-//! and count and runs inside the test's namespace, on CPU 1.
+//! The hping3 SYN floods come from an address nobody answers for (198.18.0.77), as an
+//! attacker's forged SYNs do, and `peers/frame_storm.py`'s from 150 such addresses: no RST
+//! ever frees the board's half-open connections, so what frees them is the encapsulation
+//! TCP's bound on half-open connections (`enip_stack::tcp::HALF_OPEN`) and the link task's
+//! SYN guard (`firmware/src/link/flood_guard.rs`); SYNs beyond the connections are answered
+//! with SYN cookies. Every flood is bounded in time and count and runs inside the test's
+//! namespace, on CPU 1.
 //!
 //! Each prints its figures as one `FAULT-REPORT {json}` line; `ENIP_FAULTS_LONG=1` runs the
 //! long versions (`cargo xtask faults`).
@@ -91,10 +92,11 @@ fn syn_flood(f: &Flood<'_>, per_second: Option<u64>) -> Value {
 }
 
 /// SYN floods on TCP 44818 from a forged source, paced (`hping3 -i u1`) and at line rate,
-/// and from 150 forged sources and 4 096 ports (`peers/frame_storm.py`: no source sends
-/// enough for the SYN guard, so the flood holds every free connection half-open and clients
-/// get in by SYN cookies), then ACKs of no connection from the same sources (each answered
-/// with a RST, and checked against the SYN cookies sent just before), each 2 s (long: 30 s)
+/// and from 150 forged sources and 4 096 ports (`peers/frame_storm.py`: the SYN guard
+/// follows 8 sources at a time and the 150 push each other out of it, so the flood holds
+/// every free connection half-open and clients get in by SYN cookies), then ACKs of no
+/// connection from the same sources (each answered with a RST; within the cookies' lifetime
+/// after the SYN storm each is first checked as a cookie), each 2 s (long: 30 s)
 /// against the load: no connection times out, the established pycomm3 session answers every
 /// read, fresh clients are served during each flood and within 1 s after it ends, and under
 /// the floods from many sources less than 10 % of the T->O goes missing; Class 1 losses and

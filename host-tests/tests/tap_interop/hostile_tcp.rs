@@ -33,8 +33,13 @@ fn hostile_tcp_blind_data_injection() {
         (&json!(false), &json!(0x63)),
         "the forged segment's request reached the session: {out}"
     );
-    // Nothing the board sent afterwards acknowledged the forged bytes.
+    // It answered with an ACK of the client's next byte (RFC 5961 5.2's challenge), and
+    // nothing it sent acknowledged the forged bytes.
     let acks = out["board_acks"].as_array().expect("board_acks");
+    assert!(
+        out["challenge_ack"] == json!(true) && !acks.is_empty(),
+        "no challenge ACK: {out}"
+    );
     assert!(
         acks.iter().all(|a| a == &json!(0)),
         "the board acknowledged the forged data: {out}"

@@ -5,7 +5,7 @@ extern crate std;
 
 use std::vec::Vec;
 
-use super::tests::{drain, ms, peer, seg, Echo, Event, Server, ACK, FRAME, SYN};
+use super::tests::{drain, ms, peer, seg, Echo, Event, Server, ACK, FIN_ACK, FRAME, SYN};
 use super::*;
 
 /// Forged SYNs from `count` ports at `at`: the first take the free connections (their
@@ -71,22 +71,69 @@ fn a_syn_flood_holds_no_client_out_the_cookies_let_it_in() {
 
 #[test]
 fn an_ack_that_proves_no_cookie_is_refused() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    flood(&mut s, &mut app, 3, ms(0));
-    let cookie = cookie_for(&mut s, &mut app, 5000, 100, ms(1));
     let refused = |s: &mut Server, app: &mut Echo, seq, ack, at| {
         let answer = s.process(&seg(peer(5000), seq, ack, ACK, &[]), at, app);
         answer.is_some_and(|r| r.flags.rst && r.seq == ack)
     };
-    // Another cookie, another initial sequence number, or too late: a RST.
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    flood(&mut s, &mut app, 3, ms(0));
+    let cookie = cookie_for(&mut s, &mut app, 5000, 100, ms(1));
+    // Another cookie, or another initial sequence number: a RST.
     assert!(refused(&mut s, &mut app, 101, cookie ^ 0x100, ms(2)));
     assert!(refused(&mut s, &mut app, 102, cookie + 1, ms(2)));
-    let late = ms(2).add(cookie::LIFETIME).add(Duration::from_secs(5));
-    assert!(refused(&mut s, &mut app, 101, cookie + 1, late));
     assert!(app.events.is_empty());
     // In time it opens its connection.
     assert!(!refused(&mut s, &mut app, 101, cookie + 1, ms(3)));
     assert_eq!(app.events, [Event::Accepted(0, peer(5000))]);
+    // Too late: refused.
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    flood(&mut s, &mut app, 3, ms(0));
+    let cookie = cookie_for(&mut s, &mut app, 5000, 100, ms(1));
+    let late = ms(1).add(cookie::LIFETIME).add(Duration::from_secs(5));
+    assert!(refused(&mut s, &mut app, 101, cookie + 1, late));
+    assert!(app.events.is_empty());
+}
+
+#[test]
+fn a_proven_cookie_finding_every_connection_open_is_refused() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    flood(&mut s, &mut app, 3, ms(0));
+    let cookie = cookie_for(&mut s, &mut app, 5000, 100, ms(1));
+    // Both half-open connections give way to clients proving cookies.
+    for (port, isn) in [(5001, 300), (5002, 400)] {
+        let c = cookie_for(&mut s, &mut app, port, isn, ms(2));
+        s.process(&seg(peer(port), isn + 1, c + 1, ACK, &[]), ms(2), &mut app);
+    }
+    assert_eq!(app.events.len(), 2);
+    let answer = s.process(&seg(peer(5000), 101, cookie + 1, ACK, &[]), ms(3), &mut app);
+    assert!(answer.is_some_and(|r| r.flags.rst), "{answer:?}");
+    assert_eq!(app.events.len(), 2);
+}
+
+#[test]
+fn either_cookie_of_a_repeated_syn_opens_and_a_fin_with_it_closes() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    flood(&mut s, &mut app, 2, ms(0));
+    let first = cookie_for(&mut s, &mut app, 5000, 100, ms(1));
+    // The SYN again, a tick later: another cookie; the first still proves itself.
+    let later = ms(1).add(Duration::from_micros(cookie::LIFETIME.as_micros() / 2));
+    let second = cookie_for(&mut s, &mut app, 5000, 100, later);
+    assert_ne!(first, second);
+    // The ACK of the first, with a request and a FIN.
+    let mut fin = seg(peer(5000), 101, first + 1, FIN_ACK, b"abcd");
+    fin.flags.psh = true;
+    s.process(&fin, later, &mut app);
+    assert_eq!(
+        app.events,
+        [
+            Event::Accepted(0, peer(5000)),
+            Event::Received(0, b"abcd".to_vec()),
+            Event::Closed(0)
+        ]
+    );
+    let sent = drain(&mut s, later);
+    let last = sent.last().expect("the reply and our FIN");
+    assert!(last.0.flags.fin && last.0.ack == 106, "{sent:?}");
 }
 
 #[test]

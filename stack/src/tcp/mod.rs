@@ -9,8 +9,8 @@
 //! What it does, and leaves out, for a server of request and reply:
 //! - passive open only; a SYN finds a free connection; with none free, it is answered with a
 //!   SYN cookie if one is half-open (RFC 4987 3.6: a SYN flood holds the free connections
-//!   half-open, and a client's ACK proving its cookie opens one in the place of the oldest
-//!   half-open one), else refused with a RST;
+//!   half-open, and a client's ACK proving its cookie opens one where a connection is free
+//!   again, else in the place of the oldest half-open one), else refused with a RST;
 //! - data is taken in order only (a segment ahead of the next expected byte is answered with
 //!   an ACK and dropped, as is one the replies have no room after); no window scaling, SACK
 //!   or timestamps; the maximum segment size is announced and honoured;

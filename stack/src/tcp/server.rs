@@ -4,8 +4,9 @@
 //! hands out the connections' segments in turn.
 
 use super::conn::{Conn, State};
+use super::cookie::{self, Cookies};
 use super::siphash::siphash24;
-use super::{cookie, Flags, Outgoing, Segment, TcpApp, DEFAULT_MSS, MIN_MSS, MSS};
+use super::{Flags, Outgoing, Segment, TcpApp, DEFAULT_MSS, MIN_MSS, MSS};
 use crate::rng::Rng;
 use crate::{Instant, SocketId};
 
@@ -18,6 +19,8 @@ pub struct TcpServer<const N: usize, const F: usize> {
     conns: [Conn<F>; N],
     /// The key of the initial sequence numbers' hash (RFC 6528).
     key: (u64, u64),
+    /// The SYN cookies' key.
+    cookies: Cookies,
     /// The connection [`Self::transmit`] looks at first (each gets its turn).
     next: usize,
     /// An Identity Reset whose reply went out: for [`Self::take_reset`].
@@ -43,17 +46,19 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         TcpServer {
             conns: [const { Conn::new() }; N],
             key: (seed, seed ^ 0x736F_6D65_7073_6575),
+            cookies: Cookies::new(seed),
             next: 0,
             reset: None,
             cookies_until: None,
         }
     }
 
-    /// Mixes `seed` (the runtime's hardware RNG or clock at start) into the key of the
-    /// initial sequence numbers.
+    /// Mixes `seed` (the runtime's hardware RNG or clock at start) into the keys of the
+    /// initial sequence numbers and of the SYN cookies.
     pub fn seed(&mut self, seed: u64) {
         let mut rng = Rng::new(seed);
         self.key = (self.key.0 ^ rng.next_u64(), self.key.1 ^ rng.next_u64());
+        self.cookies.mix(rng.next_u64(), rng.next_u64());
     }
 
     /// The initial sequence number of a connection from `peer` at `now` (RFC 6528): a clock
@@ -116,7 +121,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
             return Some(refusal(seg));
         }
         let mss = seg.mss.unwrap_or(DEFAULT_MSS).clamp(MIN_MSS, MSS);
-        let cookie = cookie::make(self.key, seg.peer, seg.seq, mss, now);
+        let cookie = self.cookies.make(seg.peer, seg.seq, mss, now);
         self.cookies_until = Some(now.add(cookie::LIFETIME));
         Some(Outgoing {
             peer: seg.peer,
@@ -140,7 +145,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
             return false;
         }
         let (isn, iss) = (seg.seq.wrapping_sub(1), seg.ack.wrapping_sub(1));
-        let Some(mss) = cookie::check(self.key, seg.peer, isn, iss, now) else {
+        let Some(mss) = self.cookies.check(seg.peer, isn, iss, now) else {
             return false;
         };
         let Some(i) = self.slot_for_syn() else {

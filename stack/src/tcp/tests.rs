@@ -82,7 +82,7 @@ const NONE: Flags = Flags {
 };
 pub(super) const SYN: Flags = Flags { syn: true, ..NONE };
 pub(super) const ACK: Flags = Flags { ack: true, ..NONE };
-const FIN_ACK: Flags = Flags {
+pub(super) const FIN_ACK: Flags = Flags {
     fin: true,
     ack: true,
     ..NONE
