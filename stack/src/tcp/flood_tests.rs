@@ -5,7 +5,9 @@ extern crate std;
 
 use std::vec::Vec;
 
-use super::tests::{drain, ms, peer, seg, Echo, Event, Server, ACK, FIN_ACK, FRAME, SYN};
+use super::tests::{
+    connect, drain, ms, peer, seg, Echo, Event, Server, ACK, FIN_ACK, FRAME, RST, SYN,
+};
 use super::*;
 
 /// Forged SYNs from `count` ports at `at`: the first take the free connections (their
@@ -154,4 +156,27 @@ fn a_cookie_connection_keeps_to_the_segment_size_its_cookie_named() {
     let sent = drain(&mut s, ms(3));
     let sizes: Vec<usize> = sent.iter().map(|(_, data)| data.len()).collect();
     assert_eq!(sizes, [48, FRAME - 48]);
+}
+
+#[test]
+fn forged_segments_draw_one_challenge_ack_each_half_second() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    let old_ack = iss.wrapping_sub(100_000);
+    let challenges = |s: &mut Server, app: &mut Echo, at: Instant| {
+        // An in-window RST that is not exact, a SYN, data with an ACK far back.
+        s.process(&seg(peer(5000), 105, 0, RST, &[]), at, app);
+        s.process(&seg(peer(5000), 7, 0, SYN, &[]), at, app);
+        s.process(&seg(peer(5000), 101, old_ack, ACK, b"evil"), at, app);
+        drain(s, at).len()
+    };
+    assert_eq!(challenges(&mut s, &mut app, ms(10)), 1);
+    for t in [20, 200, 509] {
+        assert_eq!(challenges(&mut s, &mut app, ms(t)), 0, "at {t} ms");
+    }
+    assert_eq!(challenges(&mut s, &mut app, ms(510)), 1);
+    // None of it reached the session, which goes on.
+    assert_eq!(app.events, [Event::Accepted(0, peer(5000))]);
+    s.process(&seg(peer(5000), 101, iss, ACK, b"abcd"), ms(511), &mut app);
+    assert_eq!(drain(&mut s, ms(511))[0].1, b"abcd");
 }

@@ -18,8 +18,9 @@
 //!   rule), and a peer that takes [`WRITE_TIMEOUT`] to acknowledge loses its connection;
 //! - RST, SYN and ACK checks of RFC 5961 (an in-window RST, any SYN on an open connection,
 //!   or an ACK older than the peer's largest window before the oldest unacknowledged byte
-//!   gets a challenge ACK, and the segment goes no further); a connection half-open for
-//!   [`HALF_OPEN`] is dropped (without a RST);
+//!   gets a challenge ACK, and the segment goes no further), challenge ACKs and the ACKs of
+//!   out-of-window segments without data throttled to one per connection each 500 ms (its
+//!   section 7); a connection half-open for [`HALF_OPEN`] is dropped (without a RST);
 //! - the adapter closes when the peer does (no CLOSE-WAIT), and a connection is free again
 //!   once both FINs are acknowledged (no TIME-WAIT: a late FIN finds no connection and is
 //!   answered with a RST); a close the peer does not complete within [`LINGER`] is reset.

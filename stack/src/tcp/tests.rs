@@ -87,7 +87,7 @@ pub(super) const FIN_ACK: Flags = Flags {
     ack: true,
     ..NONE
 };
-const RST: Flags = Flags { rst: true, ..NONE };
+pub(super) const RST: Flags = Flags { rst: true, ..NONE };
 
 pub(super) fn seg(
     from: SocketAddrV4,
@@ -129,7 +129,7 @@ pub(super) fn drain(server: &mut Server, now: Instant) -> Vec<(Outgoing, Vec<u8>
 
 /// A connection from `from`, its client's sequence numbers starting at `isn`; returns the
 /// server's next sequence number.
-fn connect(server: &mut Server, app: &mut Echo, from: SocketAddrV4, isn: u32) -> u32 {
+pub(super) fn connect(server: &mut Server, app: &mut Echo, from: SocketAddrV4, isn: u32) -> u32 {
     assert_eq!(
         server.process(&seg(from, isn, 0, SYN, &[]), ms(0), app),
         None

@@ -12,6 +12,10 @@ use super::seq::{distance, le, lt, within};
 use super::{Segment, TcpApp, DEFAULT_MSS, INITIAL_RTO, MIN_MSS, MIN_RTO, MSS};
 use crate::{Duration, Instant, SocketId};
 
+/// Shortest time between two challenge ACKs of one connection (RFC 5961 section 7's
+/// throttling; per connection, as Linux's `tcp_invalid_ratelimit`: a count shared by every
+/// connection would tell an off-path attacker when another connection answered).
+const CHALLENGE_INTERVAL: Duration = Duration::from_millis(500);
 /// The longest retransmission timeout (RFC 6298 2.5).
 const MAX_RTO: Duration = Duration::from_secs(60);
 
@@ -86,6 +90,8 @@ pub(super) struct Conn<const F: usize> {
     /// An Identity Reset accepted on this connection, performed once its reply is
     /// acknowledged (or could not be).
     reset: Option<u8>,
+    /// When the last challenge ACK was owed (RFC 5961).
+    challenged: Option<Instant>,
 }
 
 impl<const F: usize> Conn<F> {
@@ -120,6 +126,7 @@ impl<const F: usize> Conn<F> {
             retransmit_at: None,
             progress_at: Instant(0),
             reset: None,
+            challenged: None,
         }
     }
 
@@ -153,6 +160,7 @@ impl<const F: usize> Conn<F> {
         self.retransmit_at = None;
         self.progress_at = now;
         self.reset = None;
+        self.challenged = None;
     }
 
     /// Takes the SYN `syn` that a SYN cookie answered with `iss` (its SYN-ACK went already):
@@ -199,7 +207,16 @@ impl<const F: usize> Conn<F> {
             return;
         }
         if !self.acceptable(seg) {
-            self.ack_owed |= !flags.rst;
+            // RFC 9293's ACK, but never for a RST; for a SYN (RFC 5961 4.2) or a segment
+            // without data, which no retransmission needs answered, a throttled one.
+            if flags.rst {
+                return;
+            }
+            if flags.syn || seg.len() == 0 {
+                self.challenge(now);
+            } else {
+                self.ack_owed = true;
+            }
             return;
         }
         if flags.rst {
@@ -208,19 +225,31 @@ impl<const F: usize> Conn<F> {
             if seg.seq == self.rcv_nxt {
                 self.end(id, now, app);
             } else {
-                self.ack_owed = true;
+                self.challenge(now);
             }
             return;
         }
         if flags.syn {
             // RFC 5961 4.2: a SYN on a synchronized connection gets a challenge ACK.
-            self.ack_owed = true;
+            self.challenge(now);
             return;
         }
         if !flags.ack || !self.take_ack(id, seg, now, app) {
             return;
         }
         self.take_data(id, seg, now, app);
+    }
+
+    /// Owes a challenge ACK (RFC 5961) unless one was owed less than [`CHALLENGE_INTERVAL`]
+    /// ago: a stream of forged segments draws a few, not one each.
+    fn challenge(&mut self, now: Instant) {
+        if self
+            .challenged
+            .is_none_or(|at| now.since(at) >= CHALLENGE_INTERVAL)
+        {
+            self.ack_owed = true;
+            self.challenged = Some(now);
+        }
     }
 
     /// RFC 9293 3.10.7.4's test of the segment's sequence numbers against the window.
@@ -266,10 +295,15 @@ impl<const F: usize> Conn<F> {
             app.accepted(id, self.peer, now);
             return true;
         }
-        if lt(self.snd_max, ack) || lt(ack, self.snd_una.wrapping_sub(self.max_snd_wnd)) {
-            // Acknowledges what was not sent, or is older than any window the peer offered
-            // (RFC 5961 5.2, against blind data injection): an ACK, and the segment is dropped.
+        if lt(self.snd_max, ack) {
+            // Acknowledges what was not sent: an ACK, and the segment is dropped.
             self.ack_owed = true;
+            return false;
+        }
+        if lt(ack, self.snd_una.wrapping_sub(self.max_snd_wnd)) {
+            // Older than any window the peer offered (RFC 5961 5.2, against blind data
+            // injection): a challenge ACK, and the segment is dropped.
+            self.challenge(now);
             return false;
         }
         if lt(self.snd_una, ack) {
