@@ -17,6 +17,8 @@ import struct
 import sys
 import time
 
+from tcp_segment import ipv4_tcp
+
 req = json.load(sys.stdin)
 s = socket.socket(socket.AF_PACKET, socket.SOCK_RAW)
 s.bind((req["iface"], 0))
@@ -55,27 +57,11 @@ def board_mac():
     sys.exit("the board's MAC is not in the ARP table")
 
 
-def checksum(data):
-    if len(data) % 2:
-        data += b"\0"
-    total = sum(struct.unpack("!%dH" % (len(data) // 2), data))
-    while total > 0xFFFF:
-        total = (total & 0xFFFF) + (total >> 16)
-    return ~total & 0xFFFF
-
-
 def syn(i, flags=0x02):
     src_ip = bytes([198, 18, 0, 100 + i % 150])
-    port = 1024 + i
     ack = 0x2000 * i if flags & 0x10 else 0
-    tcp = struct.pack("!HHIIBBHHH", port, 44818, 0x1000 * i, ack, 6 << 4, flags, 64240, 0, 0)
-    tcp += struct.pack("!BBH", 2, 4, 1460)
-    pseudo = src_ip + target + struct.pack("!BBH", 0, 6, len(tcp))
-    tcp = tcp[:16] + struct.pack("!H", checksum(pseudo + tcp)) + tcp[18:]
-    ip = struct.pack("!BBHHHBBH4s4s", 0x45, 0, 20 + len(tcp), i & 0xFFFF, 0, 64, 6, 0,
-                     src_ip, target)
-    ip = ip[:10] + struct.pack("!H", checksum(ip)) + ip[12:]
-    return to_board + mac(i) + b"\x08\x00" + ip + tcp
+    packet = ipv4_tcp(src_ip, target, (1024 + i, 44818), 0x1000 * i, ack, flags, i, mss=1460)
+    return to_board + mac(i) + b"\x08\x00" + packet
 
 
 kind = req["kind"]

@@ -23,6 +23,8 @@ import subprocess
 import sys
 import time
 
+from tcp_segment import ipv4_tcp
+
 req = json.load(sys.stdin)
 target = req["target"]
 port = 44818
@@ -37,15 +39,6 @@ def interface_to(address):
     out = subprocess.run(["ip", "-o", "route", "get", address], capture_output=True,
                          text=True, check=True).stdout.split()
     return out[out.index("dev") + 1]
-
-
-def checksum(data):
-    if len(data) % 2:
-        data += b"\0"
-    total = sum(struct.unpack("!%dH" % (len(data) // 2), data))
-    while total > 0xFFFF:
-        total = (total & 0xFFFF) + (total >> 16)
-    return ~total & 0xFFFF
 
 
 def segments(raw, until):
@@ -105,14 +98,8 @@ client_eth = last[1]
 payload = header(LIST_SERVICES, 0, session)
 old_ack = (board_next - req["older_by"]) & 0xFFFFFFFF
 src_ip, dst_ip = socket.inet_aton(me[0]), socket.inet_aton(target)
-tcp = struct.pack("!HHIIBBHHH", me[1], port, client_next, old_ack, 5 << 4, 0x18, 64240, 0,
-                  0) + payload
-pseudo = src_ip + dst_ip + struct.pack("!BBH", 0, 6, len(tcp))
-tcp = tcp[:16] + struct.pack("!H", checksum(pseudo + tcp)) + tcp[18:]
-ip = struct.pack("!BBHHHBBH4s4s", 0x45, 0, 20 + len(tcp), 0x4242, 0, 64, 6, 0, src_ip,
-                 dst_ip)
-ip = ip[:10] + struct.pack("!H", checksum(ip)) + ip[12:]
-raw.send(client_eth + ip + tcp)
+packet = ipv4_tcp(src_ip, dst_ip, (me[1], port), client_next, old_ack, 0x18, 0x4242, payload)
+raw.send(client_eth + packet)
 after = segments(raw, time.monotonic() + 0.3)
 board_after = [s for s in after if not s[0]]
 acks = [((s[3] - client_next) & 0xFFFFFFFF) for s in board_after]

@@ -81,11 +81,11 @@ impl Neighbors {
 
     /// The MAC address of `ip`'s frames, if any came; the entry is one T->O goes to now.
     pub fn get(&mut self, ip: Ipv4Addr) -> Option<[u8; 6]> {
-        let i = self.find(ip)?;
-        self.last = i;
-        let e = self.entries.get_mut(i)?.as_mut()?;
-        e.used = true;
-        Some(e.mac)
+        let mac = self.peek(ip)?;
+        if let Some(Some(e)) = self.entries.get_mut(self.last) {
+            e.used = true;
+        }
+        Some(mac)
     }
 
     /// The MAC address of `ip`'s frames, if any came, without making its entry one that T->O

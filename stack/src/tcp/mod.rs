@@ -104,6 +104,12 @@ impl Segment<'_> {
         data.saturating_add(u32::from(self.flags.syn))
             .saturating_add(u32::from(self.flags.fin))
     }
+
+    /// The segment size the sender takes (its SYN's option, else RFC 9293's default), within
+    /// [`MIN_MSS`] and our own.
+    fn peer_mss(&self) -> u16 {
+        self.mss.unwrap_or(DEFAULT_MSS).clamp(MIN_MSS, MSS)
+    }
 }
 
 /// A segment to send from the port to [`Self::peer`]; its data is handed beside it.

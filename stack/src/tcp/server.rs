@@ -6,7 +6,7 @@
 use super::conn::{Conn, State};
 use super::cookie::{self, Cookies};
 use super::siphash::siphash24;
-use super::{Flags, Outgoing, Segment, TcpApp, DEFAULT_MSS, MIN_MSS, MSS};
+use super::{Flags, Outgoing, Segment, TcpApp, MSS};
 use crate::rng::Rng;
 use crate::{Instant, SocketId};
 
@@ -120,8 +120,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         if !self.conns.iter().any(|c| c.state == State::SynReceived) {
             return Some(refusal(seg));
         }
-        let mss = seg.mss.unwrap_or(DEFAULT_MSS).clamp(MIN_MSS, MSS);
-        let cookie = self.cookies.make(seg.peer, seg.seq, mss, now);
+        let cookie = self.cookies.make(seg.peer, seg.seq, seg.peer_mss(), now);
         self.cookies_until = Some(now.add(cookie::LIFETIME));
         Some(Outgoing {
             peer: seg.peer,

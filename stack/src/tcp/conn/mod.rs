@@ -9,7 +9,7 @@ mod timers;
 use core::net::{Ipv4Addr, SocketAddrV4};
 
 use super::seq::{distance, le, lt, within};
-use super::{Segment, TcpApp, DEFAULT_MSS, INITIAL_RTO, MIN_MSS, MIN_RTO, MSS};
+use super::{Segment, TcpApp, DEFAULT_MSS, INITIAL_RTO, MIN_RTO};
 use crate::{Duration, Instant, SocketId};
 
 /// Shortest time between two challenge ACKs of one connection (RFC 5961 section 7's
@@ -146,7 +146,7 @@ impl<const F: usize> Conn<F> {
         self.snd_wl2 = iss;
         self.max_snd_wnd = self.snd_wnd;
         self.rcv_nxt = seg.seq.wrapping_add(1);
-        self.mss = seg.mss.unwrap_or(DEFAULT_MSS).clamp(MIN_MSS, MSS);
+        self.mss = seg.peer_mss();
         self.tx_len = 0;
         self.fin = false;
         self.ack_owed = false;
