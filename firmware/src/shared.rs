@@ -221,6 +221,10 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize> 
         with_adapter_quiet(self, |a| a.explicit_dscp())
     }
 
+    fn tls_port_open(&self) -> bool {
+        with_adapter_quiet(self, |a| a.tls_port_open())
+    }
+
     fn add_link_counters(&self, counted: &LinkCounters) {
         with_adapter_quiet(self, |a| a.add_link_counters(counted))
     }

@@ -27,6 +27,8 @@ pub const MAX_DOMAIN_NAME: usize = 48;
 pub const MAX_LLDP_NEIGHBORS: usize = 8;
 /// TCP and UDP port of the encapsulation protocol (defined by the codec).
 pub use crate::wire::encap::ENCAP_PORT;
+/// The TCP port of EtherNet/IP over TLS (CIP Security).
+pub const TLS_PORT: u16 = 2221;
 /// UDP port of Class 0/1 implicit I/O (defined by the codec).
 pub use crate::wire::io_datagram::IO_PORT;
 /// Smallest requested packet interval accepted, in microseconds.

@@ -54,6 +54,9 @@ pub const APT_PACKAGES: &[(&str, &[&str])] = &[
     ("arping", &["arping", "--help"]),
     // The SYN floods of the flood tests (issue 28).
     ("hping3", &["hping3", "--version"]),
+    // The network scanner of the scan test: port states, OS detection's odd probes, and
+    // its `enip-info` script.
+    ("nmap", &["nmap", "--version"]),
     // EtherNet/IP over TLS (`enip-host --tls`, issue 24): the openssl crate builds against
     // the system's OpenSSL; the CIP Security test makes its certificates with the CLI.
     ("pkg-config", &["pkg-config", "--version"]),

@@ -34,6 +34,9 @@ pub trait IoPort: LldpPort + AcdPort {
     fn multicast_ttl(&self) -> u8;
     /// The DSCP of explicit messaging, TCP and UDP 44818 (`Adapter::explicit_dscp`).
     fn explicit_dscp(&self) -> u8;
+    /// True if the network stack serves EtherNet/IP over TLS (`Adapter::tls_port_open`): TCP
+    /// segments to that port go to it.
+    fn tls_port_open(&self) -> bool;
     /// Adds the frames the link task counted to the Ethernet Link object's counters
     /// (`Adapter::add_link_counters`).
     fn add_link_counters(&self, counted: &LinkCounters);

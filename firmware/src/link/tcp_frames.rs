@@ -5,7 +5,6 @@
 use core::net::{Ipv4Addr, SocketAddrV4};
 use core::ops::Range;
 
-use enip_stack::config::ENCAP_PORT;
 use enip_stack::tcp::{Flags, Outgoing, Segment};
 use smoltcp::phy::ChecksumCapabilities;
 use smoltcp::wire::{ETHERNET_HEADER_LEN, IPV4_HEADER_LEN};
@@ -29,11 +28,14 @@ const ACK: u8 = 0x10;
 /// Don't fragment, in the IPv4 header's flags.
 const DONT_FRAGMENT: u8 = 0x40;
 
-/// The TCP segment to the encapsulation port in the IPv4 frame `frame` to `me` (whose
-/// IPv4 header [`super::frame::inspect`] found good): its source and where it lies in the
-/// frame. Not part of `inspect`, which every Class 1 frame passes: a TCP frame pays for
-/// reading its IPv4 header twice.
-pub(crate) fn locate(frame: &[u8], me: Ipv4Addr) -> Option<(Ipv4Addr, Range<usize>)> {
+/// Where a TCP segment to us came from and lies: its source, its place in the frame, and
+/// the port it is for.
+pub(crate) type Located = (Ipv4Addr, Range<usize>, u16);
+
+/// The TCP segment in the IPv4 frame `frame` to `me` (whose IPv4 header
+/// [`super::frame::inspect`] found good), if it is whole. Not part of `inspect`, which every
+/// Class 1 frame passes: a TCP frame pays for reading its IPv4 header twice.
+pub(crate) fn locate(frame: &[u8], me: Ipv4Addr) -> Option<Located> {
     let packet = frame.get(ETHERNET_HEADER_LEN..)?;
     let header = packet.first_chunk::<IPV4_HEADER_LEN>()?;
     let &[ihl, _, l0, l1, _, _, f0, f1, _, protocol, _, _, s0, s1, s2, s3, d0, d1, d2, d3] = header;
@@ -52,14 +54,16 @@ pub(crate) fn locate(frame: &[u8], me: Ipv4Addr) -> Option<(Ipv4Addr, Range<usiz
     }
     let start = ETHERNET_HEADER_LEN.wrapping_add(header_len);
     let end = ETHERNET_HEADER_LEN.wrapping_add(total_len);
-    let segment = frame.get(start..end)?;
-    (segment.get(2..4) == Some(&ENCAP_PORT.to_be_bytes()[..]))
-        .then_some((Ipv4Addr::new(s0, s1, s2, s3), start..end))
+    let &[_, _, p0, p1, ..] = frame.get(start..end)? else {
+        return None;
+    };
+    let port = u16::from_be_bytes([p0, p1]);
+    Some((Ipv4Addr::new(s0, s1, s2, s3), start..end, port))
 }
 
 /// Reads the TCP segment `segment` (an IPv4 payload, whole) from `src` to `me`; `None` if
-/// it is malformed, not for the encapsulation port, or its checksum fails (checked if
-/// `verify`).
+/// it is malformed or its checksum fails (checked if `verify`).
+#[inline(always)] // Once on the request path, once to refuse a closed port.
 pub(crate) fn parse(
     segment: &[u8],
     src: Ipv4Addr,
@@ -67,10 +71,7 @@ pub(crate) fn parse(
     verify: bool,
 ) -> Option<Segment<'_>> {
     let header = segment.first_chunk::<TCP_HEADER_LEN>()?;
-    let &[p0, p1, d0, d1, s0, s1, s2, s3, a0, a1, a2, a3, offset, bits, w0, w1, ..] = header;
-    if u16::from_be_bytes([d0, d1]) != ENCAP_PORT {
-        return None;
-    }
+    let &[p0, p1, _, _, s0, s1, s2, s3, a0, a1, a2, a3, offset, bits, w0, w1, ..] = header;
     let header_len = usize::from(offset >> 4).wrapping_mul(4);
     let options = segment.get(TCP_HEADER_LEN..header_len)?;
     let payload = segment.get(header_len..)?;
@@ -135,6 +136,8 @@ pub(crate) struct Hop {
     pub dscp: u8,
     /// The IPv4 identification.
     pub ident: u16,
+    /// Our TCP port the segment goes from.
+    pub port: u16,
 }
 
 /// Writes the frame of `out` with `payload` over `hop` into `frame` ([`frame_len`] bytes;
@@ -195,7 +198,7 @@ pub(crate) fn write(
             field.copy_from_slice(&sum);
         }
     }
-    write_tcp(segment, out, payload);
+    write_tcp(segment, hop.port, out, payload);
     if sums.tcp.tx() {
         let len = u16::try_from(segment.len()).unwrap_or(0);
         let [l0, l1] = len.to_be_bytes();
@@ -210,12 +213,12 @@ pub(crate) fn write(
     }
 }
 
-/// The TCP header of `out` (checksum zero) and `payload` into `segment`.
-fn write_tcp(segment: &mut [u8], out: &Outgoing, payload: &[u8]) {
+/// The TCP header of `out` from our `port` (checksum zero) and `payload` into `segment`.
+fn write_tcp(segment: &mut [u8], port: u16, out: &Outgoing, payload: &[u8]) {
     let Some((header, rest)) = segment.split_first_chunk_mut::<TCP_HEADER_LEN>() else {
         return;
     };
-    let [p0, p1] = ENCAP_PORT.to_be_bytes();
+    let [p0, p1] = port.to_be_bytes();
     let [d0, d1] = out.peer.port().to_be_bytes();
     let [s0, s1, s2, s3] = out.seq.to_be_bytes();
     let [a0, a1, a2, a3] = if out.flags.ack { out.ack } else { 0 }.to_be_bytes();
@@ -267,6 +270,7 @@ fn write_tcp(segment: &mut [u8], out: &Outgoing, payload: &[u8]) {
 mod tests {
     extern crate std;
     use super::*;
+    use enip_stack::config::ENCAP_PORT;
     use smoltcp::wire::{
         EthernetFrame, IpAddress, IpProtocol, Ipv4Packet, TcpControl, TcpPacket, TcpRepr,
         TcpSeqNumber,
@@ -281,12 +285,17 @@ mod tests {
     }
 
     fn written(out: &Outgoing, payload: &[u8]) -> std::vec::Vec<u8> {
+        written_from(ENCAP_PORT, out, payload)
+    }
+
+    fn written_from(port: u16, out: &Outgoing, payload: &[u8]) -> std::vec::Vec<u8> {
         let mut frame = vec![0u8; frame_len(out, payload.len())];
         let hop = Hop {
             from: ([2, 0, 0, 0, 0, 2], ME),
             to: [2, 0, 0, 0, 0, 1],
             dscp: 27,
             ident: 7,
+            port,
         };
         write(&mut frame, &hop, out, payload, &software());
         frame
@@ -362,6 +371,31 @@ mod tests {
             parse(segment, PEER, ME, false).is_some(),
             "unchecked when offloaded"
         );
+    }
+
+    #[test]
+    fn a_segment_is_located_with_the_port_it_is_for_and_goes_from_ours() {
+        let rst = Outgoing {
+            peer: SocketAddrV4::new(PEER, 50_000),
+            seq: 0,
+            ack: 11,
+            flags: Flags {
+                rst: true,
+                ack: true,
+                ..Flags::default()
+            },
+            window: 0,
+            mss: None,
+        };
+        let frame = written_from(80, &rst, &[]);
+        let at = ETHERNET_HEADER_LEN + IPV4_HEADER_LEN;
+        // As the peer would find it: from us, for its port 50 000, from our port 80.
+        assert_eq!(locate(&frame, PEER), Some((ME, at..frame.len(), 50_000)));
+        assert_eq!(frame[at..at + 2], 80u16.to_be_bytes());
+        assert_eq!(locate(&frame, ME), None, "not to us");
+        let mut fragment = frame.clone();
+        fragment[ETHERNET_HEADER_LEN + 6] |= 0x20;
+        assert_eq!(locate(&fragment, PEER), None, "not whole");
     }
 
     #[test]

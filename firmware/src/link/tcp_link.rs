@@ -7,7 +7,8 @@ use core::net::Ipv4Addr;
 use core::task::Context;
 
 use embassy_net_driver::{Driver, TxToken};
-use enip_stack::tcp::Outgoing;
+use enip_stack::config::ENCAP_PORT;
+use enip_stack::tcp::{closed_port_answer, Outgoing};
 use enip_stack::{Instant, NetworkConfig};
 use smoltcp::phy::ChecksumCapabilities;
 
@@ -27,8 +28,9 @@ pub(crate) struct TcpLink {
     next: Option<Instant>,
     /// The server took a segment or had no room to send: it is asked again at the next pass.
     stale: bool,
-    /// The answer to a segment of no connection (a RST, or a SYN cookie's SYN-ACK), to send.
-    answer: Option<Outgoing>,
+    /// The answer to a segment of no connection (a RST, or a SYN cookie's SYN-ACK), to send
+    /// from our port.
+    answer: Option<(Outgoing, u16)>,
     /// The IPv4 identification of the next segment.
     ident: u16,
 }
@@ -59,9 +61,27 @@ impl TcpLink {
             return;
         };
         if let Some(answer) = io.tcp_segment(&segment, at) {
-            self.answer = Some(answer);
+            self.answer = Some((answer, ENCAP_PORT));
         }
         self.stale = true;
+    }
+
+    /// The TCP segment `segment` (an IPv4 payload) from `src` to `port` of the interface
+    /// `me`, a port nothing listens on, its checksum checked if `verify`: a RST answers it
+    /// (RFC 9293 3.10.7.1), so a scanner finds the port closed.
+    pub(crate) fn refuse(
+        &mut self,
+        segment: &[u8],
+        (src, me, port): (Ipv4Addr, Ipv4Addr, u16),
+        verify: bool,
+    ) {
+        let Some(segment) = tcp_frames::parse(segment, src, me, verify) else {
+            return;
+        };
+        if let Some(answer) = closed_port_answer(&segment) {
+            self.answer = Some((answer, port));
+            self.stale = true;
+        }
     }
 
     /// True if the pass at `at` has TCP work: a segment came, or a timer is due.
@@ -102,15 +122,18 @@ impl TcpLink {
                 break;
             };
             let mut tx = Some(tx);
+            // The server's segments go from the encapsulation port, an answer from the port
+            // its segment came to.
+            let port = answer.as_ref().map_or(ENCAP_PORT, |&(_, port)| port);
             let mut send = |out: &Outgoing, payload: &[u8]| {
                 if let Some(tx) = tx.take() {
                     self.ident = self.ident.wrapping_add(1);
-                    let ident = self.ident;
-                    send_segment(tx, (from, dscp, ident), out, payload, (neighbors, sums), at);
+                    let ident = (dscp, self.ident, port);
+                    send_segment(tx, (from, ident), out, payload, (neighbors, sums), at);
                 }
             };
             match answer {
-                Some(answer) => send(&answer, &[]),
+                Some((answer, _)) => send(&answer, &[]),
                 None => {
                     io.tcp_transmit(at, &mut send);
                 }
@@ -126,13 +149,13 @@ impl TcpLink {
     }
 }
 
-/// Sends `out` with `payload` through `tx` from `from` (with the explicit `dscp` and IPv4
-/// identification `ident`) to the peer's next hop, if a frame came from it; else the
-/// segment is dropped (TCP sends it again) and the next hop asked for by ARP. Nothing goes
-/// out while the address may not be used.
+/// Sends `out` with `payload` through `tx` from `from` (with the explicit `dscp`, IPv4
+/// identification `ident` and our TCP `port`) to the peer's next hop, if a frame came from
+/// it; else the segment is dropped (TCP sends it again) and the next hop asked for by ARP.
+/// Nothing goes out while the address may not be used.
 fn send_segment(
     tx: impl TxToken,
-    (from, dscp, ident): (&LocalEnd<'_>, u8, u16),
+    (from, (dscp, ident, port)): (&LocalEnd<'_>, (u8, u16, u16)),
     out: &Outgoing,
     payload: &[u8],
     (neighbors, sums): (&mut Neighbors, &ChecksumCapabilities),
@@ -167,6 +190,7 @@ fn send_segment(
         to,
         dscp,
         ident,
+        port,
     };
     let len = tcp_frames::frame_len(out, payload.len());
     tx.consume(len, |buf| tcp_frames::write(buf, &hop, out, payload, sums));

@@ -144,7 +144,7 @@ fn faults_flood_syn() {
 /// Less than 10 % of the T->O went missing in phase `name`: a flood of forged sources must
 /// not cost Class 1 its originators' MAC addresses (the answers to their SYNs once made
 /// their neighbour entries ones kept for T->O: half the T->O missing on either board).
-fn assert_t_o_held(run: &Value, name: &str) {
+pub fn assert_t_o_held(run: &Value, name: &str) {
     let class1 = &phase(run, name)["class1"];
     assert!(
         class1["t_o_missing_percent"].as_f64().unwrap_or(100.0) < 10.0,

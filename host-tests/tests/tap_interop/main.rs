@@ -64,5 +64,6 @@ mod position_servo;
 mod position_servo_connections;
 mod position_servo_qemu;
 mod qos;
+mod scan_nmap;
 mod tcpip_nv;
 mod udp;

@@ -205,6 +205,18 @@ impl<
         st.tls_port_open = tls_port_open;
     }
 
+    /// True if the runtime serves EtherNet/IP over TLS on TCP [`crate::config::TLS_PORT`]
+    /// ([`Self::enable_security`]); false in a stack built without `cip-security`.
+    pub fn tls_port_open(&self) -> bool {
+        #[cfg(feature = "cip-security")]
+        {
+            let st = &self.inner.objects.security;
+            st.enabled && st.tls_port_open
+        }
+        #[cfg(not(feature = "cip-security"))]
+        false
+    }
+
     /// Makes Certificate Management's Create_CSR work: `signer` makes the requests with the
     /// device key, and the File object (0x37) instance the reply names serves them.
     #[cfg(feature = "cip-security")]

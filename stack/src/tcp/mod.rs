@@ -40,7 +40,7 @@ use core::net::SocketAddrV4;
 
 use crate::{Duration, Instant, SocketId, TcpOutcome};
 
-pub use server::{TcpServer, Transmit};
+pub use server::{closed_port_answer, TcpServer, Transmit};
 
 /// Longest wait for a peer to acknowledge a reply (or open its window for one): then the
 /// connection is reset.

@@ -88,7 +88,9 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
             return None;
         }
         if flags.syn && !flags.ack {
-            return self.take_syn(seg, now);
+            // A SYN with a FIN opens nothing a client would ask for: a scanner's probe,
+            // dropped as BSD and Linux drop it.
+            return (!flags.fin).then(|| self.take_syn(seg, now)).flatten();
         }
         if flags.ack && !flags.syn && self.take_cookie(seg, now, app) {
             return None;
@@ -229,6 +231,12 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
 /// The adapter's number of connection `i`.
 fn id(i: usize) -> SocketId {
     SocketId(u8::try_from(i).unwrap_or(u8::MAX))
+}
+
+/// What answers `seg`, a segment to a port nobody listens on (RFC 9293 3.10.7.1, the
+/// CLOSED state): a RST for anything but a RST, so a scanner sees the port closed.
+pub fn closed_port_answer(seg: &Segment<'_>) -> Option<Outgoing> {
+    (!seg.flags.rst).then(|| refusal(seg))
 }
 
 /// The RST answering `seg`, which belongs to no connection (RFC 9293 3.10.7.1).

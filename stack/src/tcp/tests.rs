@@ -340,6 +340,32 @@ fn segments_of_no_connection_are_refused_as_rfc_9293_says() {
         s.process(&seg(peer(6000), 10, 0, RST, &[]), ms(0), &mut app),
         None
     );
+    // A SYN with a FIN (a scanner's probe) opens nothing and is not answered.
+    let syn_fin = Flags { fin: true, ..SYN };
+    let probe = seg(peer(6001), 10, 0, syn_fin, &[]);
+    assert_eq!(s.process(&probe, ms(0), &mut app), None);
+    assert!(drain(&mut s, ms(0)).is_empty() && app.events.is_empty());
+}
+
+#[test]
+fn segments_to_a_closed_port_are_reset_whatever_their_flags() {
+    let rst_ack = Flags { ack: true, ..RST };
+    let answer = |flags, payload: &[u8]| {
+        closed_port_answer(&seg(peer(6000), 10, 777, flags, payload))
+            .map(|o| (o.peer, o.seq, o.ack, o.flags, o.mss))
+    };
+    let p = peer(6000);
+    // A SYN takes one number, a FIN one more, data its length (RFC 9293 3.10.7.1).
+    assert_eq!(answer(SYN, &[]), Some((p, 0, 11, rst_ack, None)));
+    assert_eq!(answer(ACK, b"zz"), Some((p, 777, 0, RST, None)));
+    // Unlike a listening port's, a FIN, NULL or Xmas segment without an ACK is answered.
+    assert_eq!(
+        answer(FIN_ACK.without_ack(), b"zz"),
+        Some((p, 0, 13, rst_ack, None))
+    );
+    assert_eq!(answer(NONE, &[]), Some((p, 0, 10, rst_ack, None)));
+    assert_eq!(answer(RST, &[]), None);
+    assert_eq!(answer(Flags { ack: true, ..RST }, &[]), None);
 }
 
 impl Flags {

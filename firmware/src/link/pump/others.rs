@@ -8,6 +8,7 @@ use core::ops::Range;
 use core::task::Context;
 
 use embassy_net_driver::Driver;
+use enip_stack::config::{ENCAP_PORT, TLS_PORT};
 use enip_stack::{Instant, NetworkConfig};
 use smoltcp::phy::ChecksumCapabilities;
 
@@ -17,14 +18,16 @@ use super::super::frame::{copy, send_copy};
 use super::super::frames::{LinkFrames, TX_FRAMES};
 use super::super::io_port::IoPort;
 use super::super::stack_sums;
-use super::super::tcp_frames;
+use super::super::tcp_frames::{self, Located};
 use super::super::tcp_link;
 use super::Pump;
 
 impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
     /// A received frame that is no O->T datagram (`from_host`: its IPv4 header held, from
-    /// one host): unless the flood guard drops it, a TCP segment to the encapsulation port
-    /// goes to the server, anything else to the stack (true).
+    /// one host): unless the flood guard drops it, a TCP segment goes to the server if it is
+    /// for the encapsulation port, to the stack if for the TLS port the runtime serves there,
+    /// and is answered as one to a closed port otherwise (the stack, without TCP of its own,
+    /// would answer "protocol unreachable"); anything else goes to the stack (true).
     pub(super) fn other_frame(
         &mut self,
         frame: &[u8],
@@ -37,12 +40,18 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
         if !self.flood_guard.admit(frame, me.ip, at) {
             return false;
         }
-        if let Some(tcp) = from_host
+        if let Some((src, range, port)) = from_host
             .then(|| tcp_frames::locate(frame, me.ip))
             .flatten()
         {
-            self.ingest_tcp(frame, tcp, io, me, at);
-            return false;
+            if port == ENCAP_PORT {
+                self.ingest_tcp(frame, (src, range), io, me, at);
+                return false;
+            }
+            if port != TLS_PORT || !io.tls_port_open() {
+                self.refuse_tcp(frame, (src, range, port), me);
+                return false;
+            }
         }
         if STACK_SUMS {
             return self.pass_checked(frame, frames);
@@ -68,6 +77,16 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
             self.tcp.take(segment, (src, me.ip), verify, io, at);
             // A request may have moved the LLDP deadline (the LLDP Management object).
             self.lldp_stale = true;
+        }
+    }
+
+    /// The TCP segment `tcp` (its source, its place in `frame`, its port) to a port nothing
+    /// listens on: answered with a RST. Out of line: not on the Class 1 path.
+    #[inline(never)]
+    fn refuse_tcp(&mut self, frame: &[u8], (src, range, port): Located, me: &NetworkConfig) {
+        if let Some(segment) = frame.get(range) {
+            let verify = self.sums.tcp.rx();
+            self.tcp.refuse(segment, (src, me.ip, port), verify);
         }
     }
 

@@ -57,7 +57,13 @@ fn attribute<D: Device, const C: usize>(
         (b"EtherNet/IP", 44818, 6, !st.plain_tcp_closed, 1),
         (b"EtherNet/IP", 44818, 17, true, 0),
         (b"EtherNet/IP I/O", 2222, 17, true, 0),
-        (b"EtherNet/IP TLS", 2221, 6, st.tls_port_open, 0),
+        (
+            b"EtherNet/IP TLS",
+            crate::config::TLS_PORT,
+            6,
+            st.tls_port_open,
+            0,
+        ),
     ];
     w.u8(ports.len() as u8)?;
     for (name, number, protocol, open, capability) in ports {
