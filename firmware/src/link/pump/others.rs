@@ -80,8 +80,8 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
         }
     }
 
-    /// The TCP segment `tcp` (its source, its place in `frame`, its port) to a port nothing
-    /// listens on: answered with a RST. Out of line: not on the Class 1 path.
+    /// The TCP segment in `frame` (its source, its place, its port) to a port nothing listens
+    /// on: answered with a RST. Out of line: not on the Class 1 path.
     #[inline(never)]
     fn refuse_tcp(&mut self, frame: &[u8], (src, range, port): Located, me: &NetworkConfig) {
         if let Some(segment) = frame.get(range) {
