@@ -4,11 +4,13 @@ with its own locally administered MAC), LLDPDUs from changing chassis (MAC addre
 TCP SYNs ("syn") or ACKs of no connection ("ack") to the board's port 44818 from the same
 changing senders and ports (a flood from many forged sources: the board's SYN guard follows
 a few sources at a time, and 150 in turn push each other out of it before any counts as a
-flooder; the board's MAC is read from this namespace's ARP table), at most
+flooder; the board's MAC is read from this namespace's ARP table), or ICMP echo requests
+("echo") from this side's own address ("source") and MAC, which the board knows and so
+answers each (a ping flood), at most
 "per_second" frames a second (a TAP has no line rate of its own), bounded by time and count.
 
-Reads {"iface": str, "kind": "arp"|"lldp"|"syn"|"ack", "seconds": float, "max_frames": int,
-"per_second": float, "target": str} as JSON from stdin. Prints one JSON line: {"kind", "frames", "seconds",
+Reads {"iface": str, "kind": "arp"|"lldp"|"syn"|"ack"|"echo", "seconds": float, "max_frames": int,
+"per_second": float, "target": str, "source": str} as JSON from stdin. Prints one JSON line: {"kind", "frames", "seconds",
 "frames_per_second"}.
 """
 import json
@@ -17,7 +19,7 @@ import struct
 import sys
 import time
 
-from tcp_segment import ipv4_tcp
+from tcp_segment import checksum, ipv4_tcp
 
 req = json.load(sys.stdin)
 s = socket.socket(socket.AF_PACKET, socket.SOCK_RAW)
@@ -64,10 +66,23 @@ def syn(i, flags=0x02):
     return to_board + mac(i) + b"\x08\x00" + packet
 
 
+def echo(i):
+    src_ip = socket.inet_aton(req["source"])
+    body = struct.pack("!BBHHH", 8, 0, 0, i & 0xFFFF, i >> 16) + bytes(32)
+    icmp = body[:2] + struct.pack("!H", checksum(body)) + body[4:]
+    ip = struct.pack("!BBHHHBBH4s4s", 0x45, 0, 20 + len(icmp), i & 0xFFFF, 0, 64, 1, 0,
+                     src_ip, target)
+    packet = ip[:10] + struct.pack("!H", checksum(ip)) + ip[12:] + icmp
+    return to_board + own_mac + b"\x08\x00" + packet
+
+
 kind = req["kind"]
-if kind in ("syn", "ack"):
+if kind in ("syn", "ack", "echo"):
     to_board = board_mac()
-make = {"arp": arp, "lldp": lldp, "syn": syn, "ack": lambda i: syn(i, 0x10)}[kind]
+with open("/sys/class/net/%s/address" % req["iface"]) as own:
+    own_mac = bytes.fromhex(own.read().strip().replace(":", ""))
+make = {"arp": arp, "lldp": lldp, "syn": syn, "ack": lambda i: syn(i, 0x10),
+        "echo": echo}[kind]
 # A few thousand different senders, built before the clock starts.
 frames = [make(i) for i in range(4096)]
 start = time.monotonic()

@@ -12,6 +12,7 @@ use std::time::{Duration, Instant};
 use serde_json::{json, Value};
 
 use crate::common::{self, REPLY};
+use crate::floods::{assert_t_o_held, hping3_flood};
 use crate::floods_load::{flood_run, phase, pin_flooder_thread, Flood, FLOOD_CPU, RPI};
 use enip_stack::originator;
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
@@ -204,9 +205,10 @@ pub fn malformed_encapsulation(f: &Flood<'_>, until: Instant, per_second: f64) -
 }
 
 /// UDP floods on 2222 (unknown IDs, known IDs from a wrong source, truncated) and on 44818
-/// (malformed and unicast requests), 2 s each (long: 30 s), against the load: no connection
-/// times out, pycomm3 answered, a new session within 1 s after each flood, and the owner's
-/// output assembly never holds the forged data.
+/// (malformed and unicast requests), and a ping flood (`hping3 --icmp --flood`), 2 s each
+/// (long: 30 s), against the load: no connection times out, pycomm3 answered, a new session
+/// within 1 s after each flood, the owner's output assembly never holds the forged data,
+/// and less than 10 % of the T->O goes missing under the ping flood.
 #[test]
 #[ignore = "needs root: network namespace and TAP"]
 fn faults_flood_udp() {
@@ -214,14 +216,21 @@ fn faults_flood_udp() {
     let rig = Rig::start(&common::host_bin(), "generic", None).expect("rig");
     let io = |f: &Flood<'_>| forged_io(f, f.until, LINE_RATE);
     let encap = |f: &Flood<'_>| malformed_encapsulation(f, f.until, LINE_RATE);
+    // A ping flood from the host, each echo request answered by the network stack.
+    let echo = |f: &Flood<'_>| hping3_flood(f, &["--icmp"], None);
     let run = flood_run(
         &rig,
         "enip-host",
         RPI,
         "flood_udp",
         len,
-        &[("udp 2222", len, &io), ("udp 44818", len, &encap)],
+        &[
+            ("udp 2222", len, &io),
+            ("udp 44818", len, &encap),
+            ("icmp echo", len, &echo),
+        ],
     );
+    assert_t_o_held(&run, "icmp echo");
     let forged = hex(&FORGED_DATA);
     let after = &phase(&run, "udp 2222")["flood"]["owner_output_after"];
     assert!(
@@ -233,8 +242,8 @@ fn faults_flood_udp() {
     rig.finish().expect("the board ran to the end");
 }
 
-/// An ARP, LLDP or SYN storm from `peers/frame_storm.py` on CPU 1 until `until`, at
-/// `per_second` frames at most.
+/// An ARP, LLDP, SYN, ACK or echo storm from `peers/frame_storm.py` on CPU 1 until
+/// `until`, at `per_second` frames at most.
 pub fn frame_storm(f: &Flood<'_>, kind: &str, per_second: f64) -> Value {
     let secs = f.until.saturating_duration_since(Instant::now());
     let input = json!({
@@ -244,6 +253,7 @@ pub fn frame_storm(f: &Flood<'_>, kind: &str, per_second: f64) -> Value {
         "max_frames": line_rate_bound(f.until),
         "per_second": per_second,
         "target": BOARD_IP.to_string(),
+        "source": HOST_IP.to_string(),
     });
     let mut cmd = f.ns.command("taskset");
     cmd.args(["-c", &FLOOD_CPU.to_string(), &peers::python()])
