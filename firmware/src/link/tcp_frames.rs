@@ -134,8 +134,6 @@ pub(crate) struct Hop {
     pub to: [u8; 6],
     /// The DSCP of explicit messaging (the QoS object's).
     pub dscp: u8,
-    /// The IPv4 identification.
-    pub ident: u16,
     /// Our TCP port the segment goes from.
     pub port: u16,
 }
@@ -166,17 +164,19 @@ pub(crate) fn write(
     };
     let total = u16::try_from(IPV4_HEADER_LEN.saturating_add(segment.len())).unwrap_or(0);
     let [n0, n1] = total.to_be_bytes();
-    let [i0, i1] = hop.ident.to_be_bytes();
     let [s0, s1, s2, s3] = me.octets();
     let [d0, d1, d2, d3] = out.peer.ip().octets();
     let tos = hop.dscp << 2;
+    // Identification 0, as the T->O datagrams' and the network stack's: a segment is never
+    // fragmented (RFC 6864 4.1), and a counter would let a scanner use the board as an idle
+    // scan's zombie.
     *ip = [
         0x45,
         tos,
         n0,
         n1,
-        i0,
-        i1,
+        0,
+        0,
         DONT_FRAGMENT,
         0,
         UNICAST_TTL,
@@ -294,7 +294,6 @@ mod tests {
             from: ([2, 0, 0, 0, 0, 2], ME),
             to: [2, 0, 0, 0, 0, 1],
             dscp: 27,
-            ident: 7,
             port,
         };
         write(&mut frame, &hop, out, payload, &software());
@@ -320,6 +319,7 @@ mod tests {
         let ip = Ipv4Packet::new_checked(eth.payload()).unwrap();
         assert!(ip.verify_checksum());
         assert_eq!((ip.dscp(), ip.hop_limit(), ip.dont_frag()), (27, 64, true));
+        assert_eq!(ip.ident(), 0, "no counter for an idle scan to read");
         let tcp = TcpPacket::new_checked(ip.payload()).unwrap();
         let repr = TcpRepr::parse(
             &tcp,

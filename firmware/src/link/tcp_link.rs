@@ -31,8 +31,6 @@ pub(crate) struct TcpLink {
     /// The answer to a segment of no connection (a RST, or a SYN cookie's SYN-ACK), to send
     /// from our port.
     answer: Option<(Outgoing, u16)>,
-    /// The IPv4 identification of the next segment.
-    ident: u16,
 }
 
 /// Where the segments go from: our MAC address, the interface, and whether its address may
@@ -127,9 +125,7 @@ impl TcpLink {
             let port = answer.as_ref().map_or(ENCAP_PORT, |&(_, port)| port);
             let mut send = |out: &Outgoing, payload: &[u8]| {
                 if let Some(tx) = tx.take() {
-                    self.ident = self.ident.wrapping_add(1);
-                    let ident = (dscp, self.ident, port);
-                    send_segment(tx, (from, ident), out, payload, (neighbors, sums), at);
+                    send_segment(tx, (from, dscp, port), out, payload, (neighbors, sums), at);
                 }
             };
             match answer {
@@ -149,13 +145,13 @@ impl TcpLink {
     }
 }
 
-/// Sends `out` with `payload` through `tx` from `from` (with the explicit `dscp`, IPv4
-/// identification `ident` and our TCP `port`) to the peer's next hop, if a frame came from
-/// it; else the segment is dropped (TCP sends it again) and the next hop asked for by ARP.
-/// Nothing goes out while the address may not be used.
+/// Sends `out` with `payload` through `tx` from `from` (with the explicit `dscp` and our TCP
+/// `port`) to the peer's next hop, if a frame came from it; else the segment is dropped (TCP
+/// sends it again) and the next hop asked for by ARP. Nothing goes out while the address
+/// may not be used.
 fn send_segment(
     tx: impl TxToken,
-    (from, (dscp, ident, port)): (&LocalEnd<'_>, (u8, u16, u16)),
+    (from, dscp, port): (&LocalEnd<'_>, u8, u16),
     out: &Outgoing,
     payload: &[u8],
     (neighbors, sums): (&mut Neighbors, &ChecksumCapabilities),
@@ -189,7 +185,6 @@ fn send_segment(
         from: (from.mac, me.ip),
         to,
         dscp,
-        ident,
         port,
     };
     let len = tcp_frames::frame_len(out, payload.len());

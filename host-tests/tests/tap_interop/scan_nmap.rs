@@ -10,7 +10,8 @@
 //! (not "filtered", as an ICMP "protocol unreachable" from a stack without TCP of its own
 //! would make it); FIN, NULL and Xmas probes dropped by the listening port and reset by the
 //! closed one; a closed UDP port answered with ICMP "port unreachable"; echo requests
-//! answered; its identity read by `enip-info`; and the load undisturbed.
+//! answered; segments with IPv4 identification 0 (no counter for an idle scan); its
+//! identity read by `enip-info`; and the load undisturbed.
 
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -221,6 +222,13 @@ fn scan_board(rig: &Rig, program: &str, rpi: Duration, scenario: &str) {
     for (t, flags) in [("T4", "R"), ("T5", "AR"), ("T6", "R"), ("T7", "AR")] {
         assert_eq!(os[t]["F"], json!(flags), "OS probe {t}: {os}");
     }
+    // The IPv4 identification of the SYN-ACKs (TI) and of the closed port's RSTs (CI): zero,
+    // so the board cannot serve as an idle scan's zombie (`nmap -sI`).
+    assert_eq!(
+        (&os["SEQ"]["TI"], &os["SEQ"]["CI"]),
+        (&json!("Z"), &json!("Z")),
+        "IP identification: {os}"
+    );
     assert_t_o_held(&run, "nmap");
     let fresh = &phase(&run, "nmap")["new_sessions"];
     assert!(
