@@ -11,8 +11,8 @@ use enip_stack::{Device, Instant, SocketId};
 
 use crate::session::TlsSession;
 
-/// EtherNet/IP over TLS: TCP port 2221.
-pub const TLS_PORT: u16 = 2221;
+/// EtherNet/IP over TLS: TCP port 2221 (the stack's, which the link task passes on).
+pub use enip_stack::config::TLS_PORT;
 /// Longest handshake; a client that takes longer is dropped.
 const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(10);
 /// Longest wait for a reply to be taken by the peer (the plaintext sockets' bound).

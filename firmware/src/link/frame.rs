@@ -45,6 +45,38 @@ pub(crate) fn is_ipv4(frame: &[u8]) -> bool {
     frame.get(12..ETHERNET_HEADER_LEN) == Some(&IPV4[..])
 }
 
+/// The IP protocol numbers of ICMP and TCP.
+const ICMP: u8 = 1;
+const TCP: u8 = 6;
+/// The ICMP type of an echo request.
+const ECHO_REQUEST: u8 = 8;
+
+/// True if the IPv4 frame `frame` is one the network stack must not see at the adapter `me`:
+/// a fragment of a TCP segment to `me` (the link task takes whole segments only, and the
+/// stack, without TCP or reassembly, would answer each with "protocol unreachable"), or an
+/// ICMP echo request to another address, a broadcast or multicast one (RFC 1122 3.2.2.6 lets
+/// a host drop it: every device of a link answering one forged request is an amplifier).
+pub(crate) fn kept_from_stack(frame: &[u8], me: Ipv4Addr) -> bool {
+    let Some(packet) = frame.get(ETHERNET_HEADER_LEN..).filter(|_| is_ipv4(frame)) else {
+        return false;
+    };
+    let Some(&[ihl, _, _, _, _, _, f0, f1, _, protocol, _, _, _, _, _, _, d0, d1, d2, d3]) =
+        packet.first_chunk::<IPV4_HEADER_LEN>()
+    else {
+        return false;
+    };
+    let to_me = Ipv4Addr::new(d0, d1, d2, d3) == me;
+    match protocol {
+        // More fragments (0x2000) or a fragment offset.
+        TCP => to_me && u16::from_be_bytes([f0, f1]) & 0x3FFF != 0,
+        ICMP => {
+            let header_len = usize::from(ihl & 0x0F).wrapping_mul(4);
+            !to_me && packet.get(header_len) == Some(&ECHO_REQUEST)
+        }
+        _ => false,
+    }
+}
+
 /// Looks at `frame` for an adapter at `me`; `verify` says which checksums the driver left
 /// to software. Anything that is not a well-formed O->T datagram for `me` has `o_t` `None`
 /// and goes to the network stack, which deals with it as before. Read on the bytes, each
@@ -219,7 +251,8 @@ mod tests {
     use std::vec::Vec;
 
     use crate::link::route::{Headers, Route};
-    use crate::link::test_frames::{ME, MY_MAC, PEER, PEER_MAC};
+    use crate::link::test_frames::{ipv4_frame, ipv4_mut, ME, MY_MAC, PEER, PEER_MAC};
+    use smoltcp::wire::IpProtocol;
 
     fn software() -> ChecksumCapabilities {
         ChecksumCapabilities::default()
@@ -345,5 +378,41 @@ mod tests {
             (PEER_MAC, PEER),
             ME
         ));
+    }
+
+    #[test]
+    fn tcp_fragments_to_us_and_echo_requests_to_others_are_kept_from_the_stack() {
+        // The frames go from ME to PEER: PEER is "us" here.
+        let tcp = ipv4_frame(IpProtocol::Tcp, 20, 0, &software());
+        assert!(!kept_from_stack(&tcp, PEER), "a whole segment passes on");
+        for (more, offset) in [(true, 0), (false, 8), (true, 16)] {
+            let mut fragment = tcp.clone();
+            let mut ip = ipv4_mut(&mut fragment);
+            ip.set_more_frags(more);
+            ip.set_frag_offset(offset);
+            assert!(kept_from_stack(&fragment, PEER), "fragment {more} {offset}");
+            assert!(
+                !kept_from_stack(&fragment, ME),
+                "not to us: not ours to judge"
+            );
+        }
+        let mut echo = ipv4_frame(IpProtocol::Icmp, 8, 0, &software());
+        echo[HEADERS_LEN - UDP_HEADER_LEN] = ECHO_REQUEST;
+        assert!(
+            !kept_from_stack(&echo, PEER),
+            "an echo request to us is answered"
+        );
+        for to in [Ipv4Addr::BROADCAST, Ipv4Addr::new(198, 18, 0, 255)] {
+            ipv4_mut(&mut echo).set_dst_addr(to);
+            assert!(kept_from_stack(&echo, PEER), "to {to}");
+        }
+        echo[HEADERS_LEN - UDP_HEADER_LEN] = 0;
+        assert!(
+            !kept_from_stack(&echo, PEER),
+            "an echo reply is the stack's to drop"
+        );
+        let udp = ipv4_frame(IpProtocol::Udp, 8, 0, &software());
+        assert!(!kept_from_stack(&udp, ME) && !kept_from_stack(&udp, PEER));
+        assert!(!kept_from_stack(&udp[..20], PEER), "short");
     }
 }

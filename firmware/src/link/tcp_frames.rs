@@ -1,6 +1,7 @@
-//! The encapsulation port's TCP segments in Ethernet frames, for the link task: a received
-//! one read into the stack's [`Segment`] (its checksum checked where the driver leaves it to
-//! software), an outgoing [`Outgoing`] written behind its Ethernet and IPv4 headers.
+//! TCP segments in Ethernet frames, for the link task: a received one to us located (its
+//! port says whose it is) and read into the stack's [`Segment`] (its checksum checked where
+//! the driver leaves it to software), an outgoing [`Outgoing`] written behind its Ethernet
+//! and IPv4 headers.
 
 use core::net::{Ipv4Addr, SocketAddrV4};
 use core::ops::Range;

@@ -1,7 +1,8 @@
-//! The link task's part of the encapsulation port's TCP: each segment for port 44818 goes to
-//! the adapter's TCP server ([`IoPort::tcp_segment`], which hands its data to the sessions),
-//! and each segment the server owes goes out behind its headers, marked with the DSCP of
-//! explicit messaging. One wake-up of the link task takes a request and sends its reply.
+//! The link task's part of TCP: each segment for port 44818 goes to the adapter's TCP server
+//! ([`IoPort::tcp_segment`], which hands its data to the sessions), a segment for a port
+//! nothing listens on is answered with a RST, and each segment the server owes goes out
+//! behind its headers, marked with the DSCP of explicit messaging. One wake-up of the link
+//! task takes a request and sends its reply.
 
 use core::net::Ipv4Addr;
 use core::task::Context;
@@ -21,7 +22,7 @@ use super::tcp_frames::{self, Hop};
 /// a segment of no connection.
 const SEGMENTS_PER_PASS: usize = 2 * enip_stack::config::MAX_SESSIONS + 1;
 
-/// What the link task keeps of the encapsulation TCP between passes.
+/// What the link task keeps of TCP between passes.
 #[derive(Debug, Default)]
 pub(crate) struct TcpLink {
     /// When the server's timers run next, as last asked.
@@ -76,7 +77,9 @@ impl TcpLink {
         let Some(segment) = tcp_frames::parse(segment, src, me, verify) else {
             return;
         };
-        if let Some(answer) = closed_port_answer(&segment) {
+        // An answer owed on the encapsulation port (a SYN cookie's SYN-ACK) is not given up
+        // for a closed port's: SYNs to other ports pass no flood guard.
+        if let Some(answer) = closed_port_answer(&segment).filter(|_| self.answer.is_none()) {
             self.answer = Some((answer, port));
             self.stale = true;
         }

@@ -132,14 +132,19 @@ fn faults_flood_syn() {
         ],
     );
     let forged = ["syn from many sources", "ack from many sources"];
-    for name in ["syn paced", "syn line rate"].iter().chain(&forged) {
+    let closed = ["syn to a closed port"];
+    for name in ["syn paced", "syn line rate"]
+        .iter()
+        .chain(&forged)
+        .chain(&closed)
+    {
         let fresh = &phase(&run, name)["new_sessions"];
         assert!(
             fresh["served"].as_u64().unwrap_or(0) > 0,
             "{name}: no new session served during the flood: {run}"
         );
     }
-    for name in forged.iter().chain(&["syn to a closed port"]) {
+    for name in forged.iter().chain(&closed) {
         assert_t_o_held(&run, name);
     }
     assert!(

@@ -10,7 +10,7 @@
 //! (not "filtered", as an ICMP "protocol unreachable" from a stack without TCP of its own
 //! would make it); FIN, NULL and Xmas probes dropped by the listening port and reset by the
 //! closed one; a closed UDP port answered with ICMP "port unreachable"; echo requests
-//! answered; segments with IPv4 identification 0 (no counter for an idle scan); its
+//! answered, but not those to the broadcast address; segments with IPv4 identification 0 (no counter for an idle scan); its
 //! identity read by `enip-info`; and the load undisturbed.
 
 use std::collections::BTreeMap;
@@ -102,7 +102,8 @@ fn os_probes(ns: &Namespace, until: Instant) -> Value {
         .lines()
         .filter_map(|l| l.strip_prefix("OS:"))
         .collect();
-    // Without a match nmap prints it wrapped (`OS:` lines); with `-d` also in one piece.
+    // Wrapped in `OS:` lines as a rule; in one piece when nmap finds its test conditions
+    // less than ideal.
     let fingerprint = if fingerprint.is_empty() {
         report
             .lines()
@@ -128,6 +129,22 @@ fn os_probes(ns: &Namespace, until: Instant) -> Value {
     json!(probes)
 }
 
+/// Echo replies to three echo requests to the namespace's broadcast address (hping3: nmap
+/// has no broadcast ping): none is answered (RFC 1122 3.2.2.6; the board is no amplifier).
+fn broadcast_echo_replies(ns: &Namespace, until: Instant) -> u64 {
+    let mut cmd = ns.command("hping3");
+    cmd.args(["--icmp", "-c", "3", "-i", "u200000", "198.18.0.255"]);
+    let left = until.saturating_duration_since(Instant::now());
+    let out = run_bounded(cmd, None, left).unwrap_or_else(|e| panic!("hping3: {e}"));
+    // Its statistics go to standard error.
+    let text = String::from_utf8_lossy(&out.stderr);
+    text.split(" packets received")
+        .next()
+        .and_then(|head| head.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no hping3 statistics: {text}"))
+}
+
 /// Every scan, one after the other, within `f.until`; their findings.
 fn scans(f: &Flood<'_>) -> Value {
     let (ns, until) = (f.ns, f.until);
@@ -135,7 +152,7 @@ fn scans(f: &Flood<'_>) -> Value {
     let probed = format!("{CLOSED_TCP},44818");
     let udp = format!("{CLOSED_UDP},2222,44818");
     let start = Instant::now();
-    let ping = nmap(ns, &["-sn", "-PE", "--disable-arp-ping", "-oG", "-"], until);
+    let ping = nmap(ns, &["-sn", "-PE", "--disable-arp-ping", "--reason"], until);
     let mut found = json!({
         "syn": scan(ns, "-sS", &tcp, until),
         "fin": scan(ns, "-sF", &probed, until),
@@ -143,7 +160,8 @@ fn scans(f: &Flood<'_>) -> Value {
         "xmas": scan(ns, "-sX", &probed, until),
         "ack": scan(ns, "-sA", &probed, until),
         "udp": scan(ns, "-sU", &udp, until),
-        "echo_ping_up": ping.contains("Status: Up"),
+        "echo_ping_up": ping.contains("Host is up, received echo-reply"),
+        "broadcast_echo_replies": broadcast_echo_replies(ns, until),
         "enip_info_tcp": enip_info(ns, "-sT", until),
         "enip_info_udp": enip_info(ns, "-sU", until),
         "os_probes": os_probes(ns, until),
@@ -196,6 +214,11 @@ fn scan_board(rig: &Rig, program: &str, rpi: Duration, scenario: &str) {
         "{found}"
     );
     assert_eq!(found["echo_ping_up"], json!(true), "no echo reply: {found}");
+    assert_eq!(
+        found["broadcast_echo_replies"],
+        json!(0),
+        "a broadcast echo request answered: {found}"
+    );
     for info in ["enip_info_tcp", "enip_info_udp"] {
         let i = &found[info];
         assert_eq!(

@@ -27,7 +27,7 @@ use super::tls;
 
 /// The TCP port of EtherNet/IP over TLS.
 #[cfg(feature = "tls")]
-pub const TLS_PORT: u16 = 2221;
+pub use enip_stack::config::TLS_PORT;
 
 /// Longest wait of a connection accepted while every slot was taken.
 const WAIT: Duration = Duration::from_secs(1);

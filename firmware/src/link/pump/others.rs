@@ -1,7 +1,8 @@
-//! The frames the link task handles that are not Class 1: TCP segments to the
-//! encapsulation port (to the adapter's TCP server, `super::super::tcp_link`) and everything
-//! else, which goes to the network stack and whose frames it sends, marked with the DSCP of
-//! explicit messaging.
+//! The frames the link task handles that are not Class 1: TCP segments (to the encapsulation
+//! port: to the adapter's TCP server, `super::super::tcp_link`; to a closed port: refused
+//! with a RST), and everything else, which goes to the network stack (but what it must not
+//! see, [`super::super::frame::kept_from_stack`]) and whose frames it sends, marked with the
+//! DSCP of explicit messaging.
 
 use core::net::Ipv4Addr;
 use core::ops::Range;
@@ -14,7 +15,7 @@ use smoltcp::phy::ChecksumCapabilities;
 
 use super::super::acd::passes_unaddressed;
 use super::super::dscp;
-use super::super::frame::{copy, send_copy};
+use super::super::frame::{self, copy, send_copy};
 use super::super::frames::{LinkFrames, TX_FRAMES};
 use super::super::io_port::IoPort;
 use super::super::stack_sums;
@@ -52,6 +53,8 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
                 self.refuse_tcp(frame, (src, range, port), me);
                 return false;
             }
+        } else if frame::kept_from_stack(frame, me.ip) {
+            return false;
         }
         if STACK_SUMS {
             return self.pass_checked(frame, frames);
