@@ -52,15 +52,17 @@ const TCP: u8 = 6;
 const ECHO_REQUEST: u8 = 8;
 
 /// True if the IPv4 frame `frame` is one the network stack must not see at the adapter `me`:
-/// a fragment of a TCP segment to `me` (the link task takes whole segments only, and the
-/// stack, without TCP or reassembly, would answer each with "protocol unreachable"), or an
-/// ICMP echo request to another address, a broadcast or multicast one (RFC 1122 3.2.2.6 lets
-/// a host drop it: every device of a link answering one forged request is an amplifier).
+/// a TCP segment to `me` that the link task did not take: a fragment (it takes whole
+/// segments only, and the stack, without TCP or reassembly, would answer each with
+/// "protocol unreachable") or one from `me` or a loopback address (RFC 1122 3.2.1.3: a
+/// "land" SYN); or an ICMP echo request to another address, a broadcast or multicast one
+/// (RFC 1122 3.2.2.6 lets a host drop it: every device of a link answering one forged
+/// request is an amplifier).
 pub(crate) fn kept_from_stack(frame: &[u8], me: Ipv4Addr) -> bool {
     let Some(packet) = frame.get(ETHERNET_HEADER_LEN..).filter(|_| is_ipv4(frame)) else {
         return false;
     };
-    let Some(&[ihl, _, _, _, _, _, f0, f1, _, protocol, _, _, _, _, _, _, d0, d1, d2, d3]) =
+    let Some(&[ihl, _, _, _, _, _, f0, f1, _, protocol, _, _, s0, s1, s2, s3, d0, d1, d2, d3]) =
         packet.first_chunk::<IPV4_HEADER_LEN>()
     else {
         return false;
@@ -68,13 +70,23 @@ pub(crate) fn kept_from_stack(frame: &[u8], me: Ipv4Addr) -> bool {
     let to_me = Ipv4Addr::new(d0, d1, d2, d3) == me;
     match protocol {
         // More fragments (0x2000) or a fragment offset.
-        TCP => to_me && u16::from_be_bytes([f0, f1]) & 0x3FFF != 0,
+        TCP => {
+            to_me
+                && (u16::from_be_bytes([f0, f1]) & 0x3FFF != 0
+                    || !tcp_source(Ipv4Addr::new(s0, s1, s2, s3), me))
+        }
         ICMP => {
             let header_len = usize::from(ihl & 0x0F).wrapping_mul(4);
             !to_me && packet.get(header_len) == Some(&ECHO_REQUEST)
         }
         _ => false,
     }
+}
+
+/// True if a TCP segment to `me` may come from `src`: not from `me` itself (a "land" SYN
+/// would have us answer ourselves) nor from a loopback address (RFC 1122 3.2.1.3).
+pub(crate) fn tcp_source(src: Ipv4Addr, me: Ipv4Addr) -> bool {
+    src != me && !src.is_loopback()
 }
 
 /// Looks at `frame` for an adapter at `me`; `verify` says which checksums the driver left
@@ -411,6 +423,12 @@ mod tests {
             !kept_from_stack(&echo, PEER),
             "an echo reply is the stack's to drop"
         );
+        // A "land" segment, from us to us, and one from a loopback address.
+        for from in [PEER, Ipv4Addr::new(127, 0, 0, 1)] {
+            let mut land = tcp.clone();
+            ipv4_mut(&mut land).set_src_addr(from);
+            assert!(kept_from_stack(&land, PEER), "from {from}");
+        }
         let udp = ipv4_frame(IpProtocol::Udp, 8, 0, &software());
         assert!(!kept_from_stack(&udp, ME) && !kept_from_stack(&udp, PEER));
         assert!(!kept_from_stack(&udp[..20], PEER), "short");

@@ -11,7 +11,7 @@ use smoltcp::phy::ChecksumCapabilities;
 use smoltcp::wire::{ETHERNET_HEADER_LEN, IPV4_HEADER_LEN};
 
 use super::checksum::Sum;
-use super::frame::IPV4;
+use super::frame::{tcp_source, IPV4};
 use super::route::UNICAST_TTL;
 
 /// The IP protocol number of TCP.
@@ -48,6 +48,7 @@ pub(crate) fn locate(frame: &[u8], me: Ipv4Addr) -> Option<Located> {
         || protocol != TCP
         || !unfragmented
         || Ipv4Addr::new(d0, d1, d2, d3) != me
+        || !tcp_source(Ipv4Addr::new(s0, s1, s2, s3), me)
         || header_len < IPV4_HEADER_LEN
         || total_len > packet.len()
     {
@@ -394,6 +395,9 @@ mod tests {
         assert_eq!(locate(&frame, PEER), Some((ME, at..frame.len(), 50_000)));
         assert_eq!(frame[at..at + 2], 80u16.to_be_bytes());
         assert_eq!(locate(&frame, ME), None, "not to us");
+        let mut land = frame.clone();
+        land[ETHERNET_HEADER_LEN + 12..ETHERNET_HEADER_LEN + 16].copy_from_slice(&PEER.octets());
+        assert_eq!(locate(&land, PEER), None, "from us, to us");
         let mut fragment = frame.clone();
         fragment[ETHERNET_HEADER_LEN + 6] |= 0x20;
         assert_eq!(locate(&fragment, PEER), None, "not whole");
