@@ -45,9 +45,10 @@ pub(crate) fn is_ipv4(frame: &[u8]) -> bool {
     frame.get(12..ETHERNET_HEADER_LEN) == Some(&IPV4[..])
 }
 
-/// The IP protocol numbers of ICMP and TCP.
+/// The IP protocol number of ICMP.
 const ICMP: u8 = 1;
-const TCP: u8 = 6;
+/// The IP protocol number of TCP.
+pub(crate) const TCP: u8 = 6;
 /// The ICMP type of an echo request.
 const ECHO_REQUEST: u8 = 8;
 

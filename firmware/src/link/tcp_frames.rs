@@ -11,11 +11,9 @@ use smoltcp::phy::ChecksumCapabilities;
 use smoltcp::wire::{ETHERNET_HEADER_LEN, IPV4_HEADER_LEN};
 
 use super::checksum::Sum;
-use super::frame::{tcp_source, IPV4};
+use super::frame::{tcp_source, IPV4, TCP};
 use super::route::UNICAST_TTL;
 
-/// The IP protocol number of TCP.
-pub(crate) const TCP: u8 = 6;
 /// Bytes of a TCP header without options.
 const TCP_HEADER_LEN: usize = 20;
 /// Bytes of the maximum segment size option (kind 2, length 4).

@@ -81,18 +81,23 @@ pub fn hping3_flood(f: &Flood<'_>, packets: &[&str], per_second: Option<u64>) ->
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
-    let sent = text
-        .split(" packets transmitted")
-        .next()
-        .and_then(|head| head.rsplit(|c: char| !c.is_ascii_digit()).next())
-        .and_then(|n| n.parse::<u64>().ok())
-        .unwrap_or_else(|| panic!("no hping3 statistics: {text}"));
+    let sent = hping3_count(&text, "packets transmitted");
     json!({
         "tool": "hping3",
         "packets": packets.join(" "),
         "sent": sent,
         "per_second": (sent as f64 / took).round(),
     })
+}
+
+/// The number hping3's statistics in `text` give before `what` ("packets transmitted",
+/// "packets received").
+pub fn hping3_count(text: &str, what: &str) -> u64 {
+    text.split(&format!(" {what}"))
+        .next()
+        .and_then(|head| head.rsplit(|c: char| !c.is_ascii_digit()).next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no hping3 statistics: {text}"))
 }
 
 /// SYN floods on TCP 44818 from a forged source, paced (`hping3 -i u1`) and at line rate,

@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 use serde_json::{json, Value};
 
 use crate::common;
-use crate::floods::assert_t_o_held;
+use crate::floods::{assert_t_o_held, hping3_count};
 use crate::floods_load::{flood_run, phase, Flood, QEMU_RPI, RPI};
 use host_tests::netns::Namespace;
 use host_tests::process::run_bounded;
@@ -137,12 +137,7 @@ fn broadcast_echo_replies(ns: &Namespace, until: Instant) -> u64 {
     let left = until.saturating_duration_since(Instant::now());
     let out = run_bounded(cmd, None, left).unwrap_or_else(|e| panic!("hping3: {e}"));
     // Its statistics go to standard error.
-    let text = String::from_utf8_lossy(&out.stderr);
-    text.split(" packets received")
-        .next()
-        .and_then(|head| head.rsplit(' ').next())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("no hping3 statistics: {text}"))
+    hping3_count(&String::from_utf8_lossy(&out.stderr), "packets received")
 }
 
 /// Every scan, one after the other, within `f.until`; their findings.
