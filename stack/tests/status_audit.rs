@@ -209,6 +209,8 @@ fn unconnected_send() {
             None,
         ),
         ("instance 2", req(0x52, 6, 2, &[0x0A, 0x0E]), 0x16, None),
+        // Like Forward_Open and Forward_Close, an instance service: not the class's.
+        ("the class", req(0x52, 6, 0, &[0x0A, 0x0E]), 0x08, None),
         (
             "embedded length beyond the data",
             send(&[40, 0], &[]),

@@ -244,6 +244,8 @@ pub(crate) fn embedded_request<'a>(req: &Request<'a>, depth: u8) -> CipResult<&'
     }
     match req.path.instance_or_point() {
         Some(1) => {}
+        // The class itself: Unconnected_Send is an instance service, as Forward_Open is.
+        Some(0) => return Err(General::ServiceNotSupported.into()),
         Some(_) => return Err(General::ObjectDoesNotExist.into()),
         None => return Err(General::PathDestinationUnknown.into()),
     }
