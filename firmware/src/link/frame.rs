@@ -9,6 +9,7 @@ use core::ops::Range;
 
 use embassy_net_driver::TxToken;
 use enip_stack::config::IO_PORT;
+use enip_stack::NetworkConfig;
 use smoltcp::phy::ChecksumCapabilities;
 
 use super::checksum::Sum;
@@ -55,11 +56,11 @@ const ECHO_REQUEST: u8 = 8;
 /// True if the IPv4 frame `frame` is one the network stack must not see at the adapter `me`:
 /// a TCP segment to `me` that the link task did not take: a fragment (it takes whole
 /// segments only, and the stack, without TCP or reassembly, would answer each with
-/// "protocol unreachable") or one from `me` or a loopback address (RFC 1122 3.2.1.3: a
-/// "land" SYN); or an ICMP echo request to another address, a broadcast or multicast one
+/// "protocol unreachable") or one from a source [`tcp_source`] refuses (a "land" SYN, a
+/// broadcast source); or an ICMP echo request to another address, a broadcast or multicast one
 /// (RFC 1122 3.2.2.6 lets a host drop it: every device of a link answering one forged
 /// request is an amplifier).
-pub(crate) fn kept_from_stack(frame: &[u8], me: Ipv4Addr) -> bool {
+pub(crate) fn kept_from_stack(frame: &[u8], me: &NetworkConfig) -> bool {
     let Some(packet) = frame.get(ETHERNET_HEADER_LEN..).filter(|_| is_ipv4(frame)) else {
         return false;
     };
@@ -68,7 +69,7 @@ pub(crate) fn kept_from_stack(frame: &[u8], me: Ipv4Addr) -> bool {
     else {
         return false;
     };
-    let to_me = Ipv4Addr::new(d0, d1, d2, d3) == me;
+    let to_me = Ipv4Addr::new(d0, d1, d2, d3) == me.ip;
     match protocol {
         // More fragments (0x2000) or a fragment offset.
         TCP => {
@@ -84,10 +85,18 @@ pub(crate) fn kept_from_stack(frame: &[u8], me: Ipv4Addr) -> bool {
     }
 }
 
-/// True if a TCP segment to `me` may come from `src`: not from `me` itself (a "land" SYN
-/// would have us answer ourselves) nor from a loopback address (RFC 1122 3.2.1.3).
-pub(crate) fn tcp_source(src: Ipv4Addr, me: Ipv4Addr) -> bool {
-    src != me && !src.is_loopback()
+/// True if a TCP segment to the interface `me` may come from `src`: not from `me`'s
+/// address itself (a "land" SYN would have us answer ourselves), a loopback address (RFC
+/// 1122 3.2.1.3), nor the broadcast or network address of `me`'s subnet (RFC 1122 4.2.3.10:
+/// a SYN from a broadcast address is ignored; on a /31 link both addresses are hosts, RFC
+/// 3021).
+pub(crate) fn tcp_source(src: Ipv4Addr, me: &NetworkConfig) -> bool {
+    let mask = u32::from(me.netmask);
+    let subnet_wide = mask < 0xFFFF_FFFE && {
+        let host = u32::from(src) & !mask;
+        host == 0 || host == !mask
+    };
+    src != me.ip && !src.is_loopback() && !subnet_wide
 }
 
 /// Looks at `frame` for an adapter at `me`; `verify` says which checksums the driver left
@@ -264,7 +273,7 @@ mod tests {
     use std::vec::Vec;
 
     use crate::link::route::{Headers, Route};
-    use crate::link::test_frames::{ipv4_frame, ipv4_mut, ME, MY_MAC, PEER, PEER_MAC};
+    use crate::link::test_frames::{iface, ipv4_frame, ipv4_mut, ME, MY_MAC, PEER, PEER_MAC};
     use smoltcp::wire::IpProtocol;
 
     fn software() -> ChecksumCapabilities {
@@ -397,41 +406,52 @@ mod tests {
     fn tcp_fragments_to_us_and_echo_requests_to_others_are_kept_from_the_stack() {
         // The frames go from ME to PEER: PEER is "us" here.
         let tcp = ipv4_frame(IpProtocol::Tcp, 20, 0, &software());
-        assert!(!kept_from_stack(&tcp, PEER), "a whole segment passes on");
+        assert!(
+            !kept_from_stack(&tcp, &iface(PEER)),
+            "a whole segment passes on"
+        );
         for (more, offset) in [(true, 0), (false, 8), (true, 16)] {
             let mut fragment = tcp.clone();
             let mut ip = ipv4_mut(&mut fragment);
             ip.set_more_frags(more);
             ip.set_frag_offset(offset);
-            assert!(kept_from_stack(&fragment, PEER), "fragment {more} {offset}");
             assert!(
-                !kept_from_stack(&fragment, ME),
+                kept_from_stack(&fragment, &iface(PEER)),
+                "fragment {more} {offset}"
+            );
+            assert!(
+                !kept_from_stack(&fragment, &iface(ME)),
                 "not to us: not ours to judge"
             );
         }
         let mut echo = ipv4_frame(IpProtocol::Icmp, 8, 0, &software());
         echo[HEADERS_LEN - UDP_HEADER_LEN] = ECHO_REQUEST;
         assert!(
-            !kept_from_stack(&echo, PEER),
+            !kept_from_stack(&echo, &iface(PEER)),
             "an echo request to us is answered"
         );
         for to in [Ipv4Addr::BROADCAST, Ipv4Addr::new(198, 18, 0, 255)] {
             ipv4_mut(&mut echo).set_dst_addr(to);
-            assert!(kept_from_stack(&echo, PEER), "to {to}");
+            assert!(kept_from_stack(&echo, &iface(PEER)), "to {to}");
         }
         echo[HEADERS_LEN - UDP_HEADER_LEN] = 0;
         assert!(
-            !kept_from_stack(&echo, PEER),
+            !kept_from_stack(&echo, &iface(PEER)),
             "an echo reply is the stack's to drop"
         );
-        // A "land" segment, from us to us, and one from a loopback address.
-        for from in [PEER, Ipv4Addr::new(127, 0, 0, 1)] {
+        // A "land" segment, from us to us, one from a loopback address, and ones from the
+        // subnet's broadcast and network addresses.
+        let subnet_wide = [Ipv4Addr::new(198, 18, 0, 255), Ipv4Addr::new(198, 18, 0, 0)];
+        for from in [PEER, Ipv4Addr::new(127, 0, 0, 1)]
+            .into_iter()
+            .chain(subnet_wide)
+        {
             let mut land = tcp.clone();
             ipv4_mut(&mut land).set_src_addr(from);
-            assert!(kept_from_stack(&land, PEER), "from {from}");
+            assert!(kept_from_stack(&land, &iface(PEER)), "from {from}");
         }
         let udp = ipv4_frame(IpProtocol::Udp, 8, 0, &software());
-        assert!(!kept_from_stack(&udp, ME) && !kept_from_stack(&udp, PEER));
-        assert!(!kept_from_stack(&udp[..20], PEER), "short");
+        assert!(!kept_from_stack(&udp, &iface(ME)) && !kept_from_stack(&udp, &iface(PEER)));
+        assert!(!kept_from_stack(&udp[..20], &iface(PEER)), "short");
     }
 }

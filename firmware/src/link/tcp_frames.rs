@@ -7,6 +7,7 @@ use core::net::{Ipv4Addr, SocketAddrV4};
 use core::ops::Range;
 
 use enip_stack::tcp::{Flags, Outgoing, Segment};
+use enip_stack::NetworkConfig;
 use smoltcp::phy::ChecksumCapabilities;
 use smoltcp::wire::{ETHERNET_HEADER_LEN, IPV4_HEADER_LEN};
 
@@ -31,10 +32,10 @@ const DONT_FRAGMENT: u8 = 0x40;
 /// the port it is for.
 pub(crate) type Located = (Ipv4Addr, Range<usize>, u16);
 
-/// The TCP segment in the IPv4 frame `frame` to `me` (whose IPv4 header
+/// The TCP segment in the IPv4 frame `frame` to the interface `me` (whose IPv4 header
 /// [`super::frame::inspect`] found good), if it is whole. Not part of `inspect`, which every
 /// Class 1 frame passes: a TCP frame pays for reading its IPv4 header twice.
-pub(crate) fn locate(frame: &[u8], me: Ipv4Addr) -> Option<Located> {
+pub(crate) fn locate(frame: &[u8], me: &NetworkConfig) -> Option<Located> {
     let packet = frame.get(ETHERNET_HEADER_LEN..)?;
     let header = packet.first_chunk::<IPV4_HEADER_LEN>()?;
     let &[ihl, _, l0, l1, _, _, f0, f1, _, protocol, _, _, s0, s1, s2, s3, d0, d1, d2, d3] = header;
@@ -45,7 +46,7 @@ pub(crate) fn locate(frame: &[u8], me: Ipv4Addr) -> Option<Located> {
     if frame.get(12..ETHERNET_HEADER_LEN) != Some(&IPV4[..])
         || protocol != TCP
         || !unfragmented
-        || Ipv4Addr::new(d0, d1, d2, d3) != me
+        || Ipv4Addr::new(d0, d1, d2, d3) != me.ip
         || !tcp_source(Ipv4Addr::new(s0, s1, s2, s3), me)
         || header_len < IPV4_HEADER_LEN
         || total_len > packet.len()
@@ -277,6 +278,8 @@ mod tests {
     };
     use std::vec;
 
+    use crate::link::test_frames::iface;
+
     const ME: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
     const PEER: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
 
@@ -390,15 +393,29 @@ mod tests {
         let frame = written_from(80, &rst, &[]);
         let at = ETHERNET_HEADER_LEN + IPV4_HEADER_LEN;
         // As the peer would find it: from us, for its port 50 000, from our port 80.
-        assert_eq!(locate(&frame, PEER), Some((ME, at..frame.len(), 50_000)));
+        assert_eq!(
+            locate(&frame, &iface(PEER)),
+            Some((ME, at..frame.len(), 50_000))
+        );
         assert_eq!(frame[at..at + 2], 80u16.to_be_bytes());
-        assert_eq!(locate(&frame, ME), None, "not to us");
+        assert_eq!(locate(&frame, &iface(ME)), None, "not to us");
         let mut land = frame.clone();
         land[ETHERNET_HEADER_LEN + 12..ETHERNET_HEADER_LEN + 16].copy_from_slice(&PEER.octets());
-        assert_eq!(locate(&land, PEER), None, "from us, to us");
+        assert_eq!(locate(&land, &iface(PEER)), None, "from us, to us");
         let mut fragment = frame.clone();
         fragment[ETHERNET_HEADER_LEN + 6] |= 0x20;
-        assert_eq!(locate(&fragment, PEER), None, "not whole");
+        assert_eq!(locate(&fragment, &iface(PEER)), None, "not whole");
+        // From the subnet's broadcast or network address (RFC 1122 4.2.3.10): nothing; on
+        // a /31 link (RFC 3021) there are no such addresses, and both are hosts.
+        let mut point_to_point = iface(PEER);
+        point_to_point.netmask = Ipv4Addr::new(255, 255, 255, 254);
+        for from in [Ipv4Addr::new(198, 18, 0, 255), Ipv4Addr::new(198, 18, 0, 0)] {
+            let mut broadcast = frame.clone();
+            broadcast[ETHERNET_HEADER_LEN + 12..ETHERNET_HEADER_LEN + 16]
+                .copy_from_slice(&from.octets());
+            assert_eq!(locate(&broadcast, &iface(PEER)), None, "from {from}");
+            assert!(locate(&broadcast, &point_to_point).is_some(), "/31 {from}");
+        }
     }
 
     #[test]

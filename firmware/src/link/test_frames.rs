@@ -20,6 +20,11 @@ pub const PEER: Ipv4Address = Ipv4Address::new(198, 18, 0, 1);
 /// The peer's MAC address.
 pub const PEER_MAC: [u8; 6] = [2, 0, 0, 0, 0, 1];
 
+/// An interface at `ip` on the tests' /24.
+pub const fn iface(ip: Ipv4Address) -> enip_stack::NetworkConfig {
+    enip_stack::NetworkConfig::new_static(ip, Ipv4Address::new(255, 255, 255, 0), MY_MAC)
+}
+
 /// A TCP segment from `src_port` to port 50000 carrying `payload` (PSH, sequence 7,
 /// acknowledging 9).
 pub fn tcp_segment(src_port: u16, payload: &[u8]) -> TcpRepr<'_> {

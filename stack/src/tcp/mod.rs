@@ -10,12 +10,17 @@
 //! - passive open only; a SYN finds a free connection; with none free, it is answered with a
 //!   SYN cookie if one is half-open (RFC 4987 3.6: a SYN flood holds the free connections
 //!   half-open, and a client's ACK proving its cookie opens one where a connection is free
-//!   again, else in the place of the oldest half-open one), else refused with a RST;
+//!   again, else in the place of the oldest half-open one) or one has a silent peer (reset
+//!   to make room), else refused with a RST; every initial sequence number is a cookie, so
+//!   a handshake completes even after its half-open connection was dropped;
 //! - data is taken in order only (a segment ahead of the next expected byte is answered with
 //!   an ACK and dropped, as is one the replies have no room after); no window scaling, SACK
 //!   or timestamps; the maximum segment size is announced and honoured;
 //! - replies are retransmitted from the oldest unacknowledged byte (RFC 6298 timer, Karn's
-//!   rule), and a peer that takes [`WRITE_TIMEOUT`] to acknowledge loses its connection;
+//!   rule); a peer that sends nothing for [`GIVE_UP`] while they wait loses its connection
+//!   (RFC 1122 4.2.3.5), and so does one that keeps its window closed for
+//!   [`WRITE_TIMEOUT`] (a client that stops reading), or one silent for that long when a
+//!   new client finds every connection taken;
 //! - RST, SYN and ACK checks of RFC 5961 (an in-window RST, any SYN on an open connection,
 //!   or an ACK older than the peer's largest window before the oldest unacknowledged byte
 //!   gets a challenge ACK, and the segment goes no further), challenge ACKs and the ACKs of
@@ -42,8 +47,15 @@ use crate::{Duration, Instant, SocketId, TcpOutcome};
 
 pub use server::{closed_port_answer, TcpServer, Transmit};
 
-/// Longest wait for a peer to acknowledge a reply (or open its window for one): then the
-/// connection is reset.
+/// Longest wait for a peer that sends nothing while replies or our FIN wait for it (RFC 1122
+/// 4.2.3.5's R2 for data, at least 100 s: a link down for a switch's restart or a spanning
+/// tree's reconvergence ends no session): then the connection is reset.
+pub const GIVE_UP: Duration = Duration::from_secs(100);
+/// Longest wait for a peer to open its closed window for replies that wait (a client that
+/// stops reading; answering the window probes does not count): then the connection is
+/// reset; and how long a silent peer keeps its connection when a new client finds every
+/// one taken. The boards on a kernel's TCP close a session whose replies find no room in
+/// its socket for as long.
 pub const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
 /// Longest wait for the peer to complete a close: then the connection is reset.
 pub const LINGER: Duration = Duration::from_secs(2);

@@ -1,25 +1,25 @@
 //! The server of `N` connections: finds the connection of each segment, takes SYNs into
 //! free connections (or, when every one is taken and one is half-open, answers them with a
-//! SYN cookie), answers other segments of no connection with a RST (RFC 9293 3.10.7.1), and
-//! hands out the connections' segments in turn.
+//! SYN cookie alone), answers other segments of no connection with a RST (RFC 9293
+//! 3.10.7.1), and hands out the connections' segments in turn.
+//!
+//! Every SYN-ACK's initial sequence number is a SYN cookie, the one kept in a connection
+//! too (as FreeBSD's syncache makes them): a handshake whose half-open connection was
+//! dropped ([`super::HALF_OPEN`], a client more than that round trip away, or a SYN flood
+//! taking its place) still completes when its ACK comes, from the cookie.
 
 use super::conn::{Conn, State};
 use super::cookie::{self, Cookies};
-use super::siphash::siphash24;
 use super::{Flags, Outgoing, Segment, TcpApp, MSS};
 use crate::rng::Rng;
 use crate::{Instant, SocketId};
-
-use core::net::SocketAddrV4;
 
 /// The encapsulation port's TCP: `N` connections (the adapter's sessions, at most 255),
 /// replies of up to `F` bytes (its frame size). Its connection `i` is the adapter's
 /// `SocketId(i)`.
 pub struct TcpServer<const N: usize, const F: usize> {
     conns: [Conn<F>; N],
-    /// The key of the initial sequence numbers' hash (RFC 6528).
-    key: (u64, u64),
-    /// The SYN cookies' key.
+    /// The SYN cookies' key: every initial sequence number is a cookie.
     cookies: Cookies,
     /// The connection [`Self::transmit`] looks at first (each gets its turn).
     next: usize,
@@ -45,7 +45,6 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
     pub const fn new(seed: u64) -> Self {
         TcpServer {
             conns: [const { Conn::new() }; N],
-            key: (seed, seed ^ 0x736F_6D65_7073_6575),
             cookies: Cookies::new(seed),
             next: 0,
             reset: None,
@@ -53,21 +52,19 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         }
     }
 
-    /// Mixes `seed` (the runtime's hardware RNG or clock at start) into the keys of the
-    /// initial sequence numbers and of the SYN cookies.
+    /// Mixes `seed` (the runtime's hardware RNG or clock at start) into the key of the SYN
+    /// cookies, the initial sequence numbers (RFC 6528 asks that they be hard to guess).
     pub fn seed(&mut self, seed: u64) {
         let mut rng = Rng::new(seed);
-        self.key = (self.key.0 ^ rng.next_u64(), self.key.1 ^ rng.next_u64());
         self.cookies.mix(rng.next_u64(), rng.next_u64());
     }
 
-    /// The initial sequence number of a connection from `peer` at `now` (RFC 6528): a clock
-    /// ticking every 4 us plus a keyed hash (SipHash-2-4) of the peer's address and port.
-    fn iss(&self, peer: SocketAddrV4, now: Instant) -> u32 {
-        let tuple = (u64::from(u32::from(*peer.ip())) << 16) | u64::from(peer.port());
-        let hash = siphash24(self.key, tuple);
-        let clock = (now.as_micros() >> 2) as u32;
-        clock.wrapping_add((hash >> 32) as u32)
+    /// The initial sequence number answering the SYN `seg` at `now`: its SYN cookie, from
+    /// which an ACK of no connection at that number proves the handshake for
+    /// [`cookie::LIFETIME`].
+    fn cookie(&mut self, seg: &Segment<'_>, now: Instant) -> u32 {
+        self.cookies_until = Some(now.add(cookie::LIFETIME));
+        self.cookies.make(seg.peer, seg.seq, seg.peer_mss(), now)
     }
 
     /// The segment `seg`, arrived at `now`, for `app`; returns the segment answering it if
@@ -90,7 +87,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         if flags.syn && !flags.ack {
             // A SYN with a FIN opens nothing a client would ask for: a scanner's probe,
             // dropped as BSD and Linux drop it.
-            return (!flags.fin).then(|| self.take_syn(seg, now)).flatten();
+            return (!flags.fin).then(|| self.take_syn(seg, now, app)).flatten();
         }
         if flags.ack && !flags.syn && self.take_cookie(seg, now, app) {
             return None;
@@ -109,24 +106,33 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
     }
 
     /// A SYN of no connection: a free connection takes it; with none free, a SYN cookie
-    /// answers it if a connection is half-open (a SYN flood, or a handshake under way),
-    /// else a RST refuses it (every connection is in use).
-    fn take_syn(&mut self, seg: &Segment<'_>, now: Instant) -> Option<Outgoing> {
+    /// answers it if a connection is half-open (a SYN flood, or a handshake under way) or
+    /// one's peer has been silent for [`super::WRITE_TIMEOUT`] while replies wait (reset
+    /// now: its RST frees the place the cookie's ACK then takes), else a RST refuses it
+    /// (every connection is in use).
+    fn take_syn(
+        &mut self,
+        seg: &Segment<'_>,
+        now: Instant,
+        app: &mut impl TcpApp,
+    ) -> Option<Outgoing> {
         if let Some(i) = self.conns.iter().position(|c| c.state == State::Free) {
-            let iss = self.iss(seg.peer, now);
+            let iss = self.cookie(seg, now);
             if let Some(conn) = self.conns.get_mut(i) {
                 conn.open(seg, iss, now);
             }
             return None;
         }
-        if !self.conns.iter().any(|c| c.state == State::SynReceived) {
+        if let Some(i) = self.conns.iter().position(|c| c.stale(now)) {
+            if let Some(conn) = self.conns.get_mut(i) {
+                conn.abort(id(i), now, app);
+            }
+        } else if !self.conns.iter().any(|c| c.state == State::SynReceived) {
             return Some(refusal(seg));
         }
-        let cookie = self.cookies.make(seg.peer, seg.seq, seg.peer_mss(), now);
-        self.cookies_until = Some(now.add(cookie::LIFETIME));
         Some(Outgoing {
             peer: seg.peer,
-            seq: cookie,
+            seq: self.cookie(seg, now),
             ack: seg.seq.wrapping_add(1),
             flags: Flags {
                 syn: true,
@@ -138,9 +144,10 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         })
     }
 
-    /// An ACK of no connection that proves a SYN cookie (sent lately) opens a connection in
-    /// a free one's place or the oldest half-open one's, and goes to it; false if it proves
-    /// none, or no connection is free or half-open.
+    /// An ACK of no connection that proves a SYN cookie (sent lately: a SYN-ACK whose
+    /// connection was dropped half-open, or that went alone) opens a connection in a free
+    /// one's place or the oldest half-open one's, and goes to it; false if it proves none,
+    /// or no connection is free or half-open.
     fn take_cookie(&mut self, seg: &Segment<'_>, now: Instant, app: &mut impl TcpApp) -> bool {
         if self.cookies_until.is_none_or(|until| now >= until) {
             return false;

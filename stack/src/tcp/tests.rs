@@ -208,26 +208,110 @@ fn an_unacknowledged_reply_is_sent_again_from_its_first_byte_with_the_timeout_do
     assert_eq!(s.deadline(&app), Some(first.add(Duration::from_secs(2))));
 }
 
+/// Runs the server's timers from `now` until it sends a RST (at most `rounds` deadlines);
+/// returns when, and the RST.
+fn until_reset(
+    s: &mut Server,
+    app: &mut Echo,
+    mut now: Instant,
+    rounds: usize,
+) -> (Instant, Outgoing) {
+    for _ in 0..rounds {
+        let Some(at) = s.deadline(app) else { break };
+        now = at;
+        s.poll(now, app);
+        if let Some((rst, _)) = drain(s, now).into_iter().find(|(o, _)| o.flags.rst) {
+            return (now, rst);
+        }
+    }
+    panic!("no reset by {now:?}");
+}
+
 #[test]
-fn a_peer_that_acknowledges_nothing_for_the_write_timeout_is_reset() {
+fn a_peer_that_sends_nothing_for_the_give_up_time_is_reset_not_before() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let iss = connect(&mut s, &mut app, peer(5000), 100);
     s.process(&seg(peer(5000), 101, iss, ACK, b"abcd"), ms(2), &mut app);
     drain(&mut s, ms(2));
-    let mut now = ms(2);
-    for _ in 0..8 {
-        let Some(at) = s.deadline(&app) else { break };
-        now = at;
-        s.poll(now, &mut app);
-        let sent = drain(&mut s, now);
-        if sent.iter().any(|(o, _)| o.flags.rst) {
-            assert_eq!(now, ms(2).add(WRITE_TIMEOUT));
-            assert_eq!(app.events.last(), Some(&Event::Closed(0)));
-            assert_eq!(s.deadline(&app), None);
-            return;
+    // Retransmitted at 1, 3, 7, 15, 31 and 63 s (the timeout doubling), then given up: a
+    // link down for a minute ends no session.
+    let (at, rst) = until_reset(&mut s, &mut app, ms(2), 10);
+    assert_eq!(at, ms(2).add(GIVE_UP));
+    assert!(GIVE_UP >= Duration::from_secs(100), "RFC 1122 4.2.3.5");
+    assert_eq!(rst.seq, iss + 4, "after what was sent");
+    assert_eq!(app.events.last(), Some(&Event::Closed(0)));
+    assert_eq!(s.deadline(&app), None);
+}
+
+#[test]
+fn a_peer_that_answers_probes_of_a_closed_window_is_reset_after_the_write_timeout() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    let closed = |seq, now, s: &mut Server, app: &mut Echo| {
+        let ack = Segment {
+            window: 0,
+            ..seg(peer(5000), seq, iss, ACK, &[])
+        };
+        s.process(&ack, now, app);
+    };
+    let request = Segment {
+        window: 0,
+        ..seg(peer(5000), 101, iss, ACK, b"abcd")
+    };
+    s.process(&request, ms(2), &mut app);
+    drain(&mut s, ms(2));
+    // Every probe answered, the window still closed: a client that stopped reading.
+    let mut reset = None;
+    for _ in 0..10 {
+        let at = s.deadline(&app).expect("a probe or the reset");
+        assert!(at <= ms(2).add(WRITE_TIMEOUT), "{at:?}");
+        s.poll(at, &mut app);
+        let sent = drain(&mut s, at);
+        if let Some((rst, _)) = sent.iter().find(|(o, _)| o.flags.rst) {
+            reset = Some((at, *rst));
+            break;
         }
+        assert_eq!(sent[0].1, b"a", "a probe");
+        closed(105, at, &mut s, &mut app);
     }
-    panic!("no reset by {now:?}");
+    let (now, rst) = reset.expect("a reset");
+    assert_eq!(now, ms(2).add(WRITE_TIMEOUT));
+    // At the byte the closed window waits for, not past the probe's: the peer takes it.
+    assert_eq!(rst.seq, iss);
+    assert_eq!(app.events.last(), Some(&Event::Closed(0)));
+}
+
+#[test]
+fn a_new_client_takes_the_place_of_a_peer_silent_for_the_write_timeout() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let quiet = connect(&mut s, &mut app, peer(5000), 100);
+    connect(&mut s, &mut app, peer(5001), 200);
+    // Both taken; the first peer's reply waits, unacknowledged.
+    s.process(&seg(peer(5000), 101, quiet, ACK, b"abcd"), ms(2), &mut app);
+    drain(&mut s, ms(2));
+    let syn = seg(peer(6000), 300, 0, SYN, &[]);
+    let refused = s.process(&syn, ms(2).add(Duration::from_secs(4)), &mut app);
+    assert!(
+        refused.is_some_and(|o| o.flags.rst),
+        "not silent long enough"
+    );
+    let now = ms(2).add(WRITE_TIMEOUT);
+    let cookie = s.process(&syn, now, &mut app).expect("a SYN-ACK");
+    assert!(cookie.flags.syn && cookie.flags.ack);
+    assert_eq!(app.events.last(), Some(&Event::Closed(0)), "the silent one");
+    let sent = drain(&mut s, now);
+    assert!(sent
+        .iter()
+        .any(|(o, _)| o.flags.rst && o.peer == peer(5000)));
+    let ack = seg(peer(6000), 301, cookie.seq.wrapping_add(1), ACK, b"wxyz");
+    assert_eq!(s.process(&ack, now, &mut app), None);
+    assert_eq!(
+        app.events[app.events.len() - 2..],
+        [
+            Event::Accepted(0, peer(6000)),
+            Event::Received(0, b"wxyz".to_vec())
+        ]
+    );
 }
 
 #[test]
@@ -401,6 +485,35 @@ fn a_half_open_connection_is_dropped_after_the_bound_and_its_syn_ack_repeated_on
     );
     assert!(app.events.is_empty(), "the adapter never heard of it");
     assert_eq!(s.deadline(&app), None);
+}
+
+#[test]
+fn a_handshake_completes_from_its_cookie_after_the_half_open_connection_was_dropped() {
+    // A client 400 ms away: its ACK, with its first request, comes after the bound.
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    s.process(&seg(peer(5000), 100, 0, SYN, &[]), ms(0), &mut app);
+    let syn_ack = drain(&mut s, ms(0))[0].0;
+    s.poll(ms(0).add(HALF_OPEN), &mut app);
+    assert_eq!(s.deadline(&app), None, "dropped");
+    let next = syn_ack.seq.wrapping_add(1);
+    let late = ms(400);
+    let request = seg(peer(5000), 101, next, ACK, b"abcd");
+    assert_eq!(s.process(&request, late, &mut app), None, "no RST");
+    assert_eq!(
+        app.events,
+        [
+            Event::Accepted(0, peer(5000)),
+            Event::Received(0, b"abcd".to_vec())
+        ]
+    );
+    let sent = drain(&mut s, late);
+    assert_eq!((sent[0].0.seq, sent[0].0.ack), (next, 105));
+    assert_eq!(sent[0].1, b"abcd");
+    // An ACK naming another sequence number proves nothing: refused.
+    let forged = seg(peer(5001), 101, next, ACK, &[]);
+    assert!(s
+        .process(&forged, late, &mut app)
+        .is_some_and(|o| o.flags.rst));
 }
 
 #[test]

@@ -41,9 +41,7 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
         if !self.flood_guard.admit(frame, me.ip, at) {
             return false;
         }
-        if let Some((src, range, port)) = from_host
-            .then(|| tcp_frames::locate(frame, me.ip))
-            .flatten()
+        if let Some((src, range, port)) = from_host.then(|| tcp_frames::locate(frame, me)).flatten()
         {
             if port == ENCAP_PORT {
                 self.ingest_tcp(frame, (src, range), io, me, at);
@@ -53,7 +51,7 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
                 self.refuse_tcp(frame, (src, range, port), me);
                 return false;
             }
-        } else if frame::kept_from_stack(frame, me.ip) {
+        } else if frame::kept_from_stack(frame, me) {
             return false;
         }
         if STACK_SUMS {

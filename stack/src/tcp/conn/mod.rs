@@ -87,6 +87,8 @@ pub(super) struct Conn<const F: usize> {
     retransmit_at: Option<Instant>,
     /// When the peer last acknowledged something new (or replies began to wait).
     progress_at: Instant,
+    /// When the peer last sent a segment within the window.
+    heard_at: Instant,
     /// An Identity Reset accepted on this connection, performed once its reply is
     /// acknowledged (or could not be).
     reset: Option<u8>,
@@ -125,6 +127,7 @@ impl<const F: usize> Conn<F> {
             rtt_probe: None,
             retransmit_at: None,
             progress_at: Instant(0),
+            heard_at: Instant(0),
             reset: None,
             challenged: None,
         }
@@ -159,6 +162,7 @@ impl<const F: usize> Conn<F> {
         self.rtt_probe = None;
         self.retransmit_at = None;
         self.progress_at = now;
+        self.heard_at = now;
         self.reset = None;
         self.challenged = None;
     }
@@ -219,6 +223,7 @@ impl<const F: usize> Conn<F> {
             }
             return;
         }
+        self.heard_at = now;
         if flags.rst {
             // RFC 5961 3.2: only the exact next sequence number resets; any other in the
             // window is answered with a challenge ACK.

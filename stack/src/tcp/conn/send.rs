@@ -22,7 +22,14 @@ impl<const F: usize> Conn<F> {
                 self.rst_owed = false;
                 self.state = State::Free;
                 // With the ACK: a peer whose SYN-ACK was lost (still in SYN-SENT) takes it too.
-                let mut out = self.segment(self.snd_max, Flags { rst: true, ..ack });
+                // A closed window took nothing past the oldest unacknowledged byte (a probe's
+                // byte included), and only a RST at its next byte resets it (RFC 5961 3.2).
+                let seq = if self.snd_wnd == 0 {
+                    self.snd_una
+                } else {
+                    self.snd_max
+                };
+                let mut out = self.segment(seq, Flags { rst: true, ..ack });
                 out.window = 0;
                 return Some((out, 0..0));
             }
@@ -51,9 +58,10 @@ impl<const F: usize> Conn<F> {
         let fin_due = self.fin && flight <= self.tx_len && unsent == len;
         if len > 0 || fin_due {
             let seq = self.snd_nxt;
-            if self.snd_una == self.snd_max {
-                // Nothing was waiting for the peer: the write timeout starts now (our FIN after
-                // a quiet spell is not overdue).
+            if self.snd_una == self.snd_max && len == 0 {
+                // Our FIN alone, and nothing was waiting for the peer: its wait starts now (a
+                // FIN after a quiet spell is not overdue). Replies started theirs when they
+                // were written, and a closed window's probe does not restart it.
                 self.progress_at = now;
             }
             let step = u32::try_from(len)

@@ -1,14 +1,14 @@
 //! A connection's timers: the half-open and linger bounds, the adapter's inactivity
-//! timeout, retransmission, giving up on a peer that acknowledges nothing, and the Identity
-//! Reset handed over once its reply is acknowledged.
+//! timeout, retransmission, giving up on a silent peer or one whose window stays closed,
+//! and the Identity Reset handed over once its reply is acknowledged.
 
-use super::super::{TcpApp, HALF_OPEN, LINGER, WRITE_TIMEOUT};
+use super::super::{TcpApp, GIVE_UP, HALF_OPEN, LINGER, WRITE_TIMEOUT};
 use super::{Conn, State, MAX_RTO};
 use crate::{Duration, Instant, SocketId};
 
 impl<const F: usize> Conn<F> {
     /// The connection's timers at `now`: the half-open and linger bounds, the adapter's
-    /// inactivity timeout, retransmission, and giving up on a peer that acknowledges nothing.
+    /// inactivity timeout, retransmission, and giving up on the peer ([`Self::give_up_at`]).
     pub(in crate::tcp) fn poll(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
         match self.state {
             State::Free | State::LastAckOwed => return,
@@ -29,7 +29,7 @@ impl<const F: usize> Conn<F> {
             }
             _ => {}
         }
-        if self.waiting() && now >= self.progress_at.add(WRITE_TIMEOUT) {
+        if self.give_up_at().is_some_and(|at| now >= at) {
             self.abort(id, now, app);
             return;
         }
@@ -49,6 +49,29 @@ impl<const F: usize> Conn<F> {
         self.state != State::SynReceived && (self.tx_len > 0 || self.flight() > 0)
     }
 
+    /// Since when the peer has sent nothing while something waits for it.
+    fn quiet_since(&self) -> Instant {
+        self.heard_at.max(self.progress_at)
+    }
+
+    /// When the connection is reset for its peer, while something waits for it: silent for
+    /// [`GIVE_UP`], or its window closed to the replies for [`WRITE_TIMEOUT`].
+    fn give_up_at(&self) -> Option<Instant> {
+        if !self.waiting() {
+            return None;
+        }
+        let silent = self.quiet_since().add(GIVE_UP);
+        let closed = self.snd_wnd == 0 && self.tx_len > 0;
+        let stalled = closed.then(|| self.progress_at.add(WRITE_TIMEOUT));
+        Some(stalled.map_or(silent, |at| at.min(silent)))
+    }
+
+    /// True if the peer has sent nothing for [`WRITE_TIMEOUT`] while something waits for
+    /// it: a new client may take its place.
+    pub(in crate::tcp) fn stale(&self, now: Instant) -> bool {
+        self.waiting() && now >= self.quiet_since().add(WRITE_TIMEOUT)
+    }
+
     /// When [`Self::poll`] has something to do, for the adapter `app` (its inactivity
     /// timeout on connection `id`).
     pub(in crate::tcp) fn deadline(&self, id: SocketId, app: &impl TcpApp) -> Option<Instant> {
@@ -58,8 +81,7 @@ impl<const F: usize> Conn<F> {
             State::Established => app.idle_deadline(id),
             _ => Some(self.since.add(LINGER)),
         };
-        let give_up = self.waiting().then(|| self.progress_at.add(WRITE_TIMEOUT));
-        [bound, give_up, self.retransmit_at]
+        [bound, self.give_up_at(), self.retransmit_at]
             .into_iter()
             .flatten()
             .min()
