@@ -677,13 +677,18 @@ fn a_segment_at_the_next_byte_brings_its_ack_through_a_closed_window() {
 fn a_closed_window_is_probed_even_when_everything_sent_was_acknowledged() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let iss = connect(&mut s, &mut app, peer(5000), 100);
-    // The peer's window takes 4 of the 8 bytes of reply.
+    // The peer's window takes 4 of the 8 bytes of reply: a silly window against the 8 192
+    // it offered, taken at the timeout.
     let small = Segment {
         window: 4,
         ..seg(peer(5000), 101, iss, ACK, b"abcdefgh")
     };
     s.process(&small, ms(2), &mut app);
     let sent = drain(&mut s, ms(2));
+    assert_eq!(sent.iter().map(|(_, d)| d.len()).sum::<usize>(), 0);
+    let at = s.deadline(&app).expect("the override is armed");
+    s.poll(at, &mut app);
+    let sent = drain(&mut s, at);
     assert_eq!(sent.iter().map(|(_, d)| d.len()).sum::<usize>(), 4);
     // A pure ACK of those 4 that closes the window: the other 4 wait, and the window is
     // probed at the timeout.
@@ -691,12 +696,45 @@ fn a_closed_window_is_probed_even_when_everything_sent_was_acknowledged() {
         window: 0,
         ..seg(peer(5000), 109, iss + 4, ACK, &[])
     };
-    s.process(&closed, ms(3), &mut app);
-    assert!(drain(&mut s, ms(3)).is_empty());
+    s.process(&closed, at, &mut app);
+    assert!(drain(&mut s, at).is_empty());
     let at = s.deadline(&app).expect("the probe is armed");
     s.poll(at, &mut app);
     let probe = drain(&mut s, at);
     assert_eq!(probe.first().map(|(_, d)| d.as_slice()), Some(&b"e"[..]));
+}
+
+#[test]
+fn a_silly_window_waits_and_one_of_half_the_largest_offered_is_used() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    // The window offered shrinks to 3 bytes: a 4-byte reply does not go 3 bytes at once
+    // (RFC 9293 3.8.6.2.1).
+    let tiny = Segment {
+        window: 3,
+        ..seg(peer(5000), 101, iss, ACK, b"abcd")
+    };
+    s.process(&tiny, ms(2), &mut app);
+    assert!(drain(&mut s, ms(2)).iter().all(|(_, d)| d.is_empty()));
+    assert!(!s.owes(), "nothing owed while it waits");
+    // Half the largest window offered (8 192) takes it at once.
+    let half = Segment {
+        window: 4096,
+        ..seg(peer(5000), 105, iss, ACK, &[])
+    };
+    s.process(&half, ms(3), &mut app);
+    let sent = drain(&mut s, ms(3));
+    assert_eq!(sent[0].1, b"abcd");
+    // So does a window that takes the whole reply, however small: the rest of the replies
+    // is never silly.
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    let exact = Segment {
+        window: 4,
+        ..seg(peer(5000), 101, iss, ACK, b"abcd")
+    };
+    s.process(&exact, ms(2), &mut app);
+    assert_eq!(drain(&mut s, ms(2))[0].1, b"abcd");
 }
 
 #[test]

@@ -50,11 +50,13 @@ impl<const F: usize> Conn<F> {
         let flight = self.flight();
         let sent = flight.min(self.tx_len);
         let unsent = self.tx_len.saturating_sub(sent);
-        let mut allowance = (self.snd_wnd as usize).saturating_sub(flight);
-        if core::mem::take(&mut self.probe_owed) {
-            allowance = allowance.max(1);
-        }
-        let len = unsent.min(allowance).min(usize::from(self.mss));
+        let len = if core::mem::take(&mut self.probe_owed) {
+            // The probe, or what a small window takes once it has waited (RFC 9293
+            // 3.8.6.2.1's override timeout): at least a byte.
+            unsent.min(self.usable().max(1)).min(usize::from(self.mss))
+        } else {
+            self.sendable(unsent)
+        };
         let fin_due = self.fin && flight <= self.tx_len && unsent == len;
         if len > 0 || fin_due {
             let seq = self.snd_nxt;
@@ -98,6 +100,32 @@ impl<const F: usize> Conn<F> {
         None
     }
 
+    /// What the peer's window takes now beyond what is in flight.
+    fn usable(&self) -> usize {
+        (self.snd_wnd as usize).saturating_sub(self.flight())
+    }
+
+    /// The bytes of the `unsent` replies a segment carries now: a whole segment or the rest
+    /// of the replies, or at least half the largest window the peer offered; less waits
+    /// (RFC 9293 3.8.6.2.1, the sender's silly window avoidance), to go at the timeout.
+    fn sendable(&self, unsent: usize) -> usize {
+        let whole = unsent.min(usize::from(self.mss));
+        let len = whole.min(self.usable());
+        let half_window = (self.max_snd_wnd / 2) as usize;
+        if len == whole || (len > 0 && len >= half_window) {
+            len
+        } else {
+            0
+        }
+    }
+
+    /// True if replies wait for a window too small for them (or closed): probed at the
+    /// retransmission timeout.
+    pub(super) fn window_holds_replies(&self) -> bool {
+        let unsent = self.tx_len.saturating_sub(self.flight());
+        unsent > 0 && self.sendable(unsent) == 0
+    }
+
     /// A segment of this connection from `seq` with `flags`, acknowledging what came.
     fn segment(&self, seq: u32, flags: Flags) -> Outgoing {
         Outgoing {
@@ -127,7 +155,7 @@ impl<const F: usize> Conn<F> {
                 self.rst_owed
                     || self.ack_owed
                     || self.probe_owed
-                    || (unsent > 0 && (self.snd_wnd as usize) > flight)
+                    || self.sendable(unsent) > 0
                     || (self.fin && flight <= self.tx_len && unsent == 0)
             }
         }

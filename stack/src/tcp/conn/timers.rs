@@ -36,7 +36,7 @@ impl<const F: usize> Conn<F> {
         if self.retransmit_at.is_some_and(|at| at <= now) {
             // Go back to the oldest unacknowledged byte, with the timeout doubled (RFC 6298
             // 5.4-5.6); with nothing in flight, the closed window is probed.
-            self.probe_owed = self.snd_wnd == 0 && self.tx_len > 0;
+            self.probe_owed = self.window_holds_replies();
             self.snd_nxt = self.snd_una;
             self.rtt_probe = None;
             self.rto = Duration::from_micros(self.rto.as_micros().saturating_mul(2)).min(MAX_RTO);
