@@ -68,8 +68,9 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
     }
 
     /// The segment `seg`, arrived at `now`, for `app`; returns the segment answering it if
-    /// it belongs to no connection: a RST, or a SYN cookie's SYN-ACK (the connections'
-    /// own segments come from [`Self::transmit`]).
+    /// it belongs to no connection (a RST, or a SYN cookie's SYN-ACK) or is an ACK a
+    /// half-open connection refuses (a RST); the connections' own segments come from
+    /// [`Self::transmit`].
     pub fn process(
         &mut self,
         seg: &Segment<'_>,
@@ -77,6 +78,12 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         app: &mut impl TcpApp,
     ) -> Option<Outgoing> {
         if let Some(i) = self.find(seg) {
+            if self.conns.get(i).is_some_and(|c| c.refuses_ack(seg)) {
+                // RFC 9293 3.10.7.4, SYN-RECEIVED: an ACK of anything but our SYN-ACK (a
+                // stale one of an earlier handshake) is answered with a RST from its
+                // acknowledgment number; the handshake goes on.
+                return Some(refusal(seg));
+            }
             self.deliver(i, seg, now, app);
             return None;
         }

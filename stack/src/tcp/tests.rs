@@ -488,6 +488,20 @@ fn a_half_open_connection_is_dropped_after_the_bound_and_its_syn_ack_repeated_on
 }
 
 #[test]
+fn an_ack_of_another_syn_ack_is_reset_and_the_handshake_goes_on() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    s.process(&seg(peer(5000), 100, 0, SYN, &[]), ms(0), &mut app);
+    let syn_ack = drain(&mut s, ms(0))[0].0;
+    let next = syn_ack.seq.wrapping_add(1);
+    let stale = seg(peer(5000), 101, next.wrapping_add(1000), ACK, &[]);
+    let rst = s.process(&stale, ms(1), &mut app).expect("a RST");
+    assert_eq!((rst.flags, rst.seq), (RST, next.wrapping_add(1000)));
+    assert!(app.events.is_empty());
+    s.process(&seg(peer(5000), 101, next, ACK, &[]), ms(2), &mut app);
+    assert_eq!(app.events, [Event::Accepted(0, peer(5000))]);
+}
+
+#[test]
 fn a_handshake_completes_from_its_cookie_after_the_half_open_connection_was_dropped() {
     // A client 400 ms away: its ACK, with its first request, comes after the bound.
     let (mut s, mut app) = (Server::new(7), Echo::default());

@@ -9,7 +9,7 @@ mod timers;
 use core::net::{Ipv4Addr, SocketAddrV4};
 
 use super::seq::{distance, le, lt, within};
-use super::{Segment, TcpApp, DEFAULT_MSS, INITIAL_RTO, MIN_RTO};
+use super::{Flags, Segment, TcpApp, DEFAULT_MSS, INITIAL_RTO, MIN_RTO};
 use crate::{Duration, Instant, SocketId};
 
 /// Shortest time between two challenge ACKs of one connection (RFC 5961 section 7's
@@ -255,6 +255,18 @@ impl<const F: usize> Conn<F> {
             self.ack_owed = true;
             self.challenged = Some(now);
         }
+    }
+
+    /// True if `seg` is an ACK, within the window, of something a half-open connection did
+    /// not send: RFC 9293 3.10.7.4 answers it with a RST.
+    pub(super) fn refuses_ack(&self, seg: &Segment<'_>) -> bool {
+        let Flags { ack, syn, rst, .. } = seg.flags;
+        self.state == State::SynReceived
+            && ack
+            && !syn
+            && !rst
+            && seg.ack != self.snd_nxt
+            && self.acceptable(seg)
     }
 
     /// RFC 9293 3.10.7.4's test of the segment's sequence numbers against the window.
