@@ -25,8 +25,10 @@ pub struct TcpServer<const N: usize, const F: usize> {
     next: usize,
     /// An Identity Reset whose reply went out: for [`Self::take_reset`].
     reset: Option<u8>,
-    /// Until when an ACK of no connection may prove a SYN cookie: two ticks of the cookie
-    /// clock after the last one sent (ACKs are not hashed while no cookie went out).
+    /// Until when an ACK of no connection may prove a SYN cookie: [`cookie::LIFETIME`] after
+    /// the last one that went alone or whose half-open connection lapsed or gave its place
+    /// (ACKs of no connection are not hashed otherwise: an ACK flood costs no hashing while
+    /// handshakes complete in their connections).
     cookies_until: Option<Instant>,
 }
 
@@ -61,10 +63,16 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
 
     /// The initial sequence number answering the SYN `seg` at `now`: its SYN cookie, from
     /// which an ACK of no connection at that number proves the handshake for
-    /// [`cookie::LIFETIME`].
-    fn cookie(&mut self, seg: &Segment<'_>, now: Instant) -> u32 {
-        self.cookies_until = Some(now.add(cookie::LIFETIME));
+    /// [`cookie::LIFETIME`] once [`Self::accept_cookies`] says so.
+    fn cookie(&self, seg: &Segment<'_>, now: Instant) -> u32 {
         self.cookies.make(seg.peer, seg.seq, seg.peer_mss(), now)
+    }
+
+    /// ACKs of no connection may prove a cookie made at `made`: its SYN-ACK went alone, or
+    /// its half-open connection lapsed or gave its place.
+    fn accept_cookies(&mut self, made: Instant) {
+        let until = made.add(cookie::LIFETIME);
+        self.cookies_until = Some(self.cookies_until.map_or(until, |u| u.max(until)));
     }
 
     /// The segment `seg`, arrived at `now`, for `app`; returns the segment answering it if
@@ -137,6 +145,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         } else if !self.conns.iter().any(|c| c.state == State::SynReceived) {
             return Some(refusal(seg));
         }
+        self.accept_cookies(now);
         Some(Outgoing {
             peer: seg.peer,
             seq: self.cookie(seg, now),
@@ -166,6 +175,10 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         let Some(i) = self.slot_for_syn() else {
             return false;
         };
+        if let Some(since) = self.half_open_since(i) {
+            // Its handshake may yet complete from its cookie.
+            self.accept_cookies(since);
+        }
         let syn = Segment {
             seq: isn,
             flags: Flags {
@@ -188,6 +201,12 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         self.conns
             .iter()
             .position(|c| c.state != State::Free && c.peer == seg.peer)
+    }
+
+    /// When connection `i`'s SYN came, if it is half-open.
+    fn half_open_since(&self, i: usize) -> Option<Instant> {
+        let conn = self.conns.get(i)?;
+        (conn.state == State::SynReceived).then_some(conn.since)
     }
 
     /// A free connection for a proven SYN cookie, or the one half-open the longest.
@@ -223,9 +242,17 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
 
     /// The timers at `now`: half-open, linger and inactivity bounds, retransmissions.
     pub fn poll(&mut self, now: Instant, app: &mut impl TcpApp) {
-        for (i, conn) in self.conns.iter_mut().enumerate() {
+        for i in 0..N {
+            let half_open = self.half_open_since(i);
+            let Some(conn) = self.conns.get_mut(i) else {
+                continue;
+            };
             conn.poll(id(i), now, app);
             self.reset = self.reset.or(conn.take_reset());
+            if let Some(since) = half_open.filter(|_| conn.state == State::Free) {
+                // Lapsed: its handshake may yet complete from its cookie.
+                self.accept_cookies(since);
+            }
         }
     }
 

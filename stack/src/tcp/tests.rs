@@ -488,6 +488,27 @@ fn a_half_open_connection_is_dropped_after_the_bound_and_its_syn_ack_repeated_on
 }
 
 #[test]
+fn a_stray_copy_of_a_completed_handshakes_ack_opens_nothing() {
+    // Every initial sequence number is a cookie, but a cookie is taken from an ACK of no
+    // connection only after its SYN-ACK went alone or its half-open connection lapsed: a
+    // duplicate of the handshake's ACK arriving after the connection closed is refused.
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    s.process(&seg(peer(5000), 101, iss, FIN_ACK, &[]), ms(2), &mut app);
+    drain(&mut s, ms(2));
+    s.process(&seg(peer(5000), 102, iss + 1, ACK, &[]), ms(3), &mut app);
+    assert_eq!(s.deadline(&app), None, "free again");
+    let stray = seg(peer(5000), 101, iss, ACK, &[]);
+    let answer = s.process(&stray, ms(4), &mut app);
+    assert!(answer.is_some_and(|o| o.flags.rst), "{answer:?}");
+    assert_eq!(s.deadline(&app), None, "no connection opened");
+    assert_eq!(
+        app.events,
+        [Event::Accepted(0, peer(5000)), Event::Closed(0)]
+    );
+}
+
+#[test]
 fn an_ack_of_another_syn_ack_is_reset_and_the_handshake_goes_on() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     s.process(&seg(peer(5000), 100, 0, SYN, &[]), ms(0), &mut app);
