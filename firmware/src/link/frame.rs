@@ -85,18 +85,19 @@ pub(crate) fn kept_from_stack(frame: &[u8], me: &NetworkConfig) -> bool {
     }
 }
 
-/// True if a TCP segment to the interface `me` may come from `src`: not from `me`'s
-/// address itself (a "land" SYN would have us answer ourselves), a loopback address (RFC
-/// 1122 3.2.1.3), nor the broadcast or network address of `me`'s subnet (RFC 1122 4.2.3.10:
-/// a SYN from a broadcast address is ignored; on a /31 link both addresses are hosts, RFC
-/// 3021).
+/// True if a TCP segment to the interface `me` may come from `src`: a host's address (RFC
+/// 1122 3.2.1.3, 4.2.3.10: not zero, broadcast, multicast or loopback, and not the
+/// broadcast or network address of `me`'s own subnet; a /31 link has neither, RFC 3021),
+/// and not `me`'s own (a "land" SYN would have us answer ourselves). Another subnet's
+/// addresses are judged by their own mask, which only their router knows.
 pub(crate) fn tcp_source(src: Ipv4Addr, me: &NetworkConfig) -> bool {
     let mask = u32::from(me.netmask);
-    let subnet_wide = mask < 0xFFFF_FFFE && {
-        let host = u32::from(src) & !mask;
+    let (from, ours) = (u32::from(src), u32::from(me.ip));
+    let subnet_wide = mask < 0xFFFF_FFFE && from & mask == ours & mask && {
+        let host = from & !mask;
         host == 0 || host == !mask
     };
-    src != me.ip && !src.is_loopback() && !subnet_wide
+    is_host(src) && src != me.ip && !src.is_loopback() && !subnet_wide
 }
 
 /// Looks at `frame` for an adapter at `me`; `verify` says which checksums the driver left

@@ -416,6 +416,19 @@ mod tests {
             assert_eq!(locate(&broadcast, &iface(PEER)), None, "from {from}");
             assert!(locate(&broadcast, &point_to_point).is_some(), "/31 {from}");
         }
+        // A routed client's address is judged by its own subnet's mask, not ours; a
+        // multicast or zero source is no host anywhere.
+        for (from, host) in [
+            (Ipv4Addr::new(10, 1, 4, 255), true),
+            (Ipv4Addr::new(10, 1, 5, 0), true),
+            (Ipv4Addr::new(224, 0, 0, 1), false),
+            (Ipv4Addr::UNSPECIFIED, false),
+        ] {
+            let mut routed = frame.clone();
+            routed[ETHERNET_HEADER_LEN + 12..ETHERNET_HEADER_LEN + 16]
+                .copy_from_slice(&from.octets());
+            assert_eq!(locate(&routed, &iface(PEER)).is_some(), host, "from {from}");
+        }
     }
 
     #[test]

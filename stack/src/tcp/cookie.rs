@@ -1,6 +1,8 @@
-//! SYN cookies (RFC 4987 3.6): the initial sequence number of a SYN-ACK sent without keeping
-//! anything, from which the ACK completing the handshake proves that it answers that
-//! SYN-ACK and recovers what the connection needs of the SYN (the peer's segment size).
+//! SYN cookies (RFC 4987 3.6): the initial sequence number of every SYN-ACK (one sent
+//! without keeping anything, and one whose connection is kept, which may lapse), from which
+//! the ACK completing the handshake proves that it answers that SYN-ACK and recovers what
+//! the connection needs of the SYN (the peer's segment size). As initial sequence numbers
+//! they are hard to guess (RFC 6528's aim) and carry a clock in their top bits.
 //!
 //! A cookie is 32 bits: the low 5 bits of a clock ticking every 2^22 us (about 4.2 s), 25
 //! bits of a keyed hash (SipHash-2-4, under a key of its own: [`Cookies`]) of the peer's
@@ -28,8 +30,7 @@ const HASH_BITS: u32 = 25;
 /// The tick bits a cookie carries.
 const TICK_MASK: u64 = 0x1F;
 
-/// The key of the cookies' hash, apart from the initial sequence numbers' (whose hash of a
-/// peer every SYN-ACK shows, less the clock).
+/// The key of the cookies' hash, drawn at start.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Cookies {
     key: (u64, u64),

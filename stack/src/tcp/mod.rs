@@ -10,9 +10,10 @@
 //! - passive open only; a SYN finds a free connection; with none free, it is answered with a
 //!   SYN cookie if one is half-open (RFC 4987 3.6: a SYN flood holds the free connections
 //!   half-open, and a client's ACK proving its cookie opens one where a connection is free
-//!   again, else in the place of the oldest half-open one) or one has a silent peer (reset
-//!   to make room), else refused with a RST; every initial sequence number is a cookie, so
-//!   a handshake completes even after its half-open connection was dropped;
+//!   again, else in the place of the oldest half-open one) or one has a peer silent for
+//!   [`WRITE_TIMEOUT`] (reset for a client that proves its cookie: a SYN alone evicts
+//!   nothing), else refused with a RST; every initial sequence number is a cookie, so a
+//!   handshake completes even after its half-open connection was dropped;
 //! - data is taken in order only (a segment ahead of the next expected byte is answered with
 //!   an ACK and dropped, as is one the replies have no room after); no window scaling, SACK
 //!   or timestamps; the maximum segment size is announced and honoured;
@@ -49,7 +50,8 @@ pub use server::{closed_port_answer, TcpServer, Transmit};
 
 /// Longest wait for a peer that sends nothing while replies or our FIN wait for it (RFC 1122
 /// 4.2.3.5's R2 for data, at least 100 s: a link down for a switch's restart or a spanning
-/// tree's reconvergence ends no session): then the connection is reset.
+/// tree's reconvergence ends no session, unless a new client needs its place after
+/// [`WRITE_TIMEOUT`]): then the connection is reset.
 pub const GIVE_UP: Duration = Duration::from_secs(100);
 /// Longest wait for a peer to open its closed window for replies that wait (a client that
 /// stops reading; answering the window probes does not count): then the connection is

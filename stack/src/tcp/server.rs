@@ -1,7 +1,9 @@
 //! The server of `N` connections: finds the connection of each segment, takes SYNs into
-//! free connections (or, when every one is taken and one is half-open, answers them with a
-//! SYN cookie alone), answers other segments of no connection with a RST (RFC 9293
-//! 3.10.7.1), and hands out the connections' segments in turn.
+//! free connections (or, when every one is taken and one is half-open or has a silent peer,
+//! answers them with a SYN cookie alone, and a client that proves its cookie takes a
+//! half-open connection's place or a silent peer's), answers other segments of no
+//! connection with a RST (RFC 9293 3.10.7.1), and hands out the connections' segments in
+//! turn.
 //!
 //! Every SYN-ACK's initial sequence number is a SYN cookie, the one kept in a connection
 //! too (as FreeBSD's syncache makes them): a handshake whose half-open connection was
@@ -55,7 +57,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
     }
 
     /// Mixes `seed` (the runtime's hardware RNG or clock at start) into the key of the SYN
-    /// cookies, the initial sequence numbers (RFC 6528 asks that they be hard to guess).
+    /// cookies, which are the initial sequence numbers (hard to guess: RFC 6528's aim).
     pub fn seed(&mut self, seed: u64) {
         let mut rng = Rng::new(seed);
         self.cookies.mix(rng.next_u64(), rng.next_u64());
@@ -87,10 +89,16 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
     ) -> Option<Outgoing> {
         if let Some(i) = self.find(seg) {
             if self.conns.get(i).is_some_and(|c| c.refuses_ack(seg)) {
-                // RFC 9293 3.10.7.4, SYN-RECEIVED: an ACK of anything but our SYN-ACK (a
-                // stale one of an earlier handshake) is answered with a RST from its
-                // acknowledgment number; the handshake goes on.
-                return Some(refusal(seg));
+                // RFC 9293 3.10.7.4, SYN-RECEIVED: an ACK of anything but our SYN-ACK is
+                // answered with a RST from its acknowledgment number, and the handshake goes
+                // on; unless it proves the cookie of this peer's earlier SYN-ACK, whose
+                // half-open connection lapsed before a repeated SYN opened this one: the
+                // client took that one, and the connection is reopened from it.
+                let Some(mss) = self.proven(seg, now) else {
+                    return Some(refusal(seg));
+                };
+                self.open_proven(i, seg, mss, now, app);
+                return None;
             }
             self.deliver(i, seg, now, app);
             return None;
@@ -102,7 +110,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         if flags.syn && !flags.ack {
             // A SYN with a FIN opens nothing a client would ask for: a scanner's probe,
             // dropped as BSD and Linux drop it.
-            return (!flags.fin).then(|| self.take_syn(seg, now, app)).flatten();
+            return (!flags.fin).then(|| self.take_syn(seg, now)).flatten();
         }
         if flags.ack && !flags.syn && self.take_cookie(seg, now, app) {
             return None;
@@ -121,16 +129,11 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
     }
 
     /// A SYN of no connection: a free connection takes it; with none free, a SYN cookie
-    /// answers it if a connection is half-open (a SYN flood, or a handshake under way) or
-    /// one's peer has been silent for [`super::WRITE_TIMEOUT`] while replies wait (reset
-    /// now: its RST frees the place the cookie's ACK then takes), else a RST refuses it
-    /// (every connection is in use).
-    fn take_syn(
-        &mut self,
-        seg: &Segment<'_>,
-        now: Instant,
-        app: &mut impl TcpApp,
-    ) -> Option<Outgoing> {
+    /// alone answers it if a connection is half-open (a SYN flood, or a handshake under way)
+    /// or has a peer silent for [`super::WRITE_TIMEOUT`] while replies wait (whose place the
+    /// cookie's ACK may take: [`Self::take_cookie`]), else a RST refuses it (every
+    /// connection is in use). A SYN itself evicts nothing: its source may be forged.
+    fn take_syn(&mut self, seg: &Segment<'_>, now: Instant) -> Option<Outgoing> {
         if let Some(i) = self.conns.iter().position(|c| c.state == State::Free) {
             let iss = self.cookie(seg, now);
             if let Some(conn) = self.conns.get_mut(i) {
@@ -138,11 +141,11 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
             }
             return None;
         }
-        if let Some(i) = self.conns.iter().position(|c| c.stale(now)) {
-            if let Some(conn) = self.conns.get_mut(i) {
-                conn.abort(id(i), now, app);
-            }
-        } else if !self.conns.iter().any(|c| c.state == State::SynReceived) {
+        let room = self
+            .conns
+            .iter()
+            .any(|c| c.state == State::SynReceived || c.stale(now));
+        if !room {
             return Some(refusal(seg));
         }
         self.accept_cookies(now);
@@ -160,25 +163,56 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         })
     }
 
-    /// An ACK of no connection that proves a SYN cookie (sent lately: a SYN-ACK whose
-    /// connection was dropped half-open, or that went alone) opens a connection in a free
-    /// one's place or the oldest half-open one's, and goes to it; false if it proves none,
-    /// or no connection is free or half-open.
-    fn take_cookie(&mut self, seg: &Segment<'_>, now: Instant, app: &mut impl TcpApp) -> bool {
+    /// The segment size named by the SYN cookie `seg` (an ACK) proves, if ACKs may prove
+    /// cookies now ([`Self::accept_cookies`]).
+    fn proven(&self, seg: &Segment<'_>, now: Instant) -> Option<u16> {
         if self.cookies_until.is_none_or(|until| now >= until) {
-            return false;
+            return None;
         }
         let (isn, iss) = (seg.seq.wrapping_sub(1), seg.ack.wrapping_sub(1));
-        let Some(mss) = self.cookies.check(seg.peer, isn, iss, now) else {
+        self.cookies.check(seg.peer, isn, iss, now)
+    }
+
+    /// An ACK of no connection that proves a SYN cookie (sent lately: a SYN-ACK whose
+    /// connection was dropped half-open, or that went alone) opens a connection in a free
+    /// one's place or the oldest half-open one's, and goes to it. With every connection
+    /// open, one whose peer has been silent for [`super::WRITE_TIMEOUT`] while replies wait
+    /// is reset for the proven client, and the ACK is dropped: the client's next segment
+    /// (its request) proves the cookie again and finds the place free. False if it proves
+    /// nothing or finds no place.
+    fn take_cookie(&mut self, seg: &Segment<'_>, now: Instant, app: &mut impl TcpApp) -> bool {
+        let Some(mss) = self.proven(seg, now) else {
             return false;
         };
-        let Some(i) = self.slot_for_syn() else {
-            return false;
-        };
-        if let Some(since) = self.half_open_since(i) {
-            // Its handshake may yet complete from its cookie.
-            self.accept_cookies(since);
+        if let Some(i) = self.slot_for_syn() {
+            if let Some(since) = self.half_open_since(i) {
+                // Its handshake may yet complete from its cookie.
+                self.accept_cookies(since);
+            }
+            self.open_proven(i, seg, mss, now, app);
+            return true;
         }
+        let Some(i) = self.conns.iter().position(|c| c.stale(now)) else {
+            return false;
+        };
+        if let Some(conn) = self.conns.get_mut(i) {
+            conn.abort(id(i), now, app);
+            self.reset = self.reset.or(conn.take_reset());
+        }
+        true
+    }
+
+    /// Opens connection `i` for `seg`, an ACK proving the cookie of a SYN that named `mss`,
+    /// and gives it the segment.
+    fn open_proven(
+        &mut self,
+        i: usize,
+        seg: &Segment<'_>,
+        mss: u16,
+        now: Instant,
+        app: &mut impl TcpApp,
+    ) {
+        let (isn, iss) = (seg.seq.wrapping_sub(1), seg.ack.wrapping_sub(1));
         let syn = Segment {
             seq: isn,
             flags: Flags {
@@ -193,7 +227,6 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
             conn.open_answered(&syn, iss, now);
         }
         self.deliver(i, seg, now, app);
-        true
     }
 
     /// The connection `seg` belongs to.

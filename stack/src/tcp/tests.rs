@@ -298,13 +298,22 @@ fn a_new_client_takes_the_place_of_a_peer_silent_for_the_write_timeout() {
     let now = ms(2).add(WRITE_TIMEOUT);
     let cookie = s.process(&syn, now, &mut app).expect("a SYN-ACK");
     assert!(cookie.flags.syn && cookie.flags.ack);
+    assert_eq!(
+        app.events.len(),
+        3,
+        "a SYN evicts nothing (its source may be forged)"
+    );
+    // The client proves its address: the silent peer is reset for it, and its first
+    // segment dropped (no RST: the client is in).
+    let request = seg(peer(6000), 301, cookie.seq.wrapping_add(1), ACK, b"wxyz");
+    assert_eq!(s.process(&request, now, &mut app), None);
     assert_eq!(app.events.last(), Some(&Event::Closed(0)), "the silent one");
     let sent = drain(&mut s, now);
     assert!(sent
         .iter()
         .any(|(o, _)| o.flags.rst && o.peer == peer(5000)));
-    let ack = seg(peer(6000), 301, cookie.seq.wrapping_add(1), ACK, b"wxyz");
-    assert_eq!(s.process(&ack, now, &mut app), None);
+    // Its request again (retransmitted) proves the cookie again and finds the place.
+    assert_eq!(s.process(&request, now, &mut app), None);
     assert_eq!(
         app.events[app.events.len() - 2..],
         [
@@ -312,6 +321,38 @@ fn a_new_client_takes_the_place_of_a_peer_silent_for_the_write_timeout() {
             Event::Received(0, b"wxyz".to_vec())
         ]
     );
+}
+
+#[test]
+fn a_syn_flood_evicts_no_silent_peer_and_answers_do_not_make_one_stale() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let alive = connect(&mut s, &mut app, peer(5000), 100);
+    let quiet = connect(&mut s, &mut app, peer(5001), 200);
+    for (from, seq, ack) in [(peer(5000), 101, alive), (peer(5001), 201, quiet)] {
+        s.process(&seg(from, seq, ack, ACK, b"abcd"), ms(2), &mut app);
+    }
+    drain(&mut s, ms(2));
+    // The first peer's replies are lost, but it keeps talking (duplicate ACKs): it is
+    // heard, so never stale.
+    for k in 1..=6u64 {
+        let at = ms(2).add(Duration::from_secs(k));
+        s.process(&seg(peer(5000), 105, alive, ACK, &[]), at, &mut app);
+        s.poll(at, &mut app);
+        drain(&mut s, at);
+    }
+    let now = ms(2).add(Duration::from_secs(6));
+    // Forged SYNs: cookies, and nobody reset.
+    for port in 7000..7010 {
+        let answer = s.process(&seg(peer(port), 1, 0, SYN, &[]), now, &mut app);
+        assert!(answer.is_some_and(|o| o.flags.syn && o.flags.ack));
+    }
+    assert_eq!(app.events.len(), 4, "{:?}", app.events);
+    // A proven client takes the silent peer's place, not the one still talking.
+    let syn = seg(peer(6000), 300, 0, SYN, &[]);
+    let cookie = s.process(&syn, now, &mut app).expect("a SYN-ACK");
+    let request = seg(peer(6000), 301, cookie.seq.wrapping_add(1), ACK, b"wxyz");
+    s.process(&request, now, &mut app);
+    assert_eq!(app.events.last(), Some(&Event::Closed(1)));
 }
 
 #[test]
@@ -485,6 +526,70 @@ fn a_half_open_connection_is_dropped_after_the_bound_and_its_syn_ack_repeated_on
     );
     assert!(app.events.is_empty(), "the adapter never heard of it");
     assert_eq!(s.deadline(&app), None);
+}
+
+#[test]
+fn a_late_ack_of_an_earlier_syn_ack_reopens_the_handshake_from_its_cookie() {
+    // The SYN-ACK reached the client late: its SYN was sent again after the half-open
+    // connection lapsed, in the cookie clock's next tick, and a new half-open connection
+    // answered it with another cookie; then the client's ACK of the first comes.
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    s.process(&seg(peer(5000), 100, 0, SYN, &[]), ms(0), &mut app);
+    let first = drain(&mut s, ms(0))[0].0;
+    s.poll(ms(0).add(HALF_OPEN), &mut app);
+    s.process(&seg(peer(5000), 100, 0, SYN, &[]), ms(4_300), &mut app);
+    let second = drain(&mut s, ms(4_300))[0].0;
+    assert_ne!(first.seq, second.seq, "another tick, another cookie");
+    let late = seg(peer(5000), 101, first.seq.wrapping_add(1), ACK, b"abcd");
+    assert_eq!(s.process(&late, ms(4_400), &mut app), None, "no RST");
+    assert_eq!(
+        app.events,
+        [
+            Event::Accepted(0, peer(5000)),
+            Event::Received(0, b"abcd".to_vec())
+        ]
+    );
+    let sent = drain(&mut s, ms(4_400));
+    assert_eq!(sent[0].0.seq, first.seq.wrapping_add(1));
+}
+
+#[test]
+fn replies_held_in_flight_when_the_window_closes_are_probed() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    s.process(
+        &seg(peer(5000), 101, iss, ACK, b"abcdefgh"),
+        ms(2),
+        &mut app,
+    );
+    assert_eq!(drain(&mut s, ms(2)).len(), 1, "all 8 bytes in flight");
+    // A duplicate ACK closes the window: at the timeout the window is probed (the flight
+    // rewound first), not left waiting for the write timeout.
+    let closed = Segment {
+        window: 0,
+        ..seg(peer(5000), 109, iss, ACK, &[])
+    };
+    s.process(&closed, ms(3), &mut app);
+    let at = s.deadline(&app).expect("the timer");
+    s.poll(at, &mut app);
+    let probe = drain(&mut s, at);
+    assert_eq!(probe.first().map(|(_, d)| d.as_slice()), Some(&b"a"[..]));
+}
+
+#[test]
+fn half_the_largest_window_offered_is_no_silly_window() {
+    // A peer whose window was never more than 8 bytes: 4 of 8 bytes of reply go at once.
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let small = |seq, ack, flags, payload, window| Segment {
+        window,
+        ..seg(peer(5000), seq, ack, flags, payload)
+    };
+    s.process(&small(100, 0, SYN, &[], 8), ms(0), &mut app);
+    let next = drain(&mut s, ms(0))[0].0.seq.wrapping_add(1);
+    s.process(&small(101, next, ACK, &[], 8), ms(1), &mut app);
+    s.process(&small(101, next, ACK, b"abcdefgh", 4), ms(2), &mut app);
+    let sent = drain(&mut s, ms(2));
+    assert_eq!(sent.iter().map(|(_, d)| d.len()).sum::<usize>(), 4);
 }
 
 #[test]
@@ -752,7 +857,8 @@ fn a_silly_window_waits_and_one_of_half_the_largest_offered_is_used() {
     s.process(&tiny, ms(2), &mut app);
     assert!(drain(&mut s, ms(2)).iter().all(|(_, d)| d.is_empty()));
     assert!(!s.owes(), "nothing owed while it waits");
-    // Half the largest window offered (8 192) takes it at once.
+    // A window that takes the whole reply takes it at once (half the largest one offered
+    // is `half_the_largest_window_offered_is_no_silly_window`).
     let half = Segment {
         window: 4096,
         ..seg(peer(5000), 105, iss, ACK, &[])

@@ -75,7 +75,8 @@ pub(super) struct Conn<const F: usize> {
     syn_ack_owed: bool,
     /// A RST is owed: the slot is free once it is sent.
     rst_owed: bool,
-    /// A window probe is owed (the peer's window is closed and replies wait).
+    /// A window probe is owed (the peer's window is closed, or too small for the replies
+    /// that wait: what it takes goes then, the silly window avoidance's override).
     probe_owed: bool,
     /// The adapter has the connection as a session (accepted, not yet told it closed).
     open: bool,
@@ -301,7 +302,8 @@ impl<const F: usize> Conn<F> {
         let ack = seg.ack;
         if self.state == State::SynReceived {
             if ack != self.snd_nxt {
-                // Not our SYN-ACK's: left to the half-open bound.
+                // Not our SYN-ACK's: the server answers it before it comes here
+                // (`refuses_ack`); dropped if it ever does.
                 return false;
             }
             self.state = State::Established;

@@ -35,9 +35,10 @@ impl<const F: usize> Conn<F> {
         }
         if self.retransmit_at.is_some_and(|at| at <= now) {
             // Go back to the oldest unacknowledged byte, with the timeout doubled (RFC 6298
-            // 5.4-5.6); with nothing in flight, the closed window is probed.
-            self.probe_owed = self.window_holds_replies();
+            // 5.4-5.6); a window closed or too small for what waits is probed (or what it
+            // takes goes: the silly window avoidance's override).
             self.snd_nxt = self.snd_una;
+            self.probe_owed = self.window_holds_replies();
             self.rtt_probe = None;
             self.rto = Duration::from_micros(self.rto.as_micros().saturating_mul(2)).min(MAX_RTO);
             self.retransmit_at = None;
@@ -88,9 +89,10 @@ impl<const F: usize> Conn<F> {
     }
 
     /// The Identity Reset accepted on this connection, once its reply is acknowledged or
-    /// the connection ended.
+    /// the connection ended (or is being reset).
     pub(in crate::tcp) fn take_reset(&mut self) -> Option<u8> {
-        let flushed = self.tx_len == 0 || !matches!(self.state, State::Established);
+        let flushed =
+            self.tx_len == 0 || self.rst_owed || !matches!(self.state, State::Established);
         if flushed {
             self.reset.take()
         } else {
