@@ -36,6 +36,8 @@ mod conn;
 mod cookie;
 #[cfg(test)]
 mod flood_tests;
+#[cfg(test)]
+mod peer_tests;
 mod seq;
 mod server;
 mod siphash;

@@ -107,6 +107,21 @@ pub(super) fn seg(
     }
 }
 
+/// `segment` offering the window `window`.
+pub(super) fn with_window(window: u16, segment: Segment<'_>) -> Segment<'_> {
+    Segment { window, ..segment }
+}
+
+/// The data of the first segment sent at the server's next deadline (a window probe).
+pub(super) fn probed(s: &mut Server, app: &mut Echo) -> Vec<u8> {
+    let at = s.deadline(app).expect("the probe is armed");
+    s.poll(at, app);
+    drain(s, at)
+        .first()
+        .map(|(_, d)| d.clone())
+        .unwrap_or_default()
+}
+
 /// Everything the server sends at `now`, with the data, asked as the link task asks: only
 /// while it says it owes a segment.
 pub(super) fn drain(server: &mut Server, now: Instant) -> Vec<(Outgoing, Vec<u8>)> {
@@ -206,153 +221,6 @@ fn an_unacknowledged_reply_is_sent_again_from_its_first_byte_with_the_timeout_do
     assert_eq!(again.len(), 1);
     assert_eq!((again[0].0.seq, again[0].1.as_slice()), (iss, &b"abcd"[..]));
     assert_eq!(s.deadline(&app), Some(first.add(Duration::from_secs(2))));
-}
-
-/// Runs the server's timers from `now` until it sends a RST (at most `rounds` deadlines);
-/// returns when, and the RST.
-fn until_reset(
-    s: &mut Server,
-    app: &mut Echo,
-    mut now: Instant,
-    rounds: usize,
-) -> (Instant, Outgoing) {
-    for _ in 0..rounds {
-        let Some(at) = s.deadline(app) else { break };
-        now = at;
-        s.poll(now, app);
-        if let Some((rst, _)) = drain(s, now).into_iter().find(|(o, _)| o.flags.rst) {
-            return (now, rst);
-        }
-    }
-    panic!("no reset by {now:?}");
-}
-
-#[test]
-fn a_peer_that_sends_nothing_for_the_give_up_time_is_reset_not_before() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let iss = connect(&mut s, &mut app, peer(5000), 100);
-    s.process(&seg(peer(5000), 101, iss, ACK, b"abcd"), ms(2), &mut app);
-    drain(&mut s, ms(2));
-    // Retransmitted at 1, 3, 7, 15, 31 and 63 s (the timeout doubling), then given up: a
-    // link down for a minute ends no session.
-    let (at, rst) = until_reset(&mut s, &mut app, ms(2), 10);
-    assert_eq!(at, ms(2).add(GIVE_UP));
-    assert!(GIVE_UP >= Duration::from_secs(100), "RFC 1122 4.2.3.5");
-    assert_eq!(rst.seq, iss + 4, "after what was sent");
-    assert_eq!(app.events.last(), Some(&Event::Closed(0)));
-    assert_eq!(s.deadline(&app), None);
-}
-
-#[test]
-fn a_peer_that_answers_probes_of_a_closed_window_is_reset_after_the_write_timeout() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let iss = connect(&mut s, &mut app, peer(5000), 100);
-    let closed = |seq, now, s: &mut Server, app: &mut Echo| {
-        let ack = Segment {
-            window: 0,
-            ..seg(peer(5000), seq, iss, ACK, &[])
-        };
-        s.process(&ack, now, app);
-    };
-    let request = Segment {
-        window: 0,
-        ..seg(peer(5000), 101, iss, ACK, b"abcd")
-    };
-    s.process(&request, ms(2), &mut app);
-    drain(&mut s, ms(2));
-    // Every probe answered, the window still closed: a client that stopped reading.
-    let mut reset = None;
-    for _ in 0..10 {
-        let at = s.deadline(&app).expect("a probe or the reset");
-        assert!(at <= ms(2).add(WRITE_TIMEOUT), "{at:?}");
-        s.poll(at, &mut app);
-        let sent = drain(&mut s, at);
-        if let Some((rst, _)) = sent.iter().find(|(o, _)| o.flags.rst) {
-            reset = Some((at, *rst));
-            break;
-        }
-        assert_eq!(sent[0].1, b"a", "a probe");
-        closed(105, at, &mut s, &mut app);
-    }
-    let (now, rst) = reset.expect("a reset");
-    assert_eq!(now, ms(2).add(WRITE_TIMEOUT));
-    // At the byte the closed window waits for, not past the probe's: the peer takes it.
-    assert_eq!(rst.seq, iss);
-    assert_eq!(app.events.last(), Some(&Event::Closed(0)));
-}
-
-#[test]
-fn a_new_client_takes_the_place_of_a_peer_silent_for_the_write_timeout() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let quiet = connect(&mut s, &mut app, peer(5000), 100);
-    connect(&mut s, &mut app, peer(5001), 200);
-    // Both taken; the first peer's reply waits, unacknowledged.
-    s.process(&seg(peer(5000), 101, quiet, ACK, b"abcd"), ms(2), &mut app);
-    drain(&mut s, ms(2));
-    let syn = seg(peer(6000), 300, 0, SYN, &[]);
-    let refused = s.process(&syn, ms(2).add(Duration::from_secs(4)), &mut app);
-    assert!(
-        refused.is_some_and(|o| o.flags.rst),
-        "not silent long enough"
-    );
-    let now = ms(2).add(WRITE_TIMEOUT);
-    let cookie = s.process(&syn, now, &mut app).expect("a SYN-ACK");
-    assert!(cookie.flags.syn && cookie.flags.ack);
-    assert_eq!(
-        app.events.len(),
-        3,
-        "a SYN evicts nothing (its source may be forged)"
-    );
-    // The client proves its address: the silent peer is reset for it, and its first
-    // segment dropped (no RST: the client is in).
-    let request = seg(peer(6000), 301, cookie.seq.wrapping_add(1), ACK, b"wxyz");
-    assert_eq!(s.process(&request, now, &mut app), None);
-    assert_eq!(app.events.last(), Some(&Event::Closed(0)), "the silent one");
-    let sent = drain(&mut s, now);
-    assert!(sent
-        .iter()
-        .any(|(o, _)| o.flags.rst && o.peer == peer(5000)));
-    // Its request again (retransmitted) proves the cookie again and finds the place.
-    assert_eq!(s.process(&request, now, &mut app), None);
-    assert_eq!(
-        app.events[app.events.len() - 2..],
-        [
-            Event::Accepted(0, peer(6000)),
-            Event::Received(0, b"wxyz".to_vec())
-        ]
-    );
-}
-
-#[test]
-fn a_syn_flood_evicts_no_silent_peer_and_answers_do_not_make_one_stale() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let alive = connect(&mut s, &mut app, peer(5000), 100);
-    let quiet = connect(&mut s, &mut app, peer(5001), 200);
-    for (from, seq, ack) in [(peer(5000), 101, alive), (peer(5001), 201, quiet)] {
-        s.process(&seg(from, seq, ack, ACK, b"abcd"), ms(2), &mut app);
-    }
-    drain(&mut s, ms(2));
-    // The first peer's replies are lost, but it keeps talking (duplicate ACKs): it is
-    // heard, so never stale.
-    for k in 1..=6u64 {
-        let at = ms(2).add(Duration::from_secs(k));
-        s.process(&seg(peer(5000), 105, alive, ACK, &[]), at, &mut app);
-        s.poll(at, &mut app);
-        drain(&mut s, at);
-    }
-    let now = ms(2).add(Duration::from_secs(6));
-    // Forged SYNs: cookies, and nobody reset.
-    for port in 7000..7010 {
-        let answer = s.process(&seg(peer(port), 1, 0, SYN, &[]), now, &mut app);
-        assert!(answer.is_some_and(|o| o.flags.syn && o.flags.ack));
-    }
-    assert_eq!(app.events.len(), 4, "{:?}", app.events);
-    // A proven client takes the silent peer's place, not the one still talking.
-    let syn = seg(peer(6000), 300, 0, SYN, &[]);
-    let cookie = s.process(&syn, now, &mut app).expect("a SYN-ACK");
-    let request = seg(peer(6000), 301, cookie.seq.wrapping_add(1), ACK, b"wxyz");
-    s.process(&request, now, &mut app);
-    assert_eq!(app.events.last(), Some(&Event::Closed(1)));
 }
 
 #[test]
@@ -529,134 +397,6 @@ fn a_half_open_connection_is_dropped_after_the_bound_and_its_syn_ack_repeated_on
 }
 
 #[test]
-fn a_late_ack_of_an_earlier_syn_ack_reopens_the_handshake_from_its_cookie() {
-    // The SYN-ACK reached the client late: its SYN was sent again after the half-open
-    // connection lapsed, in the cookie clock's next tick, and a new half-open connection
-    // answered it with another cookie; then the client's ACK of the first comes.
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    s.process(&seg(peer(5000), 100, 0, SYN, &[]), ms(0), &mut app);
-    let first = drain(&mut s, ms(0))[0].0;
-    s.poll(ms(0).add(HALF_OPEN), &mut app);
-    s.process(&seg(peer(5000), 100, 0, SYN, &[]), ms(4_300), &mut app);
-    let second = drain(&mut s, ms(4_300))[0].0;
-    assert_ne!(first.seq, second.seq, "another tick, another cookie");
-    let late = seg(peer(5000), 101, first.seq.wrapping_add(1), ACK, b"abcd");
-    assert_eq!(s.process(&late, ms(4_400), &mut app), None, "no RST");
-    assert_eq!(
-        app.events,
-        [
-            Event::Accepted(0, peer(5000)),
-            Event::Received(0, b"abcd".to_vec())
-        ]
-    );
-    let sent = drain(&mut s, ms(4_400));
-    assert_eq!(sent[0].0.seq, first.seq.wrapping_add(1));
-}
-
-#[test]
-fn replies_held_in_flight_when_the_window_closes_are_probed() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let iss = connect(&mut s, &mut app, peer(5000), 100);
-    s.process(
-        &seg(peer(5000), 101, iss, ACK, b"abcdefgh"),
-        ms(2),
-        &mut app,
-    );
-    assert_eq!(drain(&mut s, ms(2)).len(), 1, "all 8 bytes in flight");
-    // A duplicate ACK closes the window: at the timeout the window is probed (the flight
-    // rewound first), not left waiting for the write timeout.
-    let closed = Segment {
-        window: 0,
-        ..seg(peer(5000), 109, iss, ACK, &[])
-    };
-    s.process(&closed, ms(3), &mut app);
-    let at = s.deadline(&app).expect("the timer");
-    s.poll(at, &mut app);
-    let probe = drain(&mut s, at);
-    assert_eq!(probe.first().map(|(_, d)| d.as_slice()), Some(&b"a"[..]));
-}
-
-#[test]
-fn half_the_largest_window_offered_is_no_silly_window() {
-    // A peer whose window was never more than 8 bytes: 4 of 8 bytes of reply go at once.
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let small = |seq, ack, flags, payload, window| Segment {
-        window,
-        ..seg(peer(5000), seq, ack, flags, payload)
-    };
-    s.process(&small(100, 0, SYN, &[], 8), ms(0), &mut app);
-    let next = drain(&mut s, ms(0))[0].0.seq.wrapping_add(1);
-    s.process(&small(101, next, ACK, &[], 8), ms(1), &mut app);
-    s.process(&small(101, next, ACK, b"abcdefgh", 4), ms(2), &mut app);
-    let sent = drain(&mut s, ms(2));
-    assert_eq!(sent.iter().map(|(_, d)| d.len()).sum::<usize>(), 4);
-}
-
-#[test]
-fn a_stray_copy_of_a_completed_handshakes_ack_opens_nothing() {
-    // Every initial sequence number is a cookie, but a cookie is taken from an ACK of no
-    // connection only after its SYN-ACK went alone or its half-open connection lapsed: a
-    // duplicate of the handshake's ACK arriving after the connection closed is refused.
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let iss = connect(&mut s, &mut app, peer(5000), 100);
-    s.process(&seg(peer(5000), 101, iss, FIN_ACK, &[]), ms(2), &mut app);
-    drain(&mut s, ms(2));
-    s.process(&seg(peer(5000), 102, iss + 1, ACK, &[]), ms(3), &mut app);
-    assert_eq!(s.deadline(&app), None, "free again");
-    let stray = seg(peer(5000), 101, iss, ACK, &[]);
-    let answer = s.process(&stray, ms(4), &mut app);
-    assert!(answer.is_some_and(|o| o.flags.rst), "{answer:?}");
-    assert_eq!(s.deadline(&app), None, "no connection opened");
-    assert_eq!(
-        app.events,
-        [Event::Accepted(0, peer(5000)), Event::Closed(0)]
-    );
-}
-
-#[test]
-fn an_ack_of_another_syn_ack_is_reset_and_the_handshake_goes_on() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    s.process(&seg(peer(5000), 100, 0, SYN, &[]), ms(0), &mut app);
-    let syn_ack = drain(&mut s, ms(0))[0].0;
-    let next = syn_ack.seq.wrapping_add(1);
-    let stale = seg(peer(5000), 101, next.wrapping_add(1000), ACK, &[]);
-    let rst = s.process(&stale, ms(1), &mut app).expect("a RST");
-    assert_eq!((rst.flags, rst.seq), (RST, next.wrapping_add(1000)));
-    assert!(app.events.is_empty());
-    s.process(&seg(peer(5000), 101, next, ACK, &[]), ms(2), &mut app);
-    assert_eq!(app.events, [Event::Accepted(0, peer(5000))]);
-}
-
-#[test]
-fn a_handshake_completes_from_its_cookie_after_the_half_open_connection_was_dropped() {
-    // A client 400 ms away: its ACK, with its first request, comes after the bound.
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    s.process(&seg(peer(5000), 100, 0, SYN, &[]), ms(0), &mut app);
-    let syn_ack = drain(&mut s, ms(0))[0].0;
-    s.poll(ms(0).add(HALF_OPEN), &mut app);
-    assert_eq!(s.deadline(&app), None, "dropped");
-    let next = syn_ack.seq.wrapping_add(1);
-    let late = ms(400);
-    let request = seg(peer(5000), 101, next, ACK, b"abcd");
-    assert_eq!(s.process(&request, late, &mut app), None, "no RST");
-    assert_eq!(
-        app.events,
-        [
-            Event::Accepted(0, peer(5000)),
-            Event::Received(0, b"abcd".to_vec())
-        ]
-    );
-    let sent = drain(&mut s, late);
-    assert_eq!((sent[0].0.seq, sent[0].0.ack), (next, 105));
-    assert_eq!(sent[0].1, b"abcd");
-    // An ACK naming another sequence number proves nothing: refused.
-    let forged = seg(peer(5001), 101, next, ACK, &[]);
-    assert!(s
-        .process(&forged, late, &mut app)
-        .is_some_and(|o| o.flags.rst));
-}
-
-#[test]
 fn a_reply_longer_than_the_peers_segment_size_goes_in_pieces() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let syn = Segment {
@@ -678,10 +418,7 @@ fn a_reply_longer_than_the_peers_segment_size_goes_in_pieces() {
 fn a_closed_window_is_probed_and_replies_go_once_it_opens() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let iss = connect(&mut s, &mut app, peer(5000), 100);
-    let closed = Segment {
-        window: 0,
-        ..seg(peer(5000), 101, iss, ACK, b"abcd")
-    };
+    let closed = with_window(0, seg(peer(5000), 101, iss, ACK, b"abcd"));
     s.process(&closed, ms(2), &mut app);
     let ack_only = drain(&mut s, ms(2));
     assert_eq!((ack_only.len(), ack_only[0].1.len()), (1, 0));
@@ -797,10 +534,7 @@ fn a_segment_at_the_next_byte_brings_its_ack_through_a_closed_window() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let iss = connect(&mut s, &mut app, peer(5000), 100);
     // A peer that takes nothing: two long replies fill the room, and the window closes.
-    let closed = Segment {
-        window: 0,
-        ..seg(peer(5000), 101, iss, ACK, b"L")
-    };
+    let closed = with_window(0, seg(peer(5000), 101, iss, ACK, b"L"));
     s.process(&closed, ms(2), &mut app);
     s.process(&seg(peer(5000), 102, iss, ACK, b"L"), ms(2), &mut app);
     let sent = drain(&mut s, ms(2));
@@ -819,10 +553,7 @@ fn a_closed_window_is_probed_even_when_everything_sent_was_acknowledged() {
     let iss = connect(&mut s, &mut app, peer(5000), 100);
     // The peer's window takes 4 of the 8 bytes of reply: a silly window against the 8 192
     // it offered, taken at the timeout.
-    let small = Segment {
-        window: 4,
-        ..seg(peer(5000), 101, iss, ACK, b"abcdefgh")
-    };
+    let small = with_window(4, seg(peer(5000), 101, iss, ACK, b"abcdefgh"));
     s.process(&small, ms(2), &mut app);
     let sent = drain(&mut s, ms(2));
     assert_eq!(sent.iter().map(|(_, d)| d.len()).sum::<usize>(), 0);
@@ -832,50 +563,10 @@ fn a_closed_window_is_probed_even_when_everything_sent_was_acknowledged() {
     assert_eq!(sent.iter().map(|(_, d)| d.len()).sum::<usize>(), 4);
     // A pure ACK of those 4 that closes the window: the other 4 wait, and the window is
     // probed at the timeout.
-    let closed = Segment {
-        window: 0,
-        ..seg(peer(5000), 109, iss + 4, ACK, &[])
-    };
+    let closed = with_window(0, seg(peer(5000), 109, iss + 4, ACK, &[]));
     s.process(&closed, at, &mut app);
     assert!(drain(&mut s, at).is_empty());
-    let at = s.deadline(&app).expect("the probe is armed");
-    s.poll(at, &mut app);
-    let probe = drain(&mut s, at);
-    assert_eq!(probe.first().map(|(_, d)| d.as_slice()), Some(&b"e"[..]));
-}
-
-#[test]
-fn a_silly_window_waits_and_one_of_half_the_largest_offered_is_used() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let iss = connect(&mut s, &mut app, peer(5000), 100);
-    // The window offered shrinks to 3 bytes: a 4-byte reply does not go 3 bytes at once
-    // (RFC 9293 3.8.6.2.1).
-    let tiny = Segment {
-        window: 3,
-        ..seg(peer(5000), 101, iss, ACK, b"abcd")
-    };
-    s.process(&tiny, ms(2), &mut app);
-    assert!(drain(&mut s, ms(2)).iter().all(|(_, d)| d.is_empty()));
-    assert!(!s.owes(), "nothing owed while it waits");
-    // A window that takes the whole reply takes it at once (half the largest one offered
-    // is `half_the_largest_window_offered_is_no_silly_window`).
-    let half = Segment {
-        window: 4096,
-        ..seg(peer(5000), 105, iss, ACK, &[])
-    };
-    s.process(&half, ms(3), &mut app);
-    let sent = drain(&mut s, ms(3));
-    assert_eq!(sent[0].1, b"abcd");
-    // So does a window that takes the whole reply, however small: the rest of the replies
-    // is never silly.
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let iss = connect(&mut s, &mut app, peer(5000), 100);
-    let exact = Segment {
-        window: 4,
-        ..seg(peer(5000), 101, iss, ACK, b"abcd")
-    };
-    s.process(&exact, ms(2), &mut app);
-    assert_eq!(drain(&mut s, ms(2))[0].1, b"abcd");
+    assert_eq!(probed(&mut s, &mut app), b"e");
 }
 
 #[test]
