@@ -27,8 +27,8 @@ pub(crate) const ARP_REQUEST_LEN: usize = ETHERNET_HEADER_LEN + 28;
 #[derive(Debug, Default, PartialEq, Eq)]
 pub(crate) struct Seen {
     /// The sender's IPv4 address and the MAC address it came from, for a frame addressed to
-    /// this adapter's IPv4 address (an IPv4 packet or an ARP message) whose checksum held:
-    /// where T->O data for that address goes next.
+    /// this adapter's IPv4 address (an IPv4 packet or an ARP message) whose header checksum
+    /// held: where T->O data for that address goes next, once the frame is taken in.
     pub sender: Option<(Ipv4Addr, [u8; 6])>,
     /// An O->T datagram: its source and where its UDP payload lies in the frame.
     pub o_t: Option<(SocketAddrV4, Range<usize>)>,
@@ -138,6 +138,7 @@ fn inspect_ipv4(
     let header_len = usize::from(ihl & 0x0F).wrapping_mul(4);
     let total_len = usize::from(u16::from_be_bytes([l0, l1]));
     if Ipv4Addr::new(d0, d1, d2, d3) != me
+        || ihl >> 4 != 4
         || header_len < IPV4_HEADER_LEN
         || header_len > total_len
         || total_len > packet.len()
@@ -326,7 +327,8 @@ mod tests {
             inspect(&good, Ipv4Addr::new(198, 18, 0, 3), &software()),
             Seen::default()
         );
-        // Another UDP port: the sender is learned, the frame is the stack's.
+        // Another UDP port: the sender is named (the link task learns it only if the frame is
+        // taken in), the frame is the stack's.
         let other_port = {
             let mut f = good.clone();
             f[36..38].copy_from_slice(&44818u16.to_be_bytes());
@@ -356,6 +358,11 @@ mod tests {
             ip.fill_checksum();
         }
         assert_eq!(inspect(&fragment, ME, &software()).o_t, None);
+        // An IPv4 ethertype on a header of another version (RFC 1122 3.2.1.1): nothing.
+        let mut version_6 = good.clone();
+        version_6[14] = 0x65;
+        Ipv4Packet::new_unchecked(&mut version_6[14..]).fill_checksum();
+        assert_eq!(inspect(&version_6, ME, &software()), Seen::default());
         // From a broadcast source MAC: no neighbour entry, and not Class 1 either.
         let mut group_mac = good.clone();
         group_mac[6] |= 1;

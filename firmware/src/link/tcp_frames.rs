@@ -44,6 +44,7 @@ pub(crate) fn locate(frame: &[u8], me: &NetworkConfig) -> Option<Located> {
     // More fragments (0x2000) or a fragment offset: not the whole segment.
     let unfragmented = u16::from_be_bytes([f0, f1]) & 0x3FFF == 0;
     if frame.get(12..ETHERNET_HEADER_LEN) != Some(&IPV4[..])
+        || ihl >> 4 != 4
         || protocol != TCP
         || !unfragmented
         || Ipv4Addr::new(d0, d1, d2, d3) != me.ip

@@ -47,7 +47,8 @@ pub(crate) struct LocalEnd<'a> {
 
 impl TcpLink {
     /// The TCP segment `segment` (an IPv4 payload) from `src` to the interface `me`, its
-    /// checksum checked if `verify`: to the server, at `at`.
+    /// checksum checked if `verify`: to the server, at `at`; true if it was well formed and
+    /// its checksum held.
     pub(crate) fn take(
         &mut self,
         segment: &[u8],
@@ -55,27 +56,29 @@ impl TcpLink {
         verify: bool,
         io: &dyn IoPort,
         at: Instant,
-    ) {
+    ) -> bool {
         let Some(segment) = tcp_frames::parse(segment, src, me, verify) else {
-            return;
+            return false;
         };
         if let Some(answer) = io.tcp_segment(&segment, at) {
             self.answer = Some((answer, ENCAP_PORT));
         }
         self.stale = true;
+        true
     }
 
     /// The TCP segment `segment` (an IPv4 payload) from `src` to `port` of the interface
     /// `me`, a port nothing listens on, its checksum checked if `verify`: a RST answers it
-    /// (RFC 9293 3.10.7.1), so a scanner finds the port closed.
+    /// (RFC 9293 3.10.7.1), so a scanner finds the port closed; true if it was well formed
+    /// and its checksum held.
     pub(crate) fn refuse(
         &mut self,
         segment: &[u8],
         (src, me, port): (Ipv4Addr, Ipv4Addr, u16),
         verify: bool,
-    ) {
+    ) -> bool {
         let Some(segment) = tcp_frames::parse(segment, src, me, verify) else {
-            return;
+            return false;
         };
         // An answer owed on the encapsulation port (a SYN cookie's SYN-ACK) is not given up
         // for a closed port's: SYNs to other ports pass no flood guard.
@@ -83,6 +86,7 @@ impl TcpLink {
             self.answer = Some((answer, port));
             self.stale = true;
         }
+        true
     }
 
     /// True if the pass at `at` has TCP work: a segment came, or a timer is due.

@@ -27,7 +27,7 @@ use embassy_futures::select::{select, Either};
 use embassy_net::tcp::{ConnectError, TcpSocket};
 use embassy_net::udp::{PacketMetadata, UdpSocket};
 use embassy_net::{Ipv4Cidr, Stack, StackResources, StaticConfigV4};
-use embassy_time::{with_timeout, Duration, Timer};
+use embassy_time::{with_deadline, with_timeout, Duration, Timer};
 use enip_firmware::link::{self, LinkFrames, NetDriver};
 use enip_firmware::Resources;
 use enip_profiles::generic;
@@ -99,6 +99,7 @@ at_both_sizes!(
     every_session_is_served_the_next_client_refused_and_a_stalled_one_blocks_nobody,
     idle_connection_is_closed_after_the_inactivity_timeout,
     class1_io_through_the_link_task,
+    junk_does_not_turn_the_t_o_data_away,
 );
 
 /// Polls `fut` on this thread, on the host runtime's loop (which fires the timers); panics
@@ -361,6 +362,102 @@ fn t_o_data(datagram: &[u8]) -> Vec<u8> {
     p.connected_data().to_vec()
 }
 
+/// Opens the generic profile's exclusive owner on `session`; returns its O->T connection ID.
+async fn open_exclusive_owner(client: &mut Client<'_>, session: u32) -> u32 {
+    let (status, reply) = client
+        .request(
+            session,
+            FORWARD_OPEN,
+            &CONNECTION_MANAGER,
+            &exclusive_owner_request(),
+        )
+        .await;
+    assert_eq!(status, 0, "Forward_Open refused: {reply:02x?}");
+    let opened = ForwardOpenReplyRepr::parse(&reply).expect("Forward_Open reply");
+    assert_eq!(opened.t_o_connection_id, T_O_ID);
+    opened.o_t_connection_id
+}
+
+/// A UDP datagram to port 9 from [`CLIENT_IP`] but another station's MAC, its IPv4 header
+/// good: junk the adapter drops, which must not teach it where the client is.
+fn junk_from_the_clients_address() -> Vec<u8> {
+    let mut f = vec![0u8; 14 + 20 + 8 + 4];
+    f[..6].copy_from_slice(&[2, 0, 0, 0, 0, 2]);
+    f[6..12].copy_from_slice(&[2, 0, 0, 0, 0, 0x66]);
+    f[12..14].copy_from_slice(&[0x08, 0x00]);
+    let ip = &mut f[14..34];
+    ip[0] = 0x45;
+    ip[2..4].copy_from_slice(&(20u16 + 8 + 4).to_be_bytes());
+    ip[8] = 64;
+    ip[9] = 17;
+    ip[12..16].copy_from_slice(&CLIENT_IP.octets());
+    ip[16..20].copy_from_slice(&ADAPTER_IP.octets());
+    let sum = ip
+        .chunks(2)
+        .map(|w| u32::from(u16::from_be_bytes([w[0], w[1]])))
+        .sum::<u32>();
+    let folded = (sum & 0xFFFF) + (sum >> 16);
+    let folded = (folded & 0xFFFF) + (folded >> 16);
+    ip[10..12].copy_from_slice(&(!(folded as u16)).to_be_bytes());
+    f[34..36].copy_from_slice(&9u16.to_be_bytes());
+    f[36..38].copy_from_slice(&9u16.to_be_bytes());
+    f[38..40].copy_from_slice(&12u16.to_be_bytes());
+    f
+}
+
+fn junk_does_not_turn_the_t_o_data_away<
+    const S: usize,
+    const C: usize,
+    const F: usize,
+    const L: usize,
+>() {
+    with_adapter::<S, C, F, L>(async |net| {
+        let (mut rx, mut tx) = ([0u8; 2048], [0u8; 2048]);
+        let (mut client, session) = Client::registered(net, &mut rx, &mut tx).await;
+        let (mut rx_meta, mut tx_meta) = ([PacketMetadata::EMPTY; 16], [PacketMetadata::EMPTY; 4]);
+        let (mut rx_buf, mut tx_buf) = ([0u8; 2048], [0u8; 512]);
+        let mut io = UdpSocket::new(net, &mut rx_meta, &mut rx_buf, &mut tx_meta, &mut tx_buf);
+        io.bind(IO_PORT).expect("bind 2222");
+        let o_t_id = open_exclusive_owner(&mut client, session).await;
+        let mut datagram = [0u8; 128];
+        let outputs = [0u8; generic::IO_SIZE];
+        for sequence in 1..=5u16 {
+            let len = originator::io_datagram(
+                &mut datagram,
+                o_t_id,
+                sequence.into(),
+                sequence,
+                Some(true),
+                &outputs,
+            )
+            .expect("O->T datagram");
+            io.send_to(&datagram[..len], (ADAPTER_IP, IO_PORT))
+                .await
+                .expect("O->T sent");
+            Timer::after_micros(CLASS1_RPI_US.into()).await;
+        }
+        // The junk, then two RPIs without O->T data (the watchdog is four): the T->O
+        // datagrams of those RPIs still come to the client's MAC.
+        wire::inject_to_port_0(junk_from_the_clients_address());
+        Timer::after_micros(1_000).await;
+        let mut buf = [0u8; 256];
+        while with_timeout(Duration::from_millis(1), io.recv_from(&mut buf))
+            .await
+            .is_ok()
+        {}
+        let mut after = 0;
+        let until =
+            embassy_time::Instant::now() + Duration::from_micros(2 * u64::from(CLASS1_RPI_US));
+        while let Ok(Ok(_)) = with_deadline(until, io.recv_from(&mut buf)).await {
+            after += 1;
+        }
+        assert!(
+            after >= 1,
+            "no T->O datagram reached the client after the junk"
+        );
+    });
+}
+
 fn class1_io_through_the_link_task<
     const S: usize,
     const C: usize,
@@ -382,18 +479,7 @@ fn class1_io_through_the_link_task<
         let mut io = UdpSocket::new(net, &mut rx_meta, &mut rx_buf, &mut tx_meta, &mut tx_buf);
         io.bind(IO_PORT).expect("bind 2222");
 
-        let (status, reply) = client
-            .request(
-                session,
-                FORWARD_OPEN,
-                &CONNECTION_MANAGER,
-                &exclusive_owner_request(),
-            )
-            .await;
-        assert_eq!(status, 0, "Forward_Open refused: {reply:02x?}");
-        let opened = ForwardOpenReplyRepr::parse(&reply).expect("Forward_Open reply");
-        assert_eq!(opened.t_o_connection_id, T_O_ID);
-        let o_t_id = opened.o_t_connection_id;
+        let o_t_id = open_exclusive_owner(&mut client, session).await;
 
         // 30 RPIs of O->T data; the T->O datagrams come from the adapter's address and port,
         // in sequence, and soon carry the outputs back (input assembly 100 echoes 150).

@@ -21,9 +21,28 @@ pub struct Port {
     mac: [u8; 6],
 }
 
+thread_local! {
+    /// The segment [`pair`] made last on this thread (each test runs on its own).
+    static LAST: RefCell<Option<Rc<RefCell<Segment>>>> = const { RefCell::new(None) };
+}
+
+/// Queues `frame` for port 0 of the segment made last on this thread, as if another
+/// station on the wire had sent it.
+pub fn inject_to_port_0(frame: Vec<u8>) {
+    LAST.with_borrow(|last| {
+        let segment = last.as_ref().expect("a segment");
+        let mut seg = segment.borrow_mut();
+        seg.queues[0].push_back(frame);
+        if let Some(w) = seg.wakers[0].take() {
+            w.wake();
+        }
+    });
+}
+
 /// A fresh segment's two ports, with these MAC addresses.
 pub fn pair(mac0: [u8; 6], mac1: [u8; 6]) -> (Port, Port) {
     let segment = Rc::new(RefCell::new(Segment::default()));
+    LAST.with_borrow_mut(|last| *last = Some(segment.clone()));
     let port = |side, mac| Port {
         segment: segment.clone(),
         side,

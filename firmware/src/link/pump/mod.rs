@@ -293,8 +293,9 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         whole_burst
     }
 
-    /// One received frame: O->T data to the adapter, anything else to the stack (true). Out
-    /// of line: the frame's temporaries are set up only when a frame came, not in every pass.
+    /// One received frame: O->T data to the adapter, anything else to the stack (true), and
+    /// its sender learned if it was taken in. Out of line: the frame's temporaries are set up
+    /// only when a frame came, not in every pass.
     #[inline(never)]
     fn ingest(
         &mut self,
@@ -316,17 +317,21 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         let o_t = seen
             .o_t
             .and_then(|(from, range)| Some((from, frame.get(range)?)));
-        let passed = match o_t {
-            Some((from, data)) => {
-                // The data may have triggered a production: the deadline is learned anew.
-                self.io_next = io.receive(from, data, at);
-                false
+        // The sender's MAC is learned from a frame taken in (an O->T datagram or a TCP
+        // segment, whose checksums held) or an ARP message about us, never from one dropped
+        // as corrupt or unwanted: such a frame from a host's address must not turn its T->O
+        // data elsewhere. Learned after the O->T data reached the device, not on its way
+        // there; before any T->O datagram or TCP segment of this wake-up goes out.
+        if let Some((from, data)) = o_t {
+            // The data may have triggered a production: the deadline is learned anew.
+            self.io_next = io.receive(from, data, at);
+            if let Some((ip, mac)) = seen.sender {
+                self.neighbors.learn(ip, mac);
             }
-            None => self.other_frame(frame, seen.sender.is_some(), frames, io, me, at),
-        };
-        // Learned once the O->T data reached the device, not on its way there; before any
-        // T->O datagram or TCP segment of this wake-up goes out.
-        if let Some((ip, mac)) = seen.sender {
+            return false;
+        }
+        let (passed, taken) = self.other_frame(frame, seen.sender.is_some(), frames, io, me, at);
+        if let Some((ip, mac)) = seen.sender.filter(|_| taken || !frame::is_ipv4(frame)) {
             self.neighbors.learn(ip, mac);
         }
         passed

@@ -28,7 +28,9 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
     /// one host): unless the flood guard drops it, a TCP segment goes to the server if it is
     /// for the encapsulation port, to the stack if for the TLS port the runtime serves there,
     /// and is answered as one to a closed port otherwise (the stack, without TCP of its own,
-    /// would answer "protocol unreachable"); anything else goes to the stack (true).
+    /// would answer "protocol unreachable"); anything else goes to the stack. Returns
+    /// whether it went to the stack, and whether it was a TCP segment taken in here (its
+    /// checksum held: its sender may be learned).
     pub(super) fn other_frame(
         &mut self,
         frame: &[u8],
@@ -37,33 +39,32 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
         io: &dyn IoPort,
         me: &NetworkConfig,
         at: Instant,
-    ) -> bool {
+    ) -> (bool, bool) {
         if !self.flood_guard.admit(frame, me.ip, at) {
-            return false;
+            return (false, false);
         }
         if let Some((src, range, port)) = from_host.then(|| tcp_frames::locate(frame, me)).flatten()
         {
             if port == ENCAP_PORT {
-                self.ingest_tcp(frame, (src, range), io, me, at);
-                return false;
+                return (false, self.ingest_tcp(frame, (src, range), io, me, at));
             }
             if port != TLS_PORT || !io.tls_port_open() {
-                self.refuse_tcp(frame, (src, range, port), me);
-                return false;
+                return (false, self.refuse_tcp(frame, (src, range, port), me));
             }
         } else if frame::kept_from_stack(frame, me) {
-            return false;
+            return (false, false);
         }
         if STACK_SUMS {
-            return self.pass_checked(frame, frames);
+            return (self.pass_checked(frame, frames), false);
         }
         // A frame longer than a queue slot is cut short, and the stack drops it.
         let _ = frames.rx.push(frame.len(), |room| copy(room, frame));
-        true
+        (true, false)
     }
 
     /// The TCP segment `tcp` (its source, its place in `frame`) for the encapsulation port:
-    /// to the server. Out of line: not on the Class 1 path.
+    /// to the server; true if it was well formed and its checksum held. Out of line: not on
+    /// the Class 1 path.
     #[inline(never)]
     fn ingest_tcp(
         &mut self,
@@ -72,23 +73,31 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
         io: &dyn IoPort,
         me: &NetworkConfig,
         at: Instant,
-    ) {
-        if let Some(segment) = frame.get(range) {
-            let verify = self.sums.tcp.rx();
-            self.tcp.take(segment, (src, me.ip), verify, io, at);
-            // A request may have moved the LLDP deadline (the LLDP Management object).
-            self.lldp_stale = true;
-        }
+    ) -> bool {
+        let Some(segment) = frame.get(range) else {
+            return false;
+        };
+        let verify = self.sums.tcp.rx();
+        // A request may have moved the LLDP deadline (the LLDP Management object).
+        self.lldp_stale = true;
+        self.tcp.take(segment, (src, me.ip), verify, io, at)
     }
 
     /// The TCP segment in `frame` (its source, its place, its port) to a port nothing listens
-    /// on: answered with a RST. Out of line: not on the Class 1 path.
+    /// on: answered with a RST; true if it was whole and its checksum held. Out of line: not
+    /// on the Class 1 path.
     #[inline(never)]
-    fn refuse_tcp(&mut self, frame: &[u8], (src, range, port): Located, me: &NetworkConfig) {
-        if let Some(segment) = frame.get(range) {
-            let verify = self.sums.tcp.rx();
-            self.tcp.refuse(segment, (src, me.ip, port), verify);
-        }
+    fn refuse_tcp(
+        &mut self,
+        frame: &[u8],
+        (src, range, port): Located,
+        me: &NetworkConfig,
+    ) -> bool {
+        let Some(segment) = frame.get(range) else {
+            return false;
+        };
+        let verify = self.sums.tcp.rx();
+        self.tcp.refuse(segment, (src, me.ip, port), verify)
     }
 
     /// Runs the encapsulation TCP's timers and sends what it owes; another task's deadline
