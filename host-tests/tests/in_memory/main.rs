@@ -378,6 +378,24 @@ async fn open_exclusive_owner(client: &mut Client<'_>, session: u32) -> u32 {
     opened.o_t_connection_id
 }
 
+/// Sends the O->T datagram of connection `o_t_id` numbered `sequence` (both counts), in run
+/// mode, carrying `outputs`.
+async fn send_o_t(io: &UdpSocket<'_>, o_t_id: u32, sequence: u16, outputs: &[u8]) {
+    let mut datagram = [0u8; 128];
+    let len = originator::io_datagram(
+        &mut datagram,
+        o_t_id,
+        sequence.into(),
+        sequence,
+        Some(true),
+        outputs,
+    )
+    .expect("O->T datagram");
+    io.send_to(&datagram[..len], (ADAPTER_IP, IO_PORT))
+        .await
+        .expect("O->T sent");
+}
+
 /// A UDP datagram to port 9 from [`CLIENT_IP`] but another station's MAC, its IPv4 header
 /// good: junk the adapter drops, which must not teach it where the client is.
 fn junk_from_the_clients_address() -> Vec<u8> {
@@ -419,21 +437,9 @@ fn junk_does_not_turn_the_t_o_data_away<
         let mut io = UdpSocket::new(net, &mut rx_meta, &mut rx_buf, &mut tx_meta, &mut tx_buf);
         io.bind(IO_PORT).expect("bind 2222");
         let o_t_id = open_exclusive_owner(&mut client, session).await;
-        let mut datagram = [0u8; 128];
         let outputs = [0u8; generic::IO_SIZE];
         for sequence in 1..=5u16 {
-            let len = originator::io_datagram(
-                &mut datagram,
-                o_t_id,
-                sequence.into(),
-                sequence,
-                Some(true),
-                &outputs,
-            )
-            .expect("O->T datagram");
-            io.send_to(&datagram[..len], (ADAPTER_IP, IO_PORT))
-                .await
-                .expect("O->T sent");
+            send_o_t(&io, o_t_id, sequence, &outputs).await;
             Timer::after_micros(CLASS1_RPI_US.into()).await;
         }
         // The junk, then two RPIs without O->T data (the watchdog is four): the T->O
@@ -484,24 +490,12 @@ fn class1_io_through_the_link_task<
         // 30 RPIs of O->T data; the T->O datagrams come from the adapter's address and port,
         // in sequence, and soon carry the outputs back (input assembly 100 echoes 150).
         let outputs: Vec<u8> = (0..generic::IO_SIZE as u8).map(|b| b ^ 0xA5).collect();
-        let mut datagram = [0u8; 128];
         let mut received = Vec::new();
         let rpi = Duration::from_micros(CLASS1_RPI_US.into());
         let mut ticker = embassy_time::Ticker::every(rpi);
         let start = embassy_time::Instant::now();
         for sequence in 1..=30u16 {
-            let len = originator::io_datagram(
-                &mut datagram,
-                o_t_id,
-                sequence.into(),
-                sequence,
-                Some(true),
-                &outputs,
-            )
-            .expect("O->T datagram");
-            io.send_to(&datagram[..len], (ADAPTER_IP, IO_PORT))
-                .await
-                .expect("O->T sent");
+            send_o_t(&io, o_t_id, sequence, &outputs).await;
             ticker.next().await;
             let mut buf = [0u8; 256];
             while let Ok(Ok((n, from))) =
