@@ -91,13 +91,11 @@ pub(crate) fn kept_from_stack(frame: &[u8], me: &NetworkConfig) -> bool {
 /// and not `me`'s own (a "land" SYN would have us answer ourselves). Another subnet's
 /// addresses are judged by their own mask, which only their router knows.
 pub(crate) fn tcp_source(src: Ipv4Addr, me: &NetworkConfig) -> bool {
-    let mask = u32::from(me.netmask);
-    let (from, ours) = (u32::from(src), u32::from(me.ip));
-    let subnet_wide = mask < 0xFFFF_FFFE && from & mask == ours & mask && {
-        let host = from & !mask;
-        host == 0 || host == !mask
-    };
-    is_host(src) && src != me.ip && !src.is_loopback() && !subnet_wide
+    is_host(src)
+        && src != me.ip
+        && !src.is_loopback()
+        && !me.is_broadcast(src)
+        && !me.is_network_address(src)
 }
 
 /// Looks at `frame` for an adapter at `me`; `verify` says which checksums the driver left

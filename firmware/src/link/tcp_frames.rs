@@ -279,7 +279,7 @@ mod tests {
     };
     use std::vec;
 
-    use crate::link::test_frames::iface;
+    use crate::link::test_frames::{iface, ipv4_mut};
 
     const ME: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
     const PEER: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
@@ -400,35 +400,32 @@ mod tests {
         );
         assert_eq!(frame[at..at + 2], 80u16.to_be_bytes());
         assert_eq!(locate(&frame, &iface(ME)), None, "not to us");
-        let mut land = frame.clone();
-        land[ETHERNET_HEADER_LEN + 12..ETHERNET_HEADER_LEN + 16].copy_from_slice(&PEER.octets());
-        assert_eq!(locate(&land, &iface(PEER)), None, "from us, to us");
         let mut fragment = frame.clone();
         fragment[ETHERNET_HEADER_LEN + 6] |= 0x20;
         assert_eq!(locate(&fragment, &iface(PEER)), None, "not whole");
-        // From the subnet's broadcast or network address (RFC 1122 4.2.3.10): nothing; on
-        // a /31 link (RFC 3021) there are no such addresses, and both are hosts.
+        // Sources (the segments go to PEER): a land segment from PEER itself, the subnet's
+        // broadcast and network addresses (RFC 1122 4.2.3.10), none of which a /31 link
+        // (RFC 3021) has; a routed client judged by its own subnet's mask, not ours; and
+        // addresses that are no host's anywhere.
         let mut point_to_point = iface(PEER);
         point_to_point.netmask = Ipv4Addr::new(255, 255, 255, 254);
-        for from in [Ipv4Addr::new(198, 18, 0, 255), Ipv4Addr::new(198, 18, 0, 0)] {
-            let mut broadcast = frame.clone();
-            broadcast[ETHERNET_HEADER_LEN + 12..ETHERNET_HEADER_LEN + 16]
-                .copy_from_slice(&from.octets());
-            assert_eq!(locate(&broadcast, &iface(PEER)), None, "from {from}");
-            assert!(locate(&broadcast, &point_to_point).is_some(), "/31 {from}");
-        }
-        // A routed client's address is judged by its own subnet's mask, not ours; a
-        // multicast or zero source is no host anywhere.
-        for (from, host) in [
-            (Ipv4Addr::new(10, 1, 4, 255), true),
-            (Ipv4Addr::new(10, 1, 5, 0), true),
-            (Ipv4Addr::new(224, 0, 0, 1), false),
-            (Ipv4Addr::UNSPECIFIED, false),
+        for (from, on_24, on_31) in [
+            (PEER, false, false),
+            (Ipv4Addr::new(198, 18, 0, 255), false, true),
+            (Ipv4Addr::new(198, 18, 0, 0), false, true),
+            (Ipv4Addr::new(10, 1, 4, 255), true, true),
+            (Ipv4Addr::new(10, 1, 5, 0), true, true),
+            (Ipv4Addr::new(224, 0, 0, 1), false, false),
+            (Ipv4Addr::UNSPECIFIED, false, false),
         ] {
-            let mut routed = frame.clone();
-            routed[ETHERNET_HEADER_LEN + 12..ETHERNET_HEADER_LEN + 16]
-                .copy_from_slice(&from.octets());
-            assert_eq!(locate(&routed, &iface(PEER)).is_some(), host, "from {from}");
+            let mut sent = frame.clone();
+            ipv4_mut(&mut sent).set_src_addr(from);
+            assert_eq!(locate(&sent, &iface(PEER)).is_some(), on_24, "/24 {from}");
+            assert_eq!(
+                locate(&sent, &point_to_point).is_some(),
+                on_31,
+                "/31 {from}"
+            );
         }
     }
 

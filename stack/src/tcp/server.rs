@@ -169,7 +169,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         if self.cookies_until.is_none_or(|until| now >= until) {
             return None;
         }
-        let (isn, iss) = (seg.seq.wrapping_sub(1), seg.ack.wrapping_sub(1));
+        let (isn, iss) = initial_numbers(seg);
         self.cookies.check(seg.peer, isn, iss, now)
     }
 
@@ -212,7 +212,7 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
         now: Instant,
         app: &mut impl TcpApp,
     ) {
-        let (isn, iss) = (seg.seq.wrapping_sub(1), seg.ack.wrapping_sub(1));
+        let (isn, iss) = initial_numbers(seg);
         let syn = Segment {
             seq: isn,
             flags: Flags {
@@ -300,6 +300,12 @@ impl<const N: usize, const F: usize> TcpServer<N, F> {
     pub fn take_reset(&mut self) -> Option<u8> {
         self.reset.take()
     }
+}
+
+/// The initial sequence numbers `seg`, an ACK completing a handshake, names: the peer's
+/// and ours (its SYN cookie).
+fn initial_numbers(seg: &Segment<'_>) -> (u32, u32) {
+    (seg.seq.wrapping_sub(1), seg.ack.wrapping_sub(1))
 }
 
 /// The adapter's number of connection `i`.
