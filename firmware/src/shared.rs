@@ -48,7 +48,7 @@ pub struct SharedAdapter<
 }
 
 /// Wraps `adapter` for [`crate::run`] and the link task.
-pub const fn share<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
+pub fn share<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
     adapter: Adapter<D, S, C, F, L>,
 ) -> SharedAdapter<D, S, C, F, L> {
     SharedAdapter {
