@@ -48,7 +48,7 @@ fn prepare() -> Result<bool> {
         "--quiet",
         "--manifest-path",
         "fuzz/Cargo.toml",
-        "--bin",
+        "--example",
         "gen_seeds",
         "--",
         "--check",

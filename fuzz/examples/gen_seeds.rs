@@ -1,7 +1,7 @@
 //! Writes the seed corpus under `fuzz/corpus/seed/<target>/` and checks, by playing the TCP
 //! and UDP scripts against the adapter, that every seed request gets a successful reply.
 //!
-//! Run from the repository root: `cargo run --manifest-path fuzz/Cargo.toml --bin gen_seeds`.
+//! Run from the repository root: `cargo run --manifest-path fuzz/Cargo.toml --example gen_seeds`.
 //! It replaces the seeds it wrote before and keeps the inputs a fuzz campaign merged in.
 //! With `--check` it writes nothing: it fails if a seed no longer gets a successful reply,
 //! and warns if the committed seeds differ from what it would write.
@@ -249,7 +249,7 @@ fn main() {
         } else {
             println!(
                 "warning: committed seeds differ from what gen_seeds writes: {}; refresh them \
-                 with `cargo run --manifest-path fuzz/Cargo.toml --bin gen_seeds`",
+                 with `cargo run --manifest-path fuzz/Cargo.toml --example gen_seeds`",
                 stale.join(", ")
             );
         }
