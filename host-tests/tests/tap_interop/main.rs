@@ -60,6 +60,7 @@ mod hostile_tcp;
 mod kollmorgen_akd;
 mod lldp;
 mod parker_ipa;
+mod pipelining;
 mod position_servo;
 mod position_servo_connections;
 mod position_servo_qemu;

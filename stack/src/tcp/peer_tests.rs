@@ -1,11 +1,15 @@
 //! The server against the peers RFC 9293 and RFC 1122 name that a probe of the TAP board
 //! found mishandled: handshakes completing late (from their SYN cookies), peers silent or
-//! stalled while replies wait, and windows too small for the replies.
+//! stalled while replies wait, windows too small for the replies, and pipelined requests
+//! whose replies outgrow the room (they wait, acknowledged, in the window offered).
 
 extern crate std;
 
+use std::vec::Vec;
+
 use super::tests::{
-    connect, drain, ms, peer, probed, seg, with_window, Echo, Event, Server, ACK, FIN_ACK, RST, SYN,
+    connect, drain, ms, peer, probed, seg, with_window, Echo, Event, Server, ACK, FIN_ACK, FRAME,
+    RST, SYN,
 };
 use super::*;
 
@@ -299,4 +303,71 @@ fn a_silly_window_waits_and_one_of_half_the_largest_offered_is_used() {
     let exact = with_window(4, seg(peer(5000), 101, iss, ACK, b"abcd"));
     s.process(&exact, ms(2), &mut app);
     assert_eq!(drain(&mut s, ms(2))[0].1, b"abcd");
+}
+
+#[test]
+fn pipelined_requests_beyond_the_replies_room_wait_acknowledged_and_the_window_never_shrinks() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    // Three requests in one segment: two long replies fill the room (sent, not yet
+    // acknowledged), and the third request waits, acknowledged.
+    s.process(
+        &seg(peer(5000), 101, iss, ACK, b"LxxxLxxxabcd"),
+        ms(2),
+        &mut app,
+    );
+    let sent = drain(&mut s, ms(2));
+    let last = sent.last().expect("the replies").0;
+    assert_eq!(last.ack, 113, "{sent:?}");
+    // The window's right edge moved on (it was 101 + 64): it never moves back.
+    assert_eq!(last.ack + u32::from(last.window), 113 + 60, "{sent:?}");
+    // The whole window offered, while the replies still wait: kept too; the window closes.
+    s.process(
+        &seg(peer(5000), 113, iss, ACK, &[b'a'; 60]),
+        ms(3),
+        &mut app,
+    );
+    let sent = drain(&mut s, ms(3));
+    let last = sent.last().expect("an ACK").0;
+    assert_eq!((last.ack, last.window), (173, 0), "{sent:?}");
+    // Beyond it: not taken.
+    s.process(&seg(peer(5000), 173, iss, ACK, b"zzzz"), ms(3), &mut app);
+    let sent = drain(&mut s, ms(3));
+    assert_eq!(sent.last().map(|(o, _)| o.ack), Some(173), "{sent:?}");
+    // The ACK of both replies: what waited is answered in order, and the window opens.
+    let acked = seg(peer(5000), 173, iss + 2 * FRAME as u32, ACK, &[]);
+    s.process(&acked, ms(4), &mut app);
+    let sent = drain(&mut s, ms(4));
+    let data: Vec<u8> = sent.iter().flat_map(|(_, d)| d.clone()).collect();
+    let mut expected = b"abcd".to_vec();
+    expected.extend_from_slice(&[b'a'; 60]);
+    assert_eq!(data, expected, "{sent:?}");
+    let last = sent.last().expect("the replies").0;
+    assert_eq!((last.ack, last.window), (173, FRAME as u16), "{sent:?}");
+    let received = app
+        .events
+        .iter()
+        .filter(|e| matches!(e, Event::Received(..)))
+        .count();
+    assert_eq!(received, 2 + 1 + 15, "every request once, none dropped");
+}
+
+#[test]
+fn a_fin_after_requests_that_wait_is_taken_once_they_are_answered() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    let last_request = seg(peer(5000), 101, iss, FIN_ACK, b"LxxxLxxxabcd");
+    s.process(&last_request, ms(2), &mut app);
+    let sent = drain(&mut s, ms(2));
+    // The data is acknowledged, the FIN not yet: the adapter has not had every request.
+    assert_eq!(sent.last().map(|(o, _)| o.ack), Some(113), "{sent:?}");
+    assert!(!app.events.contains(&Event::Closed(0)));
+    // The replies acknowledged, and the FIN again: the last request is answered, then the
+    // FIN taken.
+    let fin = seg(peer(5000), 113, iss + 2 * FRAME as u32, FIN_ACK, &[]);
+    s.process(&fin, ms(3), &mut app);
+    let sent = drain(&mut s, ms(3));
+    assert!(sent.iter().any(|(_, d)| d == b"abcd"), "{sent:?}");
+    assert_eq!(sent.last().map(|(o, _)| o.ack), Some(114), "{sent:?}");
+    assert!(app.events.contains(&Event::Closed(0)));
 }

@@ -530,24 +530,6 @@ fn a_fin_after_a_quiet_spell_is_not_overdue() {
 }
 
 #[test]
-fn a_segment_at_the_next_byte_brings_its_ack_through_a_closed_window() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let iss = connect(&mut s, &mut app, peer(5000), 100);
-    // A peer that takes nothing: two long replies fill the room, and the window closes.
-    let closed = with_window(0, seg(peer(5000), 101, iss, ACK, b"L"));
-    s.process(&closed, ms(2), &mut app);
-    s.process(&seg(peer(5000), 102, iss, ACK, b"L"), ms(2), &mut app);
-    let sent = drain(&mut s, ms(2));
-    assert_eq!(sent.last().map(|(o, _)| o.window), Some(0), "{sent:?}");
-    // The next request, carrying the ACK of both replies: the ACK is taken, the window
-    // opens, and the request is answered.
-    let next = seg(peer(5000), 103, iss + 2 * FRAME as u32, ACK, b"abcd");
-    s.process(&next, ms(3), &mut app);
-    let sent = drain(&mut s, ms(3));
-    assert!(sent.iter().any(|(_, d)| d == b"abcd"), "{sent:?}");
-}
-
-#[test]
 fn a_closed_window_is_probed_even_when_everything_sent_was_acknowledged() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let iss = connect(&mut s, &mut app, peer(5000), 100);

@@ -69,6 +69,12 @@ pub(super) struct Conn<const F: usize> {
     /// request's while the last one waits for its acknowledgment.
     tx: [[u8; F]; 2],
     tx_len: usize,
+    /// Data received in order and acknowledged that the adapter has not taken yet (the
+    /// replies had no room for another): handed to it before anything newer once the
+    /// replies' acknowledgments make room. The window offered is the room it has left, so
+    /// pipelined requests never shrink the window (RFC 9293 3.8.6.2.2).
+    rx: [u8; F],
+    rx_len: usize,
     /// Our FIN follows the replies.
     fin: bool,
     ack_owed: bool,
@@ -117,6 +123,8 @@ impl<const F: usize> Conn<F> {
             mss: DEFAULT_MSS,
             tx: [[0; F]; 2],
             tx_len: 0,
+            rx: [0; F],
+            rx_len: 0,
             fin: false,
             ack_owed: false,
             syn_ack_owed: false,
@@ -152,6 +160,7 @@ impl<const F: usize> Conn<F> {
         self.rcv_nxt = seg.seq.wrapping_add(1);
         self.mss = seg.peer_mss();
         self.tx_len = 0;
+        self.rx_len = 0;
         self.fin = false;
         self.ack_owed = false;
         self.syn_ack_owed = true;
@@ -175,14 +184,17 @@ impl<const F: usize> Conn<F> {
         self.syn_ack_owed = false;
     }
 
-    /// The window offered: a frame, if the replies have room for one more (the adapter
-    /// takes a request only with room for its largest reply), else none.
+    /// The window offered: the room left for data the adapter cannot take yet (it takes a
+    /// request only while the replies have room for its largest reply).
     fn window(&self) -> u16 {
-        if self.room() >= F {
-            u16::try_from(F).unwrap_or(u16::MAX)
-        } else {
-            0
-        }
+        u16::try_from(F.saturating_sub(self.rx_len)).unwrap_or(u16::MAX)
+    }
+
+    /// The least window worth announcing (RFC 9293 3.8.6.2.2's receiver silly window
+    /// avoidance): half the room, or a segment.
+    fn announced_window(&self) -> u16 {
+        let half = u16::try_from(F / 2).unwrap_or(u16::MAX);
+        half.min(self.mss)
     }
 
     /// Free bytes after the replies.
@@ -336,7 +348,6 @@ impl<const F: usize> Conn<F> {
     fn acknowledged(&mut self, ack: u32, now: Instant) {
         let acked = ack.wrapping_sub(self.snd_una) as usize;
         let data = acked.min(self.tx_len);
-        let had_room = self.room() >= F;
         let tx = self.tx.as_flattened_mut();
         tx.copy_within(data..self.tx_len, 0);
         self.tx_len = self.tx_len.saturating_sub(data);
@@ -354,8 +365,6 @@ impl<const F: usize> Conn<F> {
         // Armed while replies wait, sent or not: a closed window is probed at it.
         let waiting = self.flight() > 0 || self.tx_len > 0;
         self.retransmit_at = waiting.then(|| now.add(self.rto));
-        // A window that opens again is announced.
-        self.ack_owed |= !had_room && self.room() >= F;
         if acked > data {
             // Our FIN, which follows the data, is acknowledged.
             self.fin = false;
@@ -406,6 +415,8 @@ impl<const F: usize> Conn<F> {
             self.ack_owed |= seg.len() > 0;
             return;
         }
+        // What waits goes first, now that the acknowledgment may have made room.
+        self.drain(id, now, app);
         if lt(self.rcv_nxt, seg.seq) {
             // Ahead of what is expected: not kept; the ACK says what is.
             self.ack_owed = true;
@@ -415,20 +426,89 @@ impl<const F: usize> Conn<F> {
         let data = seg.payload.get(skip..).unwrap_or(&[]);
         let taken = self.feed(id, data, now, app);
         self.ack_owed |= !data.is_empty();
-        if seg.flags.fin && taken == data.len() && skip <= seg.payload.len() {
+        // The FIN once the adapter has had every request before it (a retransmission of it
+        // is taken when the waiting data is).
+        if seg.flags.fin && taken == data.len() && self.rx_len == 0 && skip <= seg.payload.len() {
             self.rcv_nxt = self.rcv_nxt.wrapping_add(1);
             self.ack_owed = true;
             self.peer_fin(id, now, app);
         }
     }
 
-    /// Hands `data` to the adapter while the replies have room; returns the bytes taken.
+    /// Takes `data`, received in order: hands it to the adapter while the replies have room
+    /// (unless older data waits) and keeps what is left, within the window offered; returns
+    /// the bytes taken.
     fn feed(&mut self, id: SocketId, data: &[u8], now: Instant, app: &mut impl TcpApp) -> usize {
         if !self.open {
             // Closed by the adapter: what still arrives is acknowledged and dropped.
             self.advance(data.len());
             return data.len();
         }
+        let handed = if self.rx_len == 0 {
+            self.hand(id, data, now, app)
+        } else {
+            Some(0)
+        };
+        let Some(handed) = handed else {
+            // The adapter closed the connection: the rest is acknowledged and dropped.
+            self.advance(data.len());
+            return data.len();
+        };
+        let rest = data.get(handed..).unwrap_or(&[]);
+        let kept = if rest.is_empty() { 0 } else { self.keep(rest) };
+        let taken = handed.saturating_add(kept);
+        self.advance(taken);
+        taken
+    }
+
+    /// Keeps what of `rest` the window offered has room for; returns its length.
+    fn keep(&mut self, rest: &[u8]) -> usize {
+        let free = self.rx.get_mut(self.rx_len..).unwrap_or(&mut []);
+        let kept = rest.len().min(free.len());
+        if let (Some(to), Some(from)) = (free.get_mut(..kept), rest.get(..kept)) {
+            to.copy_from_slice(from);
+        }
+        self.rx_len = self.rx_len.saturating_add(kept);
+        kept
+    }
+
+    /// Hands the data that waits to the adapter while the replies have room; a window that
+    /// grows from less than [`Self::announced_window`] to at least that is announced.
+    fn drain(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
+        if self.rx_len == 0 || self.room() < F {
+            return;
+        }
+        if !self.open {
+            self.rx_len = 0;
+            return;
+        }
+        let least = self.announced_window();
+        let small = self.window() < least;
+        // A copy: the adapter's replies go into the same connection (a rare path: only
+        // pipelined requests whose replies outgrew the room wait).
+        let rx = self.rx;
+        let waiting = rx.get(..self.rx_len).unwrap_or(&[]);
+        match self.hand(id, waiting, now, app) {
+            Some(handed) => {
+                self.rx.copy_within(handed..self.rx_len, 0);
+                self.rx_len = self.rx_len.saturating_sub(handed);
+            }
+            None => self.rx_len = 0,
+        }
+        self.ack_owed |= small && self.window() >= least;
+    }
+
+    /// Hands `data` to the adapter while the replies have room for its largest reply;
+    /// returns the bytes it took, or `None` if it closed the connection. Inlined: it is the
+    /// explicit request's path.
+    #[inline(always)]
+    fn hand(
+        &mut self,
+        id: SocketId,
+        data: &[u8],
+        now: Instant,
+        app: &mut impl TcpApp,
+    ) -> Option<usize> {
         let mut taken = 0;
         while let Some(rest) = data.get(taken..).filter(|r| !r.is_empty()) {
             if self.room() < F {
@@ -447,22 +527,19 @@ impl<const F: usize> Conn<F> {
             if was_empty && reply > 0 {
                 self.progress_at = now;
             }
-            self.advance(consumed);
             taken = taken.saturating_add(consumed);
             if outcome.reset.is_some() {
                 self.reset = outcome.reset;
             }
             if outcome.close {
                 self.close(id, now, app);
-                let left = data.len().saturating_sub(taken);
-                self.advance(left);
-                return data.len();
+                return None;
             }
             if consumed == 0 {
                 break;
             }
         }
-        taken
+        Some(taken)
     }
 
     /// `n` more bytes received in order.
