@@ -10,6 +10,7 @@ use common::*;
 use enip_stack::originator;
 use enip_stack::wire::encap::{EncapRepr, HEADER_LEN};
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
+use enip_stack::wire::forward_open::{ForwardOpenReplyRepr, NetworkParams};
 use enip_stack::wire::Writer;
 use enip_stack::{Instant, SocketId};
 
@@ -468,4 +469,62 @@ fn a_list_identity_storm_is_answered_within_the_byte_budget() {
         "{bytes} reply bytes in 2 s (budget {budget}/s)"
     );
     assert!(bytes >= budget, "the budget is used: {bytes}");
+}
+
+/// The data of a Class 3 Forward_Open of serial `serial` to the Message Router.
+fn class3_open(serial: u16) -> Vec<u8> {
+    let mr = [0x20, 0x02, 0x24, 0x01];
+    let mut f = fo(serial, &mr, 1_000_000);
+    f.transport = 0xA3;
+    f.o_t_params = NetworkParams::from_u16(0x4800 | 500);
+    f.t_o_params = NetworkParams::from_u16(0x4800 | 500);
+    let mut data = [0u8; 128];
+    let mut w = Writer::new(&mut data);
+    f.emit(&mut w).unwrap();
+    w.written().to_vec()
+}
+
+/// Sends `request` on the Class 3 connection `id` with `seq`: the reply's service, general
+/// status and data.
+fn connected(h: &mut Harness, id: u32, seq: u16, request: &[u8]) -> (u8, u8, Vec<u8>) {
+    let mut buf = vec![0u8; 600];
+    let n = originator::send_unit_data(&mut buf, h.session, id, seq, |w| w.bytes(request)).unwrap();
+    let reply = h.tcp(&buf[..n]);
+    let r = originator::parse_reply(&reply).unwrap();
+    assert_eq!(r.connected.map(|(_, s)| s), Some(seq));
+    let resp = r.response.unwrap();
+    (resp.service, resp.general_status, resp.data.to_vec())
+}
+
+#[test]
+fn a_class3_connection_opened_in_the_slot_of_the_one_that_asked_starts_afresh() {
+    let mut h = Harness::new();
+    let (g, _, data) = status(&h.request(0x54, &cm_path(), &class3_open(1)));
+    assert_eq!(g, 0);
+    let old = ForwardOpenReplyRepr::parse(&data)
+        .unwrap()
+        .o_t_connection_id;
+    // Over the connection itself, one Multiple_Service_Packet closes it and opens another,
+    // which takes its slot.
+    let mut close = vec![0x4E, 0x02, 0x20, 0x06, 0x24, 0x01, 0x0A, 0x0E];
+    close.extend(1u16.to_le_bytes());
+    close.extend(0x1337u16.to_le_bytes());
+    close.extend(0xC0FFEEu32.to_le_bytes());
+    close.extend([0, 0]);
+    let mut open = vec![0x54, 0x02, 0x20, 0x06, 0x24, 0x01];
+    open.extend(class3_open(2));
+    let mut msp = vec![0x0A, 0x02, 0x20, 0x02, 0x24, 0x01, 2, 0, 6, 0];
+    msp.extend(((6 + close.len()) as u16).to_le_bytes());
+    msp.extend(&close);
+    msp.extend(&open);
+    assert_eq!(connected(&mut h, old, 7, &msp).1, 0);
+    assert_eq!(h.adapter.connections().len(), 1);
+    let new = h.adapter.connections().iter().next().unwrap().1.o_t_id;
+    assert_ne!(new, old);
+    // Its first request, whatever its sequence count, is executed: not answered with the
+    // reply cached for the closed one.
+    let get_name = [0x0E, 0x03, 0x20, 0x01, 0x24, 0x01, 0x30, 0x07];
+    let (service, general, name) = connected(&mut h, new, 7, &get_name);
+    assert_eq!((service, general), (0x8E, 0));
+    assert_eq!(&name[1..], IDENTITY.product_name.as_bytes());
 }

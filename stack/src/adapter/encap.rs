@@ -272,7 +272,7 @@ impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
                     Ok(())
                 });
                 let reply = out.get(reply_at..len).unwrap_or(&[]);
-                explicit::store(&mut self.connections, slot, sequence, reply);
+                explicit::store(&mut self.connections, slot, o_t_id, sequence, reply);
                 len
             }
         }

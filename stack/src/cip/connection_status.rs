@@ -44,6 +44,14 @@ pub const BAD_PRODUCING_PATH: u16 = 0x012B;
 pub const NULL_FORWARD_OPEN: u16 = 0x0132;
 /// Connection timeout multiplier not acceptable.
 pub const BAD_TIMEOUT_MULTIPLIER: u16 = 0x0133;
+/// Mismatched T->O fixed/variable flag (joining an existing multicast production).
+pub const MISMATCHED_FIXED_VARIABLE: u16 = 0x0135;
+/// Mismatched T->O priority (joining an existing multicast production).
+pub const MISMATCHED_PRIORITY: u16 = 0x0136;
+/// Mismatched T->O production trigger (joining an existing multicast production).
+pub const MISMATCHED_TRIGGER: u16 = 0x0138;
+/// Mismatched production inhibit time (joining an existing multicast production).
+pub const MISMATCHED_INHIBIT: u16 = 0x0139;
 /// Invalid segment in the connection path.
 pub const BAD_SEGMENT: u16 = 0x0315;
 /// Multicast T->O requested by an originator off the subnet while the TTL keeps it local.
@@ -75,6 +83,10 @@ pub const fn describe(ext: u16) -> &'static str {
         BAD_PRODUCING_PATH => "invalid producing application path",
         NULL_FORWARD_OPEN => "null Forward_Open not supported",
         BAD_TIMEOUT_MULTIPLIER => "connection timeout multiplier not acceptable",
+        MISMATCHED_FIXED_VARIABLE => "T->O fixed/variable differs from the multicast it joins",
+        MISMATCHED_PRIORITY => "T->O priority differs from the multicast it joins",
+        MISMATCHED_TRIGGER => "production trigger differs from the multicast it joins",
+        MISMATCHED_INHIBIT => "production inhibit time differs from the multicast it joins",
         BAD_SEGMENT => "invalid segment in the connection path",
         MULTICAST_OFF_SUBNET => "multicast T->O requested from another subnet with TTL 1",
         _ => "",

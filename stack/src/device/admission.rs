@@ -59,10 +59,12 @@ pub struct OpenRequest<'a> {
     pub config_data: Option<&'a [u8]>,
 }
 
-/// RPI type in the 0x0112 additional status: acceptable, minimum, maximum.
+/// RPI type in the 0x0112 additional status: acceptable, minimum, maximum, required to
+/// correct a mismatch (with an existing multicast production).
 const RPI_OK: u8 = 0;
 const RPI_MIN: u8 = 2;
 const RPI_MAX: u8 = 3;
+const RPI_REQUIRED: u8 = 4;
 
 impl OpenRequest<'_> {
     /// True for the Class 1 kinds (exclusive owner, input only, listen only).
@@ -101,12 +103,24 @@ pub(crate) fn rpi_check(rpis: [(u32, bool); 2], min: u32, max: u32) -> CipResult
     if ot == RPI_OK && to == RPI_OK {
         return Ok(());
     }
-    Err(CipError::connection(ext::RPI_NOT_ACCEPTABLE).with_words(&[
+    Err(rpi_refusal([(ot, otv), (to, tov)]))
+}
+
+/// 0x0112 for a T->O RPI other than `required`, the RPI of the multicast production the
+/// connection would join (type 4, "required RPI to correct mismatch"); the O->T RPI `o_t`
+/// is acceptable.
+pub(crate) fn rpi_mismatch(o_t: u32, required: u32) -> CipError {
+    rpi_refusal([(RPI_OK, o_t), (RPI_REQUIRED, required)])
+}
+
+/// 0x0112 with the (type, value) of the O->T and the T->O RPI.
+fn rpi_refusal([(ot, otv), (to, tov)]: [(u8, u32); 2]) -> CipError {
+    CipError::connection(ext::RPI_NOT_ACCEPTABLE).with_words(&[
         ext::RPI_NOT_ACCEPTABLE,
         u16::from_le_bytes([ot, to]),
         otv as u16,
         (otv >> 16) as u16,
         tov as u16,
         (tov >> 16) as u16,
-    ]))
+    ])
 }

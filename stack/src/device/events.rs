@@ -14,7 +14,9 @@ pub enum CloseReason {
     ForwardClose,
     /// The inactivity watchdog expired (no O->T data for multiplier x RPI).
     Timeout,
-    /// The connection it depended on (the owner of a listen-only) went away.
+    /// The multicast production it received stopped: the last connection producing it that
+    /// was not listen-only went away (a listen-only one), or that production was reconfigured
+    /// away.
     Dependency,
     /// Its encapsulation session ended (Class 3).
     SessionClosed,

@@ -45,12 +45,18 @@ pub struct Producer {
     pub sequence: u16,
     /// DSCP of its packets, chosen at the open from the T->O priority (QoS object).
     pub dscp: u8,
+    /// The T->O priority it was opened with (a connection joining its multicast must match).
+    pub priority: u8,
+    /// True if it was opened with a variable T->O size (a joining connection must match).
+    pub variable: bool,
 }
 
 /// Direction-specific state.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Transport {
-    /// Class 1 implicit I/O; a listen-only connection has no producer of its own.
+    /// Class 1 implicit I/O. A connection without a producer of its own follows another's
+    /// multicast production (same T->O ID): a listen-only one always, another kind when it
+    /// joined a production already going to the group.
     Class1 {
         /// O->T state.
         consumer: Consumer,
@@ -111,6 +117,11 @@ impl Connection {
         self.producer()
             .is_some_and(|p| p.destination.ip().is_multicast())
     }
+    /// True if it receives another connection's multicast production (same T->O ID) instead
+    /// of producing its own.
+    pub fn follows(&self) -> bool {
+        matches!(self.transport, Transport::Class1 { producer: None, .. })
+    }
 }
 
 impl Connection {
@@ -126,7 +137,7 @@ impl Connection {
             t_o_id: self.t_o_id,
             o_t_rpi_us: self.o_t_rpi,
             t_o_rpi_us: self.t_o_rpi,
-            multicast: self.produces_multicast() || (self.kind == Kind::ListenOnly),
+            multicast: self.produces_multicast() || self.follows(),
         }
     }
 }

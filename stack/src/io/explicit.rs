@@ -55,14 +55,20 @@ pub fn cached<const C: usize>(table: &ConnectionTable<C>, slot: usize) -> &[u8] 
     table.cached_reply(slot)
 }
 
-/// Caches `reply` as the answer to `sequence` in `slot` (a reply too large to cache is
-/// executed again if repeated).
+/// Caches `reply` as the answer to `sequence` on the connection `o_t_id` in `slot` (a reply
+/// too large to cache is executed again if repeated). Nothing if that connection has gone
+/// meanwhile: closed by its own request, its slot may hold a new connection already, which
+/// starts without a cached reply.
 pub fn store<const C: usize>(
     table: &mut ConnectionTable<C>,
     slot: usize,
+    o_t_id: u32,
     sequence: u16,
     reply: &[u8],
 ) {
+    if table.get(slot).is_none_or(|c| c.o_t_id != o_t_id) {
+        return;
+    }
     let cached = table.reply_cache_mut(slot).is_some_and(|cache| {
         cache.clear();
         cache.extend_from_slice(reply).is_ok()

@@ -9,7 +9,7 @@ use crate::cip::class_id;
 use crate::cip::connection_status as ext;
 use crate::cip::status::{CipError, CipResult};
 use crate::config::{IO_PORT, MAX_EXPLICIT_CONNECTED, MAX_RPI_US, MIN_RPI_US};
-use crate::device::admission::rpi_check;
+use crate::device::admission::{rpi_check, rpi_mismatch};
 use crate::device::electronic_key::{self, KeyMismatch};
 use crate::device::{
     AssemblyInfo, AssemblyRole, ConnectionEvent, ConnectionPoints, Device, Direction, Kind,
@@ -404,31 +404,33 @@ fn class1<D: Device, const C: usize>(
         last_encap_sequence: None,
         run: false,
     };
-    if kind == Kind::ListenOnly {
-        if !multicast {
-            return Err(CipError::connection(ext::BAD_NETWORK_PARAMS));
-        }
-        let owner = table
-            .iter()
-            .map(|(_, c)| c)
-            .find(|c| {
-                c.kind != Kind::ListenOnly
-                    && c.produces_multicast()
-                    && c.producer()
-                        .is_some_and(|p| p.instance == producer_info.instance)
-            })
-            .ok_or(CipError::connection(ext::NO_OWNER_FOR_LISTEN_ONLY))?;
-        return Ok(Connection {
-            kind,
-            points,
-            t_o_id: owner.t_o_id,
-            t_o_rpi: owner.t_o_rpi,
-            transport: Transport::Class1 {
-                consumer,
-                producer: None,
-            },
-            ..base
+    if kind == Kind::ListenOnly && !multicast {
+        return Err(CipError::connection(ext::BAD_NETWORK_PARAMS));
+    }
+    if multicast {
+        // The input already goes to the group: join that production, on its terms.
+        let group = SocketAddrV4::new(net.multicast, IO_PORT);
+        let shared = table.iter().map(|(_, c)| c).find(|c| {
+            c.producer()
+                .is_some_and(|p| p.instance == producer_info.instance && p.destination == group)
         });
+        if let Some((existing, p)) = shared.and_then(|c| Some((c, c.producer()?))) {
+            check_join(fo, existing.t_o_rpi, p, trigger, inhibit, produced)?;
+            return Ok(Connection {
+                kind,
+                points,
+                t_o_id: existing.t_o_id,
+                t_o_rpi: existing.t_o_rpi,
+                transport: Transport::Class1 {
+                    consumer,
+                    producer: None,
+                },
+                ..base
+            });
+        }
+    }
+    if kind == Kind::ListenOnly {
+        return Err(CipError::connection(ext::NO_OWNER_FOR_LISTEN_ONLY));
     }
     let destination = if multicast {
         SocketAddrV4::new(net.multicast, IO_PORT)
@@ -445,6 +447,8 @@ fn class1<D: Device, const C: usize>(
         encap_sequence: 0,
         sequence: 0,
         dscp: net.t_o_dscp,
+        priority: fo.t_o_params.priority,
+        variable: fo.t_o_params.variable,
     };
     Ok(Connection {
         kind,
@@ -455,4 +459,36 @@ fn class1<D: Device, const C: usize>(
         },
         ..base
     })
+}
+
+/// A multicast production `p` (at `rpi`) can take one more connection only on the same T->O
+/// terms (CIP Vol 1 table 3-5.33): its RPI (0x0112 naming the one required), fixed or
+/// variable size, priority, trigger, inhibit time (of a triggered one) and size.
+fn check_join(
+    fo: &ForwardOpenRepr<'_>,
+    rpi: u32,
+    p: &Producer,
+    trigger: Trigger,
+    inhibit: Duration,
+    size: u16,
+) -> CipResult {
+    let mismatch = if fo.t_o_rpi != rpi {
+        return Err(rpi_mismatch(fo.o_t_rpi, rpi));
+    } else if fo.t_o_params.variable != p.variable {
+        ext::MISMATCHED_FIXED_VARIABLE
+    } else if fo.t_o_params.priority != p.priority {
+        ext::MISMATCHED_PRIORITY
+    } else if trigger != p.trigger {
+        ext::MISMATCHED_TRIGGER
+    } else if trigger != Trigger::Cyclic && inhibit != p.inhibit {
+        ext::MISMATCHED_INHIBIT
+    } else if size != p.size {
+        return Err(size_error(
+            ext::BAD_T_O_SIZE,
+            SEQUENCE_LEN.saturating_add(usize::from(p.size)),
+        ));
+    } else {
+        return Ok(());
+    };
+    Err(CipError::connection(mismatch))
 }

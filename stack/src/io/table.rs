@@ -270,12 +270,32 @@ impl<const C: usize> ConnectionTable<C> {
     pub fn next_deadline(&self) -> Option<Instant> {
         self.timing.next_deadline(self.used)
     }
-    /// Closes the connection in `slot` and the listen-only connections that follow its
-    /// production, telling `device` when the last exclusive owner goes.
+    /// Closes the connection in `slot`, telling `device` when the last exclusive owner goes.
+    /// A multicast production it shares with a connection that is not listen-only goes on in
+    /// that one (same T->O ID, sequence counts and deadline); otherwise the connections that
+    /// follow it close with it (unless reconfigured away, that is only listen-only ones).
     pub fn close<D: Device>(&mut self, slot: usize, reason: CloseReason, device: &mut D) {
         let Some(conn) = self.slots.get_mut(slot).and_then(Option::take) else {
             return;
         };
+        let multicast = conn.produces_multicast();
+        let heir = match conn.producer() {
+            // A production whose size no longer fits stops for all.
+            Some(p) if multicast && reason != CloseReason::Reconfigured => {
+                let heir = self.sharer(conn.t_o_id);
+                if let Some(Transport::Class1 { producer, .. }) =
+                    heir.and_then(|h| self.get_mut(h)).map(|c| &mut c.transport)
+                {
+                    *producer = Some(*p);
+                }
+                heir
+            }
+            _ => None,
+        };
+        if let Some(heir) = heir {
+            self.timing.hand_over(slot, heir);
+            info!("connection {} produces the multicast of {}", heir, slot);
+        }
         self.timing.close(slot);
         info!(
             "connection {} closed ({:?} from {}): {}",
@@ -286,11 +306,9 @@ impl<const C: usize> ConnectionTable<C> {
         );
         device.connection_event(ConnectionEvent::Closed(conn.info(slot), reason));
         let had_owner = !self.owned.is_empty();
-        if conn.producer().is_some() {
+        if multicast && heir.is_none() {
             for i in self.slots_in_use() {
-                let follows = |c: &mut Connection| {
-                    c.kind == Kind::ListenOnly && c.t_o_id == conn.t_o_id && c.producer().is_none()
-                };
+                let follows = |c: &mut Connection| c.follows() && c.t_o_id == conn.t_o_id;
                 if let Some(c) = self.slots.get_mut(i).and_then(|s| s.take_if(follows)) {
                     self.timing.close(i);
                     info!(
@@ -312,6 +330,13 @@ impl<const C: usize> ConnectionTable<C> {
         if had_owner && self.owned.is_empty() {
             device.connection_event(ConnectionEvent::OwnershipLost(reason));
         }
+    }
+    /// The first connection that is not listen-only following the multicast production of
+    /// T->O ID `t_o_id`.
+    fn sharer(&self, t_o_id: u32) -> Option<usize> {
+        self.iter()
+            .find(|(_, c)| c.follows() && c.kind != Kind::ListenOnly && c.t_o_id == t_o_id)
+            .map(|(i, _)| i)
     }
     /// Closes every open connection with `reason`.
     pub fn close_all<D: Device>(&mut self, reason: CloseReason, device: &mut D) {

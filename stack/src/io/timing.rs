@@ -161,6 +161,17 @@ impl<const C: usize> Timing<C> {
         self.reschedule(slot, Instant::NEVER);
     }
 
+    /// The producer of `from` goes on in `to`, a connection sharing its multicast data: the
+    /// same deadline and trigger state (the caller then closes `from`).
+    pub(super) fn hand_over(&mut self, from: usize, to: usize) {
+        let pending = self.pending.get(from).copied().unwrap_or(Pending::NONE);
+        if let Some(p) = self.pending.get_mut(to) {
+            *p = pending;
+        }
+        let at = self.schedule.at(from);
+        self.reschedule(to, at);
+    }
+
     /// The originator of `slot` was heard at `now`: its watchdog fires `timeout` later.
     #[inline]
     pub(super) fn feed(&mut self, slot: usize, now: Instant, timeout: Duration) {

@@ -134,6 +134,8 @@ fn connection<const C: usize>(rng: &mut Rng, table: &ConnectionTable<C>, n: u16)
         encap_sequence: 0,
         sequence: 0,
         dscp: 47,
+        priority: 0,
+        variable: false,
     };
     let consumer = Consumer {
         instance: 150,
