@@ -405,3 +405,62 @@ fn a_pre_shared_key_is_written_stored_and_never_read_out() {
     assert_eq!(call(&mut h, 0x05, 0x5E, 1, &[]).0, 0);
     assert_eq!(get(&mut h, 0x5E, 5), (0, vec![0]));
 }
+
+#[test]
+fn a_lapsed_session_ends_before_list_identity_and_the_port_admin_service() {
+    let mut h = start(&shared());
+    h.adapter.set_session_secure(SocketId(0), true);
+    assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0);
+    assert_eq!(call(&mut h, 0x4D, 0x5E, 1, &[]).0, 0);
+    assert_eq!(call(&mut h, 0x4B, 0x5D, 1, &[]).0, 0);
+    assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0);
+    let states = |h: &mut Harness| {
+        let items = list_identity(h);
+        let (_, item) = items.iter().find(|(kind, _)| *kind == 0x86).unwrap();
+        (item[2], item[3])
+    };
+    assert_eq!(states(&mut h), (1, 1));
+    h.now = h.now.add(Duration::from_secs(11));
+    // No request to the security objects since: the item shows the states they returned to.
+    assert_eq!(states(&mut h), (0, 2));
+    assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0);
+    h.now = h.now.add(Duration::from_secs(11));
+    // The object is configured again, so 44818 may close (not 0x0C for a lapsed session).
+    assert_eq!(call(&mut h, 0x4C, 0xF5, 1, &[1, 0x12, 0xAF, 6, 0]).0, 0);
+    assert_eq!(get(&mut h, 0x5E, 1), (0, vec![2]));
+}
+
+#[test]
+fn a_session_begun_over_tls_takes_no_plaintext_request_from_the_same_address() {
+    let mut h = start(&shared());
+    // Configured over plaintext (factory default): the whole sequence over plaintext works.
+    assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0);
+    assert_eq!(call(&mut h, 0x4D, 0x5E, 1, &[]).0, 0);
+    assert_eq!(call(&mut h, 0x4B, 0x5D, 1, &[]).0, 0);
+    assert_eq!(call(&mut h, 0x4D, 0x5D, 1, &[]).0, 0);
+    // Reconfigured over TLS; the same address's plaintext session (socket 0 no longer
+    // secure) may not act in it: that would undo the TLS-only rule of Begin_Config.
+    h.adapter.set_session_secure(SocketId(0), true);
+    assert_eq!(call(&mut h, 0x4B, 0x5D, 1, &[]).0, 0);
+    assert_eq!(call(&mut h, 0x4B, 0x5E, 1, &[]).0, 0);
+    h.adapter.set_session_secure(SocketId(0), false);
+    assert_eq!(set(&mut h, 0x5E, 10, &[1]).0, 0x0F);
+    for (class, service) in [
+        (0x5E, 0x4C),
+        (0x5E, 0x4D),
+        (0x5E, 0x4E),
+        (0x5D, 0x4C),
+        (0x5D, 0x4D),
+    ] {
+        assert_eq!(
+            call(&mut h, service, class, 1, &[]).0,
+            0x0F,
+            "{class:#x} {service:#x}"
+        );
+    }
+    h.adapter.set_session_secure(SocketId(0), true);
+    assert_eq!(set(&mut h, 0x5E, 10, &[1]).0, 0);
+    assert_eq!(call(&mut h, 0x4D, 0x5E, 1, &[]).0, 0);
+    assert_eq!(call(&mut h, 0x4D, 0x5D, 1, &[]).0, 0);
+    assert_eq!(get(&mut h, 0x5E, 10), (0, vec![1]));
+}

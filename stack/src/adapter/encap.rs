@@ -45,7 +45,8 @@ impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
         let reply_len = match header.command {
             command::NOP => 0,
             command::LIST_IDENTITY => {
-                self.list_identity_reply(header.session_handle, header.sender_context, reply)
+                let (handle, context) = (header.session_handle, header.sender_context);
+                self.list_identity_reply(handle, context, now, reply)
             }
             command::LIST_SERVICES => list_services_reply(header, reply),
             command::LIST_INTERFACES => list_interfaces_reply(header, reply),
@@ -104,7 +105,7 @@ impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
                     return 0;
                 }
                 // Written now to know its size; a delayed one is written again when due.
-                let len = self.list_identity_reply(handle, context, reply);
+                let len = self.list_identity_reply(handle, context, now, reply);
                 if len == 0 || !self.delayed.budget.take(len, now) {
                     return 0;
                 }
@@ -121,11 +122,12 @@ impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
         }
     }
 
-    /// Writes a ListIdentity reply; returns its length (0 if `out` is too small).
+    /// Writes a ListIdentity reply as of `now`; returns its length (0 if `out` is too small).
     pub(crate) fn list_identity_reply(
         &mut self,
         session_handle: u32,
         sender_context: [u8; 8],
+        now: Instant,
         out: &mut [u8],
     ) -> usize {
         let ident = *self.device.identity();
@@ -152,11 +154,13 @@ impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
         };
         #[cfg(feature = "cip-security")]
         let security = {
-            // A configuration session that lapsed shows as lapsed from the next request to
-            // the security objects on.
-            let st = &self.objects.security;
+            // The states as of now: a configuration session that lapsed shows as ended.
+            let st = &mut self.objects.security;
+            st.expire(now);
             st.enabled.then(|| st.list_identity_item())
         };
+        #[cfg(not(feature = "cip-security"))]
+        let _ = now;
         with_body(&header, out, |w| {
             #[cfg(feature = "cip-security")]
             if let Some(sec) = security {

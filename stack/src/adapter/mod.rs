@@ -440,7 +440,7 @@ impl<
         let p = self.inner.delayed.take_due(now)?;
         let len = self
             .inner
-            .list_identity_reply(p.session_handle, p.sender_context, out);
+            .list_identity_reply(p.session_handle, p.sender_context, now, out);
         Some((p.to, len))
     }
 

@@ -113,6 +113,13 @@ pub(crate) fn dispatch<D: Device, const C: usize>(
     w: &mut Writer<'_>,
     depth: u8,
 ) -> CipResult {
+    // Configuration sessions that lapsed end first, whichever object the request is for
+    // (the TCP/IP object's Set_Port_Admin_State asks the EtherNet/IP Security state too).
+    #[cfg(feature = "cip-security")]
+    {
+        let now = ctx.now();
+        ctx.state.security.expire(now);
+    }
     let class = req.path.class.and_then(|c| u16::try_from(c).ok());
     match class {
         Some(class_id::IDENTITY) => identity::handle(ctx, req, w),
@@ -135,8 +142,7 @@ pub(crate) fn dispatch<D: Device, const C: usize>(
     }
 }
 
-/// A request to one of the CIP Security classes, after ending the lapsed configuration
-/// sessions.
+/// A request to one of the CIP Security classes.
 #[cfg(feature = "cip-security")]
 fn security_handle<D: Device, const C: usize>(
     ctx: &mut Ctx<'_, D, C>,
@@ -145,8 +151,6 @@ fn security_handle<D: Device, const C: usize>(
     w: &mut Writer<'_>,
 ) -> CipResult {
     use super::security::{cert_mgmt, cip_security, eip_security};
-    let now = ctx.now();
-    ctx.state.security.expire(now);
     match class {
         super::security::CIP_SECURITY_CLASS => cip_security::handle(ctx, req, w),
         super::security::EIP_SECURITY_CLASS => eip_security::handle(ctx, req, w),

@@ -47,6 +47,9 @@ const SUITE_NAMES: [(u16, &str); 4] = [
     ),
 ];
 
+/// The TLS session id context of the server's sessions (what they may be resumed for).
+const SESSION_ID_CONTEXT: &[u8] = b"enip-rs EtherNet/IP over TLS";
+
 /// Days the factory certificate is valid.
 const FACTORY_DAYS: u32 = 20 * 365;
 
@@ -206,6 +209,10 @@ pub fn context(st: &SecurityState, m: &Material) -> Result<SslContext, String> {
         .map_err(e)?;
     b.set_cipher_list(&cipher_list(&a.allowed)).map_err(e)?;
     b.set_options(SslOptions::NO_RENEGOTIATION | SslOptions::CIPHER_SERVER_PREFERENCE);
+    // Sessions are resumed (from this context's cache or tickets: a new configuration makes
+    // a new context, whose sessions start anew). Without a session id context a verifying
+    // server fails a client's resumption outright instead of a full handshake.
+    b.set_session_id_context(SESSION_ID_CONTEXT).map_err(e)?;
     b.set_certificate(&m.cert).map_err(e)?;
     b.set_private_key(&m.key).map_err(e)?;
     b.check_private_key().map_err(e)?;
@@ -266,5 +273,67 @@ mod tests {
         let (again, _) = factory_certificate(Some(&path), "other").unwrap();
         assert_eq!(again.to_der().unwrap(), cert.to_der().unwrap());
         std::fs::remove_file(&path).unwrap();
+    }
+
+    /// A TLS 1.2 handshake over a socket pair between a session of `server` and one of
+    /// `client` (resuming `resume` if given): the client's session and whether it was
+    /// resumed, or the server's error.
+    fn handshake(
+        server: &SslContext,
+        client: &SslContext,
+        resume: Option<&openssl::ssl::SslSessionRef>,
+    ) -> Result<(openssl::ssl::SslSession, bool), String> {
+        use openssl::ssl::Ssl;
+        let (a, b) = std::os::unix::net::UnixStream::pair().unwrap();
+        std::thread::scope(|scope| {
+            // Each side sends its close_notify: OpenSSL forgets the session of a
+            // connection that ends without one.
+            let accepted = scope.spawn(move || {
+                let mut s = Ssl::new(server).unwrap().accept(a);
+                s.as_mut()
+                    .map(|s| drop(s.shutdown()))
+                    .map_err(|e| e.to_string())
+            });
+            let mut ssl = Ssl::new(client).unwrap();
+            if let Some(s) = resume {
+                // SAFETY: the session comes from a context with the same settings (the
+                // client's), as `set_session` requires.
+                unsafe { ssl.set_session(s).unwrap() };
+            }
+            let connected = ssl.connect(b);
+            accepted.join().unwrap()?;
+            let mut stream = connected.map_err(|e| e.to_string())?;
+            let _ = stream.shutdown();
+            let session = stream.ssl().session().unwrap().to_owned();
+            Ok((session, stream.ssl().session_reused()))
+        })
+    }
+
+    #[test]
+    fn a_client_resumes_its_session_while_client_certificates_are_verified() {
+        let (cert, key) = self_signed("device").unwrap();
+        let (client_cert, client_key) = self_signed("scanner").unwrap();
+        // The scanner's self-signed certificate is the trusted CA.
+        let material = Material {
+            cert,
+            chain: Vec::new(),
+            key,
+            ca: vec![client_cert.clone()],
+        };
+        let mut st = SecurityState::new();
+        st.active.verify_client = true;
+        st.active.trusted_ca = Some(1);
+        let server = context(&st, &material).unwrap();
+        let mut b = SslContextBuilder::new(SslMethod::tls_client()).unwrap();
+        b.set_certificate(&client_cert).unwrap();
+        b.set_private_key(&client_key).unwrap();
+        b.set_verify(SslVerifyMode::NONE);
+        let client = b.build();
+        let (session, resumed) = handshake(&server, &client, None).unwrap();
+        assert!(!resumed);
+        // OpenSSL fails a resumption outright (session id context uninitialized) on a
+        // verifying server without a session id context, instead of a full handshake.
+        let (_, resumed) = handshake(&server, &client, Some(&session)).unwrap();
+        assert!(resumed);
     }
 }

@@ -6,7 +6,7 @@
 //! one runs; 0x0F for a configured device unless the request came over TLS) owned by the
 //! requester's address, which lapses after [`super::CONFIG_SESSION`]
 //! without a Kick_Timer; Kick_Timer and End_Config from anyone else, or with no session,
-//! are 0x0C. End_Config marks the device Configured with the Confidentiality profile if the
+//! are 0x0C (0x0F from that address over plaintext if the session was begun over TLS). End_Config marks the device Configured with the Confidentiality profile if the
 //! EtherNet/IP Security object is configured, Incomplete Configuration if not (0x0C while
 //! that object's own configuration is in progress), and saves it. Object_Cleanup deletes the
 //! Certificate Management instances the TLS settings do not name (nothing to delete is not
@@ -51,13 +51,10 @@ impl<D: Device, const C: usize> CipSecurity<'_, '_, D, C> {
             return Err(General::TooMuchData.into());
         }
         let now = self.0.now();
-        let owner = requester(&self.0.request);
-        let secure = self.0.state.security.is_secure(self.0.origin.as_ref());
+        let owner = requester(self.0);
         let st = &mut self.0.state.security;
         match service {
-            BEGIN_CONFIG => {
-                return begin(&mut st.cip_mode, &mut st.cip_session, owner, now, secure)
-            }
+            BEGIN_CONFIG => return begin(&mut st.cip_mode, &mut st.cip_session, owner, now),
             KICK_TIMER => {
                 owned(&mut st.cip_session, owner)?.until = now.add(super::CONFIG_SESSION);
                 return Ok(());

@@ -4,7 +4,8 @@
 //! Apply_Config, Abort_Config).
 //!
 //! The settable attributes take a value only inside a configuration session, from the
-//! client that began it (0x0C otherwise); the value goes into the pending settings, which
+//! client that began it (0x0C otherwise; 0x0F over plaintext in a session its address began
+//! over TLS); the value goes into the pending settings, which
 //! Gets show while the session runs. Apply_Config checks them (0x0C with extended status
 //! 0x0002 without a device certificate, 0x0004 without an allowed suite; 0x0C if client
 //! verification is on with no trusted CA), saves them (0x19 if the store fails, changing
@@ -142,10 +143,9 @@ impl<D: Device, const C: usize> EipSecurity<'_, '_, D, C> {
 
     fn run(&mut self, service: u8, data: &[u8]) -> CipResult {
         let now = self.0.now();
-        let owner = requester(&self.0.request);
-        let secure = self.0.state.security.is_secure(self.0.origin.as_ref());
+        let owner = requester(self.0);
         if service == service::RESET {
-            return self.reset(data, secure);
+            return self.reset(data, owner.secure);
         }
         let st = &mut self.0.state.security;
         if service == APPLY_CONFIG {
@@ -156,7 +156,7 @@ impl<D: Device, const C: usize> EipSecurity<'_, '_, D, C> {
         }
         match service {
             BEGIN_CONFIG => {
-                begin(&mut st.eip_mode, &mut st.eip_session, owner, now, secure)?;
+                begin(&mut st.eip_mode, &mut st.eip_session, owner, now)?;
                 st.pending = st.active.clone();
             }
             KICK_TIMER => {
@@ -209,7 +209,7 @@ impl<D: Device, const C: usize> EipSecurity<'_, '_, D, C> {
             1..=3 => return Err(General::NotEnoughData.into()),
             _ => return Err(General::TooMuchData.into()),
         }
-        let owner = requester(&self.0.request);
+        let owner = requester(self.0);
         let st = &mut self.0.state.security;
         owned(&mut st.eip_session, owner)?;
         let p = &st.pending;
@@ -263,7 +263,7 @@ impl<D: Device, const C: usize> Object for EipSecurity<'_, '_, D, C> {
         Ok(())
     }
     fn set(&mut self, _instance: u32, attr: &AttributeDef, value: &[u8]) -> CipResult {
-        let owner = requester(&self.0.request);
+        let owner = requester(self.0);
         let st = &mut self.0.state.security;
         if st.eip_mode != ObjectMode::InProgress {
             return Err(General::ObjectStateConflict.into());

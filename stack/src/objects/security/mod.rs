@@ -149,8 +149,9 @@ impl TlsSettings {
 /// An open configuration session: who began it and when it lapses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct ConfigSession {
-    /// The address of the client that began it (`None`: a local request).
-    owner: Option<Ipv4Addr>,
+    /// The client that began it: its address (`None`: a local request), and whether it
+    /// came over TLS (then only requests over TLS act in the session).
+    owner: Requester,
     /// When it lapses without a Kick_Timer.
     until: Instant,
     /// The state to return to if it is aborted or lapses.
@@ -297,17 +298,16 @@ impl Default for SecurityState {
 }
 
 /// Starts a configuration session in `mode` (0x0C unless factory default or configured, or
-/// while another client's runs). A configured object is reconfigured only over TLS
-/// (`secure`; 0x0F privilege violation otherwise): over plaintext anyone could undo it.
+/// while another client's runs) owned by `owner`. A configured object is reconfigured only
+/// over TLS (0x0F privilege violation otherwise): over plaintext anyone could undo it.
 fn begin(
     mode: &mut ObjectMode,
     session: &mut Option<ConfigSession>,
-    owner: Option<Ipv4Addr>,
+    owner: Requester,
     now: Instant,
-    secure: bool,
 ) -> crate::cip::status::CipResult {
     use crate::cip::status::General;
-    if *mode == ObjectMode::Configured && !secure {
+    if *mode == ObjectMode::Configured && !owner.secure {
         return Err(General::PrivilegeViolation.into());
     }
     if !matches!(
@@ -325,21 +325,38 @@ fn begin(
     Ok(())
 }
 
-/// The running session `owner` may act in: 0x0C if none runs or another client's does.
+/// The running session `who` may act in: 0x0C if none runs or another client's does, 0x0F
+/// for a plaintext request in a session its address began over TLS (the rule of
+/// [`begin`] would mean nothing if the rest of the session could go over plaintext).
 fn owned(
     session: &mut Option<ConfigSession>,
-    owner: Option<Ipv4Addr>,
+    who: Requester,
 ) -> crate::cip::status::CipResult<&mut ConfigSession> {
     use crate::cip::status::General;
     match session {
-        Some(s) if s.owner == owner => Ok(s),
+        Some(s) if s.owner.addr == who.addr && s.owner.secure && !who.secure => {
+            Err(General::PrivilegeViolation.into())
+        }
+        Some(s) if s.owner.addr == who.addr => Ok(s),
         _ => Err(General::ObjectStateConflict.into()),
     }
 }
 
-/// The requester's address, which owns a configuration session it begins.
-fn requester(request: &crate::cip::context::RequestContext) -> Option<Ipv4Addr> {
-    request.peer.map(|p| *p.ip())
+/// Who sends a request to the security objects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Requester {
+    /// Its address, which owns a configuration session it begins (`None`: a local request).
+    addr: Option<Ipv4Addr>,
+    /// It came over TLS (or is the device's own).
+    secure: bool,
+}
+
+/// The requester of the request `ctx` serves.
+fn requester<D: crate::device::Device, const C: usize>(ctx: &super::Ctx<'_, D, C>) -> Requester {
+    Requester {
+        addr: ctx.request.peer.map(|p| *p.ip()),
+        secure: ctx.state.security.is_secure(ctx.origin.as_ref()),
+    }
 }
 
 pub(crate) use port_admin::port_admin;
