@@ -371,3 +371,36 @@ fn a_fin_after_requests_that_wait_is_taken_once_they_are_answered() {
     assert_eq!(sent.last().map(|(o, _)| o.ack), Some(114), "{sent:?}");
     assert!(app.events.contains(&Event::Closed(0)));
 }
+
+#[test]
+fn requests_that_wait_are_dropped_when_the_adapter_closes_the_session() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    // Two long replies fill the room; the third request waits.
+    s.process(
+        &seg(peer(5000), 101, iss, ACK, b"LxxxLxxxabcd"),
+        ms(2),
+        &mut app,
+    );
+    drain(&mut s, ms(2));
+    // The session's inactivity timeout closes it while the request waits.
+    app.idle_at = Some(ms(100));
+    s.poll(ms(100), &mut app);
+    assert!(app.events.contains(&Event::Closed(0)), "{:?}", app.events);
+    // The peer's FIN before it acknowledged the replies: taken at once (nothing waits for
+    // the session any more).
+    s.process(&seg(peer(5000), 113, iss, FIN_ACK, &[]), ms(101), &mut app);
+    let sent = drain(&mut s, ms(101));
+    assert_eq!(sent.last().map(|(o, _)| o.ack), Some(114), "{sent:?}");
+    // The replies acknowledged: the waiting request is not handed to a closed session.
+    let acked = seg(peer(5000), 114, iss + 2 * FRAME as u32, ACK, &[]);
+    s.process(&acked, ms(102), &mut app);
+    drain(&mut s, ms(102));
+    assert_eq!(
+        app.events.last(),
+        Some(&Event::Closed(0)),
+        "{:?}",
+        app.events
+    );
+    assert!(!app.events.contains(&Event::Received(0, b"abcd".to_vec())));
+}

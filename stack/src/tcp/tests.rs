@@ -29,7 +29,7 @@ pub(super) enum Event {
 #[derive(Default)]
 pub(super) struct Echo {
     pub(super) events: Vec<Event>,
-    idle_at: Option<Instant>,
+    pub(super) idle_at: Option<Instant>,
 }
 
 impl TcpApp for Echo {

@@ -478,10 +478,6 @@ impl<const F: usize> Conn<F> {
         if self.rx_len == 0 || self.room() < F {
             return;
         }
-        if !self.open {
-            self.rx_len = 0;
-            return;
-        }
         let least = self.announced_window();
         let small = self.window() < least;
         // A copy: the adapter's replies go into the same connection (a rare path: only
@@ -588,8 +584,10 @@ impl<const F: usize> Conn<F> {
         self.state = State::Free;
     }
 
-    /// Tells the adapter the session ended, once.
+    /// Tells the adapter the session ended, once; requests still waiting are dropped (no
+    /// session takes them).
     fn tell_closed(&mut self, id: SocketId, now: Instant, app: &mut impl TcpApp) {
+        self.rx_len = 0;
         if core::mem::take(&mut self.open) {
             app.closed(id, now);
         }
