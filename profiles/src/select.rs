@@ -134,6 +134,7 @@ forward_device! {
     fn status_bits(self) -> u16;
     fn assemblies(self) -> &[AssemblyInfo];
     fn accepts_connection_size(self, assembly: &AssemblyInfo, data: usize) -> bool;
+    fn assembly_get_attributes_all(self) -> bool;
     fn classes(self) -> &[ClassDef];
     fn has_instance(self, class: &ClassDef, instance: u32) -> bool;
     fn instance_count(self, class: &ClassDef) -> u32;

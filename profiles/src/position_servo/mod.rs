@@ -102,6 +102,11 @@ impl Device for PositionServo {
         &assemblies::INFOS
     }
 
+    /// 7.3 lists Get_Attribute_All among the assembly instances' services.
+    fn assembly_get_attributes_all(&self) -> bool {
+        true
+    }
+
     fn read_assembly(&mut self, instance: u16, out: &mut [u8]) -> CipResult<usize> {
         assemblies::read(&self.servo.vars, instance, out)
     }

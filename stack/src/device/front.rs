@@ -104,6 +104,9 @@ impl<F: Front> Device for F {
     fn accepts_connection_size(&self, assembly: &AssemblyInfo, data: usize) -> bool {
         self.inner().accepts_connection_size(assembly, data)
     }
+    fn assembly_get_attributes_all(&self) -> bool {
+        self.inner().assembly_get_attributes_all()
+    }
     fn classes(&self) -> &[ClassDef] {
         self.inner().classes()
     }

@@ -164,6 +164,12 @@ pub trait Device {
         data == usize::from(assembly.size)
     }
 
+    /// True if the assembly instances answer Get_Attributes_All (0x01) with their data
+    /// (attribute 3), as some devices' manuals list it; by default they do not (0x08).
+    fn assembly_get_attributes_all(&self) -> bool {
+        false
+    }
+
     /// The vendor classes the device declares; the stack serves their attribute services,
     /// class attributes and status rules, and lists them in the Message Router.
     fn classes(&self) -> &[ClassDef] {

@@ -1,4 +1,5 @@
-//! Assembly object (class 0x04): instance data (attribute 3) and size (attribute 4).
+//! Assembly object (class 0x04): instance data (attribute 3) and size (attribute 4), and
+//! Get_Attributes_All (the data) where the device asks for it.
 
 use super::serve::{serve, Object};
 use super::Ctx;
@@ -23,6 +24,13 @@ pub const CLASS: ClassDef = ClassDef {
     optional_attributes: &[4],
 };
 
+/// [`CLASS`] for a device whose assembly instances answer Get_Attributes_All with their data
+/// ([`Device::assembly_get_attributes_all`]).
+const CLASS_GET_ALL: ClassDef = ClassDef {
+    get_all: &[3],
+    ..CLASS
+};
+
 struct Assembly<'c, 'a, D: Device, const C: usize>(&'c mut Ctx<'a, D, C>);
 
 impl<D: Device, const C: usize> Assembly<'_, '_, D, C> {
@@ -33,7 +41,11 @@ impl<D: Device, const C: usize> Assembly<'_, '_, D, C> {
 
 impl<D: Device, const C: usize> Object for Assembly<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
-        &CLASS
+        if self.0.device.assembly_get_attributes_all() {
+            &CLASS_GET_ALL
+        } else {
+            &CLASS
+        }
     }
     fn has_instance(&self, instance: u32) -> bool {
         self.info(instance).is_some()

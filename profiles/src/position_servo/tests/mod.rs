@@ -333,6 +333,33 @@ fn assemblies_have_the_sizes_of_tables_14_to_21() {
     assert_eq!(got, expected);
 }
 
+/// 7.3, Assembly Object: "Instance Services: Get_Attribute_All, Get_Attribute_Single". Get_
+/// Attributes_All on an instance answers its data, attribute 3, as Get_Attribute_Single does.
+#[test]
+fn assembly_instances_answer_get_attributes_all_with_their_data() {
+    let mut servo = PositionServo::new();
+    servo.write(id::V0, Value::Real(2.5), false).unwrap();
+    for (instance, size) in [
+        (103u8, 0),
+        (104, 8),
+        (105, 36),
+        (106, 8),
+        (108, 24),
+        (109, 4),
+    ] {
+        let path = [0x20, 0x04, 0x24, instance];
+        let (r, all) = execute(&mut servo, &[&[0x01, 2][..], &path].concat());
+        assert_eq!(r, Ok(()), "assembly {instance}");
+        let single = [&[0x0E, 3][..], &path, &[0x30, 0x03]].concat();
+        let (r, data) = execute(&mut servo, &single);
+        assert_eq!(r, Ok(()));
+        assert_eq!((all.len(), &all), (size, &data), "assembly {instance}");
+    }
+    // A service the manual does not list for the class is still refused.
+    let (r, _) = execute(&mut servo, &[0x02, 3, 0x20, 0x04, 0x24, 105, 0x30, 0x03]);
+    assert_eq!(r, err(General::ServiceNotSupported));
+}
+
 fn read(servo: &mut PositionServo, instance: u16) -> Vec<u8> {
     let mut buf = [0u8; 64];
     let n = servo.read_assembly(instance, &mut buf).unwrap();
