@@ -225,7 +225,8 @@ pub fn group_outputs(cfg: &Config, g: usize) -> u32 {
 }
 
 /// The outputs (0-based bit mask) input `i` of type `kind` acts on: its group's outputs for
-/// the group types, else its masks (inside its group).
+/// the group types, and for a reset to preset (20-23) without a mask; else its masks
+/// (inside its group).
 pub fn input_outputs(cfg: &Config, i: usize, kind: u16) -> u32 {
     let Some(g) = cfg.group_of_input(i) else {
         return 0;
@@ -235,6 +236,12 @@ pub fn input_outputs(cfg: &Config, i: usize, kind: u16) -> u32 {
         return group;
     }
     let [_, h, l, ..] = cfg.input(i);
+    // §2.6: a reset to preset "is used to reset the position of a PLS group"; only "if the
+    // output mask of the input is a subset of the outputs in the PLS group" are just those
+    // outputs reset. No mask at all selects no subset: the group resets.
+    if is_preset(kind) && h == 0 && l == 0 {
+        return group;
+    }
     (u32::from(h) | u32::from(l) << 16) & group
 }
 

@@ -88,6 +88,41 @@ fn reset_to_preset_of_the_whole_group_resets_the_group_position() {
 }
 
 #[test]
+fn reset_to_preset_without_a_mask_resets_the_group() {
+    // §2.6: a reset to preset "is used to reset the position of a PLS group"; only a mask
+    // that is a subset of the group's outputs narrows it. Masks 0 and 0: the whole group.
+    for kind in [20, 21, 23] {
+        let mut pls = programmed();
+        home(&mut pls, 250);
+        input_9(&mut pls, [1, 0, 0, kind, 55, 0, 300]);
+        pulse(&mut pls);
+        assert_eq!(input(&mut pls)[0], 55, "type {kind}");
+        assert_eq!(status(&mut pls, 3)[0], 55, "group offset, type {kind}");
+    }
+    // Average of 2 without a mask: inputs at 250 and 100 set the group to 175.
+    let mut pls = programmed();
+    input_9(&mut pls, [1, 0, 0, 22, 2, 0, 0]);
+    home(&mut pls, 250);
+    pulse(&mut pls);
+    home(&mut pls, 100);
+    pulse(&mut pls);
+    assert_eq!(input(&mut pls)[0], 175, "type 22");
+    // Single shot without a mask: a revolution with no new input forces the group's
+    // outputs off, output 17 included.
+    let mut pls = programmed();
+    input_9(&mut pls, [1, 0, 0, 21, 55, 0, 0]);
+    pls.set_resolver(60, false);
+    pls.poll(Instant(0));
+    soft(&mut pls, true);
+    let mut on = 0;
+    for ms in (1100..2100).step_by(5) {
+        pls.poll(Instant::from_micros(ms * 1000));
+        on |= outputs(&mut pls);
+    }
+    assert_eq!(on, 0, "forced off after a revolution without an input");
+}
+
+#[test]
 fn average_reset_settles_at_the_average_of_the_input_positions() {
     let mut pls = programmed();
     // Type 122, 2 positions averaged.
