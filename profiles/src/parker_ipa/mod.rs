@@ -185,10 +185,12 @@ impl Device for ParkerIpa {
         &[class64::CLASS_DEF, class65::CLASS_DEF]
     }
 
-    /// Every P number is an instance: whether the parameters exist is each service's
-    /// answer (0x05, Table 8), not the stack's 0x16.
-    fn has_instance(&self, class: &ClassDef, instance: u32) -> bool {
-        instance <= class.max_instance
+    /// Every instance number is a P number (or a group and index): whether the parameters
+    /// exist is each service's answer, 0x05 (Table 8, p.30: an instance "that is not
+    /// known"), not the stack's 0x16, also above 65535 (class attribute 2 still says 65535,
+    /// the highest P number).
+    fn has_instance(&self, _class: &ClassDef, _instance: u32) -> bool {
+        true
     }
 
     fn instance_count(&self, class: &ClassDef) -> u32 {

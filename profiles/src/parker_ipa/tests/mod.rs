@@ -1,6 +1,7 @@
 //! The manual's explicit examples and error cases, through the stack (`Adapter::execute`,
 //! unconnected): classes 0x64 and 0x65, tags, status parameters, identity.
 
+mod audit;
 mod binary;
 mod class1;
 mod tags;
