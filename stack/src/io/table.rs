@@ -273,15 +273,27 @@ impl<const C: usize> ConnectionTable<C> {
     /// Closes the connection in `slot`, telling `device` when the last exclusive owner goes.
     /// A multicast production it shares with a connection that is not listen-only goes on in
     /// that one (same T->O ID, sequence counts and deadline); otherwise the connections that
-    /// follow it close with it (unless reconfigured away, that is only listen-only ones).
+    /// follow it close with it (only listen-only ones, unless its production was resized
+    /// away: [`ConnectionTable::close_resized`]).
     pub fn close<D: Device>(&mut self, slot: usize, reason: CloseReason, device: &mut D) {
+        self.close_with(slot, reason, false, device);
+    }
+    /// [`ConnectionTable::close`]; `production_gone` if what the connection produces no
+    /// longer fits its assembly (the production then stops for every connection sharing it).
+    fn close_with<D: Device>(
+        &mut self,
+        slot: usize,
+        reason: CloseReason,
+        production_gone: bool,
+        device: &mut D,
+    ) {
         let Some(conn) = self.slots.get_mut(slot).and_then(Option::take) else {
             return;
         };
         let multicast = conn.produces_multicast();
         let heir = match conn.producer() {
             // A production whose size no longer fits stops for all.
-            Some(p) if multicast && reason != CloseReason::Reconfigured => {
+            Some(p) if multicast && !production_gone => {
                 let heir = self.sharer(conn.t_o_id);
                 if let Some(Transport::Class1 { producer, .. }) =
                     heir.and_then(|h| self.get_mut(h)).map(|c| &mut c.transport)
@@ -348,22 +360,26 @@ impl<const C: usize> ConnectionTable<C> {
     /// the size they opened with ([`CloseReason::Reconfigured`]).
     pub fn close_resized<D: Device>(&mut self, device: &mut D) {
         for slot in self.slots_in_use() {
-            let resized = self.get(slot).is_some_and(|c| {
-                let differs = |instance: u16, size: u16| {
-                    device
-                        .assemblies()
-                        .iter()
-                        .find(|a| a.instance == instance)
-                        .is_none_or(|a| {
-                            size > a.size || !device.accepts_connection_size(a, usize::from(size))
-                        })
-                };
-                c.consumer()
-                    .is_some_and(|k| k.size > 0 && differs(k.instance, k.size))
-                    || c.producer().is_some_and(|p| differs(p.instance, p.size))
-            });
-            if resized {
-                self.close(slot, CloseReason::Reconfigured, device);
+            let Some(c) = self.get(slot) else {
+                continue;
+            };
+            let differs = |instance: u16, size: u16| {
+                device
+                    .assemblies()
+                    .iter()
+                    .find(|a| a.instance == instance)
+                    .is_none_or(|a| {
+                        size > a.size || !device.accepts_connection_size(a, usize::from(size))
+                    })
+            };
+            let consumed = c
+                .consumer()
+                .is_some_and(|k| k.size > 0 && differs(k.instance, k.size));
+            let produced = c.producer().is_some_and(|p| differs(p.instance, p.size));
+            if consumed || produced {
+                // Only a production that no longer fits stops for the connections sharing
+                // it; one whose producer goes for its output goes on in a sharer.
+                self.close_with(slot, CloseReason::Reconfigured, produced, device);
             }
         }
     }

@@ -376,3 +376,95 @@ fn a_closed_slot_reopens_with_fresh_timing() {
     assert_eq!(table.next_production(slot), Some(Instant(9_000)));
     assert_eq!(table.last_activity(slot), Some(Instant(9_000)));
 }
+
+/// [`Block`] with its output assembly shrunk to 2 bytes: a connection consuming 4 of it no
+/// longer fits; its inputs are unchanged.
+struct OutputShrunk;
+
+const SHRUNK: [AssemblyInfo; 2] = [
+    ASSEMBLIES[0],
+    AssemblyInfo {
+        size: 2,
+        ..ASSEMBLIES[2]
+    },
+];
+
+impl Device for OutputShrunk {
+    fn identity(&self) -> &IdentityInfo {
+        &IDENTITY
+    }
+    fn assemblies(&self) -> &[AssemblyInfo] {
+        &SHRUNK
+    }
+    fn read_assembly(&mut self, _instance: u16, out: &mut [u8]) -> CipResult<usize> {
+        out.fill(0x5A);
+        Ok(out.len())
+    }
+    fn write_assembly(&mut self, _instance: u16, _data: &[u8]) -> CipResult {
+        Ok(())
+    }
+}
+
+#[test]
+fn an_output_resized_under_a_shared_production_leaves_it_to_its_sharer() {
+    let mut table: ConnectionTable = ConnectionTable::new(1);
+    // An exclusive owner consuming output 150 and producing input 100 to the group, and an
+    // input-only connection that joined that production.
+    let mut rng = Rng(3);
+    let owner = loop {
+        let c = connection(&mut rng, &table, 1);
+        if c.kind == Kind::ExclusiveOwner {
+            break c;
+        }
+    };
+    let owner = Connection {
+        transport: match owner.transport {
+            Transport::Class1 { consumer, producer } => Transport::Class1 {
+                consumer,
+                producer: producer.map(|p| Producer {
+                    instance: 100,
+                    trigger: Trigger::Cyclic,
+                    ..p
+                }),
+            },
+            t => t,
+        },
+        ..owner
+    };
+    let t_o_id = owner.t_o_id;
+    let follower = Connection {
+        kind: Kind::InputOnly,
+        triad: Triad {
+            connection_serial: 2,
+            ..owner.triad
+        },
+        transport: Transport::Class1 {
+            consumer: Consumer {
+                instance: 152,
+                size: 0,
+                run_idle: false,
+                last_sequence: None,
+                last_encap_sequence: None,
+                run: false,
+            },
+            producer: None,
+        },
+        ..owner.clone()
+    };
+    let producer = table.open(owner, Instant(0)).unwrap();
+    let sharer = table.open(follower, Instant(0)).unwrap();
+    assert!(table
+        .get(producer)
+        .is_some_and(Connection::produces_multicast));
+
+    // The output shrinks: the owner closes, but input 100 still fits its production, which
+    // goes on in the input-only connection.
+    table.close_resized(&mut OutputShrunk);
+    assert!(table.get(producer).is_none());
+    let heir = table
+        .get(sharer)
+        .expect("the input-only connection stays open");
+    assert_eq!(heir.t_o_id, t_o_id);
+    assert!(heir.produces_multicast());
+    assert!(table.next_production(sharer).is_some());
+}
