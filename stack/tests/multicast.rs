@@ -166,3 +166,58 @@ fn a_join_of_a_triggered_production_must_match_its_inhibit_time() {
     f.transport = 0x11;
     assert_eq!(open(&mut h, &f), Ok(t_o));
 }
+
+/// [`TestDevice`] noting the inhibit time of each Forward_Open it is asked to admit.
+struct Inhibits {
+    inner: TestDevice,
+    seen: Vec<enip_stack::Duration>,
+}
+
+impl enip_stack::device::Front for Inhibits {
+    type Inner = TestDevice;
+    fn inner(&self) -> &TestDevice {
+        &self.inner
+    }
+    fn inner_mut(&mut self) -> &mut TestDevice {
+        &mut self.inner
+    }
+    fn front_admit(
+        &mut self,
+        request: &enip_stack::device::OpenRequest<'_>,
+    ) -> enip_stack::cip::CipResult {
+        self.seen.push(request.inhibit);
+        enip_stack::Device::admit(&mut self.inner, request)
+    }
+}
+
+#[test]
+fn a_joining_connection_is_admitted_with_the_inhibit_time_it_asked_for() {
+    let mut h = Harness::with_device(Inhibits {
+        inner: TestDevice::new(),
+        seen: Vec::new(),
+    });
+    let mut owner_path = io_path(None, 110, 100, None);
+    owner_path.extend_from_slice(&[0x43, 2]);
+    let mut f = owner(1, &owner_path, 10_000);
+    f.transport = 0x11;
+    let (g, _, data) = status(&h.forward_open(&f));
+    assert_eq!(g, 0);
+    let t_o = ForwardOpenReplyRepr::parse(&data)
+        .unwrap()
+        .t_o_connection_id;
+    let mut input_only = io_path(None, 152, 100, None);
+    input_only.extend_from_slice(&[0x43, 2]);
+    let mut f = heartbeat(2, &input_only, 10_000);
+    f.transport = 0x11;
+    let (g, _, data) = status(&h.forward_open(&f));
+    assert_eq!(g, 0);
+    assert_eq!(
+        ForwardOpenReplyRepr::parse(&data)
+            .unwrap()
+            .t_o_connection_id,
+        t_o
+    );
+    // Both asked for 2 ms (the second must, to join): the device hears 2 ms both times.
+    let two = enip_stack::Duration::from_millis(2);
+    assert_eq!(h.adapter.device().seen, [two, two]);
+}

@@ -205,9 +205,14 @@ pub fn forward_open<D: Device, const C: usize>(
         kind: conn.kind,
         transport_class: fo.transport_class(),
         trigger,
-        inhibit: conn
-            .producer()
-            .map_or(Duration::from_micros(0), |p| p.inhibit),
+        // The time asked for: a connection joining a multicast production has no producer
+        // of its own, but asked for (and got) that production's.
+        inhibit: match conn.transport {
+            Transport::Class1 { .. } => {
+                Duration::from_millis(u64::from(path.inhibit_ms.unwrap_or(0)))
+            }
+            Transport::Class3 { .. } => Duration::from_micros(0),
+        },
         points: conn.points,
         o_t: Direction {
             rpi_us: fo.o_t_rpi,
