@@ -64,6 +64,11 @@ fn bad_segment() -> CipError {
 }
 
 impl<'a> ConnPath<'a> {
+    /// The production inhibit time the path asks for (zero if none).
+    fn inhibit(&self) -> Duration {
+        Duration::from_millis(u64::from(self.inhibit_ms.unwrap_or(0)))
+    }
+
     /// Accepts: [port 1 link 0] [key] class [instance/points...] [attribute] [inhibit] [data].
     fn parse(raw: &'a [u8]) -> CipResult<ConnPath<'a>> {
         let mut p = ConnPath::default();
@@ -208,9 +213,7 @@ pub fn forward_open<D: Device, const C: usize>(
         // The time asked for: a connection joining a multicast production has no producer
         // of its own, but asked for (and got) that production's.
         inhibit: match conn.transport {
-            Transport::Class1 { .. } => {
-                Duration::from_millis(u64::from(path.inhibit_ms.unwrap_or(0)))
-            }
+            Transport::Class1 { .. } => path.inhibit(),
             Transport::Class3 { .. } => Duration::from_micros(0),
         },
         points: conn.points,
@@ -391,7 +394,7 @@ fn class1<D: Device, const C: usize>(
     if multicast && net.ttl <= 1 && u32::from(origin.ip) & mask != u32::from(net.ip) & mask {
         return Err(CipError::connection(ext::MULTICAST_OFF_SUBNET));
     }
-    let inhibit = Duration::from_millis(u64::from(path.inhibit_ms.unwrap_or(0)));
+    let inhibit = path.inhibit();
     if trigger != Trigger::Cyclic && inhibit.as_micros() > u64::from(fo.t_o_rpi) {
         return Err(CipError::connection(ext::RPI_BELOW_INHIBIT));
     }

@@ -455,6 +455,7 @@ impl<const F: usize> Conn<F> {
             return data.len();
         };
         let rest = data.get(handed..).unwrap_or(&[]);
+        // Nearly always nothing is left: no call, no copy of nothing on the request's path.
         let kept = if rest.is_empty() { 0 } else { self.keep(rest) };
         let taken = handed.saturating_add(kept);
         self.advance(taken);
