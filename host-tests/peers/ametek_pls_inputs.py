@@ -4,8 +4,8 @@ the inputs and moves group 1 with home offsets (class 0xC1 attribute 36).
 
 - reset to preset group (average, 2 positions): inputs at 100, 110, 120, 120, 120 leave
   group 1 at 100, 105, 115, 120, 120;
-- reset to preset (standard) with a mask covering both outputs of group 1: the group
-  position becomes the preset;
+- reset to preset (standard) without an output mask, then with a mask covering both
+  outputs of group 1: each time the group position becomes the preset;
 - input 9 reconfigured as output enable: its input offset (0xC0/3 word 17) is back to 0;
 - network status: the owner stops producing (its connection times out), a Class 3
   connection opens and closes, then the owner opens again; later the owner times out again
@@ -59,6 +59,11 @@ def main():
                 edge(owner, rpi)
                 average.append(owner.words()[0])
             out["average"] = average
+            # No output mask (2.6: "used to reset the position of a PLS group"): the group.
+            pls.home(driver, 250)
+            out["no_mask_write"] = pls.set_words(driver, 34, inputs([1, 0, 0, 20, 55, 0, 0]))
+            edge(owner, rpi)
+            out["no_mask"] = owner.words()[0]
             pls.home(driver, 250)
             out["whole_write"] = pls.set_words(
                 driver, 34, inputs([1, 0x0001, 0x0001, 20, 55, 0, 0]))

@@ -1,7 +1,7 @@
 """Explicit messages to the PositionServo profile with pycomm3 (UCMM): manual example 6.3
 (Get/Set_Attribute_Single of class 0x64 instance 100 attribute 2, then attribute 0), the
 string and EPM attributes, the CIP statuses of bad requests, the class attributes and the
-attribute lists, the Identity object (7.1), and
+attribute lists, Get_Attributes_All of an assembly (7.3), the Identity object (7.1), and
 the multicast TTL/address being one setting in variables 273/275 and TCP/IP attributes 8/9.
 An Identity Reset (type 0) in the middle shows the EPM copy coming back into RAM; a board that
 really restarts drops the connection, so the script reconnects after it.
@@ -86,6 +86,9 @@ def main():
         r["class_max_instance"] = var(d, get, 0, 2)
         r["list_set"] = var(d, 0x04, 100, None, struct.pack("<HHiHf", 2, 0, 12, 2, 12.5))
         r["list_get"] = var(d, 0x03, 100, None, struct.pack("<HHH", 2, 0, 2))
+        # 7.3: the assembly instances answer Get_Attributes_All with their data.
+        r["assembly_106_data"] = raw(d, get, 0x04, 106, 3)
+        r["assembly_106_all"] = raw(d, 0x01, 0x04, 106, None)
         # Identity.
         r["product_name"] = raw(d, get, 0x01, 1, 7)
         r["identity_all"] = raw(d, 0x01, 0x01, 1, None)

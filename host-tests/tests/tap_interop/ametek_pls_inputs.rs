@@ -32,6 +32,9 @@ fn ametek_pls_inputs_and_network_status() {
     // Average of the last 2 input positions: it settles where the inputs come.
     assert_eq!(r["average_write"], 0, "{r}");
     assert_eq!(r["average"], json!([100, 105, 115, 120, 120]), "{r}");
+    // No mask: the whole group is reset to the preset (2.6), from 250 to 55.
+    assert_eq!(r["no_mask_write"], 0, "{r}");
+    assert_eq!(r["no_mask"], 55, "{r}");
     // A mask with every output of the group: the group position becomes the preset (55:
     // output 1 off, output 17 on).
     assert_eq!(r["whole_write"], 0, "{r}");

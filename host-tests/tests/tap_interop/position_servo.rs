@@ -133,6 +133,11 @@ fn explicit(t: &dyn Target) {
         hex(&12.5f32.to_le_bytes())
     );
     ok("list_get", &list);
+    // 7.3 lists Get_Attributes_All for the assembly instances: the data, as attribute 3.
+    let data = r["assembly_106_data"]["data"].as_str().unwrap_or_default();
+    assert_eq!(data.len(), 2 * 8, "{}", r["assembly_106_data"]);
+    ok("assembly_106_data", data);
+    ok("assembly_106_all", data);
     ok("product_name", &format!("0a{}", hex(b"EnetIP 940")));
     ok("ttl_default", "01");
     ok("mcast_default", "00000100200fc0ef");
