@@ -67,7 +67,9 @@ fn bursts(rig: &Rig) {
     }
 }
 
-/// cpppo's proxy reading the product name 60 times with 30 requests outstanding.
+/// cpppo's proxy reading the product name 60 times with 30 requests outstanding: pipelining
+/// from an independent client (it sends each request in a segment of its own, so its
+/// replies do not outgrow the room; the bursts above are what needs the receive buffer).
 fn cpppo_deep(rig: &Rig) {
     let input = json!({"host": BOARD_IP.to_string(), "depth": 30, "count": 60,
                        "path": "@1/1/7", "type": "SSTRING"});
