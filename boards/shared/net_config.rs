@@ -7,6 +7,7 @@
 use core::net::Ipv4Addr;
 
 use defmt::{info, warn};
+use enip_firmware::{AdapterCell, SharedAdapter};
 use enip_stack::nv::SharedStore;
 use enip_stack::objects::TcpIpState;
 use enip_stack::{Adapter, Device};
@@ -30,20 +31,23 @@ pub fn dhcp() -> embassy_net::Config {
     embassy_net::Config::dhcpv4(Default::default())
 }
 
-/// `adapter` with the flash store attached (its TCP/IP settings loaded from it). Never
-/// inlined: the adapter then comes in and goes out by pointer, where inlined its moves were
-/// copied field by field (768 bytes of the NUCLEO-F767ZI image).
+/// The adapter `build` makes, shared in `home` with the flash store `store` attached (its
+/// TCP/IP settings loaded from it); `None` if `home` was used before. Never inlined: the
+/// adapter's parts are on the stack only while it runs (about 44 KiB deep with the default
+/// capacities), not in the main task's frame for good.
 #[inline(never)]
-pub(crate) fn with_store<D: Device>(
-    mut adapter: Adapter<D>,
+pub(crate) fn share_with_store<D: Device>(
+    home: &'static AdapterCell<D>,
+    build: impl FnOnce() -> Adapter<D>,
     store: &'static mut SharedStore,
-) -> Adapter<D> {
-    match adapter.attach_store(store) {
+) -> Option<&'static SharedAdapter<D>> {
+    let adapter = home.share(build)?;
+    enip_firmware::with_adapter(adapter, |a| match a.attach_store(store) {
         Ok(true) => info!("TCP/IP settings loaded from flash"),
         Ok(false) => info!("no TCP/IP settings in flash: factory defaults"),
         Err(e) => warn!("flash store unreadable ({}): factory defaults", e),
-    }
-    adapter
+    });
+    Some(adapter)
 }
 
 /// The static interface configuration stored in flash (TCP/IP attribute 5, set by a

@@ -22,7 +22,7 @@ use enip_stack::nv::{AbStore, SharedStore};
 use enip_stack::{Adapter, Device};
 use static_cell::{ConstStaticCell, StaticCell};
 
-use crate::net_config::{is_dhcp, stored_network, with_store};
+use crate::net_config::{is_dhcp, share_with_store, stored_network};
 use crate::nv_flash::OnChipFlash;
 use crate::{Driver, Watchdog};
 
@@ -92,23 +92,20 @@ pub async fn run<D: Device, L: Leds>(
     } = hw;
     let mut store = store;
     let network = stored_network(&mut store).unwrap_or(network);
-    let device = device(store);
     let dhcp = is_dhcp(&network);
     let frames: &'static LinkFrames = LINK_FRAMES.take();
     let net_driver = NetDriver::new(frames, &driver);
     let (net, runner) = embassy_net::new(net_driver, network, NET_RESOURCES.take(), seed);
     let mut interface = enip_firmware::network_config(net);
     interface.dhcp = dhcp;
-    // Built inside the call, so the main task's future holds one adapter, not two.
-    let adapter = with_store(
+    let build = || {
         Adapter::new(
-            Diagnosed::new(device, PLATFORM),
+            Diagnosed::new(device(store), PLATFORM),
             interface,
             seed.rotate_left(32),
-        ),
-        NV_HANDLE.init(store),
-    );
-    let Some(adapter) = home.share(adapter) else {
+        )
+    };
+    let Some(adapter) = share_with_store(home, build, NV_HANDLE.init(store)) else {
         panic!("{}: run called twice", crate::BOARD);
     };
     let heart: &'static Heartbeat = HEARTBEAT.init(Heartbeat::new());

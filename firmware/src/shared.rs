@@ -80,12 +80,16 @@ impl<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>
         AdapterCell(StaticCell::new())
     }
 
-    /// Shares `adapter` for the rest of the program; `None` if the cell was used before.
+    /// Shares the adapter `build` makes for the rest of the program; `None`, and `build` not
+    /// called, if the cell was used before. The adapter and the TCP server are built on the
+    /// stack before they move into the cell (about 44 KiB deep with the default capacities on
+    /// a Cortex-M): call it from a function of its own, not inlined into a task's `async`
+    /// body, so that depth is the stack's only while it runs.
     pub fn share(
         &'static self,
-        adapter: Adapter<D, S, C, F, L>,
+        build: impl FnOnce() -> Adapter<D, S, C, F, L>,
     ) -> Option<&'static SharedAdapter<D, S, C, F, L>> {
-        self.0.try_init(share(adapter)).map(|a| &*a)
+        self.0.try_init_with(|| share(build())).map(|a| &*a)
     }
 }
 

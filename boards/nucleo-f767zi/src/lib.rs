@@ -63,7 +63,7 @@ use leds::NucleoLeds;
 #[cfg(feature = "dhcp")]
 pub use net_config::dhcp;
 pub use net_config::static_ipv4;
-use net_config::{is_dhcp, mac_from_uid, stored_network, with_store};
+use net_config::{is_dhcp, mac_from_uid, share_with_store, stored_network};
 use nv_flash::OnChipFlash;
 use static_cell::{ConstStaticCell, StaticCell};
 use {defmt_rtt as _, panic_probe as _};
@@ -149,23 +149,20 @@ pub async fn run<D: Device>(
     let driver = PolledLink::new(ethernet, PHY_READ_PERIOD);
     let mut store = SharedStore::new(NV_STORE.init(RefCell::new(nv_flash::store(p.FLASH))));
     let network = stored_network(&mut store).unwrap_or(network);
-    let device = device(store);
     let dhcp = is_dhcp(&network);
     let frames: &'static LinkFrames = LINK_FRAMES.take();
     let net_driver = NetDriver::new(frames, &driver);
     let (net, runner) = embassy_net::new(net_driver, network, NET_RESOURCES.take(), seed);
     let mut interface = enip_firmware::network_config(net);
     interface.dhcp = dhcp;
-    // Built inside the call, so the main task's future holds one adapter, not two.
-    let adapter = with_store(
+    let build = || {
         Adapter::new(
-            Diagnosed::new(device, PLATFORM),
+            Diagnosed::new(device(store), PLATFORM),
             interface,
             seed.rotate_left(32),
-        ),
-        NV_HANDLE.init(store),
-    );
-    let Some(adapter) = home.share(adapter) else {
+        )
+    };
+    let Some(adapter) = share_with_store(home, build, NV_HANDLE.init(store)) else {
         panic!("enip_nucleo_f767zi::run called twice");
     };
     let heart: &'static Heartbeat = HEARTBEAT.init(Heartbeat::new());

@@ -52,7 +52,7 @@ use core::net::Ipv4Addr;
 use core::pin::pin;
 
 use embassy_executor::Spawner;
-use embassy_net::{Ipv4Cidr, Runner, StackResources, StaticConfigV4};
+use embassy_net::{Ipv4Cidr, Runner, Stack, StackResources, StaticConfigV4};
 use embassy_time::Duration;
 use enip_firmware::diagnostics::Platform;
 use enip_firmware::link::{IoPort, LinkChecksums, LinkFrames, NetDriver};
@@ -109,9 +109,39 @@ pub async fn run<D: Device>(
     home: &'static AdapterCell<D>,
     name: &str,
     device: impl FnOnce(SharedStore) -> D,
-    (address, prefix_len, gateway): ([u8; 4], u8, Option<[u8; 4]>),
+    address: ([u8; 4], u8, Option<[u8; 4]>),
     acd: bool,
 ) -> ! {
+    let (net, adapter, _seed) = start(spawner, home, name, device, address, acd);
+    let plaintext = enip_firmware::run(
+        net,
+        adapter,
+        FIRMWARE_RESOURCES.init_with(Resources::new),
+        on_reset,
+    );
+    #[cfg(feature = "tls")]
+    let plaintext = tls::beside(net, adapter, _seed.rotate_left(17), plaintext);
+    plaintext.await
+}
+
+/// [`run`]'s start: the machine, the driver, the network stack and the adapter set up and the
+/// board's tasks spawned; the network stack, the shared adapter and the seed. Out of line
+/// and not `async`: what it builds on the way (the driver, the adapter's parts) is on the
+/// stack only while it runs, not in the `main` task's frame for good (68 KiB deep at boot
+/// when it was inline).
+#[inline(never)]
+fn start<D: Device>(
+    spawner: Spawner,
+    home: &'static AdapterCell<D>,
+    name: &str,
+    device: impl FnOnce(SharedStore) -> D,
+    (address, prefix_len, gateway): ([u8; 4], u8, Option<[u8; 4]>),
+    acd: bool,
+) -> (
+    Stack<'static>,
+    &'static enip_firmware::SharedAdapter<Diagnosed<D>>,
+    u64,
+) {
     stack::paint();
     guard::install();
     time::init();
@@ -137,19 +167,7 @@ pub async fn run<D: Device>(
     let frames: &'static LinkFrames = LINK_FRAMES.take();
     let (net_driver, link_checksums) = NetDriver::with_link_checksums(frames, &driver);
     let (net, runner) = embassy_net::new(net_driver, config, NET_RESOURCES.take(), seed);
-    let store = SharedStore::new(NV_STORE.init(RefCell::new(AbStore::mount(RamFlash::new()))));
-    let adapter = with_store(
-        Adapter::new(
-            Diagnosed::new(device(store), PLATFORM),
-            enip_firmware::network_config(net),
-            seed.rotate_left(32),
-        ),
-        NV_HANDLE.init(store),
-        acd,
-    );
-    let Some(adapter) = home.share(adapter) else {
-        panic!("enip_qemu_mps2::run called twice");
-    };
+    let adapter = share_adapter(home, device, mount_store(), net, seed.rotate_left(32), acd);
     let heart: &'static Heartbeat = HEARTBEAT.init(Heartbeat::new());
     match (
         net_task(runner),
@@ -169,25 +187,49 @@ pub async fn run<D: Device>(
     log::info!(
         "enip-qemu-mps2: MAC {a:02x}:{b:02x}:{c:02x}:{d:02x}:{e:02x}:{g:02x}, listening on {address}/{prefix_len}"
     );
-    let plaintext = enip_firmware::run(
-        net,
-        adapter,
-        FIRMWARE_RESOURCES.init_with(Resources::new),
-        on_reset,
-    );
-    #[cfg(feature = "tls")]
-    let plaintext = tls::beside(net, adapter, seed.rotate_left(17), plaintext);
-    plaintext.await
+    (net, adapter, seed)
 }
 
-/// `adapter` with the RAM store attached (settings kept until power-off), told to skip
-/// conflict detection unless `acd`. (Not in `run`: a local borrowed there would live in its
-/// future, the whole adapter with it.)
-fn with_store<D: Device>(
-    mut adapter: Adapter<Diagnosed<D>>,
+/// The adapter over the device `device` builds from the RAM store `store`, on the interface of
+/// `net`, shared in `home` with the store attached, skipping conflict detection unless
+/// `acd`. Out of line: its parts are on the stack only while it runs.
+#[inline(never)]
+fn share_adapter<D: Device>(
+    home: &'static AdapterCell<D>,
+    device: impl FnOnce(SharedStore) -> D,
+    store: SharedStore,
+    net: Stack<'static>,
+    seed: u64,
+    acd: bool,
+) -> &'static enip_firmware::SharedAdapter<Diagnosed<D>> {
+    let build = || {
+        Adapter::new(
+            Diagnosed::new(device(store), PLATFORM),
+            enip_firmware::network_config(net),
+            seed,
+        )
+    };
+    let Some(adapter) = home.share(build) else {
+        panic!("enip_qemu_mps2::run called twice");
+    };
+    enip_firmware::with_adapter(adapter, |a| attach_store(a, NV_HANDLE.init(store), acd));
+    adapter
+}
+
+/// The RAM store, mounted. Out of line, called before [`share_adapter`]: its sector is built
+/// on the stack before it moves into its static (10 KiB deep), apart from the adapter's parts.
+#[inline(never)]
+fn mount_store() -> SharedStore {
+    SharedStore::new(NV_STORE.init(RefCell::new(AbStore::mount(RamFlash::new()))))
+}
+
+/// Attaches the RAM store to `adapter` (settings kept until power-off) and tells it to skip
+/// conflict detection unless `acd`.
+fn attach_store<D: Device>(
+    adapter: &mut Adapter<Diagnosed<D>>,
     store: &'static mut SharedStore,
     acd: bool,
-) -> Adapter<Diagnosed<D>> {
+) {
     if let Err(e) = adapter.attach_store(store) {
         log::warn!("non-volatile store: {e}");
     }
@@ -195,7 +237,6 @@ fn with_store<D: Device>(
         log::info!("address conflict detection off in this image (ENIP_ACD=off)");
         adapter.skip_acd();
     }
-    adapter
 }
 
 /// Seeds for the network stack and the adapter. The machine has no random number

@@ -71,7 +71,7 @@ use led::PicoLed;
 #[cfg(feature = "dhcp")]
 pub use net_config::dhcp;
 pub use net_config::static_ipv4;
-use net_config::{is_dhcp, mac_from_uid, stored_network, with_store};
+use net_config::{is_dhcp, mac_from_uid, share_with_store, stored_network};
 use nv_flash::{QspiDriver, QspiFlash};
 use static_cell::{ConstStaticCell, StaticCell};
 use {defmt_rtt as _, panic_probe as _};
@@ -170,7 +170,6 @@ pub async fn run<D: Device>(
     };
     let mut store = SharedStore::new(NV_STORE.init(RefCell::new(nv_flash::store(flash))));
     let network = stored_network(&mut store).unwrap_or(network);
-    let device = RpiFloor::new(device(store), limits::rpi_floor_us);
     let dhcp = is_dhcp(&network);
     let frames: &'static LinkFrames = LINK_FRAMES.take();
     // The W5500 in MACRAW mode computes no checksums: the link task does the stack's, 16
@@ -179,16 +178,14 @@ pub async fn run<D: Device>(
     let (net, runner) = embassy_net::new(net_driver, network, NET_RESOURCES.take(), seed);
     let mut interface = enip_firmware::network_config(net);
     interface.dhcp = dhcp;
-    // Built inside the call, so the main task's future holds one adapter, not two.
-    let adapter = with_store(
+    let build = || {
         Adapter::new(
-            Diagnosed::new(device, PLATFORM),
+            Diagnosed::new(RpiFloor::new(device(store), limits::rpi_floor_us), PLATFORM),
             interface,
             seed.rotate_left(32),
-        ),
-        NV_HANDLE.init(store),
-    );
-    let Some(adapter) = home.share(adapter) else {
+        )
+    };
+    let Some(adapter) = share_with_store(home, build, NV_HANDLE.init(store)) else {
         panic!("enip_w5500_evb_pico::run called twice");
     };
     let heart: &'static Heartbeat = HEARTBEAT.init(Heartbeat::new());
