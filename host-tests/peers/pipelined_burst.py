@@ -1,13 +1,18 @@
 """Pipelined requests in one segment, as a client that does not wait for each reply.
 
 Reads one JSON document from stdin:
-  {"host": "198.18.0.2", "kind": "list_identity" | "get_attributes_all", "count": int}
+  {"host": "198.18.0.2", "kind": "list_identity" | "get_attributes_all", "count": int,
+   "close_after": bool (optional, default false)}
 Registers a session, then sends `count` requests of `kind` (ListIdentity on TCP, or
 SendRRData with Get_Attributes_All of Identity instance 1), each with its index as sender
-context, in one sendall, and reads every reply (5 s at most).
+context, in one sendall, and reads every reply (5 s at most). With `close_after`, the
+client's FIN follows the burst at once (shutdown for writing), and after the replies it
+waits for the adapter's FIN (end of stream, 5 s at most).
 Prints one JSON line: {"replies": int, "in_order": bool (sender contexts 0, 1, ...),
 "encap_statuses": [int], "cip_statuses": [int] (get_attributes_all only), "seconds": float,
-"retransmissions": int (the client socket's tcpi_total_retrans: segments sent again)}.
+"retransmissions": int (the client socket's tcpi_total_retrans: segments sent again),
+"closed": bool (with close_after: the adapter's FIN came after the replies and nothing else),
+"seconds_to_close": float (with close_after: from the burst to the adapter's FIN)}.
 """
 import json
 import socket
@@ -51,8 +56,11 @@ def main():
     frame, buf = read_frame(sock, b"")
     session = struct.unpack_from("<I", frame, 4)[0]
     burst = b"".join(request(kind, session, i) for i in range(count))
+    close_after = spec.get("close_after", False)
     start = time.monotonic()
     sock.sendall(burst)
+    if close_after:
+        sock.shutdown(socket.SHUT_WR)
     contexts, encap_statuses, cip_statuses = [], [], []
     try:
         for _ in range(count):
@@ -66,12 +74,20 @@ def main():
     except (socket.timeout, ConnectionError):
         pass
     seconds = time.monotonic() - start
+    closed, seconds_to_close = False, None
+    if close_after:
+        try:
+            closed = buf == b"" and sock.recv(65536) == b""
+            seconds_to_close = time.monotonic() - start
+        except (socket.timeout, ConnectionError):
+            pass
     info = sock.getsockopt(socket.IPPROTO_TCP, socket.TCP_INFO, 256)
     retransmissions = struct.unpack_from("<I", info, TOTAL_RETRANS_OFFSET)[0]
     sock.close()
     print(json.dumps({"replies": len(contexts), "in_order": contexts == list(range(len(contexts))),
                       "encap_statuses": encap_statuses, "cip_statuses": cip_statuses,
-                      "seconds": seconds, "retransmissions": retransmissions}))
+                      "seconds": seconds, "retransmissions": retransmissions,
+                      "closed": closed, "seconds_to_close": seconds_to_close}))
 
 
 if __name__ == "__main__":

@@ -3,8 +3,10 @@
 //! 30 requests deep). Requests whose replies outgrow the connection's room wait in the
 //! window the board offered, acknowledged, and are answered once the replies before them
 //! are: every reply comes, in order, and the client never has to send a segment again (its
-//! `tcpi_total_retrans` stays 0; the window offered never shrinks, RFC 9293 3.8.6.2.2). The
-//! same on the host board and the emulated one, whose TCP is the same code.
+//! `tcpi_total_retrans` stays 0; the window offered never shrinks, RFC 9293 3.8.6.2.2). A
+//! client whose FIN follows such a burst at once has it acknowledged with the requests, every
+//! reply, then the board's FIN, without sending its FIN again. The same on the host board and
+//! the emulated one, whose TCP is the same code.
 
 use std::time::Duration;
 
@@ -40,10 +42,16 @@ fn pipelined_requests_qemu() {
 }
 
 /// One segment of 40 ListIdentity requests (about 3.6 KiB of replies against the 2 KiB of
-/// room), and one of 16 Get_Attributes_All of the Identity object.
+/// room), one of 16 Get_Attributes_All of the Identity object, and 40 ListIdentity again
+/// with the client's FIN right behind them.
 fn bursts(rig: &Rig) {
-    for (kind, count) in [("list_identity", 40), ("get_attributes_all", 16)] {
-        let input = json!({"host": BOARD_IP.to_string(), "kind": kind, "count": count});
+    for (kind, count, close_after) in [
+        ("list_identity", 40, false),
+        ("get_attributes_all", 16, false),
+        ("list_identity", 40, true),
+    ] {
+        let input = json!({"host": BOARD_IP.to_string(), "kind": kind, "count": count,
+                           "close_after": close_after});
         let out = peers::run(rig.ns(), "pipelined_burst.py", &input, PEER_TIMEOUT)
             .unwrap_or_else(|e| panic!("{e}\nboard log:\n{}", rig.board_log()));
         println!("pipelined_burst.py {kind} x {count}: {}", summary(&out));
@@ -61,9 +69,20 @@ fn bursts(rig: &Rig) {
         assert_eq!(
             out["retransmissions"],
             json!(0),
-            "{kind}: the client had to send requests again: {}",
+            "{kind}: the client had to send requests or its FIN again: {}",
             summary(&out)
         );
+        if close_after {
+            assert_eq!(
+                out["closed"],
+                json!(true),
+                "{kind}: no FIN after the replies: {out}"
+            );
+            println!(
+                "  the board's FIN {:.1} ms after the burst",
+                out["seconds_to_close"].as_f64().unwrap_or(-1.0) * 1e3
+            );
+        }
     }
 }
 

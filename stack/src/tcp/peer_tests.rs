@@ -353,23 +353,64 @@ fn pipelined_requests_beyond_the_replies_room_wait_acknowledged_and_the_window_n
 }
 
 #[test]
-fn a_fin_after_requests_that_wait_is_taken_once_they_are_answered() {
+fn a_fin_after_requests_that_wait_is_acknowledged_at_once_and_taken_once_they_are_answered() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let iss = connect(&mut s, &mut app, peer(5000), 100);
     let last_request = seg(peer(5000), 101, iss, FIN_ACK, b"LxxxLxxxabcd");
     s.process(&last_request, ms(2), &mut app);
     let sent = drain(&mut s, ms(2));
-    // The data is acknowledged, the FIN not yet: the adapter has not had every request.
-    assert_eq!(sent.last().map(|(o, _)| o.ack), Some(113), "{sent:?}");
+    // The data and the FIN are acknowledged (the peer need not send its FIN again), but the
+    // session stays open: the adapter has not had every request.
+    assert_eq!(sent.last().map(|(o, _)| o.ack), Some(114), "{sent:?}");
+    assert!(sent.iter().all(|(o, _)| !o.flags.fin), "{sent:?}");
     assert!(!app.events.contains(&Event::Closed(0)));
-    // The replies acknowledged, and the FIN again: the last request is answered, then the
-    // FIN taken.
-    let fin = seg(peer(5000), 113, iss + 2 * FRAME as u32, FIN_ACK, &[]);
-    s.process(&fin, ms(3), &mut app);
+    // Data past the FIN is not taken.
+    s.process(&seg(peer(5000), 114, iss, ACK, b"Lzzz"), ms(2), &mut app);
+    assert_eq!(drain(&mut s, ms(2)).last().map(|(o, _)| o.ack), Some(114));
+    // The replies acknowledged (no FIN again): the last request is answered, the session
+    // told it closed and our FIN follows the reply.
+    let acked = seg(peer(5000), 114, iss + 2 * FRAME as u32, ACK, &[]);
+    s.process(&acked, ms(3), &mut app);
     let sent = drain(&mut s, ms(3));
     assert!(sent.iter().any(|(_, d)| d == b"abcd"), "{sent:?}");
+    assert!(sent.iter().any(|(o, _)| o.flags.fin), "{sent:?}");
     assert_eq!(sent.last().map(|(o, _)| o.ack), Some(114), "{sent:?}");
     assert!(app.events.contains(&Event::Closed(0)));
+    assert!(
+        !app.events
+            .iter()
+            .any(|e| matches!(e, Event::Received(_, d) if d.starts_with(b"Lzzz"))),
+        "{:?}",
+        app.events
+    );
+}
+
+#[test]
+fn a_fin_behind_requests_that_wait_is_taken_when_the_adapter_closes_the_session() {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    s.process(
+        &seg(peer(5000), 101, iss, FIN_ACK, b"LxxxLxxxabcd"),
+        ms(2),
+        &mut app,
+    );
+    drain(&mut s, ms(2));
+    // The session's inactivity timeout closes it while the request and the FIN wait: both
+    // FINs are then exchanged, the peer's acknowledged once.
+    app.idle_at = Some(ms(100));
+    s.poll(ms(100), &mut app);
+    assert!(app.events.contains(&Event::Closed(0)), "{:?}", app.events);
+    let acked = seg(peer(5000), 114, iss + 2 * FRAME as u32, ACK, &[]);
+    s.process(&acked, ms(101), &mut app);
+    let sent = drain(&mut s, ms(101));
+    let fin = sent.iter().find(|(o, _)| o.flags.fin).map(|(o, _)| o.ack);
+    assert_eq!(fin, Some(114), "{sent:?}");
+    let closed = app
+        .events
+        .iter()
+        .filter(|e| **e == Event::Closed(0))
+        .count();
+    assert_eq!(closed, 1, "{:?}", app.events);
 }
 
 #[test]

@@ -75,6 +75,9 @@ pub(super) struct Conn<const F: usize> {
     /// pipelined requests never shrink the window (RFC 9293 3.8.6.2.2).
     rx: [u8; F],
     rx_len: usize,
+    /// The peer's FIN came, in order, behind data that waits in `rx`: acknowledged, and
+    /// taken (the session told it closed) once the adapter has had that data.
+    peer_fin_waits: bool,
     /// Our FIN follows the replies.
     fin: bool,
     ack_owed: bool,
@@ -125,6 +128,7 @@ impl<const F: usize> Conn<F> {
             tx_len: 0,
             rx: [0; F],
             rx_len: 0,
+            peer_fin_waits: false,
             fin: false,
             ack_owed: false,
             syn_ack_owed: false,
@@ -161,6 +165,7 @@ impl<const F: usize> Conn<F> {
         self.mss = seg.peer_mss();
         self.tx_len = 0;
         self.rx_len = 0;
+        self.peer_fin_waits = false;
         self.fin = false;
         self.ack_owed = false;
         self.syn_ack_owed = true;
@@ -407,16 +412,19 @@ impl<const F: usize> Conn<F> {
     /// The data and FIN of `seg`, in order only: the data goes to the adapter while the
     /// replies have room for another.
     fn take_data(&mut self, id: SocketId, seg: &Segment<'_>, now: Instant, app: &mut impl TcpApp) {
-        if !matches!(
-            self.state,
-            State::Established | State::FinWait1 | State::FinWait2
-        ) {
+        if !self.receiving() {
             // The peer's FIN came already: whatever follows it (its FIN again) is answered.
             self.ack_owed |= seg.len() > 0;
             return;
         }
         // What waits goes first, now that the acknowledgment may have made room.
         self.drain(id, now, app);
+        if self.peer_fin_waits || !self.receiving() {
+            // The peer's FIN came (acknowledged; taken, or behind data that waits): nothing
+            // follows it.
+            self.ack_owed |= seg.len() > 0;
+            return;
+        }
         if lt(self.rcv_nxt, seg.seq) {
             // Ahead of what is expected: not kept; the ACK says what is.
             self.ack_owed = true;
@@ -426,13 +434,25 @@ impl<const F: usize> Conn<F> {
         let data = seg.payload.get(skip..).unwrap_or(&[]);
         let taken = self.feed(id, data, now, app);
         self.ack_owed |= !data.is_empty();
-        // The FIN once the adapter has had every request before it (a retransmission of it
-        // is taken when the waiting data is).
-        if seg.flags.fin && taken == data.len() && self.rx_len == 0 && skip <= seg.payload.len() {
+        // The FIN, acknowledged at once; taken once the adapter has had every request
+        // before it.
+        if seg.flags.fin && taken == data.len() && skip <= seg.payload.len() {
             self.rcv_nxt = self.rcv_nxt.wrapping_add(1);
             self.ack_owed = true;
-            self.peer_fin(id, now, app);
+            if self.rx_len == 0 {
+                self.peer_fin(id, now, app);
+            } else {
+                self.peer_fin_waits = true;
+            }
         }
+    }
+
+    /// True in the states where the peer may still send data and its FIN.
+    fn receiving(&self) -> bool {
+        matches!(
+            self.state,
+            State::Established | State::FinWait1 | State::FinWait2
+        )
     }
 
     /// Takes `data`, received in order: hands it to the adapter while the replies have room
@@ -493,6 +513,10 @@ impl<const F: usize> Conn<F> {
             None => self.rx_len = 0,
         }
         self.ack_owed |= small && self.window() >= least;
+        // The adapter has had every request before the peer's FIN: the FIN is taken.
+        if self.rx_len == 0 && core::mem::take(&mut self.peer_fin_waits) {
+            self.peer_fin(id, now, app);
+        }
     }
 
     /// Hands `data` to the adapter while the replies have room for its largest reply;
@@ -568,6 +592,10 @@ impl<const F: usize> Conn<F> {
             self.fin = true;
             self.since = now;
             self.state = State::FinWait1;
+        }
+        // A peer's FIN behind the requests just dropped is taken now.
+        if core::mem::take(&mut self.peer_fin_waits) {
+            self.peer_fin(id, now, app);
         }
     }
 
