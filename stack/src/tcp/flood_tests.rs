@@ -163,11 +163,17 @@ fn forged_segments_draw_one_challenge_ack_each_half_second() {
     let (mut s, mut app) = (Server::new(7), Echo::default());
     let iss = connect(&mut s, &mut app, peer(5000), 100);
     let old_ack = iss.wrapping_sub(100_000);
+    let unsent_ack = iss.wrapping_add(100_000);
     let challenges = |s: &mut Server, app: &mut Echo, at: Instant| {
-        // An in-window RST that is not exact, a SYN, data with an ACK far back.
+        // An in-window RST that is not exact, a SYN, data with an ACK far back, and segments
+        // acknowledging what was never sent, with and without data.
         s.process(&seg(peer(5000), 105, 0, RST, &[]), at, app);
         s.process(&seg(peer(5000), 7, 0, SYN, &[]), at, app);
         s.process(&seg(peer(5000), 101, old_ack, ACK, b"evil"), at, app);
+        for _ in 0..10 {
+            s.process(&seg(peer(5000), 101, unsent_ack, ACK, &[]), at, app);
+            s.process(&seg(peer(5000), 101, unsent_ack, ACK, b"evil"), at, app);
+        }
         drain(s, at).len()
     };
     assert_eq!(challenges(&mut s, &mut app, ms(10)), 1);

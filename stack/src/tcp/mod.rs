@@ -23,10 +23,11 @@
 //!   [`WRITE_TIMEOUT`] (a client that stops reading), or one silent for that long when a
 //!   new client finds every connection taken;
 //! - RST, SYN and ACK checks of RFC 5961 (an in-window RST, any SYN on an open connection,
-//!   or an ACK older than the peer's largest window before the oldest unacknowledged byte
-//!   gets a challenge ACK, and the segment goes no further), challenge ACKs and the ACKs of
-//!   out-of-window segments without data throttled to one per connection each 500 ms (its
-//!   section 7); a connection half-open for [`HALF_OPEN`] is dropped (without a RST);
+//!   an ACK older than the peer's largest window before the oldest unacknowledged byte, or
+//!   one of what was not sent, gets a challenge ACK, and the segment goes no further),
+//!   challenge ACKs and the ACKs of out-of-window segments without data throttled to one per
+//!   connection each 500 ms (its section 7); a connection half-open for [`HALF_OPEN`] is
+//!   dropped (without a RST);
 //! - the adapter closes when the peer does (no CLOSE-WAIT), and a connection is free again
 //!   once both FINs are acknowledged (no TIME-WAIT: a late FIN finds no connection and is
 //!   answered with a RST); a close the peer does not complete within [`LINGER`] is reset.

@@ -332,8 +332,10 @@ impl<const F: usize> Conn<F> {
             return true;
         }
         if lt(self.snd_max, ack) {
-            // Acknowledges what was not sent: an ACK, and the segment is dropped.
-            self.ack_owed = true;
+            // Acknowledges what was not sent (RFC 5961 5.2: past SND.NXT): an ACK, throttled
+            // as a challenge ACK (its section 7: a stream of such forged segments draws a
+            // few, not one each), and the segment is dropped.
+            self.challenge(now);
             return false;
         }
         if lt(ack, self.snd_una.wrapping_sub(self.max_snd_wnd)) {
