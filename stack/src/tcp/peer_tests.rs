@@ -387,19 +387,9 @@ fn a_fin_after_requests_that_wait_is_acknowledged_at_once_and_taken_once_they_ar
 
 #[test]
 fn a_fin_behind_requests_that_wait_is_taken_when_the_adapter_closes_the_session() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let iss = connect(&mut s, &mut app, peer(5000), 100);
-    s.process(
-        &seg(peer(5000), 101, iss, FIN_ACK, b"LxxxLxxxabcd"),
-        ms(2),
-        &mut app,
-    );
-    drain(&mut s, ms(2));
     // The session's inactivity timeout closes it while the request and the FIN wait: both
     // FINs are then exchanged, the peer's acknowledged once.
-    app.idle_at = Some(ms(100));
-    s.poll(ms(100), &mut app);
-    assert!(app.events.contains(&Event::Closed(0)), "{:?}", app.events);
+    let (mut s, mut app, iss) = closed_while_a_request_waits(FIN_ACK);
     let acked = seg(peer(5000), 114, iss + 2 * FRAME as u32, ACK, &[]);
     s.process(&acked, ms(101), &mut app);
     let sent = drain(&mut s, ms(101));
@@ -415,19 +405,8 @@ fn a_fin_behind_requests_that_wait_is_taken_when_the_adapter_closes_the_session(
 
 #[test]
 fn requests_that_wait_are_dropped_when_the_adapter_closes_the_session() {
-    let (mut s, mut app) = (Server::new(7), Echo::default());
-    let iss = connect(&mut s, &mut app, peer(5000), 100);
-    // Two long replies fill the room; the third request waits.
-    s.process(
-        &seg(peer(5000), 101, iss, ACK, b"LxxxLxxxabcd"),
-        ms(2),
-        &mut app,
-    );
-    drain(&mut s, ms(2));
     // The session's inactivity timeout closes it while the request waits.
-    app.idle_at = Some(ms(100));
-    s.poll(ms(100), &mut app);
-    assert!(app.events.contains(&Event::Closed(0)), "{:?}", app.events);
+    let (mut s, mut app, iss) = closed_while_a_request_waits(ACK);
     // The peer's FIN before it acknowledged the replies: taken at once (nothing waits for
     // the session any more).
     s.process(&seg(peer(5000), 113, iss, FIN_ACK, &[]), ms(101), &mut app);
@@ -444,4 +423,22 @@ fn requests_that_wait_are_dropped_when_the_adapter_closes_the_session() {
         app.events
     );
     assert!(!app.events.contains(&Event::Received(0, b"abcd".to_vec())));
+}
+
+/// A connection whose two long replies fill the room while a third request waits (sent with
+/// `flags`), closed by the session's inactivity timeout at 100 ms; the server, the adapter and
+/// our initial sequence number.
+fn closed_while_a_request_waits(flags: Flags) -> (Server, Echo, u32) {
+    let (mut s, mut app) = (Server::new(7), Echo::default());
+    let iss = connect(&mut s, &mut app, peer(5000), 100);
+    s.process(
+        &seg(peer(5000), 101, iss, flags, b"LxxxLxxxabcd"),
+        ms(2),
+        &mut app,
+    );
+    drain(&mut s, ms(2));
+    app.idle_at = Some(ms(100));
+    s.poll(ms(100), &mut app);
+    assert!(app.events.contains(&Event::Closed(0)), "{:?}", app.events);
+    (s, app, iss)
 }
