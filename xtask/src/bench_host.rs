@@ -4,9 +4,11 @@
 //!
 //! For each board, in namespaces of its own (198.18.0.1 the peers, 198.18.0.2 the board):
 //! - instructions per cycle: the board under `valgrind --tool=callgrind` (user space, every
-//!   thread), the project's scanner holding one exclusive owner at 10 ms for 5 s and then
-//!   15 s ([`Scale::host_seconds`]); per cycle = difference of the two totals /
-//!   difference of the T->O datagrams received, so start-up and shut-down cancel out;
+//!   thread), its counters zeroed once it answers (`callgrind_control -z`: how many probes
+//!   its start took under valgrind varies), the project's scanner holding one exclusive
+//!   owner at 10 ms for 5 s and then 15 s ([`Scale::host_seconds`]); per cycle = difference
+//!   of the two totals / difference of the T->O datagrams received, so the scanner's
+//!   connection set-up and the board's shut-down cancel out;
 //! - context switches per cycle: the same two runs natively, summing `voluntary_ctxt_switches`
 //!   and `nonvoluntary_ctxt_switches` of every thread from `/proc/PID/task/*/status`;
 //! - explicit messaging: back-to-back Get_Attribute_Single on 1 and on 3 sessions for
@@ -361,11 +363,25 @@ fn start(board: &Board, lab: &Lab, bins: &Bins, callgrind: Option<&Path>) -> Res
             .stderr(Stdio::null())
             .status();
         if probe.is_ok_and(|s| s.success()) {
+            if callgrind.is_some() {
+                zero_counters(&mut child)?;
+            }
             return Ok(child);
         }
     }
     stop(&mut child);
     err(format!("{} did not start within {START:?}", board.name()))
+}
+
+/// Zeroes the callgrind counters of the board `child` runs under valgrind: what it counts from
+/// then on leaves out its start, whose cost varies with the probes it took.
+fn zero_counters(child: &mut Child) -> Result {
+    let pid = child.id().to_string();
+    if let Err(e) = run(std::process::Command::new("callgrind_control").args(["-z", &pid])) {
+        stop(child);
+        return Err(e);
+    }
+    Ok(())
 }
 
 /// Stops a board with SIGINT (callgrind writes its profile at exit), waiting up to 30 s.
