@@ -72,14 +72,24 @@ fn scan(ns: &Namespace, kind: &str, ports: &str, until: Instant) -> Value {
     json!(port_states(&report))
 }
 
-/// The fields `enip-info` printed ("productName" -> "enip-rs generic", ...).
+/// The fields `enip-info` printed ("productName" -> "enip-rs generic", ...). Asked a second
+/// time if the first printed none: over TCP the script needs one of the board's three
+/// sessions, and the load's session churn (a new session every 250 ms, beside pycomm3's and
+/// the scanner's) can hold the last one at that moment; the script does not try again. The
+/// first report is printed when it was.
 fn enip_info(ns: &Namespace, kind: &str, until: Instant) -> Value {
-    let report = nmap(
-        ns,
-        &["-Pn", kind, "-p", "44818", "--script", "enip-info"],
-        until,
-    );
-    // The script's lines: "|   productName: enip-rs generic", the last "|_  ...".
+    let args = ["-Pn", kind, "-p", "44818", "--script", "enip-info"];
+    let report = nmap(ns, &args, until);
+    let fields = script_fields(&report);
+    if fields.as_object().is_some_and(|f| !f.is_empty()) {
+        return fields;
+    }
+    println!("enip-info {kind} printed nothing, asked again; its report:\n{report}");
+    script_fields(&nmap(ns, &args, until))
+}
+
+/// The lines a script printed: "|   productName: enip-rs generic", the last "|_  ...".
+fn script_fields(report: &str) -> Value {
     let fields: BTreeMap<&str, &str> = report
         .lines()
         .filter_map(|l| l.strip_prefix('|'))
