@@ -177,6 +177,21 @@ fn unconnected_send_to_port_1_slot_0() {
         &[&data[..12], &[1, 0, 0x02, 0x00][..]].concat(),
     );
     assert_eq!(status(&frame).1, vec![0x0311]);
+    // A routing error's reply carries the Remaining Path Size: the route's words as this
+    // device saw them (Vol 1 3-5.5.4), here the whole two-segment route.
+    let frame = h.request(
+        0x52,
+        &path(6, 1, None),
+        &[&data[..12], &[2, 0, 0x01, 0x05, 0x01, 0x00][..]].concat(),
+    );
+    let (g, words, d) = status(&frame);
+    assert_eq!((g, words, d), (0x01, vec![0x0315], vec![2]));
+    let frame = h.request(
+        0x52,
+        &path(6, 1, None),
+        &[&data[..12], &[1, 0, 0x01, 0x05][..]].concat(),
+    );
+    assert_eq!(status(&frame), (0x01, vec![0x0312], vec![1]));
 }
 
 #[test]
@@ -250,7 +265,7 @@ fn tcp_framing_across_segments_keeps_order_and_replies_in_place() {
 }
 
 #[test]
-fn a_frame_over_capacity_is_answered_0x65_and_closed_however_it_arrives() {
+fn a_frame_over_capacity_is_answered_0x65_and_skipped_however_it_arrives() {
     for first in [24, 10, 1] {
         let mut h = Harness::new();
         let mut reply = vec![0u8; FRAME];
@@ -264,20 +279,41 @@ fn a_frame_over_capacity_is_answered_0x65_and_closed_however_it_arrives() {
             let out = h
                 .adapter
                 .tcp_receive(SocketId(0), &rest, Instant(0), &mut reply);
-            assert_eq!((out.consumed, out.close), (rest.len(), true));
+            assert_eq!((out.consumed, out.close), (rest.len(), false));
             assert_eq!(out.reply_len, HEADER_LEN);
         } else {
             assert_eq!(
                 (out.consumed, out.reply_len, out.close),
-                (24, HEADER_LEN, true)
+                (24, HEADER_LEN, false)
             );
         }
-        let r = &reply[..HEADER_LEN];
-        assert_eq!(encap_status(r), 0x65);
+        let r = reply[..HEADER_LEN].to_vec();
+        assert_eq!(encap_status(&r), 0x65);
         assert_eq!(
             (&r[..2], &r[2..4], &r[12..20]),
             (&f[..2], &[0, 0][..], &[7; 8][..])
         );
+        // The rest of its data is skipped; the frame behind it is answered.
+        let skipped = FRAME - HEADER_LEN + 1 - if first < HEADER_LEN { 8 } else { 0 };
+        let rest = [vec![0x5A; skipped], header(0x63, 0, 0).to_vec()].concat();
+        let mut replies = Vec::new();
+        let mut data = &rest[..];
+        // Bounded: every call takes at least one byte.
+        for _ in 0..rest.len() {
+            if data.is_empty() {
+                break;
+            }
+            let out = h
+                .adapter
+                .tcp_receive(SocketId(0), data, Instant(0), &mut reply);
+            assert!(out.consumed > 0 && !out.close);
+            data = &data[out.consumed..];
+            if out.reply_len > 0 {
+                replies.push(reply[..out.reply_len].to_vec());
+            }
+        }
+        assert_eq!(replies.len(), 1, "first segment {first}");
+        assert_eq!((replies[0][0], encap_status(&replies[0])), (0x63, 0));
     }
 }
 
@@ -331,10 +367,27 @@ fn encapsulation_errors() {
     f = header(0x65, 4, 0).to_vec();
     f.extend([1, 0, 0, 0]);
     assert_eq!(encap_status(&run(&mut h, &f).2), 0x01);
-    // Length over capacity: status 0x65 and close.
+    // Length over capacity: status 0x65; the data is skipped as it arrives, across
+    // segments, and the session goes on: a ListIdentity right behind it is answered.
+    f = header(0x6F, 2000, h.session).to_vec();
+    f.extend([0xAB; 500]);
+    let (n, close, r) = run(&mut h, &f);
+    assert_eq!((n, close, encap_status(&r)), (HEADER_LEN, false, 0x65));
+    let mut rest = vec![0xAB; 1500];
+    rest.extend(header(0x63, 0, 0));
+    let (n, close, r) = run(&mut h, &rest);
+    assert!(n > HEADER_LEN && !close, "{n} {close}");
+    assert_eq!((r[0], encap_status(&r)), (0x63, 0));
+    // A NOP is never answered, at any length (Vol 2, 2-4.1); the session goes on.
+    f = header(0x00, 3000, h.session).to_vec();
+    f.extend([0; 3000]);
+    assert_eq!(run(&mut h, &f).0, 0);
+    f = header(0x63, 0, 0).to_vec();
+    assert_eq!(encap_status(&run(&mut h, &f).2), 0);
+    // Length over capacity, the most a header can say: status 0x65, the connection stays.
     f = header(0x6F, 0xFFFF, h.session).to_vec();
     let (n, close, r) = run(&mut h, &f);
-    assert_eq!((n, close, encap_status(&r)), (HEADER_LEN, true, 0x65));
+    assert_eq!((n, close, encap_status(&r)), (HEADER_LEN, false, 0x65));
 
     // A fresh connection: unsupported protocol version, and SendRRData before registering.
     h.adapter.tcp_accept(

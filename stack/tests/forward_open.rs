@@ -170,6 +170,76 @@ fn error_duplicate_and_ownership() {
 }
 
 #[test]
+fn a_redundant_owner_is_refused_0x0125() {
+    let mut h = Harness::new();
+    let path = io_path(None, 110, 100, None);
+    let mut f = fo(1, &path, 10_000);
+    f.o_t_params.redundant_owner = true;
+    assert_eq!(ext_of(&mut h, &f), (0x01, Some(0x0125)));
+    assert_eq!(h.adapter.connections().len(), 0);
+}
+
+#[test]
+fn a_configuration_in_use_may_be_repeated_not_changed() {
+    let mut h = Harness::new();
+    let owner = io_path(Some(151), 110, 100, Some(&[1; 10]));
+    assert_eq!(open(&mut h, &fo(1, &owner, 10_000)).0, 0);
+    // An input-only connection naming the same configuration with other data: 0x0106, and
+    // the owner's configuration stays.
+    let other = io_path(Some(151), 152, 101, Some(&[2; 10]));
+    let mut f = fo(2, &other, 10_000);
+    f.o_t_params = NetworkParams::from_u16(0x4800 | 2);
+    assert_eq!(ext_of(&mut h, &f), (0x01, Some(0x0106)));
+    assert_eq!(h.adapter.device().data[&151], vec![1; 10]);
+    // The same data, or none: opened.
+    let same = io_path(Some(151), 152, 101, Some(&[1; 10]));
+    let mut f = fo(3, &same, 10_000);
+    f.o_t_params = NetworkParams::from_u16(0x4800 | 2);
+    assert_eq!(open(&mut h, &f).0, 0);
+    let none = io_path(Some(151), 152, 102, None);
+    let mut f = fo(4, &none, 10_000);
+    f.o_t_params = NetworkParams::from_u16(0x4800 | 2);
+    assert_eq!(open(&mut h, &f).0, 0);
+    // Once no connection names it, a new one configures the device again.
+    for serial in [1, 3, 4] {
+        assert_eq!(close(&mut h, serial).0, 0);
+    }
+    let mut f = fo(5, &other, 10_000);
+    f.o_t_params = NetworkParams::from_u16(0x4800 | 2);
+    assert_eq!(open(&mut h, &f).0, 0);
+    assert_eq!(h.adapter.device().data[&151], vec![2; 10]);
+}
+
+#[test]
+fn a_forward_open_that_does_not_parse_still_names_its_triad() {
+    let mut h = Harness::new();
+    let path = io_path(None, 110, 100, None);
+    let mut data = [0u8; 128];
+    let mut w = Writer::new(&mut data);
+    fo(9, &path, 10_000).emit(&mut w).unwrap();
+    let n = w.len();
+    let triad = [9, 0, 0x37, 0x13, 0xEE, 0xFF, 0xC0, 0];
+    // Two bytes past the path: too much data, with the failure reply's body.
+    let long = [&data[..n], &[0, 0][..]].concat();
+    let (g, words, body) = status(&h.request(0x54, &cm_path(), &long));
+    assert_eq!((g, words), (0x15, vec![]));
+    assert_eq!(body, [&triad[..], &[0, 0][..]].concat());
+    // Cut in the path: not enough data, the same body.
+    let (g, _, body) = status(&h.request(0x54, &cm_path(), &data[..n - 2]));
+    assert_eq!((g, body), (0x13, [&triad[..], &[0, 0][..]].concat()));
+    // Cut before the triad ends: nothing to name.
+    let (g, _, body) = status(&h.request(0x54, &cm_path(), &data[..17]));
+    assert_eq!((g, body), (0x13, vec![]));
+    // A Forward_Close too.
+    let (g, _, body) = status(&h.request(
+        0x4E,
+        &cm_path(),
+        &[0x0A, 0x0E, 9, 0, 0x37, 0x13, 0xEE, 0xFF, 0xC0, 0, 1],
+    ));
+    assert_eq!((g, body), (0x13, [&triad[..], &[0, 0][..]].concat()));
+}
+
+#[test]
 fn error_forward_close_unknown() {
     let mut h = Harness::new();
     let (g, words, data) = close(&mut h, 77);
@@ -216,7 +286,8 @@ fn error_sizes_report_the_expected_size() {
     f.t_o_params = NetworkParams::from_u16(0x4800 | 32);
     assert_eq!(open(&mut h, &f).1, vec![0x0128, 34]);
     let cfg = io_path(Some(151), 110, 100, Some(&[1, 2, 3, 4]));
-    assert_eq!(open(&mut h, &fo(1, &cfg, 10_000)).1, vec![0x0126, 10]);
+    // The configuration's size in words, as its data segment counts it (10 bytes: 5).
+    assert_eq!(open(&mut h, &fo(1, &cfg, 10_000)).1, vec![0x0126, 5]);
     // Class 3 larger than the explicit buffer.
     let mr = [0x20, 0x02, 0x24, 0x01];
     let mut f = fo(1, &mr, 100_000);

@@ -23,7 +23,7 @@ use crate::nv::{NvError, NvStore};
 use crate::objects::{Ctx, LinkCounters, ObjectState};
 use crate::rng::Rng;
 use crate::time::{Duration, Instant};
-use crate::wire::encap::{status, HEADER_LEN};
+use crate::wire::encap::{command, status, HEADER_LEN};
 
 /// Index of one of the runtime's TCP sockets on port 44818 (below the adapter's `SESSIONS`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -395,18 +395,20 @@ impl<
                 consumed: data.len(),
                 ..TcpOutcome::default()
             },
-            Some((Feed::TooLong(header), _)) => {
+            Some((Feed::TooLong { header, consumed }, _)) => {
+                // Its data is skipped as it arrives and the session goes on. A NOP is never
+                // answered, at any length (Vol 2, 2-4.1), nor is a frame with options (2-3.6).
+                let silent = header.command == command::NOP || header.options != 0;
                 warn!(
-                    "encapsulation length over capacity; closing socket {}",
-                    socket.0
+                    "encapsulation length {} over capacity on socket {}: skipped",
+                    header.length, socket.0
                 );
                 let mut w = crate::wire::Writer::new(reply);
-                let sent = header.reply(status::INVALID_LENGTH, 0).emit(&mut w);
+                let sent = !silent && header.reply(status::INVALID_LENGTH, 0).emit(&mut w).is_ok();
                 TcpOutcome {
-                    consumed: data.len(),
-                    reply_len: if sent.is_ok() { HEADER_LEN } else { 0 },
-                    close: true,
-                    reset: None,
+                    consumed,
+                    reply_len: if sent { HEADER_LEN } else { 0 },
+                    ..TcpOutcome::default()
                 }
             }
             None => TcpOutcome {

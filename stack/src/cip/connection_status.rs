@@ -28,6 +28,8 @@ pub const KEY_REVISION: u16 = 0x0116;
 pub const NO_OWNER_FOR_LISTEN_ONLY: u16 = 0x0119;
 /// RPI smaller than the production inhibit time.
 pub const RPI_BELOW_INHIBIT: u16 = 0x011B;
+/// O->T redundant owner flag not supported (this stack has no redundant owner connections).
+pub const REDUNDANT_OWNER: u16 = 0x0125;
 /// Invalid configuration size.
 pub const BAD_CONFIG_SIZE: u16 = 0x0126;
 /// Invalid O->T size.
@@ -75,6 +77,7 @@ pub const fn describe(ext: u16) -> &'static str {
         KEY_REVISION => "electronic key: revision mismatch",
         NO_OWNER_FOR_LISTEN_ONLY => "listen only without a connection to follow",
         RPI_BELOW_INHIBIT => "RPI smaller than the production inhibit time",
+        REDUNDANT_OWNER => "redundant owner connections not supported",
         BAD_CONFIG_SIZE => "invalid configuration size",
         BAD_O_T_SIZE => "invalid O->T size",
         BAD_T_O_SIZE => "invalid T->O size",

@@ -23,8 +23,15 @@ pub enum Feed<'a> {
     /// The frame is not complete yet: all of the input is buffered.
     Buffered,
     /// The header declares more data than the stack accepts (a frame longer than the
-    /// framer's `F` bytes); nothing is buffered.
-    TooLong(EncapRepr),
+    /// framer's `F` bytes): nothing is buffered, and its data is skipped as it arrives, up
+    /// to the next frame. `consumed` bytes of the input were used (the rest of the header,
+    /// and what came of the data).
+    TooLong {
+        /// The frame's header.
+        header: EncapRepr,
+        /// Bytes of the input used.
+        consumed: usize,
+    },
 }
 
 /// Reassembles encapsulation frames of at most `F` bytes from one TCP byte stream.
@@ -34,6 +41,8 @@ pub struct Framer<const F: usize> {
     buf: heapless::Vec<u8, F>,
     /// `buf` holds a whole frame already handed out: it is dropped at the next feed.
     handed_out: bool,
+    /// Bytes of a frame too long to take still to come: they are skipped.
+    skip: usize,
 }
 
 impl<const F: usize> Framer<F> {
@@ -41,6 +50,7 @@ impl<const F: usize> Framer<F> {
         Framer {
             buf: heapless::Vec::new(),
             handed_out: false,
+            skip: 0,
         }
     }
 
@@ -53,6 +63,34 @@ impl<const F: usize> Framer<F> {
             self.buf.clear();
             self.handed_out = false;
         }
+        // The rest of a frame too long to take goes first.
+        let skipped = self.skip.min(data.len());
+        self.skip = self.skip.saturating_sub(skipped);
+        let data = data.get(skipped..).unwrap_or(&[]);
+        if data.is_empty() {
+            return Feed::Buffered;
+        }
+        match self.frame_from(data) {
+            Feed::Frame {
+                header,
+                frame,
+                consumed,
+            } => Feed::Frame {
+                header,
+                frame,
+                consumed: consumed.saturating_add(skipped),
+            },
+            Feed::TooLong { header, consumed } => Feed::TooLong {
+                header,
+                consumed: consumed.saturating_add(skipped),
+            },
+            Feed::Buffered => Feed::Buffered,
+        }
+    }
+
+    /// [`Self::feed`] once nothing is left to skip: `data` starts a frame or continues the
+    /// one buffered.
+    fn frame_from<'a>(&'a mut self, data: &'a [u8]) -> Feed<'a> {
         if self.buf.is_empty() {
             if let Ok(header) = EncapRepr::parse_header(data) {
                 match accepted::<F>(header) {
@@ -64,7 +102,7 @@ impl<const F: usize> Framer<F> {
                         }
                     }
                     Ok(_) => {}
-                    Err(header) => return Feed::TooLong(header),
+                    Err(header) => return self.too_long(header, data.len(), HEADER_LEN),
                 }
             }
             // Cannot fail: shorter than the frame it starts, which fits the buffer.
@@ -80,7 +118,7 @@ impl<const F: usize> Framer<F> {
             Ok(len) => len,
             Err(header) => {
                 self.buf.clear();
-                return Feed::TooLong(header);
+                return self.too_long(header, data.len(), consumed);
             }
         };
         let rest = data.get(consumed..).unwrap_or(&[]);
@@ -93,6 +131,19 @@ impl<const F: usize> Framer<F> {
             header,
             frame: &self.buf,
             consumed,
+        }
+    }
+
+    /// The frame `header` starts is too long: of `available` bytes of input, `header_end`
+    /// ended its header; its data is skipped, this input's part of it now.
+    fn too_long<'a>(&mut self, header: EncapRepr, available: usize, header_end: usize) -> Feed<'a> {
+        let data_here = available.saturating_sub(header_end);
+        let length = usize::from(header.length);
+        let skipped = data_here.min(length);
+        self.skip = length.saturating_sub(skipped);
+        Feed::TooLong {
+            header,
+            consumed: header_end.saturating_add(skipped),
         }
     }
 
@@ -266,7 +317,7 @@ mod tests {
                         rest = &rest[consumed..];
                     }
                     Feed::Buffered => break,
-                    Feed::TooLong(h) => panic!("too long: {h:?}"),
+                    Feed::TooLong { header, .. } => panic!("too long: {header:?}"),
                 }
             }
         }
@@ -323,23 +374,51 @@ mod tests {
     }
 
     #[test]
-    fn a_frame_longer_than_capacity_is_refused_with_its_header() {
+    fn a_frame_longer_than_capacity_is_refused_with_its_header_and_skipped() {
         let long = frame(MAX_ENCAP_DATA as u16 + 1, 7);
         let at_capacity = frame(MAX_ENCAP_DATA as u16, 8);
         assert_eq!(
             run(&mut Framer::new(), &at_capacity, 100),
-            vec![at_capacity]
+            vec![at_capacity.clone()]
         );
-        // Whole, or with its header split.
-        for first in [long.len(), 30, 24, 10, 1] {
+        let header = EncapRepr::parse_header(&long).unwrap();
+        // The long frame between two others, in pieces of every size: its header comes out
+        // once, its data nowhere, the frames around it whole.
+        let stream = [frame(6, 1), long.clone(), frame(4, 2), at_capacity.clone()].concat();
+        for chunk in [1, 2, 10, 23, 24, 25, 30, 600, 1048, 1049, 1050, 4000] {
             let mut f = Framer::new();
-            let header = EncapRepr::parse_header(&long).unwrap();
-            let got = match f.feed(&long[..first]) {
-                Feed::Buffered => f.feed(&long[first..]),
-                other => other,
-            };
-            assert_eq!(got, Feed::TooLong(header), "first segment {first}");
-            assert!(f.buf.is_empty());
+            let mut events = Vec::new();
+            for piece in stream.chunks(chunk) {
+                let mut rest = piece;
+                // Bounded: each call uses at least one byte, or all of them.
+                for _ in 0..piece.len() + 1 {
+                    match f.feed(rest) {
+                        Feed::Frame {
+                            frame, consumed, ..
+                        } => {
+                            events.push(Ok(frame.to_vec()));
+                            rest = &rest[consumed..];
+                        }
+                        Feed::TooLong { header, consumed } => {
+                            assert!(consumed > 0, "chunks of {chunk}");
+                            events.push(Err(header));
+                            rest = &rest[consumed..];
+                        }
+                        Feed::Buffered => break,
+                    }
+                }
+            }
+            assert_eq!(
+                events,
+                vec![
+                    Ok(frame(6, 1)),
+                    Err(header),
+                    Ok(frame(4, 2)),
+                    Ok(at_capacity.clone())
+                ],
+                "chunks of {chunk}"
+            );
+            assert!(f.buf.is_empty() && f.skip == 0, "chunks of {chunk}");
         }
     }
 

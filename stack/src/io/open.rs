@@ -163,6 +163,11 @@ pub fn forward_open<D: Device, const C: usize>(
     if ot == ConnectionType::Null && to == ConnectionType::Null {
         return Err(CipError::connection(ext::NULL_FORWARD_OPEN));
     }
+    // Redundant owners share outputs by a protocol this stack does not have: opening one as
+    // an exclusive owner would hide that from the originator.
+    if fo.o_t_params.redundant_owner {
+        return Err(CipError::connection(ext::REDUNDANT_OWNER));
+    }
     let trigger = match (fo.transport_class(), fo.trigger()) {
         (1, 0) => Trigger::Cyclic,
         (1, 1) => Trigger::ChangeOfState,
@@ -248,7 +253,13 @@ pub fn forward_open<D: Device, const C: usize>(
     }
     let gained = conn.kind == Kind::ExclusiveOwner && table.owned_outputs().is_empty();
     if let (Some(data), Some(config)) = (path.config_data, conn.points.config) {
-        if conn.kind == Kind::ExclusiveOwner || table.owned_outputs().is_empty() {
+        // The configuration belongs to the open connections that name it: a new connection
+        // may repeat it, not change it under them (0x0106, as OpENer does).
+        if table.iter().any(|(_, c)| c.points.config == Some(config)) {
+            if !configured_with(device, config, data) {
+                return Err(CipError::connection(ext::OWNERSHIP_CONFLICT));
+            }
+        } else {
             device
                 .write_assembly(config, data)
                 .map_err(configuration_refused)?;
@@ -274,6 +285,19 @@ pub fn forward_open<D: Device, const C: usize>(
         device.connection_event(ConnectionEvent::OwnershipGained);
     }
     Ok(slot)
+}
+
+/// The longest configuration [`configured_with`] compares; a longer one held by another
+/// connection cannot be shown to match.
+const MAX_COMPARED_CONFIG: usize = 512;
+
+/// True if the configuration assembly `config` holds `data` now.
+fn configured_with(device: &mut impl Device, config: u16, data: &[u8]) -> bool {
+    let mut current = [0u8; MAX_COMPARED_CONFIG];
+    match device.read_assembly(config, &mut current) {
+        Ok(len) => current.get(..len) == Some(data),
+        Err(_) => false,
+    }
 }
 
 /// A configuration the device refused to take at Forward_Open: its connection failure as
@@ -333,8 +357,11 @@ fn class1<D: Device, const C: usize>(
         let info = assembly(device, c).filter(|a| a.role == AssemblyRole::Config);
         match (info, path.config_data) {
             (None, _) => return Err(CipError::connection(ext::BAD_CONFIG_PATH)),
+            // The data segment counts 16-bit words, and so does 0x0126's size (Vol 1
+            // table 3-5.33: "the error code plus the max size in words").
             (Some(a), Some(d)) if d.len() != usize::from(a.size) => {
-                return Err(size_error(ext::BAD_CONFIG_SIZE, usize::from(a.size)))
+                let words = usize::from(a.size).div_ceil(2);
+                return Err(size_error(ext::BAD_CONFIG_SIZE, words));
             }
             _ => {}
         }

@@ -15,7 +15,7 @@ use crate::wire::cpf::SockAddrRepr;
 use crate::wire::epath::{SegmentRepr, Segments};
 use crate::wire::forward_open::{
     ConnectionType, FailureReplyRepr, ForwardCloseReplyRepr, ForwardCloseRepr,
-    ForwardOpenReplyRepr, ForwardOpenRepr,
+    ForwardOpenReplyRepr, ForwardOpenRepr, Triad,
 };
 use crate::wire::{Error, Reader, Writer};
 
@@ -23,6 +23,10 @@ use crate::wire::{Error, Reader, Writer};
 const EXT_PORT_NOT_AVAILABLE: u16 = 0x0311;
 /// Extended status: the route path's link address is not this device.
 const EXT_LINK_ADDRESS_NOT_VALID: u16 = 0x0312;
+/// Where a Forward_Open's triad starts: after the ticks and both connection IDs.
+const FORWARD_OPEN_TRIAD_AT: usize = 10;
+/// Where a Forward_Close's triad starts: after the ticks.
+const FORWARD_CLOSE_TRIAD_AT: usize = 2;
 
 /// Connection Manager instance attributes 1-7: request and reject counters (wrapping).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -127,18 +131,32 @@ fn data_error(e: Error) -> CipError {
     }
 }
 
+/// A Forward_Open or Forward_Close whose data did not parse ([`data_error`]), answered with
+/// the failure reply's body (Vol 1 3-5.5.2) if the data reached as far as the triad `triad`.
+fn malformed(e: Error, triad: Option<Triad>, w: &mut Writer<'_>) -> CipResult {
+    let Some(triad) = triad else {
+        return Err(data_error(e));
+    };
+    FailureReplyRepr {
+        triad,
+        remaining_path_words: 0,
+    }
+    .emit(w)?;
+    Err(data_error(e).keeping_data())
+}
+
 fn forward_open<D: Device, const C: usize>(
     ctx: &mut Ctx<'_, D, C>,
     req: &Request<'_>,
     w: &mut Writer<'_>,
 ) -> CipResult {
-    let counters = &mut ctx.state.connection_manager;
-    let fo = ForwardOpenRepr::parse(req.data, req.service == service::LARGE_FORWARD_OPEN).map_err(
-        |e| {
-            bump(&mut counters.open_format_rejects);
-            data_error(e)
-        },
-    )?;
+    let fo = match ForwardOpenRepr::parse(req.data, req.service == service::LARGE_FORWARD_OPEN) {
+        Ok(fo) => fo,
+        Err(e) => {
+            bump(&mut ctx.state.connection_manager.open_format_rejects);
+            return malformed(e, Triad::at(req.data, FORWARD_OPEN_TRIAD_AT), w);
+        }
+    };
     let origin = ctx
         .origin
         .ok_or(CipError::new(General::ServiceNotSupported))?;
@@ -207,10 +225,13 @@ fn forward_close<D: Device, const C: usize>(
     data: &[u8],
     w: &mut Writer<'_>,
 ) -> CipResult {
-    let fc = ForwardCloseRepr::parse(data).map_err(|e| {
-        bump(&mut ctx.state.connection_manager.close_format_rejects);
-        data_error(e)
-    })?;
+    let fc = match ForwardCloseRepr::parse(data) {
+        Ok(fc) => fc,
+        Err(e) => {
+            bump(&mut ctx.state.connection_manager.close_format_rejects);
+            return malformed(e, Triad::at(data, FORWARD_CLOSE_TRIAD_AT), w);
+        }
+    };
     let Some(slot) = ctx.connections.find_triad(&fc.triad) else {
         bump(&mut ctx.state.connection_manager.close_other_rejects);
         FailureReplyRepr {
@@ -237,8 +258,15 @@ pub(crate) fn is_unconnected_send(req: &Request<'_>) -> bool {
 }
 
 /// The embedded request of an Unconnected_Send whose route path ends here (port 1, link 0:
-/// the backplane slot of a single-module device); its reply is sent as the whole reply.
-pub(crate) fn embedded_request<'a>(req: &Request<'a>, depth: u8) -> CipResult<&'a [u8]> {
+/// the backplane slot of a single-module device); its reply is sent as the whole reply. A
+/// route path that goes elsewhere is a routing error, whose reply (begun at the writer's
+/// end, its header reserved) carries the Remaining Path Size (Vol 1 3-5.5.4: the route's
+/// words as the router that found the error saw them, here all of them).
+pub(crate) fn embedded_request<'a>(
+    req: &Request<'a>,
+    depth: u8,
+    w: &mut Writer<'_>,
+) -> CipResult<&'a [u8]> {
     if depth >= MAX_DEPTH {
         return Err(General::ServiceNotSupported.into());
     }
@@ -263,7 +291,11 @@ pub(crate) fn embedded_request<'a>(req: &Request<'a>, depth: u8) -> CipResult<&'
     if r.remaining() != 0 {
         return Err(General::TooMuchData.into());
     }
-    check_route(route)?;
+    if let Err(e) = check_route(route) {
+        w.zeros(4)?;
+        w.u8(words as u8)?;
+        return Err(e.keeping_data());
+    }
     Ok(embedded)
 }
 

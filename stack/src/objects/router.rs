@@ -49,7 +49,7 @@ fn respond_to<D: Device, const C: usize>(
     }
     if connection_manager::is_unconnected_send(req) {
         // An embedded request that cannot even be framed is the Unconnected_Send's error.
-        let inner = connection_manager::embedded_request(req, depth)
+        let inner = connection_manager::embedded_request(req, depth, w)
             .and_then(|bytes| Request::parse(bytes).map_err(|(_, e)| e));
         return match inner {
             Ok(inner) => respond_to(ctx, &inner, w, depth.saturating_add(1)),

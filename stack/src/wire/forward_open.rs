@@ -26,6 +26,12 @@ impl Triad {
             originator_serial: r.u32()?,
         })
     }
+    /// The triad of request data whose triad starts `at` bytes in (10 in a Forward_Open, 2 in
+    /// a Forward_Close), if the data reaches that far: a request that does not parse as a
+    /// whole still names its connection for the failure reply.
+    pub fn at(data: &[u8], at: usize) -> Option<Triad> {
+        Triad::parse(&mut Reader::new(data.get(at..)?)).ok()
+    }
     /// Writes the triad.
     pub fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
         w.u16(self.connection_serial)?;
