@@ -211,6 +211,26 @@ fn a_configuration_in_use_may_be_repeated_not_changed() {
 }
 
 #[test]
+fn an_odd_sized_configuration_comes_with_a_pad_byte_the_device_does_not_see() {
+    let mut h = Harness::new();
+    let config = h
+        .adapter
+        .device_mut()
+        .assemblies
+        .iter_mut()
+        .find(|a| a.instance == 151)
+        .unwrap();
+    config.size = 5;
+    // Its data segment counts words: 3 words, the last byte a pad.
+    let path = io_path(Some(151), 110, 100, Some(&[1, 2, 3, 4, 5, 0]));
+    assert_eq!(open(&mut h, &fo(1, &path, 10_000)).0, 0);
+    assert_eq!(h.adapter.device().data[&151], vec![1, 2, 3, 4, 5]);
+    // Two words or four: 0x0126 with the size in words.
+    let path = io_path(Some(151), 110, 101, Some(&[1, 2, 3, 4]));
+    assert_eq!(open(&mut h, &fo(2, &path, 10_000)).1, vec![0x0126, 3]);
+}
+
+#[test]
 fn a_forward_open_that_does_not_parse_still_names_its_triad() {
     let mut h = Harness::new();
     let path = io_path(None, 110, 100, None);

@@ -177,7 +177,7 @@ pub fn forward_open<D: Device, const C: usize>(
     if table.find_triad(&fo.triad).is_some() {
         return Err(CipError::connection(ext::DUPLICATE));
     }
-    let path = ConnPath::parse(fo.path)?;
+    let mut path = ConnPath::parse(fo.path)?;
     if let Some(key) = &path.key {
         electronic_key::check(key, device.identity()).map_err(KeyMismatch::connection_failure)?;
     }
@@ -209,7 +209,7 @@ pub fn forward_open<D: Device, const C: usize>(
     let conn = if fo.transport_class() == 3 {
         explicit(fo, &path, base)?
     } else {
-        class1(table, device, fo, &path, origin, net, trigger, base)?
+        class1(table, device, fo, &mut path, origin, net, trigger, base)?
     };
     device.admit(&OpenRequest {
         kind: conn.kind,
@@ -339,7 +339,7 @@ fn class1<D: Device, const C: usize>(
     table: &ConnectionTable<C>,
     device: &D,
     fo: &ForwardOpenRepr<'_>,
-    path: &ConnPath<'_>,
+    path: &mut ConnPath<'_>,
     origin: &Origin,
     net: &NetFacts,
     trigger: Trigger,
@@ -359,6 +359,10 @@ fn class1<D: Device, const C: usize>(
             (None, _) => return Err(CipError::connection(ext::BAD_CONFIG_PATH)),
             // The data segment counts 16-bit words, and so does 0x0126's size (Vol 1
             // table 3-5.33: "the error code plus the max size in words").
+            // An odd size comes with a pad byte, which the device does not see.
+            (Some(a), Some(d)) if a.size % 2 == 1 && d.len() == usize::from(a.size) + 1 => {
+                path.config_data = d.get(..usize::from(a.size));
+            }
             (Some(a), Some(d)) if d.len() != usize::from(a.size) => {
                 let words = usize::from(a.size).div_ceil(2);
                 return Err(size_error(ext::BAD_CONFIG_SIZE, words));
