@@ -178,20 +178,21 @@ fn unconnected_send_to_port_1_slot_0() {
     );
     assert_eq!(status(&frame).1, vec![0x0311]);
     // A routing error's reply carries the Remaining Path Size: the route's words as this
-    // device saw them (Vol 1 3-5.5.4), here the whole two-segment route.
+    // device saw them (Vol 1 3-5.5.4), here the whole two-segment route, and a reserved
+    // byte (tshark reads the reply malformed without it).
     let frame = h.request(
         0x52,
         &path(6, 1, None),
         &[&data[..12], &[2, 0, 0x01, 0x05, 0x01, 0x00][..]].concat(),
     );
     let (g, words, d) = status(&frame);
-    assert_eq!((g, words, d), (0x01, vec![0x0315], vec![2]));
+    assert_eq!((g, words, d), (0x01, vec![0x0315], vec![2, 0]));
     let frame = h.request(
         0x52,
         &path(6, 1, None),
         &[&data[..12], &[1, 0, 0x01, 0x05][..]].concat(),
     );
-    assert_eq!(status(&frame), (0x01, vec![0x0312], vec![1]));
+    assert_eq!(status(&frame), (0x01, vec![0x0312], vec![1, 0]));
 }
 
 #[test]

@@ -261,7 +261,7 @@ pub(crate) fn is_unconnected_send(req: &Request<'_>) -> bool {
 /// the backplane slot of a single-module device); its reply is sent as the whole reply. A
 /// route path that goes elsewhere is a routing error, whose reply (begun at the writer's
 /// end, its header reserved) carries the Remaining Path Size (Vol 1 3-5.5.4: the route's
-/// words as the router that found the error saw them, here all of them).
+/// words as the router that found the error saw them, here all of them) and a reserved byte.
 pub(crate) fn embedded_request<'a>(
     req: &Request<'a>,
     depth: u8,
@@ -293,7 +293,9 @@ pub(crate) fn embedded_request<'a>(
     }
     if let Err(e) = check_route(route) {
         w.zeros(4)?;
+        // Remaining Path Size, and a reserved byte (as the Forward_Open's failure reply).
         w.u8(words as u8)?;
+        w.u8(0)?;
         return Err(e.keeping_data());
     }
     Ok(embedded)
