@@ -42,10 +42,14 @@ pub(crate) fn share_with_store<D: Device>(
     store: &'static mut SharedStore,
 ) -> Option<&'static SharedAdapter<D>> {
     let adapter = home.share(build)?;
-    enip_firmware::with_adapter(adapter, |a| match a.attach_store(store) {
-        Ok(true) => info!("TCP/IP settings loaded from flash"),
-        Ok(false) => info!("no TCP/IP settings in flash: factory defaults"),
-        Err(e) => warn!("flash store unreadable ({}): factory defaults", e),
+    enip_firmware::with_adapter(adapter, |a| {
+        // TCP/IP capability bit 2: a scanner may set DHCP only where the image has a client.
+        a.set_dhcp_client(cfg!(feature = "dhcp"));
+        match a.attach_store(store) {
+            Ok(true) => info!("TCP/IP settings loaded from flash"),
+            Ok(false) => info!("no TCP/IP settings in flash: factory defaults"),
+            Err(e) => warn!("flash store unreadable ({}): factory defaults", e),
+        }
     });
     Some(adapter)
 }

@@ -143,7 +143,7 @@ fn tcp_ip_get_attributes_all() {
     assert_eq!(g, 0);
     let mut want = Vec::new();
     want.extend_from_slice(&1u32.to_le_bytes()); // 1 status: configured
-    want.extend_from_slice(&0x54u32.to_le_bytes()); // 2 DHCP, settable, change needs reset
+    want.extend_from_slice(&0x50u32.to_le_bytes()); // 2 settable, change needs reset (no DHCP client)
     want.extend_from_slice(&0u32.to_le_bytes()); // 3 static
     want.extend_from_slice(&[2, 0, 0x20, 0xF6, 0x24, 0x01]); // 4 path to Ethernet Link 1
                                                              // 5: address, mask, gateway, name servers (UDINTs), domain name

@@ -116,7 +116,10 @@ fn set(h: &mut Harness, attribute: u32, value: &[u8]) -> u8 {
 fn capability_and_status_tell_the_truth() {
     let store = shared();
     let mut h = harness(&store);
-    // DHCP client, configuration settable, change requires reset.
+    // Configuration settable, change requires reset; a DHCP client once the runtime says it
+    // has one.
+    assert_eq!(get(&mut h, 2), 0x50u32.to_le_bytes());
+    h.adapter.set_dhcp_client(true);
     assert_eq!(get(&mut h, 2), 0x54u32.to_le_bytes());
     assert_eq!(get(&mut h, 1), 1u32.to_le_bytes());
     let value = interface([198, 18, 0, 9], MASK, [198, 18, 0, 1], b"plant.example");
@@ -268,6 +271,77 @@ fn ttl_and_multicast_config_survive_a_restart() {
 }
 
 #[test]
+fn ttl_and_multicast_config_apply_at_the_next_start_and_status_bit_4_says_so() {
+    let store = shared();
+    let mut h = harness(&store);
+    let status = |h: &mut Harness| u32::from_le_bytes(get(h, 1).try_into().unwrap());
+    assert_eq!(status(&mut h) & 0x10, 0);
+    assert_eq!(set(&mut h, 8, &[7]), 0);
+    let mcast = [1, 0, 4, 0, 0, 3, 192, 239];
+    assert_eq!(set(&mut h, 9, &mcast), 0);
+    // Read back as set, Mcast Pending on, the values in use those of the start.
+    assert_eq!((get(&mut h, 8), get(&mut h, 9)), (vec![7], mcast.to_vec()));
+    assert_eq!(status(&mut h) & 0x10, 0x10);
+    assert_eq!(h.adapter.multicast_ttl(), 1);
+    let in_use = h
+        .adapter
+        .objects()
+        .tcpip
+        .multicast_in_use(h.adapter.device(), h.adapter.network());
+    assert_eq!(in_use, (Ipv4Addr::new(239, 192, 1, 32), 1));
+    // A refused Set leaves the bit as it was.
+    drop(h);
+    let mut h = harness(&store);
+    assert_eq!(status(&mut h) & 0x10, 0);
+    assert_eq!(set(&mut h, 8, &[0]), 0x09);
+    assert_eq!(status(&mut h) & 0x10, 0);
+    // After the restart: in use, nothing pending.
+    assert_eq!(h.adapter.multicast_ttl(), 7);
+    let in_use = h
+        .adapter
+        .objects()
+        .tcpip
+        .multicast_in_use(h.adapter.device(), h.adapter.network());
+    assert_eq!(in_use, (Ipv4Addr::new(239, 192, 3, 0), 7));
+}
+
+#[test]
+fn host_and_domain_names_are_rfc_1123_labels() {
+    let mut h = harness(&shared());
+    let string = |name: &[u8]| {
+        let mut v = (name.len() as u16).to_le_bytes().to_vec();
+        v.extend(name);
+        if name.len() % 2 == 1 {
+            v.push(0);
+        }
+        v
+    };
+    for bad in [&b"-abc"[..], b"abc-", b"abc.def", b"a_b", &[b'a'; 64]] {
+        assert_eq!(set(&mut h, 6, &string(bad)), 0x09, "host name {bad:?}");
+    }
+    for good in [&b""[..], b"a", b"press-7", b"7", &[b'a'; 63]] {
+        assert_eq!(set(&mut h, 6, &string(good)), 0, "host name {good:?}");
+        assert_eq!(get(&mut h, 6), string(good));
+    }
+    for bad in [
+        &b"."[..],
+        b"..",
+        b".abc",
+        b"abc.",
+        b"a..b",
+        b"-a.b",
+        b"a.b-",
+    ] {
+        let value = interface([198, 18, 0, 9], MASK, [0; 4], bad);
+        assert_eq!(set(&mut h, 5, &value), 0x09, "domain {bad:?}");
+    }
+    for good in [&b""[..], b"plant", b"line-2.plant.example"] {
+        let value = interface([198, 18, 0, 9], MASK, [0; 4], good);
+        assert_eq!(set(&mut h, 5, &value), 0, "domain {good:?}");
+    }
+}
+
+#[test]
 fn attribute_5_rules() {
     let store = shared();
     let mut h = harness(&store);
@@ -297,7 +371,12 @@ fn attribute_5_rules() {
     let long = interface([198, 18, 0, 9], MASK, [0; 4], &[b'a'; 49]);
     assert_eq!(set(&mut h, 5, &long), 0x09);
     assert_eq!(get(&mut h, 1), 1u32.to_le_bytes());
+    // DHCP without a DHCP client, DNS Enable without a DNS client, another method: 0x09.
+    for control in [2u32, 0x10, 0x12, 1, 3] {
+        assert_eq!(set(&mut h, 3, &control.to_le_bytes()), 0x09, "{control:#x}");
+    }
     // Under DHCP the address is not settable: object state conflict.
+    h.adapter.set_dhcp_client(true);
     assert_eq!(set(&mut h, 3, &2u32.to_le_bytes()), 0);
     assert_eq!(set(&mut h, 5, &ok), 0x0C);
     assert_eq!(set(&mut h, 3, &0u32.to_le_bytes()), 0);
@@ -340,9 +419,9 @@ fn acd_attributes_report_the_runtime_and_survive_a_restart() {
     let store = shared();
     let mut h = harness(&store);
     // Not capable until the runtime that runs detection says so (a kernel's sockets never).
-    assert_eq!(get(&mut h, 2), 0x54u32.to_le_bytes());
+    assert_eq!(get(&mut h, 2), 0x50u32.to_le_bytes());
     h.adapter.set_acd_capable();
-    assert_eq!(get(&mut h, 2), 0xD4u32.to_le_bytes());
+    assert_eq!(get(&mut h, 2), 0xD0u32.to_le_bytes());
     // SelectAcd defaults on; only 0 and 1 are taken; attribute 11 starts all zero.
     assert_eq!(get(&mut h, 10), [1]);
     assert_eq!(set(&mut h, 10, &[2]), General::InvalidAttributeValue as u8);

@@ -143,10 +143,17 @@ impl<
         let mut rng = Rng::new(seed);
         let handle_seed = rng.next_u64() as u32;
         let id_seed = rng.next_u64() as u32;
+        let mut objects = ObjectState::new();
+        // An interface DHCP configured: the runtime has a DHCP client, and attribute 3 says
+        // DHCP until a stored setting says otherwise.
+        if net.dhcp {
+            objects.tcpip.dhcp_client = true;
+            objects.tcpip.config_control = crate::objects::tcpip::CONTROL_DHCP;
+        }
         Adapter {
             inner: Inner {
                 device,
-                objects: ObjectState::new(),
+                objects,
                 net,
                 delayed: DelayedReplies::new(),
                 connections: ConnectionTable::new(id_seed),
@@ -157,6 +164,13 @@ impl<
             },
             sessions: Sessions::new(handle_seed),
         }
+    }
+
+    /// Tells the TCP/IP object whether the runtime can take its address from DHCP (the
+    /// embassy boards' `dhcp` feature): capability bit 2, and whether attribute 3 may be set
+    /// to DHCP. An interface DHCP configured at [`Adapter::new`] says so already.
+    pub fn set_dhcp_client(&mut self, capable: bool) {
+        self.inner.objects.tcpip.dhcp_client = capable;
     }
 
     /// Keeps the TCP/IP settings (attributes 3, 5, 6, 8, 9 and 13) in `store` from now on: loads
@@ -184,8 +198,7 @@ impl<
             tcpip.interface = st.interface;
             tcpip.host_name = st.host_name;
             tcpip.inactivity_timeout_s = st.inactivity_timeout_s;
-            tcpip.ttl = st.ttl;
-            tcpip.mcast = st.mcast;
+            tcpip.start_with_multicast(st.ttl, st.mcast);
         }
         self.load_acd();
         #[cfg(feature = "cip-security")]

@@ -261,7 +261,8 @@ pub trait Device {
     /// own parameters): `Some` replaces the TCP/IP object's own values everywhere (attributes
     /// 8 and 9, Forward_Open, [`crate::Adapter::multicast_group`] and
     /// [`crate::Adapter::multicast_ttl`]). `config.start` is the address in use, also when
-    /// `config.alloc_control` is 0.
+    /// `config.alloc_control` is 0. The stack's own values change at the next start (TCP/IP
+    /// status bit 4 meanwhile); a device keeping them applies a Set when it chooses.
     fn multicast(&self) -> Option<Multicast> {
         None
     }

@@ -5,7 +5,7 @@
 use core::net::Ipv4Addr;
 
 use super::serve::{serve, Object};
-use super::tcpip_nv::{valid_name, InterfaceConfig, INTERFACE_FIXED};
+use super::tcpip_nv::{valid_host_name, InterfaceConfig, INTERFACE_FIXED};
 use super::Ctx;
 use crate::acd::{LastConflict, LAST_CONFLICT_LEN};
 use crate::cip::encoding::{ip, padded_string};
@@ -30,6 +30,8 @@ const CAPABILITY_ACD: u32 = 1 << 7;
 const STATUS_CONFIGURED: u32 = 1;
 /// Status: a set interface configuration waits for the next reset (bit 5).
 const STATUS_CONFIG_PENDING: u32 = 1 << 5;
+/// Status bit 4: attribute 8 or 9 was set since start (Mcast Pending).
+const STATUS_MCAST_PENDING: u32 = 1 << 4;
 /// Status: an address conflict was detected (bit 6, AcdStatus).
 const STATUS_ACD_CONFLICT: u32 = 1 << 6;
 /// Status: the address is not used because of a conflict (bit 7, AcdFault).
@@ -39,7 +41,7 @@ pub const MAX_INACTIVITY_TIMEOUT_S: u16 = 3600;
 /// Configuration control value: static address.
 const CONTROL_STATIC: u32 = 0;
 /// Configuration control value: DHCP.
-const CONTROL_DHCP: u32 = 2;
+pub(crate) const CONTROL_DHCP: u32 = 2;
 /// Default encapsulation inactivity timeout in seconds.
 pub const DEFAULT_INACTIVITY_TIMEOUT_S: u16 = 120;
 /// First address of the CIP multicast range the default algorithm allocates from.
@@ -61,12 +63,24 @@ pub struct TcpIpState {
     pub interface_pending: bool,
     /// Attribute 6.
     pub host_name: heapless::Vec<u8, MAX_HOST_NAME>,
-    /// Attribute 8: multicast TTL.
+    /// Attribute 8: multicast TTL, as last set (applies at the next start).
     pub ttl: u8,
-    /// Attribute 9.
+    /// Attribute 9, as last set (applies at the next start).
     pub mcast: MulticastConfig,
+    /// Attribute 8 as the device started with it: the TTL of T->O multicast until the next
+    /// start.
+    pub ttl_in_use: u8,
+    /// Attribute 9 as the device started with it: the T->O multicast group until the next
+    /// start.
+    pub mcast_in_use: MulticastConfig,
+    /// Attribute 8 or 9 was set since start: the change waits for the next start (status
+    /// bit 4, Mcast Pending, Vol 2 table 5-4.3).
+    pub mcast_pending: bool,
     /// Attribute 13: encapsulation inactivity timeout in seconds (0 disables it).
     pub inactivity_timeout_s: u16,
+    /// The runtime can take the address from DHCP (capability bit 2; attribute 3 may say
+    /// DHCP): [`crate::Adapter::set_dhcp_client`]. Not stored.
+    pub dhcp_client: bool,
 }
 
 impl TcpIpState {
@@ -78,42 +92,55 @@ impl TcpIpState {
             interface_pending: false,
             host_name: heapless::Vec::new(),
             ttl: 1,
-            mcast: MulticastConfig {
-                alloc_control: 0,
-                num_mcast: 0,
-                start: Ipv4Addr::UNSPECIFIED,
-            },
+            mcast: NO_MCAST_RANGE,
+            ttl_in_use: 1,
+            mcast_in_use: NO_MCAST_RANGE,
+            mcast_pending: false,
             inactivity_timeout_s: DEFAULT_INACTIVITY_TIMEOUT_S,
+            dhcp_client: false,
         }
     }
 
-    /// The first multicast address in use: configured, or from the CIP default algorithm.
-    pub fn multicast_start(&self, net: &NetworkConfig) -> Ipv4Addr {
-        if self.mcast.alloc_control == 1 {
-            return self.mcast.start;
-        }
-        let host = u32::from(net.ip) & !u32::from(net.netmask);
-        let host_id = host.wrapping_sub(1) & 0x3FF;
-        // host_id < 0x400: the sum stays inside 239.192.0.0/14, far below u32::MAX.
-        Ipv4Addr::from(CIP_MCAST_BASE.wrapping_add(host_id << 5))
+    /// Attributes 8 and 9 as stored: set and in use alike (what the device starts with).
+    pub fn start_with_multicast(&mut self, ttl: u8, mcast: MulticastConfig) {
+        (self.ttl, self.mcast) = (ttl, mcast);
+        (self.ttl_in_use, self.mcast_in_use) = (ttl, mcast);
     }
 
     /// The first multicast address and the TTL in use: the device's when it keeps them
-    /// ([`Device::multicast`]), else this object's.
+    /// ([`Device::multicast`]), else those this object started with.
     pub fn multicast_in_use(&self, device: &impl Device, net: &NetworkConfig) -> (Ipv4Addr, u8) {
         match device.multicast() {
             Some(m) => (m.config.start, m.ttl),
-            None => (self.multicast_start(net), self.ttl),
+            None => (multicast_start(&self.mcast_in_use, net), self.ttl_in_use),
         }
     }
+}
 
-    /// Number of multicast addresses in use.
-    pub fn multicast_count(&self) -> u16 {
-        if self.mcast.alloc_control == 1 {
-            self.mcast.num_mcast
-        } else {
-            1
-        }
+/// Attribute 9 with no range of its own (allocation control 0: the CIP default algorithm).
+const NO_MCAST_RANGE: MulticastConfig = MulticastConfig {
+    alloc_control: 0,
+    num_mcast: 0,
+    start: Ipv4Addr::UNSPECIFIED,
+};
+
+/// The first multicast address of `mcast`: its own, or the CIP default algorithm's for `net`.
+fn multicast_start(mcast: &MulticastConfig, net: &NetworkConfig) -> Ipv4Addr {
+    if mcast.alloc_control == 1 {
+        return mcast.start;
+    }
+    let host = u32::from(net.ip) & !u32::from(net.netmask);
+    let host_id = host.wrapping_sub(1) & 0x3FF;
+    // host_id < 0x400: the sum stays inside 239.192.0.0/14, far below u32::MAX.
+    Ipv4Addr::from(CIP_MCAST_BASE.wrapping_add(host_id << 5))
+}
+
+/// Number of multicast addresses `mcast` allocates.
+fn multicast_count(mcast: &MulticastConfig) -> u16 {
+    if mcast.alloc_control == 1 {
+        mcast.num_mcast
+    } else {
+        1
     }
 }
 
@@ -180,12 +207,13 @@ impl<D: Device, const C: usize> Object for TcpIp<'_, '_, D, C> {
         match attr.id {
             1 => w.u32(
                 STATUS_CONFIGURED
+                    | bit(st.mcast_pending, STATUS_MCAST_PENDING)
                     | bit(st.interface_pending, STATUS_CONFIG_PENDING)
                     | bit(acd.conflict, STATUS_ACD_CONFLICT)
                     | bit(acd.fault, STATUS_ACD_FAULT),
             )?,
             2 => w.u32(
-                CAPABILITY_DHCP
+                bit(st.dhcp_client, CAPABILITY_DHCP)
                     | CAPABILITY_SETTABLE
                     | CAPABILITY_CHANGE_NEEDS_RESET
                     | bit(acd.capable, CAPABILITY_ACD),
@@ -209,8 +237,8 @@ impl<D: Device, const C: usize> Object for TcpIp<'_, '_, D, C> {
                 let m = self.0.device.multicast().map_or(
                     MulticastConfig {
                         alloc_control: st.mcast.alloc_control,
-                        num_mcast: st.multicast_count(),
-                        start: st.multicast_start(net),
+                        num_mcast: multicast_count(&st.mcast),
+                        start: multicast_start(&st.mcast, net),
                     },
                     |m| m.config,
                 );
@@ -257,8 +285,11 @@ impl<D: Device, const C: usize> TcpIp<'_, '_, D, C> {
         let st = &mut self.0.state.tcpip;
         match attr.id {
             3 => {
+                // Static, or DHCP where the runtime has a DHCP client (capability bit 2); no
+                // DNS Enable (bit 4): the device has no DNS client (capability bit 1 clear).
                 let v = get_u32(value, 0);
-                if v & 0x0F != CONTROL_STATIC && v & 0x0F != CONTROL_DHCP || v & !0x1F != 0 {
+                let method = v == CONTROL_STATIC || (v == CONTROL_DHCP && st.dhcp_client);
+                if !method {
                     return Err(General::InvalidAttributeValue.into());
                 }
                 st.interface_pending |= v != st.config_control;
@@ -278,7 +309,7 @@ impl<D: Device, const C: usize> TcpIp<'_, '_, D, C> {
             6 => {
                 let len = usize::from(get_u16(value, 0));
                 let name = value.get(2..2 + len).unwrap_or(&[]);
-                if !valid_name(name) {
+                if !valid_host_name(name) {
                     return Err(General::InvalidAttributeValue.into());
                 }
                 st.host_name =
@@ -319,8 +350,16 @@ impl<D: Device, const C: usize> TcpIp<'_, '_, D, C> {
         Ok(())
     }
 
-    /// Sets attribute 8 or 9 (in RAM, or by the device when it keeps them).
+    /// Sets attribute 8 or 9: in RAM until the next start (status bit 4 says a change
+    /// waits), or by the device when it keeps them (and applies them when it chooses).
     fn set_multicast(&mut self, attr: &AttributeDef, value: &[u8]) -> CipResult {
+        let set = self.set_multicast_value(attr, value);
+        self.0.state.tcpip.mcast_pending |= set.is_ok() && self.0.device.multicast().is_none();
+        set
+    }
+
+    /// [`Self::set_multicast`]'s value.
+    fn set_multicast_value(&mut self, attr: &AttributeDef, value: &[u8]) -> CipResult {
         let st = &mut self.0.state.tcpip;
         match attr.id {
             8 => match value.first().copied().unwrap_or(0) {
@@ -401,7 +440,7 @@ mod tests {
         );
         // host id 2 - 1 = 1 -> 239.192.1.0 + 32
         assert_eq!(
-            TcpIpState::new().multicast_start(&net),
+            multicast_start(&TcpIpState::new().mcast_in_use, &net),
             Ipv4Addr::new(239, 192, 1, 32)
         );
     }

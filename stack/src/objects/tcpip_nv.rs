@@ -89,7 +89,7 @@ impl InterfaceConfig {
                 && host_on(self.gateway, mask)
                 && u32::from(self.gateway) & mask == u32::from(self.ip) & mask);
         let dns = self.dns.iter().all(|d| d.is_unspecified() || unicast(*d));
-        gateway && dns && valid_name(&self.domain)
+        gateway && dns && valid_domain_name(&self.domain)
     }
 
     /// Writes the attribute 5 value.
@@ -120,10 +120,24 @@ fn host_on(a: Ipv4Addr, mask: u32) -> bool {
     unicast(a) && host != 0 && host != !mask
 }
 
-/// Host and domain names: letters, digits, '-' and '.'.
-pub(crate) fn valid_name(name: &[u8]) -> bool {
-    name.iter()
-        .all(|c| c.is_ascii_alphanumeric() || matches!(c, b'-' | b'.'))
+/// A host name (attribute 6): none, or one RFC 1123 label (the host part alone).
+pub(crate) fn valid_host_name(name: &[u8]) -> bool {
+    name.is_empty() || valid_label(name)
+}
+
+/// A domain name (attribute 5): none, or RFC 1123 labels joined by single dots.
+pub(crate) fn valid_domain_name(name: &[u8]) -> bool {
+    name.is_empty() || name.split(|c| *c == b'.').all(valid_label)
+}
+
+/// An RFC 1123 label: 1 to 63 letters, digits and hyphens, neither first nor last a hyphen.
+fn valid_label(label: &[u8]) -> bool {
+    (1..=63).contains(&label.len())
+        && label
+            .iter()
+            .all(|c| c.is_ascii_alphanumeric() || *c == b'-')
+        && label.first() != Some(&b'-')
+        && label.last() != Some(&b'-')
 }
 
 impl TcpIpState {
@@ -200,7 +214,7 @@ impl TcpIpState {
             };
         }
         let sane = (self.interface.is_none() || self.interface.is_valid())
-            && valid_name(&self.host_name)
+            && valid_host_name(&self.host_name)
             && self.inactivity_timeout_s <= super::tcpip::MAX_INACTIVITY_TIMEOUT_S
             && self.ttl != 0
             && valid_mcast(&self.mcast);
