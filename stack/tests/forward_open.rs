@@ -158,6 +158,18 @@ fn input_only_heartbeat() {
 }
 
 #[test]
+fn a_heartbeat_of_size_0_is_refused_0x0127() {
+    // A Class 1 datagram always carries its sequence count: 2, or 6 with a run/idle header.
+    let mut h = Harness::new();
+    let path = io_path(None, 152, 101, None);
+    let mut f = fo(3, &path, 1_000);
+    f.o_t_params = NetworkParams::from_u16(0x4800);
+    assert_eq!(open(&mut h, &f).1, vec![0x0127, 2]);
+    f.o_t_params = NetworkParams::from_u16(0x4800 | 6);
+    assert_eq!(open(&mut h, &f).0, 0);
+}
+
+#[test]
 fn error_duplicate_and_ownership() {
     let mut h = Harness::new();
     let path = io_path(None, 110, 100, None);

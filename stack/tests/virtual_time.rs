@@ -9,7 +9,7 @@ use std::net::SocketAddrV4;
 use common::*;
 use enip_stack::device::{CloseReason, ConnectionEvent};
 use enip_stack::io::{Accepted, Discard};
-use enip_stack::wire::forward_open::{ForwardCloseRepr, ForwardOpenReplyRepr};
+use enip_stack::wire::forward_open::{ForwardCloseRepr, ForwardOpenReplyRepr, NetworkParams};
 use enip_stack::wire::io_datagram::Packet;
 use enip_stack::wire::Writer;
 use enip_stack::Instant;
@@ -183,6 +183,67 @@ fn consumption_rules() {
         h.adapter.io_receive(scanner(), &[1, 2, 3], Instant(50)),
         Err(Discard::Malformed)
     );
+}
+
+#[test]
+fn an_idle_datagram_may_carry_its_header_alone() {
+    let mut h = Harness::new();
+    let (o_t, _) = open_ten(&mut h)[0];
+    assert_eq!(send(&mut h, o_t, 5, 10), Ok(Accepted::NewData));
+    let mut buf = [0u8; 64];
+    // Idle with no data: the watchdog fed, the device told, nothing applied.
+    let n = enip_stack::originator::io_datagram(&mut buf, o_t, 6, 6, Some(false), &[]).unwrap();
+    assert_eq!(
+        h.adapter.io_receive(scanner(), &buf[..n], Instant(20)),
+        Ok(Accepted::NoNewData)
+    );
+    assert_eq!(
+        h.adapter.device().events.last(),
+        Some(&ConnectionEvent::RunIdle(false))
+    );
+    assert_eq!(h.adapter.device().data[&110], vec![5; 32]);
+    // Run with no data is short.
+    let n = enip_stack::originator::io_datagram(&mut buf, o_t, 7, 7, Some(true), &[]).unwrap();
+    assert_eq!(
+        h.adapter.io_receive(scanner(), &buf[..n], Instant(30)),
+        Err(Discard::WrongSize)
+    );
+}
+
+#[test]
+fn only_the_owner_runs_or_idles_the_device() {
+    let mut h = Harness::new();
+    let path = io_path(None, 110, 100, None);
+    let (g, _, data) = status(&h.forward_open(&fo(1, &path, RPI as u32)));
+    assert_eq!(g, 0);
+    let owner = ForwardOpenReplyRepr::parse(&data)
+        .unwrap()
+        .o_t_connection_id;
+    // An input-only connection whose heartbeat has a run/idle header.
+    let path = io_path(None, 152, 101, None);
+    let mut f = fo(20, &path, RPI as u32);
+    f.o_t_params = NetworkParams::from_u16(0x4800 | 6);
+    let (g, _, data) = status(&h.forward_open(&f));
+    assert_eq!(g, 0);
+    let heartbeat = ForwardOpenReplyRepr::parse(&data)
+        .unwrap()
+        .o_t_connection_id;
+    assert_eq!(send(&mut h, owner, 5, 10), Ok(Accepted::NewData));
+    let events = h.adapter.device().events.len();
+    let mut buf = [0u8; 64];
+    for (k, run) in [(1, true), (2, false), (3, true), (4, false)] {
+        let n =
+            enip_stack::originator::io_datagram(&mut buf, heartbeat, k, k as u16, Some(run), &[])
+                .unwrap();
+        assert!(h
+            .adapter
+            .io_receive(scanner(), &buf[..n], Instant(20 + u64::from(k)))
+            .is_ok());
+    }
+    // The heartbeat's header told the device nothing; the owner's data still applies.
+    assert_eq!(h.adapter.device().events.len(), events);
+    assert_eq!(send(&mut h, owner, 6, 30), Ok(Accepted::NewData));
+    assert_eq!(h.adapter.device().data[&110], vec![6; 32]);
 }
 
 #[test]

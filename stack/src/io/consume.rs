@@ -5,7 +5,7 @@ use core::net::SocketAddrV4;
 
 use super::connection::Transport;
 use super::table::ConnectionTable;
-use crate::device::{ConnectionEvent, Device};
+use crate::device::{ConnectionEvent, Device, Kind};
 use crate::time::Instant;
 use crate::wire::bytes::{get_u16, get_u32};
 use crate::wire::io_datagram::{Packet, RUN_IDLE_LEN, SEQUENCE_LEN};
@@ -59,6 +59,9 @@ pub fn consume<D: Device, const C: usize>(
     if conn.originator != *from.ip() {
         return Err(Discard::UnknownConnection);
     }
+    // Only the outputs' owner runs or idles the device: an input-only or listen-only
+    // connection's header speaks for its heartbeat alone.
+    let owner = conn.kind == Kind::ExclusiveOwner;
     let Transport::Class1 { consumer: c, .. } = &mut conn.transport else {
         return Err(Discard::UnknownConnection);
     };
@@ -69,7 +72,10 @@ pub fn consume<D: Device, const C: usize>(
     } else {
         SEQUENCE_LEN
     };
-    if data.len() != header.saturating_add(usize::from(c.size)) {
+    // An idle datagram may carry its header alone: there is nothing to apply.
+    let idle_header_only =
+        c.run_idle && data.len() == header && get_u32(data, SEQUENCE_LEN) & 1 == 0;
+    if data.len() != header.saturating_add(usize::from(c.size)) && !idle_header_only {
         return Err(Discard::WrongSize);
     }
     let encap = packet.encap_sequence();
@@ -90,7 +96,7 @@ pub fn consume<D: Device, const C: usize>(
     }
     let (instance, size, run_idle) = (c.instance, c.size, c.run_idle);
     table.feed(slot, now);
-    if run_changed && run_idle {
+    if run_changed && run_idle && owner {
         device.connection_event(ConnectionEvent::RunIdle(run));
     }
     if !fresh || !run {

@@ -386,9 +386,10 @@ fn class1<D: Device, const C: usize>(
 
     let o_t_size = usize::from(fo.o_t_params.size);
     let (run_idle, consumed) = if consumer_info.size == 0 {
-        // Heartbeat: sequence count alone, or with a run/idle header.
+        // Heartbeat: sequence count alone, or with a run/idle header (a Class 1 datagram
+        // always carries the count: 0 is no size, as OpENer says too).
         match o_t_size {
-            0 | SEQUENCE_LEN => (false, 0),
+            SEQUENCE_LEN => (false, 0),
             6 => (true, 0),
             _ => return Err(size_error(ext::BAD_O_T_SIZE, SEQUENCE_LEN)),
         }
