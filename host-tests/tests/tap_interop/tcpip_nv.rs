@@ -52,10 +52,11 @@ fn tcpip_interface_configuration_survives_a_restart() {
     for a in ["set_5", "set_6", "set_8", "set_9", "set_13"] {
         assert_eq!(r[a], json!(0), "{a}: {r}");
     }
-    // Capability: DHCP, settable, change requires reset, ACD capable (the TAP board runs it,
-    // skipped in this run by the rig's `--acd off`); status: configured, change pending.
-    assert_eq!(r["read"]["2"]["value"], "d4000000", "{r}");
-    assert_eq!(r["read"]["1"]["value"], "21000000", "{r}");
+    // Capability: settable, change requires reset, ACD capable (the TAP board runs it,
+    // skipped in this run by the rig's `--acd off`), no DHCP client on the host board;
+    // status: configured, interface change pending, multicast change pending.
+    assert_eq!(r["read"]["2"]["value"], "d0000000", "{r}");
+    assert_eq!(r["read"]["1"]["value"], "31000000", "{r}");
     assert_eq!(r["read"]["5"]["value"], r["expected_5"], "{r}");
     common::finish(rig);
     // The same file, the old --ip: the board comes up at the address set.
