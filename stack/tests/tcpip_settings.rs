@@ -306,6 +306,24 @@ fn ttl_and_multicast_config_apply_at_the_next_start_and_status_bit_4_says_so() {
 }
 
 #[test]
+fn safety_network_number_and_quick_connect_are_not_supported_alone() {
+    let mut h = harness(&shared());
+    for attribute in [7, 12] {
+        let (g, _, _) = status(&h.request(0x0E, &tcpip(attribute), &[]));
+        assert_eq!(g, 0x14, "Get {attribute}");
+        assert_eq!(set(&mut h, attribute, &[0]), 0x14, "Set {attribute}");
+    }
+    // In a list: 0x14 for 7, the value of 13 beside it.
+    let mut path = tcpip(1).to_vec();
+    path.pop();
+    let (g, _, d) = status(&h.request(0x03, &path, &[2, 0, 7, 0, 13, 0]));
+    assert_eq!(
+        (g, d),
+        (0x0A, vec![2, 0, 7, 0, 0x14, 0, 13, 0, 0, 0, 120, 0])
+    );
+}
+
+#[test]
 fn host_and_domain_names_are_rfc_1123_labels() {
     let mut h = harness(&shared());
     let string = |name: &[u8]| {

@@ -40,6 +40,11 @@ pub(crate) trait Object {
     fn access(&self, _instance: u32, attr: &AttributeDef) -> Access {
         attr.access
     }
+    /// True if attribute `id` is not implemented but Get_Attributes_All's layout carries its
+    /// default value (as the TCP/IP object's 7 and 12): asked for alone it is 0x14.
+    fn placeholder(&self, _id: u16) -> bool {
+        false
+    }
     /// The size of a [`DataType::RunTime`] attribute of `instance`.
     fn run_time_size(&self, _instance: u32, _attr: &AttributeDef) -> Option<usize> {
         None
@@ -103,7 +108,7 @@ pub(crate) fn attribute_services(
     if req.service != service::GET_ATTRIBUTE_SINGLE {
         return other_attribute_services(obj, instance, req, w);
     }
-    let attr = lookup(obj.class(), req.path.attribute)?;
+    let attr = lookup(obj, req.path.attribute)?;
     if !req.data.is_empty() {
         return Err(General::TooMuchData.into());
     }
@@ -119,7 +124,7 @@ fn other_attribute_services(
 ) -> CipResult {
     match req.service {
         service::SET_ATTRIBUTE_SINGLE => {
-            let attr = lookup(obj.class(), req.path.attribute)?;
+            let attr = lookup(obj, req.path.attribute)?;
             let len = value_len(obj, instance, &attr, req.data)?;
             if len < req.data.len() {
                 return Err(General::TooMuchData.into());
@@ -143,12 +148,13 @@ fn other_attribute_services(
     }
 }
 
-/// The attribute a path names: none is 0x05, an unknown one 0x14.
-fn lookup(class: &ClassDef, attribute: Option<u32>) -> CipResult<AttributeDef> {
+/// The attribute a path names: none is 0x05, an unknown one (or a placeholder) 0x14.
+fn lookup(obj: &dyn Object, attribute: Option<u32>) -> CipResult<AttributeDef> {
     let id = attribute.ok_or(CipError::new(General::PathDestinationUnknown))?;
     u16::try_from(id)
         .ok()
-        .and_then(|id| class.attribute(id))
+        .filter(|id| !obj.placeholder(*id))
+        .and_then(|id| obj.class().attribute(id))
         .copied()
         .ok_or(unsupported())
 }
@@ -220,8 +226,8 @@ fn get_list(obj: &mut dyn Object, instance: u32, data: &[u8], w: &mut Writer<'_>
         let status_at = w.len();
         w.u16(0)?;
         let value_at = w.len();
-        let got = lookup(obj.class(), Some(u32::from(id)))
-            .and_then(|attr| get_one(obj, instance, &attr, w));
+        let got =
+            lookup(obj, Some(u32::from(id))).and_then(|attr| get_one(obj, instance, &attr, w));
         if let Err(e) = got {
             if e.general == General::ReplyDataTooLarge {
                 return Err(e);
@@ -249,7 +255,7 @@ fn set_list(obj: &mut dyn Object, instance: u32, data: &[u8], w: &mut Writer<'_>
     for done in 0..count {
         let id = r.u16()?;
         w.u16(id)?;
-        let attr = match lookup(obj.class(), Some(u32::from(id))) {
+        let attr = match lookup(obj, Some(u32::from(id))) {
             Ok(attr) => attr,
             Err(e) => {
                 w.u16(u16::from(e.general))?;

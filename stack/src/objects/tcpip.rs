@@ -199,6 +199,11 @@ impl<D: Device, const C: usize> Object for TcpIp<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
+    /// Safety Network Number (7) and QuickConnect (12): no CIP Safety, no QuickConnect; their
+    /// zeros only fill Get_Attributes_All.
+    fn placeholder(&self, id: u16) -> bool {
+        matches!(id, 7 | 12)
+    }
     fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         let net = self.0.net;
         let st = &self.0.state.tcpip;
