@@ -12,7 +12,7 @@ const IDENTITY: IdentityInfo = IdentityInfo {
     vendor_id: 0xFFFF,
     device_type: 0x0A, // general purpose analog I/O
     product_code: 42,
-    revision: (1, 0),
+    revision: (1, 1),
     serial_number: 0x0000_4242,
     product_name: "Analog 4/2 module",
 };

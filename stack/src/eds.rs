@@ -19,7 +19,7 @@
 //! # use enip_stack::{AssemblyInfo, AssemblyRole, Device, IdentityInfo};
 //! # struct Analog;
 //! # const ID: IdentityInfo = IdentityInfo { vendor_id: 0xFFFF, device_type: 0x0A,
-//! #     product_code: 4, revision: (1, 0), serial_number: 1, product_name: "analog 4/2" };
+//! #     product_code: 4, revision: (1, 1), serial_number: 1, product_name: "analog 4/2" };
 //! # impl Device for Analog {
 //! #     fn identity(&self) -> &IdentityInfo { &ID }
 //! #     fn assemblies(&self) -> &[AssemblyInfo] { &[

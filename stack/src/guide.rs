@@ -16,7 +16,7 @@
 //!     vendor_id: 0xFFFF,
 //!     device_type: 7, // general purpose discrete I/O
 //!     product_code: 16,
-//!     revision: (1, 0),
+//!     revision: (1, 1),
 //!     serial_number: 0x0000_0042,
 //!     product_name: "16-channel I/O block",
 //! };

@@ -7,7 +7,7 @@
 //! that failed, and a refused Set_Attribute_Single changes nothing.
 //!
 //! The board runs the PositionServo profile: its revision 3.4 has a minor revision a
-//! compatible key can name (the generic profile's 1.0 has none: with the compatibility bit
+//! compatible key can name below its own (the generic profile's 1.1 has only 1: with the compatibility bit
 //! a minor revision must be 1 or more, and no more than the device's).
 
 use std::time::Duration;

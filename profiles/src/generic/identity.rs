@@ -8,7 +8,7 @@ pub const IDENTITY: IdentityInfo = IdentityInfo {
     // Communications adapter.
     device_type: 12,
     product_code: 65001,
-    revision: (1, 0),
+    revision: (1, 1),
     serial_number: 0x5255_5354,
     product_name: "enip-rs generic",
 };

@@ -103,7 +103,7 @@ fn identity_matches_the_constants() {
         (id.vendor_id, id.device_type, id.product_code),
         (1, 12, 65001)
     );
-    assert_eq!(id.revision, (1, 0));
+    assert_eq!(id.revision, (1, 1));
     assert_eq!(id.serial_number, 0x5255_5354);
     assert_eq!(id.product_name, "enip-rs generic");
 }

@@ -97,7 +97,7 @@ pub struct AssemblyInfo {
 ///     vendor_id: 0xFFFF,
 ///     device_type: 7,
 ///     product_code: 1,
-///     revision: (1, 0),
+///     revision: (1, 1),
 ///     serial_number: 42,
 ///     product_name: "tiny I/O block",
 /// };
