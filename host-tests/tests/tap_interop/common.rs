@@ -21,7 +21,10 @@ pub const DEVICE_TYPE: u16 = 12;
 /// Product code.
 pub const PRODUCT_CODE: u16 = 65001;
 /// Major and minor revision.
-pub const REVISION: [u8; 2] = [1, 0];
+pub const REVISION: [u8; 2] = [
+    enip_profiles::generic::identity::IDENTITY.revision.0,
+    enip_profiles::generic::identity::IDENTITY.revision.1,
+];
 /// Identity status with no I/O connection (extended device status 3).
 pub const STATUS: u16 = 0x0030;
 /// Serial number.
