@@ -115,29 +115,26 @@ pub fn module_status(status: u16) -> Indicator {
     }
 }
 
-/// Network Status, from the adapter; remembers which exclusive-owner timeouts a new
-/// connection has since cleared.
+/// Network Status, from the adapter.
 #[derive(Debug, Default)]
-pub struct NetworkStatus {
-    cleared_timeouts: u32,
-}
+pub struct NetworkStatus;
 
 impl NetworkStatus {
-    /// The Network Status indicator for `adapter` now.
+    /// The Network Status indicator for `adapter` now: flashing red from an exclusive
+    /// owner's timeout until an exclusive owner opens again (Vol 2 9-4.2; the table keeps it,
+    /// as it does Identity's extended status 0010).
     pub fn update<D: Device, const S: usize, const C: usize, const F: usize, const L: usize>(
         &mut self,
         adapter: &Adapter<D, S, C, F, L>,
     ) -> Indicator {
-        let timeouts = adapter.connections().owner_timeouts();
         if adapter.acd().fault {
             Indicator::Red
         } else if adapter.network().ip.is_unspecified() {
             Indicator::Off
-        } else if !adapter.connections().is_empty() {
-            self.cleared_timeouts = timeouts;
-            Indicator::Green
-        } else if timeouts != self.cleared_timeouts {
+        } else if adapter.connections().owner_timed_out() {
             Indicator::FlashingRed
+        } else if !adapter.connections().is_empty() {
+            Indicator::Green
         } else {
             Indicator::FlashingGreen
         }
@@ -159,7 +156,7 @@ pub async fn indicate<D: Device, const S: usize, const C: usize, const F: usize,
     let mut tick = 0u32;
     loop {
         let (ms, ns) = with_adapter_quiet(adapter, |a| {
-            let status = a.device().status_bits() | a.connections().identity_status();
+            let status = a.identity_status();
             (module_status(status), network.update(a))
         });
         let lit = tick % 4 < 2;

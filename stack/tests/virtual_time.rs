@@ -115,6 +115,13 @@ fn ten_connections_at_one_millisecond_for_ten_seconds() {
         h.adapter.device().events.last(),
         Some(&ConnectionEvent::OwnershipLost(CloseReason::Timeout))
     );
+    // Identity status: extended 0010 (a faulted I/O connection) until an owner opens again.
+    assert_eq!(h.adapter.identity_status() & 0xF0, 0x20);
+    assert!(h.adapter.connections().owner_timed_out());
+    let path = io_path(None, 110, 100, None);
+    assert_eq!(status(&h.forward_open(&fo(99, &path, RPI as u32))).0, 0);
+    assert!(!h.adapter.connections().owner_timed_out());
+    assert_eq!(h.adapter.identity_status() & 0xF0, 0x70);
 }
 
 #[test]

@@ -131,7 +131,10 @@ impl<D: Device, const C: usize, const L: usize> Inner<D, C, L> {
         out: &mut [u8],
     ) -> usize {
         let ident = *self.device.identity();
-        let status = self.device.status_bits() | self.connections.identity_status();
+        let status = crate::objects::identity::status(
+            self.device.status_bits(),
+            self.connections.identity_status(),
+        );
         let item = IdentityRepr {
             protocol_version: PROTOCOL_VERSION,
             socket: listen_socket(self.net.ip),

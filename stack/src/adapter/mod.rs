@@ -312,6 +312,16 @@ impl<
     pub fn take_reset(&mut self) -> Option<u8> {
         self.inner.objects.pending_reset.take()
     }
+    /// Identity attribute 5, Status, as a scanner reads it: the device's own bits and the
+    /// connections' (owned, extended device status), for a runtime's Module Status
+    /// indicator.
+    pub fn identity_status(&self) -> u16 {
+        let inner = &self.inner;
+        crate::objects::identity::status(
+            inner.device.status_bits(),
+            inner.connections.identity_status(),
+        )
+    }
     /// The stack's object state (TCP/IP settings, counters).
     pub fn objects(&self) -> &ObjectState {
         &self.inner.objects

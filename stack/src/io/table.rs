@@ -24,6 +24,8 @@ const EXT_NO_IO: u16 = 3 << 4;
 const EXT_RUN: u16 = 6 << 4;
 /// Extended device status: I/O connections established, all idle.
 const EXT_IDLE: u16 = 7 << 4;
+/// Extended device status: at least one faulted I/O connection.
+const EXT_FAULTED_IO: u16 = 2 << 4;
 
 /// All connection slots.
 #[derive(Debug, Clone)]
@@ -35,6 +37,8 @@ pub struct ConnectionTable<const C: usize = MAX_CONNECTIONS> {
     replies: [heapless::Vec<u8, MAX_EXPLICIT_CONNECTED>; C],
     /// Exclusive-owner connections closed by their watchdog so far (wrapping).
     owner_timeouts: u32,
+    /// An exclusive owner timed out, and none has opened since.
+    owner_timed_out: bool,
     timeouts: u16,
     /// Every slot's watchdog, last activity and production deadline, and which comes first:
     /// the only copy.
@@ -60,6 +64,7 @@ impl<const C: usize> ConnectionTable<C> {
             owned: heapless::Vec::new(),
             replies: [const { heapless::Vec::new() }; C],
             owner_timeouts: 0,
+            owner_timed_out: false,
             timeouts: 0,
             // The seed also sets the phase of the producers' grids, mixed: the phase a T->O
             // stream shows says nothing plain about the IDs to come.
@@ -168,6 +173,8 @@ impl<const C: usize> ConnectionTable<C> {
             Some(_) => Produces::OnTrigger,
         };
         self.timing.open(slot, now, conn.timeout, produces);
+        // An exclusive owner re-established: no timed-out one left to show.
+        self.owner_timed_out &= conn.kind != Kind::ExclusiveOwner;
         if let Some(s) = self.slots.get_mut(slot) {
             *s = Some(conn);
         }
@@ -244,6 +251,12 @@ impl<const C: usize> ConnectionTable<C> {
     pub fn owned_outputs(&self) -> &[u16] {
         &self.owned
     }
+    /// True if an exclusive owner connection timed out and no exclusive owner has opened
+    /// since: extended device status 0010 and the Network Status indicator flashing red
+    /// (Vol 2 9-4.2: until the timed-out connections are re-established).
+    pub fn owner_timed_out(&self) -> bool {
+        self.owner_timed_out
+    }
     /// Identity status bits from the connections: owned, extended device status.
     pub fn identity_status(&self) -> u16 {
         let mut io = false;
@@ -260,10 +273,11 @@ impl<const C: usize> ConnectionTable<C> {
             STATUS_OWNED
         };
         owned
-            | match (io, run) {
-                (false, _) => EXT_NO_IO,
-                (true, true) => EXT_RUN,
-                (true, false) => EXT_IDLE,
+            | match (self.owner_timed_out, io, run) {
+                (true, _, _) => EXT_FAULTED_IO,
+                (false, false, _) => EXT_NO_IO,
+                (false, true, true) => EXT_RUN,
+                (false, true, false) => EXT_IDLE,
             }
     }
     /// The earliest watchdog expiry or production deadline.
@@ -396,6 +410,7 @@ impl<const C: usize> ConnectionTable<C> {
             if let Some(owner) = self.get(slot).map(|c| c.kind == Kind::ExclusiveOwner) {
                 if owner {
                     self.owner_timeouts = self.owner_timeouts.wrapping_add(1);
+                    self.owner_timed_out = true;
                 }
                 self.timeouts = self.timeouts.wrapping_add(1);
                 self.close(slot, CloseReason::Timeout, device);

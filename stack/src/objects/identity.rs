@@ -9,8 +9,41 @@ use crate::cip::{class_id, service, Request};
 use crate::device::Device;
 use crate::wire::Writer;
 
-/// Identity state attribute value: operational.
-const STATE_OPERATIONAL: u8 = 3;
+/// Status bit 10: a major recoverable fault.
+const MAJOR_RECOVERABLE_FAULT: u16 = 1 << 10;
+/// Status bit 11: a major unrecoverable fault.
+const MAJOR_UNRECOVERABLE_FAULT: u16 = 1 << 11;
+/// Status bits 4-7: the extended device status.
+const EXTENDED_STATUS: u16 = 0xF << 4;
+/// Extended device status 0101: a major fault (status bit 10 or 11).
+const EXT_MAJOR_FAULT: u16 = 5 << 4;
+
+/// Identity attribute 5 from the device's own bits (`Device::status_bits`) and the
+/// connections' (owned, extended device status): under a major fault the extended status is
+/// 0101, whatever the connections are; an extended status the device sets is its own; else
+/// the connections' (Vol 1 5A-2.2).
+pub fn status(device: u16, connections: u16) -> u16 {
+    let extended = if device & (MAJOR_RECOVERABLE_FAULT | MAJOR_UNRECOVERABLE_FAULT) != 0 {
+        EXT_MAJOR_FAULT
+    } else if device & EXTENDED_STATUS != 0 {
+        device & EXTENDED_STATUS
+    } else {
+        connections & EXTENDED_STATUS
+    };
+    ((device | connections) & !EXTENDED_STATUS) | extended
+}
+
+/// Attribute 8, State, for status bits `status`: 5 under a major unrecoverable fault, 4 a
+/// major recoverable one, else 3 (operational).
+const fn state(status: u16) -> u8 {
+    if status & MAJOR_UNRECOVERABLE_FAULT != 0 {
+        5
+    } else if status & MAJOR_RECOVERABLE_FAULT != 0 {
+        4
+    } else {
+        3
+    }
+}
 
 /// The Identity class: one instance, attributes 1-8, all read-only.
 pub const CLASS: ClassDef = ClassDef {
@@ -48,7 +81,7 @@ impl<D: Device, const C: usize> Object for Identity<'_, '_, D, C> {
             5 => w.u16(self.0.identity_status())?,
             6 => w.u32(ident.serial_number)?,
             7 => short_string(w, ident.product_name.as_bytes())?,
-            _ => w.u8(STATE_OPERATIONAL)?,
+            _ => w.u8(state(self.0.identity_status()))?,
         }
         Ok(())
     }
@@ -132,4 +165,22 @@ fn reset<D: Device, const C: usize>(ctx: &mut Ctx<'_, D, C>, data: &[u8]) -> Cip
     }
     ctx.state.pending_reset = Some(kind);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_major_fault_is_extended_status_0101_and_state_4_or_5() {
+        // No fault: the connections' nibble (0011, no I/O) with the device's own bits.
+        assert_eq!(status(0x0100, 0x0030), 0x0130);
+        assert_eq!(state(status(0x0100, 0x0030)), 3);
+        // A major recoverable fault beside an owned connection in run mode (0110).
+        assert_eq!(status(0x0400, 0x0061), 0x0451);
+        assert_eq!(state(status(0x0400, 0x0061)), 4);
+        assert_eq!(state(status(0x0C00, 0x0030)), 5);
+        // An extended status the device sets itself (0100: configuration bad) is its own.
+        assert_eq!(status(0x0040, 0x0070), 0x0040);
+    }
 }

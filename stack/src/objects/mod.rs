@@ -106,7 +106,10 @@ pub(crate) struct Ctx<'a, D: Device, const C: usize> {
 impl<D: Device, const C: usize> Ctx<'_, D, C> {
     /// Identity attribute 5: the device's bits plus what the connections contribute.
     pub(crate) fn identity_status(&self) -> u16 {
-        self.device.status_bits() | self.connections.identity_status()
+        identity::status(
+            self.device.status_bits(),
+            self.connections.identity_status(),
+        )
     }
     /// The time the request is handled.
     pub(crate) fn now(&self) -> crate::time::Instant {
