@@ -151,7 +151,7 @@ pub async fn indicate<D: Device, const S: usize, const C: usize, const F: usize,
         leds.show(ms, ns);
         Timer::after(TICK).await;
     }
-    let mut network = NetworkStatus::default();
+    let mut network = NetworkStatus;
     let mut ticker = Ticker::every(TICK);
     let mut tick = 0u32;
     loop {
@@ -183,7 +183,7 @@ mod tests {
         use core::net::Ipv4Addr;
         let config =
             |ip| enip_stack::NetworkConfig::new_static(ip, Ipv4Addr::new(255, 255, 255, 0), [2; 6]);
-        let mut ns = NetworkStatus::default();
+        let mut ns = NetworkStatus;
         let mut adapter = Adapter::new(
             enip_profiles::Generic::new(),
             config(Ipv4Addr::UNSPECIFIED),
