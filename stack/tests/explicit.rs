@@ -53,11 +53,15 @@ fn identity_attributes_and_get_attributes_all() {
     assert_eq!(&d[..6], &[1, 0, 12, 0, 0xE9, 0xFD]);
     let (g, _, d) = status(&h.request(0x0E, &path(1, 0, Some(1)), &[]));
     assert_eq!((g, d), (0, vec![1, 0]));
-    // Class-level Get_Attributes_All: attributes 1-7 in order, lists with their counts.
+    // Class-level Get_Attributes_All: attributes 1-7 in order, lists with their counts
+    // (optional attribute 8; optional services Get_Attribute_List and Set_Attribute_List).
     let (g, _, d) = status(&h.request(0x01, &path(1, 0, None), &[]));
     assert_eq!(
         (g, d),
-        (0, vec![1, 0, 1, 0, 1, 0, 1, 0, 8, 0, 0, 0, 7, 0, 8, 0])
+        (
+            0,
+            vec![1, 0, 1, 0, 1, 0, 1, 0, 8, 0, 2, 0, 3, 0, 4, 0, 7, 0, 8, 0]
+        )
     );
 }
 

@@ -25,25 +25,22 @@ fn u16s(data: &[u8]) -> Vec<u16> {
 }
 
 /// Class attributes 1-7 of `class` by Get_Attributes_All on instance 0: revision, max
-/// instance, number of instances, optional attribute list, optional service list (none
-/// listed), highest class attribute ID (7), highest instance attribute ID.
-fn class_attributes(h: &mut Harness, class: u32) -> (u16, u16, u16, Vec<u16>, u16) {
+/// instance, number of instances, optional attribute list, optional service list, highest
+/// class attribute ID (7), highest instance attribute ID.
+fn class_attributes(h: &mut Harness, class: u32) -> (u16, u16, u16, Vec<u16>, Vec<u16>, u16) {
     let (g, data) = get_all(h, class, 0);
     assert_eq!(g, 0, "class {class:#x} Get_Attributes_All");
     let words = u16s(&data);
     let (revision, max, count, optional_len) = (words[0], words[1], words[2], words[3]);
     let n = usize::from(optional_len);
     let optional = words[4..4 + n].to_vec();
-    let rest = &words[4 + n..];
-    assert_eq!(
-        rest.len(),
-        3,
-        "class {class:#x}: services, class and instance IDs"
-    );
-    assert_eq!(rest[0], 0, "class {class:#x}: optional service list count");
-    assert_eq!(rest[1], 7, "class {class:#x}: highest class attribute ID");
+    let services_len = usize::from(words[4 + n]);
+    let services = words[5 + n..5 + n + services_len].to_vec();
+    let rest = &words[5 + n + services_len..];
+    assert_eq!(rest.len(), 2, "class {class:#x}: class and instance IDs");
+    assert_eq!(rest[0], 7, "class {class:#x}: highest class attribute ID");
     // Each single Get gives the same value as Get_Attributes_All.
-    for (id, value) in [(1, revision), (2, max), (3, count), (7, rest[2])] {
+    for (id, value) in [(1, revision), (2, max), (3, count), (7, rest[1])] {
         let path = [
             SegmentRepr::Logical(LogicalType::Class, class),
             SegmentRepr::Logical(LogicalType::Instance, 0),
@@ -56,28 +53,51 @@ fn class_attributes(h: &mut Harness, class: u32) -> (u16, u16, u16, Vec<u16>, u1
             "class {class:#x} attribute {id}"
         );
     }
-    (revision, max, count, optional, rest[2])
+    (revision, max, count, optional, services, rest[1])
+}
+
+/// Get_Attribute_List and Set_Attribute_List, which every class answers, then `more`.
+fn lists_and(more: &[u16]) -> Vec<u16> {
+    [&[0x03, 0x04][..], more].concat()
 }
 
 #[test]
 fn class_attributes_of_every_standard_object() {
     let mut h = Harness::new();
-    assert_eq!(class_attributes(&mut h, 0x01), (1, 1, 1, vec![8], 8));
-    assert_eq!(class_attributes(&mut h, 0x02), (1, 1, 1, vec![1, 2], 2));
+    assert_eq!(
+        class_attributes(&mut h, 0x01),
+        (1, 1, 1, vec![8], lists_and(&[]), 8)
+    );
+    assert_eq!(
+        class_attributes(&mut h, 0x02),
+        (1, 1, 1, vec![1, 2], lists_and(&[0x0A]), 2)
+    );
     // Assembly: the highest instance is 154, and 10 + 10 + 4 instances exist.
-    assert_eq!(class_attributes(&mut h, 0x04), (2, 154, 24, vec![4], 4));
+    assert_eq!(
+        class_attributes(&mut h, 0x04),
+        (2, 154, 24, vec![4], lists_and(&[]), 4)
+    );
     assert_eq!(
         class_attributes(&mut h, 0x06),
-        (1, 1, 1, (1..=8).collect(), 8)
+        (1, 1, 1, (1..=8).collect(), lists_and(&[0x52, 0x5B]), 8)
     );
     assert_eq!(
         class_attributes(&mut h, 0xF5),
-        (4, 1, 1, vec![8, 9, 10, 11, 13], 13)
+        (4, 1, 1, vec![8, 9, 10, 11, 13], lists_and(&[]), 13)
     );
     assert_eq!(
         class_attributes(&mut h, 0xF6),
-        (4, 1, 1, (4..=11).collect(), 11)
+        (4, 1, 1, (4..=11).collect(), lists_and(&[0x4C]), 11)
     );
+    // Each optional service listed is answered (not 0x08) at instance 1.
+    for (class, service) in [(0x02u32, 0x0Au8), (0x06, 0x5B), (0xF6, 0x4C)] {
+        let path = [
+            SegmentRepr::Logical(LogicalType::Class, class),
+            SegmentRepr::Logical(LogicalType::Instance, 1),
+        ];
+        let (g, _, _) = status(&h.request(service, &path, &[]));
+        assert_ne!(g, 0x08, "class {class:#x} service {service:#x}");
+    }
 }
 
 #[test]

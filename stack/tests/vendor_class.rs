@@ -374,7 +374,9 @@ fn class_attributes_1_to_7() {
     assert_eq!(ask(&mut h, 0x10, 0, Some(1), &[1, 0]).0, 0x0E);
     let (g, d) = ask(&mut h, 0x01, 0, None, &[]);
     assert_eq!(g, 0);
-    assert_eq!(d, [3, 0, 3, 0, 3, 0, 0, 0, 0, 0, 7, 0, 5, 0]);
+    // No optional attributes; optional services Get_Attribute_List and Set_Attribute_List.
+    assert_eq!(d, [3, 0, 3, 0, 3, 0, 0, 0, 2, 0, 3, 0, 4, 0, 7, 0, 5, 0]);
+    assert_eq!(class(&mut h, 5), (0, vec![2, 0, 3, 0, 4, 0]));
 }
 
 #[test]

@@ -40,6 +40,11 @@ pub(crate) trait Object {
     fn access(&self, _instance: u32, attr: &AttributeDef) -> Access {
         attr.access
     }
+    /// Class attribute 5: the optional services the class answers (Vol 1 4-4.1); every class
+    /// answers Get_Attribute_List and Set_Attribute_List ([`attribute_services`]).
+    fn optional_services(&self) -> &'static [u8] {
+        &[service::GET_ATTRIBUTE_LIST, service::SET_ATTRIBUTE_LIST]
+    }
     /// True if attribute `id` is not implemented but Get_Attributes_All's layout carries its
     /// default value (as the TCP/IP object's 7 and 12): asked for alone it is 0x14.
     fn placeholder(&self, _id: u16) -> bool {
@@ -84,6 +89,7 @@ pub(crate) fn serve(obj: &mut dyn Object, req: &Request<'_>, w: &mut Writer<'_>)
             def: *obj.class(),
             max_instance: obj.max_instance(),
             instances: obj.instance_count(),
+            services: obj.optional_services(),
         };
         return attribute_services(&mut class, 0, req, w);
     }
@@ -319,6 +325,8 @@ struct ClassLevel {
     def: ClassDef,
     max_instance: u32,
     instances: u32,
+    /// Attribute 5.
+    services: &'static [u8],
 }
 
 impl Object for ClassLevel {
@@ -338,7 +346,12 @@ impl Object for ClassLevel {
                     w.u16(*a)?;
                 }
             }
-            5 => w.u16(0)?,
+            5 => {
+                w.u16(uint(self.services.len() as u32))?;
+                for s in self.services {
+                    w.u16(u16::from(*s))?;
+                }
+            }
             6 => w.u16(7)?,
             7 => w.u16(self.def.max_attribute())?,
             _ => return Err(unsupported()),

@@ -258,10 +258,14 @@ fn errors_carry_the_proper_cip_status() {
     assert_eq!(get(&mut servo, 0, 1), 1u16.to_le_bytes());
     assert_eq!(get(&mut servo, 0, 2), 275u16.to_le_bytes());
     // Class attributes 1-7 through Get_Attributes_All: revision 1, max instance 275,
-    // 65 instances, no optional attributes or services, 7 class attributes, attributes 0-5.
+    // 65 instances, no optional attributes, the optional services Get_Attribute_List and
+    // Set_Attribute_List, 7 class attributes, attributes 0-5.
     let (r, all) = call(&mut servo, 0x01, 0, None, &[]);
     r.unwrap();
-    assert_eq!(all, [1, 0, 0x13, 0x01, 65, 0, 0, 0, 0, 0, 7, 0, 5, 0]);
+    assert_eq!(
+        all,
+        [1, 0, 0x13, 0x01, 65, 0, 0, 0, 2, 0, 3, 0, 4, 0, 7, 0, 5, 0]
+    );
 }
 
 #[test]
