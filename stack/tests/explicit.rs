@@ -348,11 +348,24 @@ fn an_identity_reset_is_in_the_outcome_of_its_frame() {
 fn encapsulation_errors() {
     let mut h = Harness::new();
     let mut reply = vec![0u8; FRAME];
-    let mut run = |h: &mut Harness, frame: &[u8]| {
-        let out = h
-            .adapter
-            .tcp_receive(SocketId(0), frame, Instant(0), &mut reply);
-        (out.reply_len, out.close, reply[..out.reply_len].to_vec())
+    // Feeds `bytes` as a TCP connection would, until all are taken or the adapter closes:
+    // the replies' length, whether it closed, and the replies.
+    let mut run = |h: &mut Harness, bytes: &[u8]| {
+        let (mut rest, mut replies, mut close) = (bytes, Vec::new(), false);
+        // Bounded: each call takes at least one byte (checked), or closes.
+        for _ in 0..bytes.len() {
+            if rest.is_empty() || close {
+                break;
+            }
+            let out = h
+                .adapter
+                .tcp_receive(SocketId(0), rest, Instant(0), &mut reply);
+            assert!(out.consumed > 0 || out.close);
+            replies.extend_from_slice(&reply[..out.reply_len]);
+            rest = &rest[out.consumed.min(rest.len())..];
+            close = out.close;
+        }
+        (replies.len(), close, replies)
     };
     // Wrong session handle, unknown command.
     let mut f = header(0x6F, 0, h.session ^ 0x100).to_vec();

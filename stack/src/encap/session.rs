@@ -22,6 +22,12 @@ pub enum Feed<'a> {
     },
     /// The frame is not complete yet: all of the input is buffered.
     Buffered,
+    /// `consumed` bytes of the input were the rest of a frame too long to take, skipped:
+    /// give what follows them to the next call.
+    Skipped {
+        /// Bytes of the input used.
+        consumed: usize,
+    },
     /// The header declares more data than the stack accepts (a frame longer than the
     /// framer's `F` bytes): nothing is buffered, and its data is skipped as it arrives, up
     /// to the next frame. `consumed` bytes of the input were used (the rest of the header,
@@ -63,33 +69,28 @@ impl<const F: usize> Framer<F> {
             self.buf.clear();
             self.handed_out = false;
         }
-        // The rest of a frame too long to take goes first.
-        let skipped = self.skip.min(data.len());
+        if self.skip > 0 {
+            return Feed::Skipped {
+                consumed: self.skip(data.len()),
+            };
+        }
+        self.frame_from(data)
+    }
+
+    /// [`Self::feed`] while the rest of a frame too long to take is still to come: that
+    /// is skipped first, alone, as much as `available` bytes of input hold of it; returns
+    /// how many. Out of line: the request path pays one comparison.
+    #[cold]
+    #[inline(never)]
+    fn skip(&mut self, available: usize) -> usize {
+        let skipped = self.skip.min(available);
         self.skip = self.skip.saturating_sub(skipped);
-        let data = data.get(skipped..).unwrap_or(&[]);
-        if data.is_empty() {
-            return Feed::Buffered;
-        }
-        match self.frame_from(data) {
-            Feed::Frame {
-                header,
-                frame,
-                consumed,
-            } => Feed::Frame {
-                header,
-                frame,
-                consumed: consumed.saturating_add(skipped),
-            },
-            Feed::TooLong { header, consumed } => Feed::TooLong {
-                header,
-                consumed: consumed.saturating_add(skipped),
-            },
-            Feed::Buffered => Feed::Buffered,
-        }
+        skipped
     }
 
     /// [`Self::feed`] once nothing is left to skip: `data` starts a frame or continues the
     /// one buffered.
+    #[inline(always)]
     fn frame_from<'a>(&'a mut self, data: &'a [u8]) -> Feed<'a> {
         if self.buf.is_empty() {
             if let Ok(header) = EncapRepr::parse_header(data) {
@@ -102,7 +103,10 @@ impl<const F: usize> Framer<F> {
                         }
                     }
                     Ok(_) => {}
-                    Err(header) => return self.too_long(header, data.len(), HEADER_LEN),
+                    Err(header) => {
+                        let consumed = self.too_long(header, data.len(), HEADER_LEN);
+                        return Feed::TooLong { header, consumed };
+                    }
                 }
             }
             // Cannot fail: shorter than the frame it starts, which fits the buffer.
@@ -118,7 +122,8 @@ impl<const F: usize> Framer<F> {
             Ok(len) => len,
             Err(header) => {
                 self.buf.clear();
-                return self.too_long(header, data.len(), consumed);
+                let consumed = self.too_long(header, data.len(), consumed);
+                return Feed::TooLong { header, consumed };
             }
         };
         let rest = data.get(consumed..).unwrap_or(&[]);
@@ -135,16 +140,16 @@ impl<const F: usize> Framer<F> {
     }
 
     /// The frame `header` starts is too long: of `available` bytes of input, `header_end`
-    /// ended its header; its data is skipped, this input's part of it now.
-    fn too_long<'a>(&mut self, header: EncapRepr, available: usize, header_end: usize) -> Feed<'a> {
+    /// ended its header; its data is skipped, this input's part of it now. Returns the input
+    /// used.
+    #[cold]
+    #[inline(never)]
+    fn too_long(&mut self, header: EncapRepr, available: usize, header_end: usize) -> usize {
         let data_here = available.saturating_sub(header_end);
         let length = usize::from(header.length);
         let skipped = data_here.min(length);
         self.skip = length.saturating_sub(skipped);
-        Feed::TooLong {
-            header,
-            consumed: header_end.saturating_add(skipped),
-        }
+        header_end.saturating_add(skipped)
     }
 
     /// Moves bytes from the front of `data` into the buffer until it holds `upto` bytes;
@@ -317,7 +322,7 @@ mod tests {
                         rest = &rest[consumed..];
                     }
                     Feed::Buffered => break,
-                    Feed::TooLong { header, .. } => panic!("too long: {header:?}"),
+                    other => panic!("not a frame: {other:?}"),
                 }
             }
         }
@@ -392,6 +397,9 @@ mod tests {
                 let mut rest = piece;
                 // Bounded: each call uses at least one byte, or all of them.
                 for _ in 0..piece.len() + 1 {
+                    if rest.is_empty() {
+                        break;
+                    }
                     match f.feed(rest) {
                         Feed::Frame {
                             frame, consumed, ..
@@ -402,6 +410,10 @@ mod tests {
                         Feed::TooLong { header, consumed } => {
                             assert!(consumed > 0, "chunks of {chunk}");
                             events.push(Err(header));
+                            rest = &rest[consumed..];
+                        }
+                        Feed::Skipped { consumed } => {
+                            assert!(consumed > 0, "chunks of {chunk}");
                             rest = &rest[consumed..];
                         }
                         Feed::Buffered => break,
@@ -418,6 +430,7 @@ mod tests {
                 ],
                 "chunks of {chunk}"
             );
+            assert_eq!(f.feed(&[]), Feed::Buffered, "chunks of {chunk}");
             assert!(f.buf.is_empty() && f.skip == 0, "chunks of {chunk}");
         }
     }

@@ -59,9 +59,7 @@ pub fn consume<D: Device, const C: usize>(
     if conn.originator != *from.ip() {
         return Err(Discard::UnknownConnection);
     }
-    // Only the outputs' owner runs or idles the device: an input-only or listen-only
-    // connection's header speaks for its heartbeat alone.
-    let owner = conn.kind == Kind::ExclusiveOwner;
+    let kind = conn.kind;
     let Transport::Class1 { consumer: c, .. } = &mut conn.transport else {
         return Err(Discard::UnknownConnection);
     };
@@ -73,9 +71,9 @@ pub fn consume<D: Device, const C: usize>(
         SEQUENCE_LEN
     };
     // An idle datagram may carry its header alone: there is nothing to apply.
-    let idle_header_only =
-        c.run_idle && data.len() == header && get_u32(data, SEQUENCE_LEN) & 1 == 0;
-    if data.len() != header.saturating_add(usize::from(c.size)) && !idle_header_only {
+    if data.len() != header.saturating_add(usize::from(c.size))
+        && !(c.run_idle && data.len() == header && get_u32(data, SEQUENCE_LEN) & 1 == 0)
+    {
         return Err(Discard::WrongSize);
     }
     let encap = packet.encap_sequence();
@@ -96,7 +94,9 @@ pub fn consume<D: Device, const C: usize>(
     }
     let (instance, size, run_idle) = (c.instance, c.size, c.run_idle);
     table.feed(slot, now);
-    if run_changed && run_idle && owner {
+    // Only the outputs' owner runs or idles the device: an input-only or listen-only
+    // connection's header speaks for its heartbeat alone.
+    if run_changed && run_idle && kind == Kind::ExclusiveOwner {
         device.connection_event(ConnectionEvent::RunIdle(run));
     }
     if !fresh || !run {

@@ -60,11 +60,11 @@ impl<D: Device, const C: usize> Object for Assembly<'_, '_, D, C> {
     fn instance_count(&self) -> u32 {
         self.0.device.assemblies().len() as u32
     }
-    fn access(&self, instance: u32, attr: &AttributeDef) -> Access {
-        match self.info(instance) {
+    fn access(&self, instance: u32, attr: &AttributeDef) -> Option<Access> {
+        Some(match self.info(instance) {
             Some(info) if attr.id == 3 && info.role.settable() => Access::GetSet,
             _ => Access::Get,
-        }
+        })
     }
     fn run_time_size(&self, instance: u32, _attr: &AttributeDef) -> Option<usize> {
         self.info(instance).map(|a| usize::from(a.size))

@@ -33,6 +33,22 @@ pub fn status(device: u16, connections: u16) -> u16 {
     ((device | connections) & !EXTENDED_STATUS) | extended
 }
 
+/// Writes attribute 5 (Status) or else 8 (State) now. Out of line: the attributes read most
+/// (name, revision) do not pay for the connection table's walk in their frame.
+#[inline(never)]
+fn status_attribute<D: Device, const C: usize>(
+    ctx: &Ctx<'_, D, C>,
+    id: u16,
+    w: &mut Writer<'_>,
+) -> crate::wire::Result<()> {
+    let status = ctx.identity_status();
+    if id == 5 {
+        w.u16(status)
+    } else {
+        w.u8(state(status))
+    }
+}
+
 /// Attribute 8, State, for status bits `status`: 5 under a major unrecoverable fault, 4 a
 /// major recoverable one, else 3 (operational).
 const fn state(status: u16) -> u8 {
@@ -78,10 +94,11 @@ impl<D: Device, const C: usize> Object for Identity<'_, '_, D, C> {
             2 => w.u16(ident.device_type)?,
             3 => w.u16(ident.product_code)?,
             4 => w.bytes(&[ident.revision.0, ident.revision.1])?,
-            5 => w.u16(self.0.identity_status())?,
+
             6 => w.u32(ident.serial_number)?,
             7 => short_string(w, ident.product_name.as_bytes())?,
-            _ => w.u8(state(self.0.identity_status()))?,
+            // 5 and 8, from the connections and the device's faults.
+            id => status_attribute(self.0, id, w)?,
         }
         Ok(())
     }

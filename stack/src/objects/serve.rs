@@ -36,19 +36,15 @@ pub(crate) trait Object {
         self.max_instance()
     }
     /// The access rule of `attr` on `instance` (the definition's, unless the instance
-    /// narrows it).
-    fn access(&self, _instance: u32, attr: &AttributeDef) -> Access {
-        attr.access
+    /// narrows it); `None` (0x14) for an attribute not implemented whose default value only
+    /// fills Get_Attributes_All's layout (as the TCP/IP object's 7 and 12).
+    fn access(&self, _instance: u32, attr: &AttributeDef) -> Option<Access> {
+        Some(attr.access)
     }
     /// Class attribute 5: the optional services the class answers (Vol 1 4-4.1); every class
     /// answers Get_Attribute_List and Set_Attribute_List ([`attribute_services`]).
     fn optional_services(&self) -> &'static [u8] {
         &[service::GET_ATTRIBUTE_LIST, service::SET_ATTRIBUTE_LIST]
-    }
-    /// True if attribute `id` is not implemented but Get_Attributes_All's layout carries its
-    /// default value (as the TCP/IP object's 7 and 12): asked for alone it is 0x14.
-    fn placeholder(&self, _id: u16) -> bool {
-        false
     }
     /// The size of a [`DataType::RunTime`] attribute of `instance`.
     fn run_time_size(&self, _instance: u32, _attr: &AttributeDef) -> Option<usize> {
@@ -114,7 +110,7 @@ pub(crate) fn attribute_services(
     if req.service != service::GET_ATTRIBUTE_SINGLE {
         return other_attribute_services(obj, instance, req, w);
     }
-    let attr = lookup(obj, req.path.attribute)?;
+    let attr = lookup(obj.class(), req.path.attribute)?;
     if !req.data.is_empty() {
         return Err(General::TooMuchData.into());
     }
@@ -130,7 +126,7 @@ fn other_attribute_services(
 ) -> CipResult {
     match req.service {
         service::SET_ATTRIBUTE_SINGLE => {
-            let attr = lookup(obj, req.path.attribute)?;
+            let attr = lookup(obj.class(), req.path.attribute)?;
             let len = value_len(obj, instance, &attr, req.data)?;
             if len < req.data.len() {
                 return Err(General::TooMuchData.into());
@@ -154,13 +150,12 @@ fn other_attribute_services(
     }
 }
 
-/// The attribute a path names: none is 0x05, an unknown one (or a placeholder) 0x14.
-fn lookup(obj: &dyn Object, attribute: Option<u32>) -> CipResult<AttributeDef> {
+/// The attribute a path names: none is 0x05, an unknown one 0x14.
+fn lookup(class: &ClassDef, attribute: Option<u32>) -> CipResult<AttributeDef> {
     let id = attribute.ok_or(CipError::new(General::PathDestinationUnknown))?;
     u16::try_from(id)
         .ok()
-        .filter(|id| !obj.placeholder(*id))
-        .and_then(|id| obj.class().attribute(id))
+        .and_then(|id| class.attribute(id))
         .copied()
         .ok_or(unsupported())
 }
@@ -177,7 +172,7 @@ fn get_one(
     attr: &AttributeDef,
     w: &mut Writer<'_>,
 ) -> CipResult {
-    if !obj.access(instance, attr).gettable() {
+    if !obj.access(instance, attr).ok_or(unsupported())?.gettable() {
         return Err(General::AttributeNotGettable.into());
     }
     obj.get(instance, attr, w)
@@ -190,7 +185,7 @@ fn value_len(
     attr: &AttributeDef,
     data: &[u8],
 ) -> CipResult<usize> {
-    if !obj.access(instance, attr).settable() {
+    if !obj.access(instance, attr).ok_or(unsupported())?.settable() {
         return Err(General::AttributeNotSettable.into());
     }
     attr.data_type
@@ -232,8 +227,8 @@ fn get_list(obj: &mut dyn Object, instance: u32, data: &[u8], w: &mut Writer<'_>
         let status_at = w.len();
         w.u16(0)?;
         let value_at = w.len();
-        let got =
-            lookup(obj, Some(u32::from(id))).and_then(|attr| get_one(obj, instance, &attr, w));
+        let got = lookup(obj.class(), Some(u32::from(id)))
+            .and_then(|attr| get_one(obj, instance, &attr, w));
         if let Err(e) = got {
             if e.general == General::ReplyDataTooLarge {
                 return Err(e);
@@ -261,7 +256,7 @@ fn set_list(obj: &mut dyn Object, instance: u32, data: &[u8], w: &mut Writer<'_>
     for done in 0..count {
         let id = r.u16()?;
         w.u16(id)?;
-        let attr = match lookup(obj, Some(u32::from(id))) {
+        let attr = match lookup(obj.class(), Some(u32::from(id))) {
             Ok(attr) => attr,
             Err(e) => {
                 w.u16(u16::from(e.general))?;
@@ -276,8 +271,10 @@ fn set_list(obj: &mut dyn Object, instance: u32, data: &[u8], w: &mut Writer<'_>
             Ok(n) => Some(r.take(n)?),
             Err(_) => None,
         };
+        let access = obj.access(instance, &attr);
         let outcome = match (value, len) {
-            _ if !obj.access(instance, &attr).settable() => {
+            _ if access.is_none() => Err(unsupported()),
+            _ if !access.is_some_and(Access::settable) => {
                 Err(CipError::new(General::AttributeNotSettable))
             }
             (Some(value), _) => obj.set(instance, &attr, value),

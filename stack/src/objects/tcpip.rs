@@ -9,7 +9,7 @@ use super::tcpip_nv::{valid_host_name, InterfaceConfig, INTERFACE_FIXED};
 use super::Ctx;
 use crate::acd::{LastConflict, LAST_CONFLICT_LEN};
 use crate::cip::encoding::{ip, padded_string};
-use crate::cip::object::{AttributeDef, ClassDef, DataType};
+use crate::cip::object::{Access, AttributeDef, ClassDef, DataType};
 use crate::cip::status::{CipResult, General};
 use crate::cip::{class_id, Request};
 use crate::config::{MAX_DOMAIN_NAME, MAX_HOST_NAME};
@@ -200,9 +200,9 @@ impl<D: Device, const C: usize> Object for TcpIp<'_, '_, D, C> {
         &CLASS
     }
     /// Safety Network Number (7) and QuickConnect (12): no CIP Safety, no QuickConnect; their
-    /// zeros only fill Get_Attributes_All.
-    fn placeholder(&self, id: u16) -> bool {
-        matches!(id, 7 | 12)
+    /// zeros only fill Get_Attributes_All, alone they are 0x14.
+    fn access(&self, _instance: u32, attr: &AttributeDef) -> Option<Access> {
+        (!matches!(attr.id, 7 | 12)).then_some(attr.access)
     }
     fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         let net = self.0.net;

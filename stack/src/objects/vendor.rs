@@ -34,8 +34,8 @@ impl<D: Device, const C: usize> Object for Vendor<'_, '_, D, C> {
     fn instance_count(&self) -> u32 {
         self.ctx.device.instance_count(&self.def)
     }
-    fn access(&self, instance: u32, attr: &AttributeDef) -> Access {
-        self.ctx.device.attribute_access(&self.at(instance, attr))
+    fn access(&self, instance: u32, attr: &AttributeDef) -> Option<Access> {
+        Some(self.ctx.device.attribute_access(&self.at(instance, attr)))
     }
     fn run_time_size(&self, instance: u32, attr: &AttributeDef) -> Option<usize> {
         self.ctx.device.attribute_size(&self.at(instance, attr))
