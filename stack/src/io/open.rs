@@ -357,12 +357,13 @@ fn class1<D: Device, const C: usize>(
         let info = assembly(device, c).filter(|a| a.role == AssemblyRole::Config);
         match (info, path.config_data) {
             (None, _) => return Err(CipError::connection(ext::BAD_CONFIG_PATH)),
-            // The data segment counts 16-bit words, and so does 0x0126's size (Vol 1
-            // table 3-5.33: "the error code plus the max size in words").
-            // An odd size comes with a pad byte, which the device does not see.
+            // The data segment counts 16-bit words: an odd size comes with a pad byte,
+            // which the device does not see.
             (Some(a), Some(d)) if a.size % 2 == 1 && d.len() == usize::from(a.size) + 1 => {
                 path.config_data = d.get(..usize::from(a.size));
             }
+            // So does 0x0126's size (Vol 1 table 3-5.33: "the error code plus the max size
+            // in words").
             (Some(a), Some(d)) if d.len() != usize::from(a.size) => {
                 let words = usize::from(a.size).div_ceil(2);
                 return Err(size_error(ext::BAD_CONFIG_SIZE, words));
