@@ -2,7 +2,7 @@
 
 use core::net::SocketAddrV4;
 
-use super::{Inner, TcpOutcome};
+use super::{Inner, SocketId, TcpOutcome};
 use crate::cip::context::{RequestContext, Via};
 use crate::device::Device;
 use crate::encap::session::Session;
@@ -408,4 +408,30 @@ fn list_services_reply(header: &EncapRepr, out: &mut [u8]) -> usize {
 
 fn list_interfaces_reply(header: &EncapRepr, out: &mut [u8]) -> usize {
     with_body(&header.reply(status::SUCCESS, 0), out, |w| w.u16(0))
+}
+
+/// A frame longer than the stack holds on `socket`, whose `consumed` bytes were taken: its
+/// data is skipped as it arrives and the session goes on; answered 0x0065 in `reply`, but a
+/// NOP never is, at any length (Vol 2, 2-4.1), nor a frame with options (2-3.6). Out of
+/// line: the request path does not carry it.
+#[cold]
+#[inline(never)]
+pub(super) fn too_long(
+    socket: SocketId,
+    header: &EncapRepr,
+    consumed: usize,
+    reply: &mut [u8],
+) -> TcpOutcome {
+    let silent = header.command == command::NOP || header.options != 0;
+    warn!(
+        "encapsulation length {} over capacity on socket {}: skipped",
+        header.length, socket.0
+    );
+    let mut w = crate::wire::Writer::new(reply);
+    let sent = !silent && header.reply(status::INVALID_LENGTH, 0).emit(&mut w).is_ok();
+    TcpOutcome {
+        consumed,
+        reply_len: if sent { HEADER_LEN } else { 0 },
+        ..TcpOutcome::default()
+    }
 }

@@ -23,7 +23,7 @@ use crate::nv::{NvError, NvStore};
 use crate::objects::{Ctx, LinkCounters, ObjectState};
 use crate::rng::Rng;
 use crate::time::{Duration, Instant};
-use crate::wire::encap::{command, status, EncapRepr, HEADER_LEN};
+use crate::wire::encap::HEADER_LEN;
 
 /// Index of one of the runtime's TCP sockets on port 44818 (below the adapter's `SESSIONS`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -423,7 +423,7 @@ impl<
                 ..TcpOutcome::default()
             },
             Some((Feed::TooLong { header, consumed }, _)) => {
-                too_long(socket, &header, consumed, reply)
+                encap::too_long(socket, &header, consumed, reply)
             }
             None => TcpOutcome {
                 consumed: data.len(),
@@ -621,25 +621,4 @@ fn trigger_changes<const C: usize>(
         }
     }
     changes.clear();
-}
-
-/// A frame longer than the stack holds on `socket`, whose `consumed` bytes were taken: its
-/// data is skipped as it arrives and the session goes on; answered 0x0065 in `reply`, but a
-/// NOP never is, at any length (Vol 2, 2-4.1), nor a frame with options (2-3.6). Out of
-/// line: the request path does not carry it.
-#[cold]
-#[inline(never)]
-fn too_long(socket: SocketId, header: &EncapRepr, consumed: usize, reply: &mut [u8]) -> TcpOutcome {
-    let silent = header.command == command::NOP || header.options != 0;
-    warn!(
-        "encapsulation length {} over capacity on socket {}: skipped",
-        header.length, socket.0
-    );
-    let mut w = crate::wire::Writer::new(reply);
-    let sent = !silent && header.reply(status::INVALID_LENGTH, 0).emit(&mut w).is_ok();
-    TcpOutcome {
-        consumed,
-        reply_len: if sent { HEADER_LEN } else { 0 },
-        ..TcpOutcome::default()
-    }
 }

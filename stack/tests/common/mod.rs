@@ -13,7 +13,9 @@ use enip_stack::device::{
 use enip_stack::nv::{key, NvStore};
 use enip_stack::originator::{self, Reply};
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
-use enip_stack::wire::forward_open::{ForwardOpenReplyRepr, ForwardOpenRepr, NetworkParams, Triad};
+use enip_stack::wire::forward_open::{
+    ForwardCloseRepr, ForwardOpenReplyRepr, ForwardOpenRepr, NetworkParams, Triad,
+};
 use enip_stack::wire::Writer;
 use enip_stack::{Adapter, Instant, NetworkConfig, SocketId};
 
@@ -365,4 +367,30 @@ pub fn fo<'a>(serial: u16, path: &'a [u8], rpi: u32) -> ForwardOpenRepr<'a> {
         transport: 0x01,
         path,
     }
+}
+
+/// Sends the Forward_Open `fo`; returns (general, additional words, data).
+pub fn open(h: &mut Harness, fo: &ForwardOpenRepr<'_>) -> (u8, Vec<u16>, Vec<u8>) {
+    status(&h.forward_open(fo))
+}
+
+/// [`open`]'s general status and first additional word (the extended status).
+pub fn ext_of(h: &mut Harness, fo: &ForwardOpenRepr<'_>) -> (u8, Option<u16>) {
+    let (g, words, _) = open(h, fo);
+    (g, words.first().copied())
+}
+
+/// Closes the connection `fo(serial, ..)` opened; returns (general, additional words, data).
+pub fn close(h: &mut Harness, serial: u16) -> (u8, Vec<u16>, Vec<u8>) {
+    let fc = ForwardCloseRepr {
+        priority_tick: 0x0A,
+        timeout_ticks: 0x0E,
+        triad: fo(serial, &[], 1000).triad,
+        path: &[],
+    };
+    let mut data = [0u8; 32];
+    let mut w = Writer::new(&mut data);
+    fc.emit(&mut w).unwrap();
+    let n = w.len();
+    status(&h.request(0x4E, &cm_path(), &data[..n]))
 }
