@@ -15,7 +15,7 @@ use enip_stack::device::{
     AttributeRef, CloseReason, ConnectionEvent, ConnectionInfo, Device, InputChanges, OpenRequest,
 };
 use enip_stack::wire::epath::{LogicalType, SegmentRepr};
-use enip_stack::wire::forward_open::{ForwardCloseRepr, ForwardOpenReplyRepr, NetworkParams};
+use enip_stack::wire::forward_open::{ForwardOpenReplyRepr, NetworkParams};
 use enip_stack::wire::io_datagram::Packet;
 use enip_stack::wire::Writer;
 use enip_stack::{AssemblyInfo, AssemblyRole, IdentityInfo, Instant, SocketId};
@@ -181,20 +181,6 @@ fn open(
     status(&h.forward_open(&f))
 }
 
-fn close(h: &mut Harness<Station>, serial: u16) -> u8 {
-    let fc = ForwardCloseRepr {
-        priority_tick: 0x0A,
-        timeout_ticks: 0x0E,
-        triad: fo(serial, &[], 0).triad,
-        path: &[],
-    };
-    let mut data = [0u8; 64];
-    let mut w = Writer::new(&mut data);
-    fc.emit(&mut w).unwrap();
-    let n = w.len();
-    status(&h.request(0x4E, &cm_path(), &data[..n])).0
-}
-
 fn opened(events: &[ConnectionEvent]) -> Vec<ConnectionInfo> {
     events
         .iter()
@@ -224,7 +210,7 @@ fn a_second_class1_connection_is_refused_as_the_device_says() {
     let (g, ext, _) = open(&mut h, 3, true, &[1, 0], 10_000);
     assert_eq!((g, ext), (0x01, vec![OUT_OF_CONNECTIONS]));
     // After the first closes, the slot is the device's to give again.
-    assert_eq!(close(&mut h, 1), 0);
+    assert_eq!(close(&mut h, 1).0, 0);
     assert_eq!(open(&mut h, 3, true, &[1, 0], 10_000).0, 0);
     assert_eq!(h.adapter.connections().len(), 1);
 }
@@ -277,7 +263,7 @@ fn opened_and_closed_events_carry_the_originator_and_the_reason() {
     );
     assert_eq!((o.o_t_rpi_us, o.t_o_rpi_us), (10_000, 10_000));
     assert_eq!(o.triad.connection_serial, 1);
-    assert_eq!(close(&mut h, 1), 0);
+    assert_eq!(close(&mut h, 1).0, 0);
     let (c, reason) = closed(&h.adapter.device().events)[0];
     assert_eq!(
         (c.slot, c.originator, reason),

@@ -8,10 +8,7 @@
 mod common;
 
 use common::*;
-use enip_stack::wire::forward_open::{
-    ForwardCloseRepr, ForwardOpenReplyRepr, ForwardOpenRepr, NetworkParams,
-};
-use enip_stack::wire::Writer;
+use enip_stack::wire::forward_open::{ForwardOpenReplyRepr, ForwardOpenRepr, NetworkParams};
 
 /// Multicast T->O of 32 bytes, scheduled priority, fixed size.
 const T_O_MULTICAST: u16 = 0x2800 | 34;
@@ -38,20 +35,6 @@ fn open(h: &mut Harness, f: &ForwardOpenRepr<'_>) -> Result<u32, (u8, Vec<u16>)>
             .t_o_connection_id),
         (g, words, _) => Err((g, words)),
     }
-}
-
-fn close(h: &mut Harness, serial: u16) -> u8 {
-    let fc = ForwardCloseRepr {
-        priority_tick: 0x0A,
-        timeout_ticks: 0x0E,
-        triad: fo(serial, &[], 0).triad,
-        path: &[],
-    };
-    let mut data = [0u8; 32];
-    let mut w = Writer::new(&mut data);
-    fc.emit(&mut w).unwrap();
-    let n = w.len();
-    status(&h.request(0x4E, &cm_path(), &data[..n])).0
 }
 
 /// The T->O connection IDs of the datagrams due over the next `ms` milliseconds.
@@ -100,14 +83,14 @@ fn the_production_outlives_its_first_connection_while_another_shares_it() {
     produced(&mut h, 25);
 
     // The owner goes; the input-only and the listener stay, and the data goes on as before.
-    assert_eq!(close(&mut h, 1), 0);
+    assert_eq!(close(&mut h, 1).0, 0);
     assert_eq!(h.adapter.connections().len(), 2);
     let ids = produced(&mut h, 50);
     assert!((4..=6).contains(&ids.len()), "{ids:x?}");
     assert!(ids.iter().all(|&id| id == t_o), "{ids:x?}");
 
     // The last connection that is not listen-only goes: the listener goes with it.
-    assert_eq!(close(&mut h, 2), 0);
+    assert_eq!(close(&mut h, 2).0, 0);
     assert!(h.adapter.connections().is_empty());
     assert_eq!(produced(&mut h, 30), Vec::<u32>::new());
 }

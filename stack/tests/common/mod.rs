@@ -370,18 +370,18 @@ pub fn fo<'a>(serial: u16, path: &'a [u8], rpi: u32) -> ForwardOpenRepr<'a> {
 }
 
 /// Sends the Forward_Open `fo`; returns (general, additional words, data).
-pub fn open(h: &mut Harness, fo: &ForwardOpenRepr<'_>) -> (u8, Vec<u16>, Vec<u8>) {
+pub fn open<D: Device>(h: &mut Harness<D>, fo: &ForwardOpenRepr<'_>) -> (u8, Vec<u16>, Vec<u8>) {
     status(&h.forward_open(fo))
 }
 
 /// [`open`]'s general status and first additional word (the extended status).
-pub fn ext_of(h: &mut Harness, fo: &ForwardOpenRepr<'_>) -> (u8, Option<u16>) {
+pub fn ext_of<D: Device>(h: &mut Harness<D>, fo: &ForwardOpenRepr<'_>) -> (u8, Option<u16>) {
     let (g, words, _) = open(h, fo);
     (g, words.first().copied())
 }
 
 /// Closes the connection `fo(serial, ..)` opened; returns (general, additional words, data).
-pub fn close(h: &mut Harness, serial: u16) -> (u8, Vec<u16>, Vec<u8>) {
+pub fn close<D: Device>(h: &mut Harness<D>, serial: u16) -> (u8, Vec<u16>, Vec<u8>) {
     let fc = ForwardCloseRepr {
         priority_tick: 0x0A,
         timeout_ticks: 0x0E,
