@@ -35,8 +35,6 @@ pub struct ConnectionTable<const C: usize = MAX_CONNECTIONS> {
     owned: heapless::Vec<u16, C>,
     /// Per slot: the last Class 3 reply, resent when a request is repeated.
     replies: [heapless::Vec<u8, MAX_EXPLICIT_CONNECTED>; C],
-    /// Exclusive-owner connections closed by their watchdog so far (wrapping).
-    owner_timeouts: u32,
     /// An exclusive owner timed out, and none has opened since.
     owner_timed_out: bool,
     timeouts: u16,
@@ -63,7 +61,6 @@ impl<const C: usize> ConnectionTable<C> {
             next_id: seed,
             owned: heapless::Vec::new(),
             replies: [const { heapless::Vec::new() }; C],
-            owner_timeouts: 0,
             owner_timed_out: false,
             timeouts: 0,
             // The seed also sets the phase of the producers' grids, mixed: the phase a T->O
@@ -409,7 +406,6 @@ impl<const C: usize> ConnectionTable<C> {
             }
             if let Some(owner) = self.get(slot).map(|c| c.kind == Kind::ExclusiveOwner) {
                 if owner {
-                    self.owner_timeouts = self.owner_timeouts.wrapping_add(1);
                     self.owner_timed_out = true;
                 }
                 self.timeouts = self.timeouts.wrapping_add(1);
@@ -419,11 +415,6 @@ impl<const C: usize> ConnectionTable<C> {
         }
         self.timing.swept();
         closed
-    }
-    /// Exclusive-owner connections closed by their watchdog since start-up (wrapping): what
-    /// the Network Status indicator shows as a connection timeout.
-    pub fn owner_timeouts(&self) -> u32 {
-        self.owner_timeouts
     }
     /// Connections of any kind closed by their watchdog (Connection Manager attribute 8).
     pub fn timeouts(&self) -> u16 {

@@ -78,14 +78,10 @@ impl<D: Device, const C: usize> Object for Manager<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
-    fn optional_services(&self) -> &'static [u8] {
-        &[
-            service::GET_ATTRIBUTE_LIST,
-            service::SET_ATTRIBUTE_LIST,
-            service::UNCONNECTED_SEND,
-            service::LARGE_FORWARD_OPEN,
-        ]
+    fn extra_optional_services(&self) -> &'static [u8] {
+        &[service::UNCONNECTED_SEND, service::LARGE_FORWARD_OPEN]
     }
+
     fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         let c = self.0.state.connection_manager;
         let value = match attr.id {

@@ -92,13 +92,10 @@ impl<D: Device, const C: usize> Object for Link<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
-    fn optional_services(&self) -> &'static [u8] {
-        &[
-            service::GET_ATTRIBUTE_LIST,
-            service::SET_ATTRIBUTE_LIST,
-            service::GET_AND_CLEAR,
-        ]
+    fn extra_optional_services(&self) -> &'static [u8] {
+        &[service::GET_AND_CLEAR]
     }
+
     fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         let net = self.0.net;
         let counters = &self.0.state.link.counters;

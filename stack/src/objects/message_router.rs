@@ -64,13 +64,10 @@ impl<D: Device, const C: usize> Object for Router<'_, '_, D, C> {
     fn class(&self) -> &ClassDef {
         &CLASS
     }
-    fn optional_services(&self) -> &'static [u8] {
-        &[
-            service::GET_ATTRIBUTE_LIST,
-            service::SET_ATTRIBUTE_LIST,
-            service::MULTIPLE_SERVICE_PACKET,
-        ]
+    fn extra_optional_services(&self) -> &'static [u8] {
+        &[service::MULTIPLE_SERVICE_PACKET]
     }
+
     fn get(&mut self, _instance: u32, attr: &AttributeDef, w: &mut Writer<'_>) -> CipResult {
         if attr.id == 2 {
             w.u16(C as u16)?;

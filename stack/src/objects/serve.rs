@@ -41,10 +41,10 @@ pub(crate) trait Object {
     fn access(&self, _instance: u32, attr: &AttributeDef) -> Option<Access> {
         Some(attr.access)
     }
-    /// Class attribute 5: the optional services the class answers (Vol 1 4-4.1); every class
-    /// answers Get_Attribute_List and Set_Attribute_List ([`attribute_services`]).
-    fn optional_services(&self) -> &'static [u8] {
-        &[service::GET_ATTRIBUTE_LIST, service::SET_ATTRIBUTE_LIST]
+    /// The optional services the class answers beyond the attribute lists, which every class
+    /// answers ([`attribute_services`]): class attribute 5 lists both (Vol 1 4-4.1).
+    fn extra_optional_services(&self) -> &'static [u8] {
+        &[]
     }
     /// The size of a [`DataType::RunTime`] attribute of `instance`.
     fn run_time_size(&self, _instance: u32, _attr: &AttributeDef) -> Option<usize> {
@@ -85,7 +85,7 @@ pub(crate) fn serve(obj: &mut dyn Object, req: &Request<'_>, w: &mut Writer<'_>)
             def: *obj.class(),
             max_instance: obj.max_instance(),
             instances: obj.instance_count(),
-            services: obj.optional_services(),
+            services: obj.extra_optional_services(),
         };
         return attribute_services(&mut class, 0, req, w);
     }
@@ -322,7 +322,7 @@ struct ClassLevel {
     def: ClassDef,
     max_instance: u32,
     instances: u32,
-    /// Attribute 5.
+    /// Attribute 5 after the attribute lists.
     services: &'static [u8],
 }
 
@@ -344,8 +344,9 @@ impl Object for ClassLevel {
                 }
             }
             5 => {
-                w.u16(uint(self.services.len() as u32))?;
-                for s in self.services {
+                let lists = [service::GET_ATTRIBUTE_LIST, service::SET_ATTRIBUTE_LIST];
+                w.u16(uint(lists.len().saturating_add(self.services.len()) as u32))?;
+                for s in lists.iter().chain(self.services) {
                     w.u16(u16::from(*s))?;
                 }
             }
