@@ -92,6 +92,10 @@ impl LinkAlarm for LinkSlot {
             DRIVER.arm_earlier(cs, at);
         })
     }
+
+    fn keeps_deadline(&self) -> bool {
+        true
+    }
 }
 
 /// Starts the clock and enables both timer interrupts; call once, first thing in `main`.

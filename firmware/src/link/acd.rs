@@ -81,6 +81,17 @@ impl Guard {
         }
     }
 
+    /// True if [`Self::follow`] of `ip` and [`Self::link`] of `up` would change nothing:
+    /// whether Address Conflict Detection runs is known, and it runs on neither a new address
+    /// nor a link that changed.
+    pub fn follows(&self, ip: Ipv4Addr, up: bool) -> bool {
+        self.link_up == up
+            && match self.active {
+                Some(active) => !active || ip == self.acd.ip(),
+                None => false,
+            }
+    }
+
     /// Follows the interface address `ip` at `now`: a new one is probed.
     pub fn follow(&mut self, ip: Ipv4Addr, port: &dyn AcdPort, now: Instant) {
         let active = *self.active.get_or_insert_with(|| port.acd_start());

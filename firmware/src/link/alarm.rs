@@ -14,6 +14,13 @@ pub trait LinkAlarm {
     /// again at every pass that sleeps, with its earliest deadline: an alarm may keep only
     /// the last deadline asked (embassy-time keeps the earliest asked since it last fired).
     fn wake_at(&self, at: u64, waker: &Waker);
+
+    /// True if a deadline asked stays asked until it fires or another is asked: nothing
+    /// else can take it (a slot of its own). The task then asks only when its deadline
+    /// changed.
+    fn keeps_deadline(&self) -> bool {
+        false
+    }
 }
 
 /// embassy-time's timer queue: the link task's alarm on a board without one of its own.

@@ -118,6 +118,17 @@ struct Pump<'a, const STACK_SUMS: bool> {
     alarm: &'a dyn LinkAlarm,
     /// The encapsulation TCP's segments and timers.
     tcp: TcpLink,
+    /// The earliest deadline of the rare work (Address Conflict Detection, LLDP, the
+    /// encapsulation TCP's timers, the stack's hold) when it was last served.
+    others_next: Option<Instant>,
+    /// Something besides Class 1 happened since the rare work was last served (a frame for
+    /// the stack or the TCP, an ARP message or LLDPDU, a new waker, link state or interface
+    /// address): the next pass serves it and learns [`Self::others_next`] anew.
+    others_stale: bool,
+    /// The alarm keeps the deadline asked ([`LinkAlarm::keeps_deadline`]).
+    alarm_keeps: bool,
+    /// The deadline last asked of an alarm that keeps it.
+    asked: Option<Instant>,
 }
 
 impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
@@ -157,6 +168,10 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             stack_hold: StackHold::default(),
             alarm,
             tcp: TcpLink::default(),
+            others_next: None,
+            others_stale: true,
+            alarm_keeps: alarm.keeps_deadline(),
+            asked: None,
         }
     }
 
@@ -171,13 +186,19 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
     ) {
         let link = driver.link_state(cx);
         let up = link == LinkState::Up;
-        if up && frames.link_state() != LinkState::Up {
-            io.lldp_link_up();
-            self.lldp_stale = true;
+        if link != frames.link_state() {
+            if up {
+                io.lldp_link_up();
+                self.lldp_stale = true;
+            }
+            frames.set_link_state(link);
+            self.others_stale = true;
         }
-        frames.set_link_state(link);
         if !self.waker.as_ref().is_some_and(|w| w.will_wake(cx.waker())) {
             self.keep_waker(cx.waker(), frames, io);
+            // Everything that wakes the task learns the new waker.
+            self.others_stale = true;
+            self.asked = None;
         }
         // Another task brought the deadline forward (a Forward_Open, a trigger): asked at once
         // in this wake-up's first pass. Only other tasks move it, and none runs meanwhile.
@@ -186,8 +207,8 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         }
         let me = io.interface();
         let mut at = now();
-        self.guard.follow(me.ip, io, at);
-        self.guard.link(up, at);
+        // A new address to probe, or the link's change for Address Conflict Detection.
+        self.others_stale |= !self.guard.follows(me.ip, up);
         // Each pass handles what is ready; another runs only if the driver had more to read
         // than a burst or a production came due meanwhile (an input the O->T data changed).
         let mut settled = false;
@@ -215,8 +236,10 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
     }
 
     /// One pass at `at` for the interface `me` (its link up or not): receives, sends and
-    /// produces what is ready, then arms the timer; true if nothing is left to do now. Out of
-    /// line: the wake-up's loop around it holds few values.
+    /// produces what is ready, then arms the timer; true if nothing is left to do now. The
+    /// rare work is served only if something besides Class 1 happened or its deadline came:
+    /// a Class 1 wake-up pays a few comparisons for it. Out of line: the wake-up's loop
+    /// around it holds few values.
     #[inline(never)]
     fn pass<D: Driver>(
         &mut self,
@@ -228,20 +251,13 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         at: Instant,
     ) -> bool {
         let more_frames = self.receive(cx, driver, frames, io, me, at);
-        // The rare work (ACD, the stack's frames, LLDP) is checked here and done out of
-        // line: a Class 1 wake-up pays a comparison for each.
-        let mut acd = self.guard.deadline(at);
-        if acd.is_some_and(|d| d <= at) {
-            self.send_acd_frame(cx, driver, at);
-            acd = self.guard.deadline(at);
-        }
-        if !frames.tx.is_empty() {
-            // The stack's frames may answer a request that moved the LLDP deadline.
-            self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
-        }
         self.blocked = false;
-        if self.tcp.due(at) {
-            self.serve_tcp(cx, driver, io, me, at);
+        if self.others_stale
+            || !frames.tx.is_empty()
+            || self.tcp.due(at)
+            || self.others_next.is_some_and(|d| d <= at)
+        {
+            self.serve_others(cx, driver, frames, io, (me, up), at);
         }
         // The adapter is asked only when the deadline last learned has come or another task
         // may have moved it: a wake-up for a received frame pays a comparison.
@@ -250,14 +266,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         } else {
             self.io_next
         };
-        if up && (self.lldp_stale || self.lldp_next.is_some_and(|d| d <= at)) {
-            self.send_lldp(cx, driver, io, at);
-        }
-        let lldp = self.lldp_next.filter(|_| up);
-        let deadline = earliest(
-            earliest(earliest(io_next, lldp), self.tcp.deadline()),
-            earliest(acd, self.stack_hold.until(frames.rx.is_full(), at)),
-        );
+        let deadline = earliest(io_next, self.others_next);
         !more_frames && self.sleep_until(deadline, at, cx)
     }
 
@@ -307,6 +316,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
     ) -> bool {
         // IPv4 (Class 1) first: the ethertype alone rules out LLDP and ARP.
         if !frame::is_ipv4(frame) {
+            self.others_stale = true;
             if let Some(lldpdu) = lldp::lldpdu(frame) {
                 io.lldp_receive(lldpdu, at);
                 return false;
@@ -330,6 +340,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             }
             return false;
         }
+        self.others_stale = true;
         let (passed, taken) = self.other_frame(frame, seen.sender.is_some(), frames, io, me, at);
         if let Some((ip, mac)) = seen.sender.filter(|_| taken || !frame::is_ipv4(frame)) {
             self.neighbors.learn(ip, mac);
@@ -456,8 +467,14 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
     /// read, the TAP's read retry). One of those firing first takes the task out of the
     /// queue, the link task's deadline with it: a deadline asked once and then skipped could
     /// be missed (the fifth step of issue 23 skipped it, and was taken back for this). A
-    /// deadline passed meanwhile wakes the task at once.
-    fn sleep_until(&self, deadline: Option<Instant>, at: Instant, cx: &mut Context<'_>) -> bool {
+    /// deadline passed meanwhile wakes the task at once. An alarm that keeps its deadline
+    /// ([`LinkAlarm::keeps_deadline`], a slot of its own) is asked only when it changed.
+    fn sleep_until(
+        &mut self,
+        deadline: Option<Instant>,
+        at: Instant,
+        cx: &mut Context<'_>,
+    ) -> bool {
         let Some(deadline) = deadline else {
             return true;
         };
@@ -467,6 +484,12 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
         }
         if at >= deadline {
             return false;
+        }
+        if self.asked == Some(deadline) {
+            return true;
+        }
+        if self.alarm_keeps {
+            self.asked = Some(deadline);
         }
         self.alarm
             .wake_at(to_embassy(deadline).as_ticks(), cx.waker());

@@ -22,6 +22,7 @@ use super::super::stack_sums;
 use super::super::tcp_frames::{self, Located};
 use super::super::tcp_link;
 use super::Pump;
+use crate::clock::earliest;
 
 impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
     /// A received frame that is no O->T datagram (`from_host`: its IPv4 header held, from
@@ -98,6 +99,45 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
         };
         let verify = self.sums.tcp.rx();
         self.tcp.refuse(segment, (src, me.ip, port), verify)
+    }
+
+    /// The rare work at `at` for the interface `me` (its link up or not), out of line: the
+    /// interface address and link followed by Address Conflict Detection and its frame sent
+    /// if due, the stack's frames sent, the encapsulation TCP served, the LLDPDU sent if due;
+    /// then the earliest of their deadlines learned.
+    #[inline(never)]
+    pub(super) fn serve_others<D: Driver>(
+        &mut self,
+        cx: &mut Context<'_>,
+        driver: &mut D,
+        frames: &LinkFrames,
+        io: &dyn IoPort,
+        (me, up): (&NetworkConfig, bool),
+        at: Instant,
+    ) {
+        self.others_stale = false;
+        self.guard.follow(me.ip, io, at);
+        self.guard.link(up, at);
+        let mut acd = self.guard.deadline(at);
+        if acd.is_some_and(|d| d <= at) {
+            self.send_acd_frame(cx, driver, at);
+            acd = self.guard.deadline(at);
+        }
+        if !frames.tx.is_empty() {
+            // The stack's frames may answer a request that moved the LLDP deadline.
+            self.lldp_stale |= self.send_stack_frames(cx, driver, frames, io);
+        }
+        if self.tcp.due(at) {
+            self.serve_tcp(cx, driver, io, me, at);
+        }
+        if up && (self.lldp_stale || self.lldp_next.is_some_and(|d| d <= at)) {
+            self.send_lldp(cx, driver, io, at);
+        }
+        let lldp = self.lldp_next.filter(|_| up);
+        self.others_next = earliest(
+            earliest(lldp, self.tcp.deadline()),
+            earliest(acd, self.stack_hold.until(frames.rx.is_full(), at)),
+        );
     }
 
     /// Runs the encapsulation TCP's timers and sends what it owes; another task's deadline
