@@ -101,11 +101,12 @@ impl<const STACK_SUMS: bool> Pump<'_, STACK_SUMS> {
         self.tcp.refuse(segment, (src, me.ip, port), verify)
     }
 
-    /// The rare work at `at` for the interface `me` (its link up or not), out of line: the
+    /// The rare work at `at` for the interface `me` (its link up or not): the
     /// interface address and link followed by Address Conflict Detection and its frame sent
     /// if due, the stack's frames sent, the encapsulation TCP served, the LLDPDU sent if due;
-    /// then the earliest of their deadlines learned.
-    #[inline(never)]
+    /// then the earliest of their deadlines learned. Inlined into the pass, behind its
+    /// check: a call apart cost an explicit request more than it saved a Class 1 cycle.
+    #[inline(always)]
     pub(super) fn serve_others<D: Driver>(
         &mut self,
         cx: &mut Context<'_>,
