@@ -9,7 +9,8 @@
 //! session stays served, a stalled client that does not hold up the others, a socket freed by
 //! UnregisterSession taking the next client, the encapsulation inactivity timeout, and a
 //! Class 1 exclusive owner through the link task (O->T data reaching the adapter, T->O data
-//! with headers and checksums the client's stack accepts, the watchdog ending it).
+//! with headers and checksums the client's stack accepts, the watchdog ending it), and an
+//! idle session closed at its inactivity timeout while only Class 1 data comes.
 //!
 //! Every scenario runs twice ([`at_both_sizes`]): with the adapter and its `Resources` at the
 //! default capacities (3 sessions, 10 connections), and at 16 sessions, 64 connections,
@@ -46,9 +47,11 @@ use enip_stack::Adapter;
 use host_tests::scanner::{generic_forward_open, OWNER_O_T, OWNER_PATH};
 
 mod client;
+mod while_class1;
 mod wire;
 
 use client::*;
+use while_class1::*;
 
 const ADAPTER_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 2);
 const CLIENT_IP: Ipv4Addr = Ipv4Addr::new(198, 18, 0, 1);
@@ -100,6 +103,7 @@ at_both_sizes!(
     idle_connection_is_closed_after_the_inactivity_timeout,
     class1_io_through_the_link_task,
     junk_does_not_turn_the_t_o_data_away,
+    an_idle_session_closes_on_time_while_class1_data_flows,
 );
 
 /// Polls `fut` on this thread, on the host runtime's loop (which fires the timers); panics
