@@ -176,3 +176,35 @@ impl<'a> Client<'a> {
         (mr.general_status, mr.data.to_vec())
     }
 }
+
+/// The buffers of the client's Class 1 socket.
+pub(crate) struct IoBuffers {
+    rx_meta: [PacketMetadata; 16],
+    tx_meta: [PacketMetadata; 4],
+    rx: [u8; 2048],
+    tx: [u8; 512],
+}
+
+impl IoBuffers {
+    pub(crate) fn new() -> Self {
+        IoBuffers {
+            rx_meta: [PacketMetadata::EMPTY; 16],
+            tx_meta: [PacketMetadata::EMPTY; 4],
+            rx: [0; 2048],
+            tx: [0; 512],
+        }
+    }
+
+    /// The client's Class 1 socket on these buffers, bound to UDP port 2222.
+    pub(crate) fn bound<'a>(&'a mut self, net: Stack<'a>) -> UdpSocket<'a> {
+        let IoBuffers {
+            rx_meta,
+            tx_meta,
+            rx,
+            tx,
+        } = self;
+        let mut io = UdpSocket::new(net, rx_meta, rx, tx_meta, tx);
+        io.bind(IO_PORT).expect("bind 2222");
+        io
+    }
+}

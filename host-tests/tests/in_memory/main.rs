@@ -436,10 +436,8 @@ fn junk_does_not_turn_the_t_o_data_away<
     with_adapter::<S, C, F, L>(async |net| {
         let (mut rx, mut tx) = ([0u8; 2048], [0u8; 2048]);
         let (mut client, session) = Client::registered(net, &mut rx, &mut tx).await;
-        let (mut rx_meta, mut tx_meta) = ([PacketMetadata::EMPTY; 16], [PacketMetadata::EMPTY; 4]);
-        let (mut rx_buf, mut tx_buf) = ([0u8; 2048], [0u8; 512]);
-        let mut io = UdpSocket::new(net, &mut rx_meta, &mut rx_buf, &mut tx_meta, &mut tx_buf);
-        io.bind(IO_PORT).expect("bind 2222");
+        let mut io_buffers = IoBuffers::new();
+        let io = io_buffers.bound(net);
         let o_t_id = open_exclusive_owner(&mut client, session).await;
         let outputs = [0u8; generic::IO_SIZE];
         for sequence in 1..=5u16 {
@@ -484,10 +482,8 @@ fn class1_io_through_the_link_task<
         let (mut client, session) = Client::registered(net, &mut rx, &mut tx).await;
 
         // The client's I/O socket first, so no T->O datagram finds the port closed.
-        let (mut rx_meta, mut tx_meta) = ([PacketMetadata::EMPTY; 16], [PacketMetadata::EMPTY; 4]);
-        let (mut rx_buf, mut tx_buf) = ([0u8; 2048], [0u8; 512]);
-        let mut io = UdpSocket::new(net, &mut rx_meta, &mut rx_buf, &mut tx_meta, &mut tx_buf);
-        io.bind(IO_PORT).expect("bind 2222");
+        let mut io_buffers = IoBuffers::new();
+        let io = io_buffers.bound(net);
 
         let o_t_id = open_exclusive_owner(&mut client, session).await;
 

@@ -15,10 +15,8 @@ pub(crate) fn an_idle_session_closes_on_time_while_class1_data_flows<
     with_adapter::<S, C, F, L>(async |net| {
         let (mut rx, mut tx) = ([0u8; 1024], [0u8; 1024]);
         let (mut owner, owner_session) = Client::registered(net, &mut rx, &mut tx).await;
-        let (mut rx_meta, mut tx_meta) = ([PacketMetadata::EMPTY; 16], [PacketMetadata::EMPTY; 4]);
-        let (mut rx_buf, mut tx_buf) = ([0u8; 2048], [0u8; 512]);
-        let mut io = UdpSocket::new(net, &mut rx_meta, &mut rx_buf, &mut tx_meta, &mut tx_buf);
-        io.bind(IO_PORT).expect("bind 2222");
+        let mut io_buffers = IoBuffers::new();
+        let io = io_buffers.bound(net);
         let o_t_id = open_exclusive_owner(&mut owner, owner_session).await;
 
         let (mut rx, mut tx) = ([0u8; 1024], [0u8; 1024]);
