@@ -316,8 +316,9 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
     ) -> bool {
         // IPv4 (Class 1) first: the ethertype alone rules out LLDP and ARP.
         if !frame::is_ipv4(frame) {
-            self.others_stale = true;
             if let Some(lldpdu) = lldp::lldpdu(frame) {
+                // A new neighbour may bring the next LLDPDU forward: rare work.
+                self.others_stale = true;
                 io.lldp_receive(lldpdu, at);
                 return false;
             }
@@ -340,6 +341,7 @@ impl<'a, const STACK_SUMS: bool> Pump<'a, STACK_SUMS> {
             }
             return false;
         }
+        // Anything but O->T data (ARP too) is rare work.
         self.others_stale = true;
         let (passed, taken) = self.other_frame(frame, seen.sender.is_some(), frames, io, me, at);
         if let Some((ip, mac)) = seen.sender.filter(|_| taken || !frame::is_ipv4(frame)) {
